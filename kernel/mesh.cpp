@@ -1,0 +1,487 @@
+// Winged-edge mesh construction from a polygon soup (seed report §2.2), border-loop
+// linking, and the small traversal helpers that are not hot enough to live inline.
+#include "kernel/mesh.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include <fmt/format.h>
+
+namespace nomec::kernel {
+
+int32_t PolygonSoup::add_vertex(const glm::dvec3& position, std::string name) {
+  if (!name.empty() && names.size() < positions.size()) {
+    names.resize(positions.size());
+  }
+  positions.push_back(position);
+  if (!names.empty() || !name.empty()) {
+    names.push_back(std::move(name));
+  }
+  return static_cast<int32_t>(positions.size()) - 1;
+}
+
+int32_t PolygonSoup::add_face(std::span<const int32_t> vertices) {
+  face_sizes.push_back(static_cast<int32_t>(vertices.size()));
+  face_vertices.insert(face_vertices.end(), vertices.begin(), vertices.end());
+  return static_cast<int32_t>(face_sizes.size()) - 1;
+}
+
+Result<int32_t> PolygonSoup::add_face_by_names(std::span<const std::string> vertex_names) {
+  std::vector<int32_t> ids;
+  ids.reserve(vertex_names.size());
+  for (const std::string& name : vertex_names) {
+    auto it = std::find(names.begin(), names.end(), name);
+    if (name.empty() || it == names.end()) {
+      return KernelError{KernelError::Kind::UnknownVertex,
+                         fmt::format("face references unknown vertex `{}`", name),
+                         {},
+                         {},
+                         {}};
+    }
+    ids.push_back(static_cast<int32_t>(it - names.begin()));
+  }
+  return add_face(ids);
+}
+
+EdgeId Mesh::find_edge(VertexId a, VertexId b) const {
+  EdgeId found = EdgeId::None();
+  for_each_vertex_corner(a, [&](const VertexCorner& c) {
+    EdgeId out = c.use.edge();
+    EdgeId in = prev(c.use).edge();
+    for (EdgeId e : {out, in}) {
+      VertexId x = edge_vertex(e, 0), y = edge_vertex(e, 1);
+      if ((x == a && y == b) || (x == b && y == a)) {
+        found = e;
+      }
+    }
+  });
+  return found;
+}
+
+int32_t Mesh::face_size(FaceId f) const {
+  int32_t n = 0;
+  for_each_face_use(f, [&](EdgeUse) { ++n; });
+  return n;
+}
+
+std::vector<VertexId> Mesh::face_vertices(FaceId f) const {
+  std::vector<VertexId> result;
+  for_each_face_use(f, [&](EdgeUse u) { result.push_back(use_tail(u)); });
+  return result;
+}
+
+std::vector<VertexCorner> Mesh::vertex_ring(VertexId v) const {
+  std::vector<VertexCorner> ring;
+  for_each_vertex_corner(v, [&](const VertexCorner& c) { ring.push_back(c); });
+  return ring;
+}
+
+int32_t Mesh::vertex_valence(VertexId v) const {
+  // A closed fan of k corners has k edges; an open fan has one more.
+  int32_t corners = 0;
+  for_each_vertex_corner(v, [&](const VertexCorner&) { ++corners; });
+  return corners + (is_boundary_vertex(v) ? 1 : 0);
+}
+
+std::vector<EdgeId> Mesh::border_loop_edges(int32_t loop) const {
+  std::vector<EdgeId> edges;
+  EdgeId start = border_loops_[loop];
+  EdgeId e = start;
+  do {
+    edges.push_back(e);
+    e = border_next(e);
+  } while (e != start && edges.size() <= edge_vertices_.size());
+  return edges;
+}
+
+bool Mesh::has_mobius_edges() const {
+  return std::any_of(edge_flags_.begin(), edge_flags_.end(),
+                     [](uint8_t f) { return (f & kMobiusFlag) != 0; });
+}
+
+size_t Mesh::memory_bytes() const {
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  size_t total = bytes(positions_) + bytes(vertex_edges_) + bytes(edge_vertices_) +
+                 bytes(use_faces_) + bytes(next_) + bytes(prev_) + bytes(edge_flags_) +
+                 bytes(sharpness_) + bytes(face_uses_) + bytes(face_sources_) +
+                 bytes(face_colors_) + bytes(border_loops_);
+  for (const std::string& n : names_) {
+    total += sizeof(std::string) + (n.capacity() > 15 ? n.capacity() : 0);
+  }
+  return total;
+}
+
+void MeshAccess::link_borders(Mesh& m) {
+  m.border_loops_.clear();
+  const int32_t vertex_count = m.vertex_count();
+  const int32_t edge_count = m.edge_count();
+  // Up to two boundary edges per vertex (more would be a non-manifold vertex, which
+  // the builder rejects before calling this).
+  std::vector<EdgeId> at_vertex(2 * static_cast<size_t>(vertex_count), EdgeId::None());
+  bool has_border = false;
+  for (int32_t i = 0; i < edge_count; ++i) {
+    EdgeId e(i);
+    if (!m.is_boundary(e)) {
+      continue;
+    }
+    has_border = true;
+    for (int end = 0; end < 2; ++end) {
+      int32_t v = m.edge_vertices_[2 * i + end].index;
+      EdgeId* slot = &at_vertex[2 * v];
+      if (!slot[0].is_valid()) {
+        slot[0] = e;
+      } else {
+        slot[1] = e;
+      }
+    }
+    m.next_[2 * i + 1] = EdgeUse::None();
+    m.prev_[2 * i + 1] = EdgeUse::None();
+  }
+  if (!has_border) {
+    return;
+  }
+  for (int32_t i = 0; i < edge_count; ++i) {
+    EdgeId start(i);
+    if (!m.is_boundary(start) || m.next_[2 * i + 1].is_valid()) {
+      continue;
+    }
+    m.border_loops_.push_back(start);
+    EdgeId e = start;
+    VertexId at = m.edge_vertex(e, 1);
+    for (int32_t guard = 0; guard <= edge_count; ++guard) {
+      EdgeId* slot = &at_vertex[2 * at.index];
+      EdgeId next = slot[0] == e ? slot[1] : slot[0];
+      if (!next.is_valid()) {
+        next = e;  // unreachable for manifold input; keeps the loop well formed
+      }
+      m.next_[2 * e.index + 1] = EdgeUse(next, 0);
+      m.prev_[2 * next.index + 1] = EdgeUse(e, 0);
+      if (next == start) {
+        break;
+      }
+      at = m.edge_vertex(next, 0) == at ? m.edge_vertex(next, 1) : m.edge_vertex(next, 0);
+      e = next;
+    }
+  }
+}
+
+namespace {
+
+// Open-addressing map from an unordered vertex pair to an edge index; the builder's
+// auxiliary map (§2.2) without per-node allocations.
+class EdgeTable {
+ public:
+  explicit EdgeTable(size_t expected) {
+    size_t cap = 16;
+    while (cap < expected * 2) {
+      cap <<= 1;
+    }
+    keys_.assign(cap, kEmpty);
+    values_.resize(cap);
+    mask_ = cap - 1;
+  }
+  // Returns a reference to the slot value and whether the key was already present.
+  std::pair<int32_t*, bool> find_or_insert(int32_t a, int32_t b) {
+    uint64_t key = a < b ? (uint64_t(uint32_t(a)) << 32) | uint32_t(b)
+                         : (uint64_t(uint32_t(b)) << 32) | uint32_t(a);
+    size_t h = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask_;
+    while (true) {
+      if (keys_[h] == kEmpty) {
+        keys_[h] = key;
+        return {&values_[h], false};
+      }
+      if (keys_[h] == key) {
+        return {&values_[h], true};
+      }
+      h = (h + 1) & mask_;
+    }
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~uint64_t(0);
+  std::vector<uint64_t> keys_;
+  std::vector<int32_t> values_;
+  size_t mask_ = 0;
+};
+
+std::string vertex_label(const PolygonSoup& soup, int32_t v) {
+  if (v >= 0 && v < static_cast<int32_t>(soup.names.size()) && !soup.names[v].empty()) {
+    return soup.names[v];
+  }
+  return fmt::format("v{}", v);
+}
+
+}  // namespace
+
+Result<Mesh> build_mesh(const PolygonSoup& soup) {
+  using Kind = KernelError::Kind;
+  const int32_t vertex_count = soup.vertex_count();
+  const int32_t face_count = soup.face_count();
+  const size_t use_count = soup.face_vertices.size();
+  if (std::accumulate(soup.face_sizes.begin(), soup.face_sizes.end(), size_t(0)) != use_count ||
+      (!soup.face_sources.empty() && soup.face_sources.size() != size_t(face_count)) ||
+      (!soup.face_colors.empty() && soup.face_colors.size() != size_t(face_count)) ||
+      (!soup.names.empty() && soup.names.size() != size_t(vertex_count))) {
+    return KernelError{Kind::InvalidArgument,
+                       "polygon soup arrays have inconsistent lengths", {}, {}, {}};
+  }
+
+  // Validate faces first so that later passes can trust the indices.
+  {
+    KernelError degenerate{Kind::DegenerateFace, {}, {}, {}, {}};
+    size_t offset = 0;
+    for (int32_t f = 0; f < face_count; ++f) {
+      const int32_t n = soup.face_sizes[f];
+      const int32_t* fv = soup.face_vertices.data() + offset;
+      offset += n;
+      for (int32_t i = 0; i < n; ++i) {
+        if (fv[i] < 0 || fv[i] >= vertex_count) {
+          return KernelError{Kind::UnknownVertex,
+                             fmt::format("face {} references vertex index {} but the mesh "
+                                         "has {} vertices",
+                                         f, fv[i], vertex_count),
+                             {},
+                             {FaceId(f)},
+                             {}};
+        }
+      }
+      bool is_degenerate = n < 3;
+      for (int32_t i = 0; i < n && !is_degenerate; ++i) {
+        is_degenerate = fv[i] == fv[(i + 1) % n];
+      }
+      if (is_degenerate) {
+        degenerate.faces.push_back(FaceId(f));
+      }
+    }
+    if (!degenerate.faces.empty()) {
+      degenerate.message = fmt::format(
+          "{} face(s) have fewer than 3 vertices or repeat a vertex, first is face {}",
+          degenerate.faces.size(), degenerate.faces[0].index);
+      return degenerate;
+    }
+  }
+
+  Mesh m;
+  auto& positions = MeshAccess::positions(m);
+  auto& vertex_edges = MeshAccess::vertex_edges(m);
+  auto& edge_vertices = MeshAccess::edge_vertices(m);
+  auto& use_faces = MeshAccess::use_faces(m);
+  auto& next = MeshAccess::next(m);
+  auto& prev = MeshAccess::prev(m);
+  auto& flags = MeshAccess::edge_flags(m);
+  auto& sharpness = MeshAccess::sharpness(m);
+  auto& face_uses = MeshAccess::face_uses(m);
+  auto& face_sources = MeshAccess::face_sources(m);
+
+  positions = soup.positions;
+  vertex_edges.assign(vertex_count, EdgeId::None());
+  const size_t expected_edges = use_count / 2 + 8;
+  edge_vertices.reserve(2 * expected_edges);
+  use_faces.reserve(2 * expected_edges);
+  flags.reserve(expected_edges);
+  face_uses.resize(face_count);
+
+  EdgeTable table(expected_edges);
+  std::vector<EdgeUse> uses(use_count);
+  // Edges with a third (or later) face: edge index -> extra faces.
+  std::vector<std::pair<int32_t, int32_t>> extra_faces;
+
+  size_t offset = 0;
+  for (int32_t f = 0; f < face_count; ++f) {
+    const int32_t n = soup.face_sizes[f];
+    const int32_t* fv = soup.face_vertices.data() + offset;
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t a = fv[i];
+      const int32_t b = fv[(i + 1) % n];
+      auto [slot, is_present] = table.find_or_insert(a, b);
+      if (!is_present) {
+        const int32_t e = static_cast<int32_t>(flags.size());
+        *slot = e;
+        edge_vertices.push_back(VertexId(a));
+        edge_vertices.push_back(VertexId(b));
+        use_faces.push_back(FaceId(f));
+        use_faces.push_back(FaceId::None());
+        flags.push_back(0);
+        uses[offset + i] = EdgeUse(EdgeId(e), 0);
+      } else {
+        const int32_t e = *slot;
+        if (use_faces[2 * e + 1].is_valid()) {
+          extra_faces.emplace_back(e, f);
+          uses[offset + i] = EdgeUse::None();
+          continue;
+        }
+        use_faces[2 * e + 1] = FaceId(f);
+        // Same direction as F_a means the faces have opposite orientations.
+        if (edge_vertices[2 * e].index == a) {
+          flags[e] |= MeshAccess::mobius_flag();
+        }
+        uses[offset + i] = EdgeUse(EdgeId(e), 1);
+      }
+    }
+    offset += n;
+  }
+
+  if (!extra_faces.empty()) {
+    KernelError error{Kind::NonManifoldEdge, {}, {}, {}, {}};
+    std::sort(extra_faces.begin(), extra_faces.end());
+    std::string listing;
+    for (size_t i = 0; i < extra_faces.size(); ++i) {
+      const int32_t e = extra_faces[i].first;
+      if (i > 0 && extra_faces[i - 1].first == e) {
+        error.faces.push_back(FaceId(extra_faces[i].second));
+        listing += fmt::format(", {}", extra_faces[i].second);
+        continue;
+      }
+      if (!listing.empty()) {
+        listing += "; ";
+      }
+      error.edges.push_back(EdgeId(e));
+      error.vertices.push_back(edge_vertices[2 * e]);
+      error.vertices.push_back(edge_vertices[2 * e + 1]);
+      error.faces.push_back(use_faces[2 * e]);
+      error.faces.push_back(use_faces[2 * e + 1]);
+      error.faces.push_back(FaceId(extra_faces[i].second));
+      listing += fmt::format("edge `{}`-`{}` in faces {}, {}, {}",
+                             vertex_label(soup, edge_vertices[2 * e].index),
+                             vertex_label(soup, edge_vertices[2 * e + 1].index),
+                             use_faces[2 * e].index, use_faces[2 * e + 1].index,
+                             extra_faces[i].second);
+    }
+    error.message = fmt::format(
+        "{} edge(s) are shared by more than two faces: {}", error.edges.size(), listing);
+    return error;
+  }
+
+  const int32_t edge_count = static_cast<int32_t>(flags.size());
+  next.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
+  prev.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
+  sharpness.assign(edge_count, 0.0f);
+
+  // Wings: link each face's uses into its cyclic loop.
+  offset = 0;
+  for (int32_t f = 0; f < face_count; ++f) {
+    const int32_t n = soup.face_sizes[f];
+    const EdgeUse* fu = uses.data() + offset;
+    face_uses[f] = fu[0];
+    for (int32_t i = 0; i < n; ++i) {
+      EdgeUse u = fu[i];
+      EdgeUse w = fu[(i + 1) % n];
+      next[u.index] = w;
+      prev[w.index] = u;
+    }
+    offset += n;
+  }
+
+  // Vertex anchors: any incident edge, preferring boundary edges.
+  for (int32_t e = 0; e < edge_count; ++e) {
+    const bool is_boundary = !use_faces[2 * e + 1].is_valid();
+    for (int end = 0; end < 2; ++end) {
+      EdgeId& anchor = vertex_edges[edge_vertices[2 * e + end].index];
+      if (!anchor.is_valid() || (is_boundary && !m.is_boundary(anchor))) {
+        anchor = EdgeId(e);
+      }
+    }
+  }
+
+  // Manifold vertices: the single fan found by traversal must hold every corner.
+  {
+    std::vector<int32_t> corner_count(vertex_count, 0);
+    for (int32_t v : soup.face_vertices) {
+      ++corner_count[v];
+    }
+    std::vector<int32_t> boundary_count(vertex_count, 0);
+    for (int32_t e = 0; e < edge_count; ++e) {
+      if (!use_faces[2 * e + 1].is_valid()) {
+        ++boundary_count[edge_vertices[2 * e].index];
+        ++boundary_count[edge_vertices[2 * e + 1].index];
+      }
+    }
+    KernelError error{Kind::NonManifoldVertex, {}, {}, {}, {}};
+    for (int32_t v = 0; v < vertex_count; ++v) {
+      if (corner_count[v] == 0) {
+        continue;
+      }
+      int32_t walked = 0;
+      m.for_each_vertex_corner(VertexId(v), [&](const VertexCorner&) { ++walked; });
+      if (walked != corner_count[v] || boundary_count[v] > 2) {
+        error.vertices.push_back(VertexId(v));
+      }
+    }
+    if (!error.vertices.empty()) {
+      error.message = fmt::format(
+          "{} vertex(es) join faces that do not form a single fan, first is `{}`",
+          error.vertices.size(), vertex_label(soup, error.vertices[0].index));
+      return error;
+    }
+  }
+
+  // Properties.
+  if (soup.face_sources.empty()) {
+    face_sources.resize(face_count);
+    for (int32_t f = 0; f < face_count; ++f) {
+      face_sources[f].source_face = f;
+    }
+  } else {
+    face_sources = soup.face_sources;
+  }
+  MeshAccess::face_colors(m) = soup.face_colors;
+  if (!soup.names.empty()) {
+    MeshAccess::names(m) = soup.names;
+  }
+  for (const PolygonSoup::Crease& c : soup.creases) {
+    if (c.a < 0 || c.a >= vertex_count || c.b < 0 || c.b >= vertex_count) {
+      return KernelError{Kind::UnknownVertex,
+                         fmt::format("crease references vertex index {} or {} but the mesh "
+                                     "has {} vertices",
+                                     c.a, c.b, vertex_count),
+                         {},
+                         {},
+                         {}};
+    }
+    EdgeId e = m.find_edge(VertexId(c.a), VertexId(c.b));
+    if (!e.is_valid()) {
+      return KernelError{Kind::InvalidArgument,
+                         fmt::format("crease `{}`-`{}` is not an edge of the mesh",
+                                     vertex_label(soup, c.a), vertex_label(soup, c.b)),
+                         {},
+                         {},
+                         {VertexId(c.a), VertexId(c.b)}};
+    }
+    sharpness[e.index] = std::max(c.sharpness, 0.0f);
+  }
+
+  MeshAccess::link_borders(m);
+  return m;
+}
+
+PolygonSoup to_soup(const Mesh& mesh) {
+  PolygonSoup soup;
+  soup.positions = mesh.positions();
+  for (int32_t v = 0; v < mesh.vertex_count() && mesh.has_vertex_names(); ++v) {
+    soup.names.emplace_back(mesh.vertex_name(VertexId(v)));
+  }
+  soup.face_sizes.reserve(mesh.face_count());
+  soup.face_sources.reserve(mesh.face_count());
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    int32_t n = 0;
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      soup.face_vertices.push_back(mesh.use_tail(u).index);
+      ++n;
+    });
+    soup.face_sizes.push_back(n);
+    soup.face_sources.push_back(mesh.face_source(FaceId(f)));
+    if (mesh.has_face_colors()) {
+      soup.face_colors.push_back(mesh.face_color(FaceId(f)));
+    }
+  }
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    if (mesh.sharpness(EdgeId(e)) > 0.0f) {
+      soup.creases.push_back({mesh.edge_vertex(EdgeId(e), 0).index,
+                              mesh.edge_vertex(EdgeId(e), 1).index,
+                              mesh.sharpness(EdgeId(e))});
+    }
+  }
+  return soup;
+}
+
+}  // namespace nomec::kernel

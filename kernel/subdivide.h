@@ -1,0 +1,72 @@
+// Catmull-Clark subdivision on winged-edge meshes with Möbius edges (seed report §4):
+// face, edge and vertex points with boundary edges infinitely sharp, the corner /
+// crease / smooth vertex rules chosen by the number of sharp edges, semi-sharp creases
+// whose sharpness drops by one per level, and child→parent maps for every level.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernel/mesh.h"
+#include "kernel/result.h"
+
+namespace nomec::kernel {
+
+/// The smooth-vertex rule (n_sharp <= 1), seed §4.1.3.
+enum class VertexRule : uint8_t {
+  /// (n-3)/n v + 2/n avg(edge midpoints) + 1/n avg(face points); OpenSubdiv's Catmark.
+  CatmullClark,
+  /// (n-2)/n v + 1/n avg(new edge points) + 1/n avg(face points) (DeRose et al.).
+  DeRose,
+};
+
+/// Options for `subdivide`, e.g. from NOME's `subdivision s type catmullclark
+/// subdivisions 3 endsubdivision`.
+struct SubdivisionOptions {
+  int32_t levels = 1;
+  VertexRule vertex_rule = VertexRule::CatmullClark;
+  /// Fill the child→parent maps of each level (costs 16 bytes per child face).
+  bool has_parent_maps = true;
+};
+
+/// What a child vertex was created from.
+struct VertexParent {
+  enum class Kind : uint8_t { Face, Edge, Vertex };
+  Kind kind = Kind::Vertex;
+  /// Index of the parent face, edge or vertex.
+  int32_t index = -1;
+};
+
+/// What a child edge was created from: half of a parent edge, or the inside of a parent
+/// face (joining an edge point to the face point).
+struct EdgeParent {
+  enum class Kind : uint8_t { Edge, Face };
+  Kind kind = Kind::Edge;
+  int32_t index = -1;
+};
+
+/// One refinement level: the child mesh and its child→parent maps (empty when
+/// `!has_parent_maps`).
+///
+/// Layout (stable, relied on by the maps' users): child vertices are the F face points,
+/// then the E edge points, then the V vertex points; child edges are the two halves of
+/// each parent edge (2e near end 0, 2e+1 near end 1), then one edge per face corner;
+/// the child faces of parent face f are consecutive, one per corner in loop order.
+struct SubdivisionLevel {
+  Mesh mesh;
+  std::vector<VertexParent> vertex_parents;
+  std::vector<EdgeParent> edge_parents;
+  std::vector<FaceId> face_parents;
+};
+
+/// One level of Catmull-Clark. Precondition: `mesh` came from `build_mesh` or a kernel
+/// operation (so it is a 2-manifold). Never fails. Möbius flags, colours and face
+/// sources are inherited; edge sharpness s becomes max(s - 1, 0) (infinity stays).
+SubdivisionLevel subdivide_once(const Mesh& mesh, const SubdivisionOptions& options = {});
+
+/// `options.levels` levels; element i is level i + 1. Fails with `InvalidArgument` if
+/// levels is outside [0, 12].
+Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
+                                                const SubdivisionOptions& options);
+
+}  // namespace nomec::kernel

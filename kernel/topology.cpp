@@ -1,0 +1,117 @@
+// Connected components and their classification. Orientability is decided by a
+// breadth-first propagation of a ±1 orientation per face: crossing a regular edge keeps
+// the neighbour's sign equal, crossing a Möbius edge flips it; a contradiction means the
+// component is single-sided.
+#include "kernel/topology.h"
+
+#include <algorithm>
+
+namespace nomec::kernel {
+
+std::vector<int32_t> face_components(const Mesh& mesh) {
+  const int32_t face_count = mesh.face_count();
+  std::vector<int32_t> component(face_count, -1);
+  std::vector<int32_t> queue;
+  queue.reserve(face_count);
+  int32_t next_component = 0;
+  for (int32_t seed = 0; seed < face_count; ++seed) {
+    if (component[seed] >= 0) {
+      continue;
+    }
+    component[seed] = next_component;
+    queue.clear();
+    queue.push_back(seed);
+    for (size_t head = 0; head < queue.size(); ++head) {
+      mesh.for_each_face_use(FaceId(queue[head]), [&](EdgeUse u) {
+        FaceId other = mesh.use_face(u.twin());
+        if (other.is_valid() && component[other.index] < 0) {
+          component[other.index] = next_component;
+          queue.push_back(other.index);
+        }
+      });
+    }
+    ++next_component;
+  }
+  return component;
+}
+
+TopologyReport topology(const Mesh& mesh) {
+  TopologyReport report;
+  const std::vector<int32_t> component = face_components(mesh);
+  int32_t component_count = 0;
+  for (int32_t c : component) {
+    component_count = std::max(component_count, c + 1);
+  }
+  report.components.resize(component_count);
+  for (int32_t f = mesh.face_count() - 1; f >= 0; --f) {
+    ComponentTopology& c = report.components[component[f]];
+    ++c.face_count;
+    c.first_face = FaceId(f);
+  }
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    ComponentTopology& c = report.components[component[mesh.edge_face(EdgeId(e), 0).index]];
+    ++c.edge_count;
+    if (mesh.is_mobius(EdgeId(e))) {
+      ++c.mobius_edge_count;
+    }
+  }
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    EdgeId e = mesh.vertex_edge(VertexId(v));
+    if (!e.is_valid()) {
+      ++report.isolated_vertex_count;
+      continue;
+    }
+    ++report.components[component[mesh.edge_face(e, 0).index]].vertex_count;
+  }
+  for (EdgeId start : mesh.border_loops()) {
+    ++report.components[component[mesh.edge_face(start, 0).index]].border_loop_count;
+  }
+
+  // Orientation propagation.
+  std::vector<int8_t> sign(mesh.face_count(), 0);
+  std::vector<int32_t> queue;
+  queue.reserve(mesh.face_count());
+  for (int32_t seed = 0; seed < mesh.face_count(); ++seed) {
+    if (sign[seed] != 0) {
+      continue;
+    }
+    ComponentTopology& c = report.components[component[seed]];
+    sign[seed] = 1;
+    queue.clear();
+    queue.push_back(seed);
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const int32_t f = queue[head];
+      mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+        FaceId other = mesh.use_face(u.twin());
+        if (!other.is_valid()) {
+          return;
+        }
+        const int8_t expected =
+            static_cast<int8_t>(mesh.is_mobius(u.edge()) ? -sign[f] : sign[f]);
+        if (sign[other.index] == 0) {
+          sign[other.index] = expected;
+          queue.push_back(other.index);
+        } else if (sign[other.index] != expected) {
+          c.is_orientable = false;
+        }
+      });
+    }
+  }
+
+  for (ComponentTopology& c : report.components) {
+    c.euler_characteristic = c.vertex_count - c.edge_count + c.face_count;
+    c.is_closed = c.border_loop_count == 0;
+    const int32_t deficit = 2 - c.euler_characteristic - c.border_loop_count;
+    c.genus = c.is_orientable ? deficit / 2 : deficit;
+    report.vertex_count += c.vertex_count;
+    report.edge_count += c.edge_count;
+    report.face_count += c.face_count;
+    report.border_loop_count += c.border_loop_count;
+    report.is_orientable = report.is_orientable && c.is_orientable;
+    report.is_closed = report.is_closed && c.is_closed;
+  }
+  report.euler_characteristic = report.vertex_count - report.edge_count + report.face_count;
+  return report;
+}
+
+}  // namespace nomec::kernel

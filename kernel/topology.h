@@ -1,0 +1,53 @@
+// Topology report of a mesh, per connected component: counts, Euler characteristic,
+// orientability (found by propagating face orientations across regular and Möbius
+// edges), border loops and genus. Used by tests, mesh goldens and `--emit summary`.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernel/mesh.h"
+
+namespace nomec::kernel {
+
+/// Topology of one connected component (faces connected through shared edges), e.g. the
+/// single band of `mobius_band_open.nome`.
+struct ComponentTopology {
+  int32_t vertex_count = 0;
+  int32_t edge_count = 0;
+  int32_t face_count = 0;
+  int32_t mobius_edge_count = 0;
+  int32_t border_loop_count = 0;
+  /// V - E + F.
+  int32_t euler_characteristic = 0;
+  bool is_orientable = true;
+  /// No border loops (every edge has two faces). Meshes are always 2-manifold, so a
+  /// closed component is watertight.
+  bool is_closed = true;
+  /// Orientable genus g = (2 - χ - b) / 2, or non-orientable genus k = 2 - χ - b
+  /// (the number of cross-caps) when `!is_orientable`.
+  int32_t genus = 0;
+  /// Smallest face index in the component (a stable identifier).
+  FaceId first_face;
+};
+
+/// Whole-mesh report: one entry per component (ordered by first face) and totals.
+struct TopologyReport {
+  std::vector<ComponentTopology> components;
+  int32_t vertex_count = 0;  ///< vertices used by faces
+  int32_t edge_count = 0;
+  int32_t face_count = 0;
+  int32_t euler_characteristic = 0;
+  int32_t border_loop_count = 0;
+  int32_t isolated_vertex_count = 0;  ///< vertices no face uses (not in components)
+  bool is_orientable = true;          ///< all components orientable
+  bool is_closed = true;              ///< all components closed
+};
+
+/// Computes the report in time linear in the number of edges. Never fails.
+TopologyReport topology(const Mesh& mesh);
+
+/// Per face, the index into `topology(mesh).components` of its component.
+std::vector<int32_t> face_components(const Mesh& mesh);
+
+}  // namespace nomec::kernel

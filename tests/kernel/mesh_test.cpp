@@ -1,0 +1,219 @@
+// Unit tests for the winged-edge builder and traversals: exact counts, wings, border
+// loops, Möbius flags, and the structured errors for non-manifold input.
+#include <algorithm>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "kernel/mesh.h"
+#include "tests/kernel/shapes.h"
+
+namespace nomec::kernel {
+namespace {
+
+using testing::cube_soup;
+using testing::Glue;
+using testing::grid_soup;
+
+// Every wing is consistent: next/prev are inverse, consecutive uses share a vertex,
+// and each face's loop closes.
+void expect_consistent(const Mesh& m) {
+  for (int32_t f = 0; f < m.face_count(); ++f) {
+    m.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      EXPECT_EQ(m.use_face(u), FaceId(f));
+      EXPECT_EQ(m.prev(m.next(u)), u);
+      EXPECT_EQ(m.use_head(u), m.use_tail(m.next(u)));
+    });
+  }
+  for (int32_t e = 0; e < m.edge_count(); ++e) {
+    EXPECT_TRUE(m.edge_face(EdgeId(e), 0).is_valid());
+  }
+}
+
+TEST(MeshBuilder, CubeCountsAndWings) {
+  auto mesh = build_mesh(cube_soup());
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  EXPECT_EQ(mesh->vertex_count(), 8);
+  EXPECT_EQ(mesh->edge_count(), 12);
+  EXPECT_EQ(mesh->face_count(), 6);
+  EXPECT_TRUE(mesh->border_loops().empty());
+  EXPECT_FALSE(mesh->has_mobius_edges());
+  expect_consistent(*mesh);
+  for (int32_t v = 0; v < 8; ++v) {
+    EXPECT_EQ(mesh->vertex_valence(VertexId(v)), 3);
+    EXPECT_EQ(mesh->vertex_ring(VertexId(v)).size(), 3u);
+  }
+  // Faces keep their input orientation and first vertex.
+  std::vector<VertexId> f0 = mesh->face_vertices(FaceId(0));
+  EXPECT_EQ(f0, (std::vector<VertexId>{VertexId(0), VertexId(2), VertexId(3), VertexId(1)}));
+  EXPECT_EQ(mesh->vertex_name(VertexId(3)), "v3");
+  EXPECT_EQ(mesh->find_edge(VertexId(0), VertexId(2)).is_valid(), true);
+  EXPECT_EQ(mesh->find_edge(VertexId(0), VertexId(7)).is_valid(), false);
+}
+
+TEST(MeshBuilder, QuadGridBorderLoop) {
+  auto mesh = build_mesh(grid_soup(3, 2, Glue::None));
+  ASSERT_TRUE(mesh.has_value());
+  EXPECT_EQ(mesh->vertex_count(), 12);
+  EXPECT_EQ(mesh->edge_count(), 17);
+  EXPECT_EQ(mesh->face_count(), 6);
+  ASSERT_EQ(mesh->border_loops().size(), 1u);
+  std::vector<EdgeId> loop = mesh->border_loop_edges(0);
+  EXPECT_EQ(loop.size(), 10u);
+  // Consecutive border edges share a vertex.
+  for (size_t i = 0; i < loop.size(); ++i) {
+    EdgeId a = loop[i], b = loop[(i + 1) % loop.size()];
+    std::set<int32_t> va{mesh->edge_vertex(a, 0).index, mesh->edge_vertex(a, 1).index};
+    EXPECT_TRUE(va.count(mesh->edge_vertex(b, 0).index) || va.count(mesh->edge_vertex(b, 1).index));
+    EXPECT_EQ(mesh->border_prev(b), a);
+  }
+  // Corner vertex of the grid: one face, valence 2; border middle: 2 faces, valence 3.
+  EXPECT_EQ(mesh->vertex_ring(VertexId(0)).size(), 1u);
+  EXPECT_EQ(mesh->vertex_valence(VertexId(0)), 2);
+  EXPECT_EQ(mesh->vertex_valence(VertexId(1)), 3);
+  EXPECT_EQ(mesh->vertex_valence(VertexId(4)), 4);  // interior (1,1)
+  expect_consistent(*mesh);
+}
+
+TEST(MeshBuilder, MobiusStripHasOneMobiusEdgeAndOneBorder) {
+  auto mesh = build_mesh(grid_soup(5, 1, Glue::Mobius));
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  EXPECT_EQ(mesh->vertex_count(), 10);
+  EXPECT_EQ(mesh->edge_count(), 15);
+  EXPECT_EQ(mesh->face_count(), 5);
+  int mobius = 0;
+  for (int32_t e = 0; e < mesh->edge_count(); ++e) {
+    mobius += mesh->is_mobius(EdgeId(e)) ? 1 : 0;
+  }
+  EXPECT_EQ(mobius, 1);
+  ASSERT_EQ(mesh->border_loops().size(), 1u);
+  EXPECT_EQ(mesh->border_loop_edges(0).size(), 10u);
+  expect_consistent(*mesh);
+}
+
+TEST(MeshBuilder, VertexRingCrossesMobiusEdge) {
+  // Möbius band of 4 quads and 2 rows: the middle row vertices are interior with
+  // valence 4; at the glued seam the ring crosses the Möbius edge and flips.
+  auto mesh = build_mesh(grid_soup(4, 2, Glue::Mobius));
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  // Vertex (0,1) = index 1 lies on the seam (Möbius edges touch it).
+  const VertexId v(1);
+  std::vector<VertexCorner> ring = mesh->vertex_ring(v);
+  ASSERT_EQ(ring.size(), 4u);
+  std::set<int32_t> faces;
+  int flipped = 0;
+  for (const VertexCorner& c : ring) {
+    faces.insert(c.face.index);
+    EXPECT_EQ(mesh->use_tail(c.use), v);
+    EXPECT_EQ(mesh->use_face(c.use), c.face);
+    flipped += c.is_flipped ? 1 : 0;
+  }
+  EXPECT_EQ(faces.size(), 4u);
+  EXPECT_EQ(flipped, 2);  // the two faces across the seam
+  EXPECT_EQ(mesh->vertex_valence(v), 4);
+  // A border vertex on the seam: open fan of 2 faces.
+  std::vector<VertexCorner> border_ring = mesh->vertex_ring(VertexId(0));
+  EXPECT_EQ(border_ring.size(), 2u);
+  EXPECT_NE(border_ring[0].face, border_ring[1].face);
+}
+
+TEST(MeshBuilder, KleinBottleIsClosedWithMobiusEdges) {
+  auto mesh = build_mesh(grid_soup(4, 4, Glue::Klein));
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  EXPECT_EQ(mesh->vertex_count(), 16);
+  EXPECT_EQ(mesh->edge_count(), 32);
+  EXPECT_EQ(mesh->face_count(), 16);
+  EXPECT_TRUE(mesh->border_loops().empty());
+  EXPECT_TRUE(mesh->has_mobius_edges());
+  for (int32_t v = 0; v < 16; ++v) {
+    EXPECT_EQ(mesh->vertex_ring(VertexId(v)).size(), 4u) << v;
+  }
+  expect_consistent(*mesh);
+}
+
+TEST(MeshBuilder, ThirdFaceOnEdgeIsStructuredError) {
+  PolygonSoup s;
+  for (int i = 0; i < 5; ++i) {
+    s.add_vertex({double(i), double(i * i), 0.0}, "p" + std::to_string(i));
+  }
+  s.add_face({0, 1, 2});
+  s.add_face({1, 0, 3});
+  s.add_face({0, 1, 4});
+  auto mesh = build_mesh(s);
+  ASSERT_FALSE(mesh.has_value());
+  const KernelError& err = mesh.error();
+  EXPECT_EQ(err.kind, KernelError::Kind::NonManifoldEdge);
+  ASSERT_EQ(err.edges.size(), 1u);
+  EXPECT_EQ(err.vertices, (std::vector<VertexId>{VertexId(0), VertexId(1)}));
+  EXPECT_EQ(err.faces, (std::vector<FaceId>{FaceId(0), FaceId(1), FaceId(2)}));
+  EXPECT_NE(err.message.find("`p0`-`p1`"), std::string::npos) << err.message;
+}
+
+TEST(MeshBuilder, BowtieVertexIsRejected) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({1, 0, 0});
+  s.add_vertex({1, 1, 0});
+  s.add_vertex({-1, 0, 0});
+  s.add_vertex({-1, -1, 0});
+  s.add_face({0, 1, 2});
+  s.add_face({0, 3, 4});
+  auto mesh = build_mesh(s);
+  ASSERT_FALSE(mesh.has_value());
+  EXPECT_EQ(mesh.error().kind, KernelError::Kind::NonManifoldVertex);
+  EXPECT_EQ(mesh.error().vertices, std::vector<VertexId>{VertexId(0)});
+}
+
+TEST(MeshBuilder, DegenerateAndUnknownVertices) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({1, 0, 0});
+  s.add_vertex({1, 1, 0});
+  s.add_face({0, 1, 1});
+  auto degenerate = build_mesh(s);
+  ASSERT_FALSE(degenerate.has_value());
+  EXPECT_EQ(degenerate.error().kind, KernelError::Kind::DegenerateFace);
+  EXPECT_EQ(degenerate.error().faces, std::vector<FaceId>{FaceId(0)});
+
+  PolygonSoup t;
+  t.add_vertex({0, 0, 0});
+  t.add_face({0, 1, 2});
+  auto unknown = build_mesh(t);
+  ASSERT_FALSE(unknown.has_value());
+  EXPECT_EQ(unknown.error().kind, KernelError::Kind::UnknownVertex);
+}
+
+TEST(MeshBuilder, FacesByNames) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0}, "a");
+  s.add_vertex({1, 0, 0}, "b");
+  s.add_vertex({0, 1, 0}, "c");
+  std::vector<std::string> good{"a", "b", "c"};
+  ASSERT_TRUE(s.add_face_by_names(good).has_value());
+  std::vector<std::string> bad{"a", "b", "zz"};
+  auto r = s.add_face_by_names(bad);
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error().kind, KernelError::Kind::UnknownVertex);
+  EXPECT_NE(r.error().message.find("`zz`"), std::string::npos);
+  auto mesh = build_mesh(s);
+  ASSERT_TRUE(mesh.has_value());
+  EXPECT_EQ(mesh->face_count(), 1);
+}
+
+TEST(MeshBuilder, CreasesAndRoundTrip) {
+  PolygonSoup s = cube_soup();
+  s.creases.push_back({0, 2, 2.5f});
+  s.face_colors.assign(6, glm::vec3(1, 0, 0));
+  auto mesh = build_mesh(s);
+  ASSERT_TRUE(mesh.has_value());
+  EXPECT_FLOAT_EQ(mesh->sharpness(mesh->find_edge(VertexId(2), VertexId(0))), 2.5f);
+  PolygonSoup back = to_soup(*mesh);
+  EXPECT_EQ(back.face_vertices, s.face_vertices);
+  ASSERT_EQ(back.creases.size(), 1u);
+  EXPECT_FLOAT_EQ(back.creases[0].sharpness, 2.5f);
+  EXPECT_EQ(back.face_colors.size(), 6u);
+  EXPECT_EQ(back.names.size(), 8u);
+}
+
+}  // namespace
+}  // namespace nomec::kernel

@@ -1,0 +1,222 @@
+// Catmull-Clark unit tests: exact counts per level, invariants (Euler characteristic,
+// orientability, borders) on single-sided surfaces, the vertex rules on hand-computed
+// positions, crease decay, provenance, colours and the child→parent maps.
+#include <gtest/gtest.h>
+
+#include "kernel/subdivide.h"
+#include "kernel/topology.h"
+#include "tests/kernel/shapes.h"
+
+namespace nomec::kernel {
+namespace {
+
+using testing::cube_soup;
+using testing::Glue;
+using testing::grid_soup;
+
+Mesh build(const PolygonSoup& s) {
+  auto mesh = build_mesh(s);
+  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
+  return std::move(*mesh);
+}
+
+void expect_wings_consistent(const Mesh& m) {
+  for (int32_t f = 0; f < m.face_count(); ++f) {
+    int n = 0;
+    m.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      ++n;
+      ASSERT_EQ(m.use_face(u), FaceId(f));
+      ASSERT_EQ(m.prev(m.next(u)), u);
+      ASSERT_EQ(m.use_head(u), m.use_tail(m.next(u)));
+    });
+    ASSERT_EQ(n, 4);
+  }
+}
+
+TEST(Subdivide, CubeLevelCounts) {
+  Mesh cube = build(cube_soup());
+  auto levels = subdivide(cube, {.levels = 3});
+  ASSERT_TRUE(levels.has_value());
+  const Mesh& l1 = (*levels)[0].mesh;
+  EXPECT_EQ(l1.vertex_count(), 26);
+  EXPECT_EQ(l1.edge_count(), 48);
+  EXPECT_EQ(l1.face_count(), 24);
+  const Mesh& l2 = (*levels)[1].mesh;
+  EXPECT_EQ(l2.vertex_count(), 98);
+  EXPECT_EQ(l2.edge_count(), 192);
+  EXPECT_EQ(l2.face_count(), 96);
+  const Mesh& l3 = (*levels)[2].mesh;
+  EXPECT_EQ(l3.face_count(), 384);
+  for (const SubdivisionLevel& level : *levels) {
+    expect_wings_consistent(level.mesh);
+    TopologyReport r = topology(level.mesh);
+    EXPECT_EQ(r.euler_characteristic, 2);
+    EXPECT_TRUE(r.is_orientable);
+    EXPECT_TRUE(r.is_closed);
+  }
+}
+
+TEST(Subdivide, CubeLevelOnePositions) {
+  // Cube corner (valence 3, smooth): v = (n-3)/n v0 + 2/n R + 1/n F = 2/3 R + 1/3 F...
+  // For corner (0,0,0): R = avg of midpoints (0.25,0,0)... = (1/6,1/6,1/6),
+  // F = avg of face centres = (1/3,1/3,1/3) -> v = (2/9,2/9,2/9).
+  Mesh cube = build(cube_soup());
+  SubdivisionLevel l1 = subdivide_once(cube);
+  const glm::dvec3 v0 = l1.mesh.position(VertexId(6 + 12 + 0));
+  EXPECT_NEAR(v0.x, 2.0 / 9.0, 1e-15);
+  EXPECT_NEAR(v0.y, 2.0 / 9.0, 1e-15);
+  EXPECT_NEAR(v0.z, 2.0 / 9.0, 1e-15);
+  // Face point of face 0 (z = 0) is its centre.
+  EXPECT_EQ(l1.mesh.position(VertexId(0)), glm::dvec3(0.5, 0.5, 0.0));
+  // DeRose: v = (n-2)/n v0 + 1/n E + 1/n F; edge points of a corner edge are
+  // (v0 + v1 + f1 + f2)/4, e.g. edge (0,0,0)-(1,0,0) -> (0.5, 0.125, 0.125); the average
+  // over the three edges is (1/4)(1,1,1); F = (1/3)(1,1,1) -> v = (1/3)(1/4 + 1/3).
+  SubdivisionLevel d1 = subdivide_once(cube, {.vertex_rule = VertexRule::DeRose});
+  const glm::dvec3 d0 = d1.mesh.position(VertexId(6 + 12 + 0));
+  EXPECT_NEAR(d0.x, 1.0 / 3.0 * (1.0 / 4.0 + 1.0 / 3.0), 1e-15);
+  EXPECT_NEAR(d0.z, 1.0 / 3.0 * (1.0 / 4.0 + 1.0 / 3.0), 1e-15);
+}
+
+TEST(Subdivide, BoundaryRules) {
+  // Single quad: boundary edges infinitely sharp, every corner has n_sharp = 2 -> crease
+  // rule: v = 3/4 v0 + 1/8 (a + b).
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({4, 0, 0});
+  s.add_vertex({4, 4, 0});
+  s.add_vertex({0, 4, 0});
+  s.add_face({0, 1, 2, 3});
+  SubdivisionLevel l1 = subdivide_once(build(s));
+  EXPECT_EQ(l1.mesh.vertex_count(), 9);
+  EXPECT_EQ(l1.mesh.edge_count(), 12);
+  EXPECT_EQ(l1.mesh.face_count(), 4);
+  EXPECT_EQ(l1.mesh.position(VertexId(1 + 4 + 0)), glm::dvec3(0.5, 0.5, 0));
+  EXPECT_EQ(l1.mesh.position(VertexId(1 + 0)), glm::dvec3(2, 0, 0));  // edge midpoint
+  ASSERT_EQ(l1.mesh.border_loops().size(), 1u);
+  EXPECT_EQ(l1.mesh.border_loop_edges(0).size(), 8u);
+}
+
+TEST(Subdivide, CreaseDecaysByOnePerLevel) {
+  PolygonSoup s = cube_soup();
+  s.creases.push_back({0, 2, 2.0f});
+  Mesh cube = build(s);
+  auto levels = subdivide(cube, {.levels = 3});
+  ASSERT_TRUE(levels.has_value());
+  const EdgeId parent = cube.find_edge(VertexId(0), VertexId(2));
+  const Mesh& l1 = (*levels)[0].mesh;
+  EXPECT_EQ(l1.sharpness(EdgeId(2 * parent.index)), 1.0f);
+  EXPECT_EQ(l1.sharpness(EdgeId(2 * parent.index + 1)), 1.0f);
+  // The edge point of a sharp edge is its midpoint.
+  EXPECT_EQ(l1.position(VertexId(6 + parent.index)), glm::dvec3(0, 0.5, 0));
+  const Mesh& l2 = (*levels)[1].mesh;
+  EXPECT_EQ(l2.sharpness(EdgeId(4 * parent.index)), 0.0f);
+  int sharp_edges = 0;
+  for (int32_t e = 0; e < l2.edge_count(); ++e) {
+    sharp_edges += l2.sharpness(EdgeId(e)) > 0 ? 1 : 0;
+  }
+  EXPECT_EQ(sharp_edges, 0);
+}
+
+TEST(Subdivide, InfiniteCreaseKeepsCornerFixed) {
+  // Three infinitely sharp edges at cube vertex 0: corner rule, the vertex never moves.
+  PolygonSoup s = cube_soup();
+  s.creases.push_back({0, 1, kInfiniteSharpness});
+  s.creases.push_back({0, 2, kInfiniteSharpness});
+  s.creases.push_back({0, 4, kInfiniteSharpness});
+  Mesh m = build(s);
+  int32_t corner = 0;  // index of the corner's descendant in the current level
+  for (int level = 0; level < 3; ++level) {
+    SubdivisionLevel next = subdivide_once(m);
+    const int32_t child = m.face_count() + m.edge_count() + corner;
+    EXPECT_EQ(next.vertex_parents[child].kind, VertexParent::Kind::Vertex);
+    EXPECT_EQ(next.vertex_parents[child].index, corner);
+    EXPECT_EQ(next.mesh.position(VertexId(child)), glm::dvec3(0, 0, 0)) << level;
+    corner = child;
+    m = std::move(next.mesh);
+  }
+}
+
+TEST(Subdivide, MobiusBandStaysNonOrientableWithOneBorder) {
+  Mesh band = build(grid_soup(5, 1, Glue::Mobius));
+  auto levels = subdivide(band, {.levels = 3});
+  ASSERT_TRUE(levels.has_value());
+  int32_t faces = 5;
+  for (const SubdivisionLevel& level : *levels) {
+    faces *= 4;
+    TopologyReport r = topology(level.mesh);
+    EXPECT_EQ(r.face_count, faces);
+    EXPECT_EQ(r.euler_characteristic, 0);
+    EXPECT_FALSE(r.is_orientable);
+    EXPECT_EQ(r.border_loop_count, 1);
+    EXPECT_TRUE(level.mesh.has_mobius_edges());
+    expect_wings_consistent(level.mesh);
+  }
+}
+
+TEST(Subdivide, KleinBottleStaysClosedNonOrientable) {
+  Mesh klein = build(grid_soup(4, 4, Glue::Klein));
+  auto levels = subdivide(klein, {.levels = 2});
+  ASSERT_TRUE(levels.has_value());
+  for (const SubdivisionLevel& level : *levels) {
+    TopologyReport r = topology(level.mesh);
+    EXPECT_EQ(r.euler_characteristic, 0);
+    EXPECT_FALSE(r.is_orientable);
+    EXPECT_TRUE(r.is_closed);
+    expect_wings_consistent(level.mesh);
+  }
+}
+
+TEST(Subdivide, ProvenanceColoursAndParentMaps) {
+  PolygonSoup s = cube_soup();
+  for (int f = 0; f < 6; ++f) {
+    s.face_sources.push_back({100 + f, 7});
+    s.face_colors.push_back(glm::vec3(float(f), 0, 0));
+  }
+  Mesh cube = build(s);
+  auto levels = subdivide(cube, {.levels = 2});
+  ASSERT_TRUE(levels.has_value());
+  const SubdivisionLevel& l1 = (*levels)[0];
+  const SubdivisionLevel& l2 = (*levels)[1];
+  ASSERT_EQ(l2.face_parents.size(), 96u);
+  for (int32_t f = 0; f < 96; ++f) {
+    const FaceId p1 = l2.face_parents[f];
+    const FaceId p0 = l1.face_parents[p1.index];
+    EXPECT_EQ(l2.mesh.face_source(FaceId(f)), (FaceSource{100 + p0.index, 7}));
+    EXPECT_EQ(l2.mesh.face_color(FaceId(f)).x, float(p0.index));
+  }
+  EXPECT_EQ(l1.face_parents[5], FaceId(1));  // 4 children per quad, in order
+  EXPECT_EQ(l1.vertex_parents[3].kind, VertexParent::Kind::Face);
+  EXPECT_EQ(l1.vertex_parents[6 + 4].kind, VertexParent::Kind::Edge);
+  EXPECT_EQ(l1.vertex_parents[6 + 4].index, 4);
+  EXPECT_EQ(l1.edge_parents[23].kind, EdgeParent::Kind::Edge);
+  EXPECT_EQ(l1.edge_parents[23].index, 11);
+  EXPECT_EQ(l1.edge_parents[27].kind, EdgeParent::Kind::Face);
+  EXPECT_EQ(l1.edge_parents[27].index, 0);
+  EXPECT_EQ(l1.edge_parents[28].index, 1);
+  EXPECT_EQ(l1.edge_parents[24].kind, EdgeParent::Kind::Face);
+  EXPECT_EQ(l1.edge_parents[24].index, 0);
+}
+
+TEST(Subdivide, MixedPolygonsBecomeQuads) {
+  Mesh disk = build(testing::mixed_disk_soup());
+  EXPECT_EQ(disk.vertex_count(), 15);
+  EXPECT_EQ(disk.edge_count(), 25);
+  EXPECT_EQ(disk.face_count(), 11);
+  SubdivisionLevel l1 = subdivide_once(disk);
+  EXPECT_EQ(l1.mesh.face_count(), 5 + 5 * 4 + 5 * 3);
+  EXPECT_EQ(l1.mesh.vertex_count(), 15 + 25 + 11);
+  TopologyReport r = topology(l1.mesh);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_EQ(r.border_loop_count, 1);
+  expect_wings_consistent(l1.mesh);
+}
+
+TEST(Subdivide, RejectsBadLevelCount) {
+  Mesh cube = build(cube_soup());
+  auto r = subdivide(cube, {.levels = -1});
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error().kind, KernelError::Kind::InvalidArgument);
+}
+
+}  // namespace
+}  // namespace nomec::kernel
