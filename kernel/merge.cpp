@@ -1,0 +1,282 @@
+// Boundary merge: spatial hashing finds coinciding boundary vertices, boundary edges are
+// matched through them, a union-find over the vertex matching graph gives the merged
+// vertices, and the merged polygon soup is rebuilt (the builder sets Möbius flags where
+// the joined faces have opposite orientations and detects non-manifold results).
+#include "kernel/merge.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+namespace nomec::kernel {
+namespace {
+
+class UnionFind {
+ public:
+  explicit UnionFind(int32_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int32_t find(int32_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(int32_t a, int32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) {
+      parent_[std::max(a, b)] = std::min(a, b);
+    }
+  }
+
+ private:
+  std::vector<int32_t> parent_;
+};
+
+struct CellKey {
+  int64_t x, y, z;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+  size_t operator()(const CellKey& k) const {
+    return size_t(k.x * 73856093) ^ size_t(k.y * 19349663) ^ size_t(k.z * 83492791);
+  }
+};
+
+}  // namespace
+
+Mesh concatenate(std::span<const Mesh* const> meshes) {
+  PolygonSoup soup;
+  bool has_colors = false;
+  bool has_names = false;
+  for (const Mesh* m : meshes) {
+    has_colors = has_colors || (m->has_face_colors() && m->face_count() > 0);
+    has_names = has_names || m->has_vertex_names();
+  }
+  for (const Mesh* m : meshes) {
+    PolygonSoup part = to_soup(*m);
+    const int32_t base = soup.vertex_count();
+    for (int32_t v = 0; v < part.vertex_count(); ++v) {
+      soup.positions.push_back(part.positions[v]);
+      if (has_names) {
+        soup.names.push_back(part.names.empty() ? std::string() : part.names[v]);
+      }
+    }
+    soup.face_sizes.insert(soup.face_sizes.end(), part.face_sizes.begin(), part.face_sizes.end());
+    for (int32_t v : part.face_vertices) {
+      soup.face_vertices.push_back(v + base);
+    }
+    soup.face_sources.insert(soup.face_sources.end(), part.face_sources.begin(),
+                             part.face_sources.end());
+    if (has_colors) {
+      if (part.face_colors.empty()) {
+        part.face_colors.assign(part.face_sizes.size(), glm::vec3(1.0f));
+      }
+      soup.face_colors.insert(soup.face_colors.end(), part.face_colors.begin(),
+                              part.face_colors.end());
+    }
+    for (PolygonSoup::Crease c : part.creases) {
+      c.a += base;
+      c.b += base;
+      soup.creases.push_back(c);
+    }
+  }
+  auto built = build_mesh(soup);
+  // Each part is a valid manifold and the parts share no vertices, so this cannot fail.
+  return built.has_value() ? std::move(*built) : Mesh();
+}
+
+Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
+  using Kind = KernelError::Kind;
+  if (!(options.tolerance >= 0.0)) {
+    return KernelError{Kind::InvalidArgument,
+                       fmt::format("merge tolerance {} is negative", options.tolerance), {}, {}, {}};
+  }
+  const int32_t V = mesh.vertex_count();
+  const int32_t E = mesh.edge_count();
+  const double tol = options.tolerance;
+  const double tol2 = tol * tol;
+  const double cell = std::max(tol, 1e-12);
+
+  // Boundary edges per vertex (at most two in a manifold mesh).
+  std::vector<EdgeId> boundary_at(2 * static_cast<size_t>(V), EdgeId::None());
+  std::unordered_map<CellKey, std::vector<int32_t>, CellHash> grid;
+  auto key_of = [&](const glm::dvec3& p) {
+    return CellKey{int64_t(std::floor(p.x / cell)), int64_t(std::floor(p.y / cell)),
+                   int64_t(std::floor(p.z / cell))};
+  };
+  for (int32_t e = 0; e < E; ++e) {
+    if (!mesh.is_boundary(EdgeId(e))) {
+      continue;
+    }
+    for (int end = 0; end < 2; ++end) {
+      const int32_t v = mesh.edge_vertex(EdgeId(e), end).index;
+      EdgeId* slot = &boundary_at[2 * v];
+      if (!slot[0].is_valid()) {
+        slot[0] = EdgeId(e);
+        grid[key_of(mesh.position(VertexId(v)))].push_back(v);
+      } else {
+        slot[1] = EdgeId(e);
+      }
+    }
+  }
+  // Boundary vertices coinciding with v (including v itself).
+  auto near = [&](int32_t v, std::vector<int32_t>& out) {
+    out.clear();
+    const glm::dvec3& p = mesh.position(VertexId(v));
+    const CellKey k = key_of(p);
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find(CellKey{k.x + dx, k.y + dy, k.z + dz});
+          if (it == grid.end()) {
+            continue;
+          }
+          for (int32_t w : it->second) {
+            const glm::dvec3 d = mesh.position(VertexId(w)) - p;
+            if (glm::dot(d, d) <= tol2) {
+              out.push_back(w);
+            }
+          }
+        }
+      }
+    }
+  };
+
+  // Match boundary edges.
+  std::vector<EdgeId> match(E, EdgeId::None());
+  std::vector<EdgeId> conflicts;
+  std::vector<int32_t> near_a;
+  int32_t joined = 0;
+  UnionFind uf(V);
+  for (int32_t e = 0; e < E; ++e) {
+    if (!mesh.is_boundary(EdgeId(e))) {
+      continue;
+    }
+    const int32_t a = mesh.edge_vertex(EdgeId(e), 0).index;
+    const int32_t b = mesh.edge_vertex(EdgeId(e), 1).index;
+    const glm::dvec3& pb = mesh.position(VertexId(b));
+    near(a, near_a);
+    int32_t found = 0;
+    EdgeId partner;
+    int32_t partner_a = -1, partner_b = -1;
+    for (int32_t a2 : near_a) {
+      for (int k = 0; k < 2; ++k) {
+        const EdgeId e2 = boundary_at[2 * a2 + k];
+        if (!e2.is_valid() || e2.index == e) {
+          continue;
+        }
+        if (mesh.edge_face(e2, 0) == mesh.edge_face(EdgeId(e), 0)) {
+          continue;
+        }
+        const int32_t x = mesh.edge_vertex(e2, 0).index;
+        const int32_t b2 = x == a2 ? mesh.edge_vertex(e2, 1).index : x;
+        const glm::dvec3 d = mesh.position(VertexId(b2)) - pb;
+        if (glm::dot(d, d) <= tol2 && b2 != a2) {
+          ++found;
+          partner = e2;
+          partner_a = a2;
+          partner_b = b2;
+        }
+      }
+    }
+    if (found > 1) {
+      conflicts.push_back(EdgeId(e));
+    } else if (found == 1) {
+      match[e] = partner;
+      if (e < partner.index) {
+        ++joined;
+      }
+      uf.unite(a, partner_a);
+      uf.unite(b, partner_b);
+    }
+  }
+  if (!conflicts.empty()) {
+    KernelError error{Kind::NonManifoldMerge, {}, conflicts, {}, {}};
+    for (EdgeId e : conflicts) {
+      error.faces.push_back(mesh.edge_face(e, 0));
+    }
+    error.message = fmt::format(
+        "{} boundary edge(s) coincide with more than one other boundary edge, first joins "
+        "vertices {} and {}; joining them would put three or more faces on one edge",
+        conflicts.size(), mesh.edge_vertex(conflicts[0], 0).index,
+        mesh.edge_vertex(conflicts[0], 1).index);
+    return error;
+  }
+
+  // Merged vertices: one per union-find class, numbered by first appearance.
+  MergeResult result;
+  result.joined_edge_count = joined;
+  result.vertex_map.assign(V, VertexId::None());
+  PolygonSoup soup = to_soup(mesh);
+  PolygonSoup merged;
+  std::vector<int32_t> class_size;
+  for (int32_t v = 0; v < V; ++v) {
+    const int32_t root = uf.find(v);
+    if (root == v) {
+      result.vertex_map[v] = VertexId(merged.vertex_count());
+      merged.positions.push_back(glm::dvec3(0.0));
+      if (!soup.names.empty()) {
+        merged.names.push_back(soup.names[v]);
+      }
+      class_size.push_back(0);
+    } else {
+      result.vertex_map[v] = result.vertex_map[root];
+    }
+    merged.positions[result.vertex_map[v].index] += soup.positions[v];
+    ++class_size[result.vertex_map[v].index];
+  }
+  for (size_t i = 0; i < merged.positions.size(); ++i) {
+    merged.positions[i] /= double(class_size[i]);
+  }
+  merged.face_sizes = std::move(soup.face_sizes);
+  merged.face_vertices.reserve(soup.face_vertices.size());
+  for (int32_t v : soup.face_vertices) {
+    merged.face_vertices.push_back(result.vertex_map[v].index);
+  }
+  merged.face_sources = std::move(soup.face_sources);
+  merged.face_colors = std::move(soup.face_colors);
+  // Creases: keep the larger sharpness when two merged edges both carry one.
+  {
+    std::unordered_map<uint64_t, size_t> seen;
+    for (PolygonSoup::Crease c : soup.creases) {
+      c.a = result.vertex_map[c.a].index;
+      c.b = result.vertex_map[c.b].index;
+      const uint64_t key = (uint64_t(uint32_t(std::min(c.a, c.b))) << 32) | uint32_t(std::max(c.a, c.b));
+      auto [it, is_new] = seen.emplace(key, merged.creases.size());
+      if (is_new) {
+        merged.creases.push_back(c);
+      } else {
+        merged.creases[it->second].sharpness =
+            std::max(merged.creases[it->second].sharpness, c.sharpness);
+      }
+    }
+  }
+
+  auto built = build_mesh(merged);
+  if (!built.has_value()) {
+    KernelError error = built.error();
+    // Report input vertices rather than merged ones.
+    std::vector<VertexId> inputs;
+    for (VertexId merged_v : error.vertices) {
+      for (int32_t v = 0; v < V; ++v) {
+        if (result.vertex_map[v] == merged_v) {
+          inputs.push_back(VertexId(v));
+        }
+      }
+    }
+    error.vertices = std::move(inputs);
+    error.edges.clear();
+    error.message = "merge refused: " + error.message;
+    error.kind = Kind::NonManifoldMerge;
+    return error;
+  }
+  result.mesh = std::move(*built);
+  return result;
+}
+
+}  // namespace nomec::kernel

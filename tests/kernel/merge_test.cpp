@@ -1,0 +1,176 @@
+// Merge tests: separate faces zipped into closed shapes, strips glued into Möbius bands,
+// opposite-orientation joins becoming Möbius edges, tolerance handling, vertices that
+// only touch staying apart, and refusal of non-manifold joins.
+#include <gtest/gtest.h>
+
+#include "kernel/merge.h"
+#include "kernel/topology.h"
+#include "tests/kernel/shapes.h"
+
+namespace nomec::kernel {
+namespace {
+
+using testing::Glue;
+using testing::grid_soup;
+
+Mesh build(const PolygonSoup& s) {
+  auto mesh = build_mesh(s);
+  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
+  return std::move(*mesh);
+}
+
+// Each face of `soup` as its own mesh with its own vertices.
+std::vector<Mesh> explode(const PolygonSoup& soup) {
+  std::vector<Mesh> parts;
+  size_t offset = 0;
+  for (int32_t f = 0; f < soup.face_count(); ++f) {
+    PolygonSoup part;
+    std::vector<int32_t> face;
+    for (int32_t i = 0; i < soup.face_sizes[f]; ++i) {
+      face.push_back(part.add_vertex(soup.positions[soup.face_vertices[offset + i]]));
+    }
+    offset += soup.face_sizes[f];
+    part.add_face(face);
+    part.face_sources.push_back({f, 3});
+    parts.push_back(build(part));
+  }
+  return parts;
+}
+
+TEST(Merge, SixSeparateCubeFacesMakeClosedCube) {
+  std::vector<Mesh> parts = explode(testing::cube_soup());
+  std::vector<const Mesh*> ptrs;
+  for (const Mesh& m : parts) {
+    ptrs.push_back(&m);
+  }
+  Mesh all = concatenate(ptrs);
+  EXPECT_EQ(all.vertex_count(), 24);
+  EXPECT_EQ(topology(all).components.size(), 6u);
+  auto merged = merge(all);
+  ASSERT_TRUE(merged.has_value()) << merged.error().message;
+  EXPECT_EQ(merged->joined_edge_count, 12);
+  const Mesh& cube = merged->mesh;
+  TopologyReport r = topology(cube);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.vertex_count, 8);
+  EXPECT_EQ(r.edge_count, 12);
+  EXPECT_EQ(r.face_count, 6);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_TRUE(r.is_closed);
+  EXPECT_TRUE(r.is_orientable);
+  EXPECT_FALSE(cube.has_mobius_edges());
+  // Provenance survives: face 4 came from input face 4 of instance 3.
+  EXPECT_EQ(cube.face_source(FaceId(4)), (FaceSource{4, 3}));
+  // The vertex map sends all three copies of a corner to one vertex.
+  EXPECT_EQ(merged->vertex_map.size(), 24u);
+}
+
+TEST(Merge, StripGluedWithHalfTwistIsMobiusBand) {
+  // An open 6x1 strip placed on a Möbius parametrisation: its two end rungs coincide
+  // with opposite orientation.
+  PolygonSoup strip = grid_soup(6, 1, Glue::None);
+  PolygonSoup band = grid_soup(6, 1, Glue::Mobius);
+  for (int i = 0; i <= 6; ++i) {
+    for (int j = 0; j <= 1; ++j) {
+      const int src = (i % 6) * 2 + (i == 6 ? 1 - j : j);
+      strip.positions[i * 2 + j] = band.positions[src];
+    }
+  }
+  auto merged = merge(build(strip), {.tolerance = 1e-9});
+  ASSERT_TRUE(merged.has_value()) << merged.error().message;
+  EXPECT_EQ(merged->joined_edge_count, 1);
+  TopologyReport r = topology(merged->mesh);
+  EXPECT_EQ(r.vertex_count, 12);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_FALSE(r.is_orientable);
+  EXPECT_EQ(r.border_loop_count, 1);
+  EXPECT_EQ(r.components[0].mobius_edge_count, 1);
+}
+
+TEST(Merge, OppositeOrientationJoinIsMobiusEdge) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({1, 0, 0});
+  s.add_vertex({1, 1, 0});
+  s.add_vertex({0, 1, 0});
+  s.add_vertex({1, 0, 0});  // duplicate of 1
+  s.add_vertex({2, 0, 0});
+  s.add_vertex({2, 1, 0});
+  s.add_vertex({1, 1, 0});  // duplicate of 2
+  s.add_face({0, 1, 2, 3});
+  s.add_face({4, 7, 6, 5});  // reversed orientation
+  auto merged = merge(build(s));
+  ASSERT_TRUE(merged.has_value());
+  EXPECT_EQ(merged->mesh.vertex_count(), 6);
+  EXPECT_EQ(merged->mesh.edge_count(), 7);
+  EdgeId shared = merged->mesh.find_edge(merged->vertex_map[1], merged->vertex_map[2]);
+  ASSERT_TRUE(shared.is_valid());
+  EXPECT_TRUE(merged->mesh.is_mobius(shared));
+  EXPECT_FALSE(merged->mesh.is_boundary(shared));
+  TopologyReport r = topology(merged->mesh);
+  EXPECT_TRUE(r.is_orientable);  // a disk, just with one face listed backwards
+  EXPECT_EQ(r.euler_characteristic, 1);
+}
+
+TEST(Merge, ToleranceAndAveraging) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({1, 0, 0});
+  s.add_vertex({0.5, 1, 0});
+  s.add_vertex({1.001, 0, 0});
+  s.add_vertex({0.0, 0.001, 0});
+  s.add_vertex({0.5, -1, 0});
+  s.add_face({0, 1, 2});
+  s.add_face({3, 4, 5});
+  Mesh m = build(s);
+  auto tight = merge(m, {.tolerance = 1e-4});
+  ASSERT_TRUE(tight.has_value());
+  EXPECT_EQ(tight->joined_edge_count, 0);
+  EXPECT_EQ(tight->mesh.vertex_count(), 6);
+  auto loose = merge(m, {.tolerance = 0.01});
+  ASSERT_TRUE(loose.has_value());
+  EXPECT_EQ(loose->joined_edge_count, 1);
+  EXPECT_EQ(loose->mesh.vertex_count(), 4);
+  const glm::dvec3 p = loose->mesh.position(loose->vertex_map[1]);
+  EXPECT_NEAR(p.x, 1.0005, 1e-12);
+  auto bad = merge(m, {.tolerance = -1});
+  ASSERT_FALSE(bad.has_value());
+  EXPECT_EQ(bad.error().kind, KernelError::Kind::InvalidArgument);
+}
+
+TEST(Merge, TouchingAtOneVertexIsNotMerged) {
+  PolygonSoup s;
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({1, 0, 0});
+  s.add_vertex({1, 1, 0});
+  s.add_vertex({0, 0, 0});
+  s.add_vertex({-1, 0, 0});
+  s.add_vertex({-1, -1, 0});
+  s.add_face({0, 1, 2});
+  s.add_face({3, 4, 5});
+  auto merged = merge(build(s));
+  ASSERT_TRUE(merged.has_value());
+  EXPECT_EQ(merged->mesh.vertex_count(), 6);
+  EXPECT_EQ(topology(merged->mesh).components.size(), 2u);
+}
+
+TEST(Merge, ThreeFacesOnOneEdgeAreRefused) {
+  // A fin: three quads hinged on the segment (0,0,0)-(0,0,1), each with its own copy.
+  PolygonSoup s;
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2.0944 * k;
+    const int base = s.add_vertex({0, 0, 0});
+    s.add_vertex({0, 0, 1});
+    s.add_vertex({std::cos(a), std::sin(a), 1});
+    s.add_vertex({std::cos(a), std::sin(a), 0});
+    s.add_face({base, base + 1, base + 2, base + 3});
+  }
+  auto merged = merge(build(s));
+  ASSERT_FALSE(merged.has_value());
+  EXPECT_EQ(merged.error().kind, KernelError::Kind::NonManifoldMerge);
+  EXPECT_EQ(merged.error().edges.size(), 3u);
+  EXPECT_EQ(merged.error().faces.size(), 3u);
+}
+
+}  // namespace
+}  // namespace nomec::kernel
