@@ -1,0 +1,215 @@
+// Offset construction. Each used input vertex v gets two output vertices, v+ and v-,
+// at v ± d·n_v. The Möbius counter of the vertex ring gives every face corner a sign σ:
+// the positive copy of face f uses v+ at corners with σ = +1 and v- otherwise, so across
+// a Möbius edge the positive copy of one face continues into the negative copy of its
+// neighbour. The negative copies are reversed and border edges get ribbons; the soup is
+// rebuilt with the builder, which confirms the result is a manifold.
+#include "kernel/offset.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+namespace nomec::kernel {
+
+using glm::dvec3;
+
+std::vector<dvec3> face_normals(const Mesh& mesh) {
+  std::vector<dvec3> normals(mesh.face_count());
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    // Newell: sum over edges (a, b) of (a - b) x (a + b) / 2 equals the sum of cross
+    // products of consecutive edge vectors up to a factor; both give the area vector.
+    dvec3 n(0.0);
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      const dvec3& a = mesh.position(mesh.use_tail(u));
+      const dvec3& b = mesh.position(mesh.use_head(u));
+      n.x += (a.y - b.y) * (a.z + b.z);
+      n.y += (a.z - b.z) * (a.x + b.x);
+      n.z += (a.x - b.x) * (a.y + b.y);
+    });
+    const double len = glm::length(n);
+    normals[f] = len > 0.0 ? n / len : dvec3(0.0);
+  }
+  return normals;
+}
+
+VertexNormals vertex_normals(const Mesh& mesh, const std::vector<dvec3>& fnormals) {
+  VertexNormals result;
+  result.normals.assign(mesh.vertex_count(), dvec3(0.0));
+  result.corner_signs.assign(2 * static_cast<size_t>(mesh.edge_count()), 0);
+  result.is_mobius_vertex.assign(mesh.vertex_count(), 0);
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    if (mesh.is_mobius(EdgeId(e))) {
+      result.is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
+      result.is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
+    }
+  }
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    dvec3 sum(0.0);
+    dvec3 first(0.0);
+    bool is_first = true;
+    mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
+      const int8_t sign = c.is_flipped ? -1 : 1;
+      result.corner_signs[c.use.index] = sign;
+      sum += double(sign) * fnormals[c.face.index];
+      if (is_first) {
+        first = fnormals[c.face.index];
+        is_first = false;
+      }
+    });
+    const double len = glm::length(sum);
+    // A vanishing average (e.g. a needle vertex) falls back to the first face normal.
+    result.normals[v] = len > 1e-12 ? sum / len : first;
+  }
+  return result;
+}
+
+namespace {
+
+Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
+                                 const std::vector<FaceId>* face_origin) {
+  const int32_t V = mesh.vertex_count();
+  const int32_t F = mesh.face_count();
+  const std::vector<dvec3> fnormals = face_normals(mesh);
+  const VertexNormals vn = vertex_normals(mesh, fnormals);
+
+  OffsetResult result;
+  PolygonSoup soup;
+  // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
+  std::vector<int32_t> compact(V, -1);
+  for (int32_t v = 0; v < V; ++v) {
+    if (!mesh.vertex_edge(VertexId(v)).is_valid()) {
+      continue;
+    }
+    compact[v] = soup.vertex_count() / 2;
+    const dvec3& p = mesh.position(VertexId(v));
+    soup.positions.push_back(p + distance * vn.normals[v]);
+    soup.positions.push_back(p - distance * vn.normals[v]);
+    result.vertex_parents.push_back(VertexId(v));
+    result.vertex_parents.push_back(VertexId(v));
+  }
+  auto positive_vertex = [&](EdgeUse corner) {
+    const int32_t k = compact[mesh.use_tail(corner).index];
+    return vn.corner_signs[corner.index] > 0 ? 2 * k : 2 * k + 1;
+  };
+  auto negative_vertex = [&](EdgeUse corner) { return positive_vertex(corner) ^ 1; };
+  auto origin = [&](FaceId f) { return face_origin ? (*face_origin)[f.index] : f; };
+
+  std::vector<int32_t> loop;
+  for (int32_t f = 0; f < F; ++f) {
+    loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      loop.push_back(positive_vertex(u));
+      const int32_t v = mesh.use_tail(u).index;
+      if (vn.is_mobius_vertex[v] &&
+          double(vn.corner_signs[u.index]) * glm::dot(vn.normals[v], fnormals[f]) <= 0.0) {
+        ++result.inconsistent_normal_count;
+      }
+    });
+    soup.add_face(loop);
+    result.face_parents.push_back({OffsetParent::Kind::PositiveFace, origin(FaceId(f)), {}});
+  }
+  for (int32_t f = 0; f < F; ++f) {
+    loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(negative_vertex(u)); });
+    std::reverse(loop.begin(), loop.end());
+    soup.add_face(loop);
+    result.face_parents.push_back({OffsetParent::Kind::NegativeFace, origin(FaceId(f)), {}});
+  }
+  // Ribbons: border edge a->b of face f gives [P(b), P(a), N(a), N(b)].
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    if (!mesh.is_boundary(EdgeId(e))) {
+      continue;
+    }
+    const EdgeUse at_a(EdgeId(e), 0);
+    const EdgeUse at_b = mesh.next(at_a);
+    soup.add_face({positive_vertex(at_b), positive_vertex(at_a), negative_vertex(at_a),
+                   negative_vertex(at_b)});
+    result.face_parents.push_back(
+        {OffsetParent::Kind::Ribbon, origin(mesh.edge_face(EdgeId(e), 0)), EdgeId(e)});
+  }
+  // Sources and colours follow the input faces.
+  const size_t out_faces = result.face_parents.size();
+  soup.face_sources.reserve(out_faces);
+  for (size_t i = 0; i < out_faces; ++i) {
+    const int32_t f = i < size_t(2 * F) ? int32_t(i % F)
+                                        : mesh.edge_face(result.face_parents[i].edge, 0).index;
+    soup.face_sources.push_back(mesh.face_source(FaceId(f)));
+    if (mesh.has_face_colors()) {
+      soup.face_colors.push_back(mesh.face_color(FaceId(f)));
+    }
+  }
+
+  auto built = build_mesh(soup);
+  if (!built.has_value()) {
+    KernelError error = built.error();
+    error.message = "offset surface is not a manifold: " + error.message;
+    return error;
+  }
+  result.mesh = std::move(*built);
+  return result;
+}
+
+}  // namespace
+
+Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options) {
+  if (!(options.distance > 0.0) || !std::isfinite(options.distance)) {
+    return KernelError{KernelError::Kind::InvalidArgument,
+                       fmt::format("offset distance {} is not a positive number",
+                                   options.distance),
+                       {}, {}, {}};
+  }
+  return offset_impl(mesh, options.distance, nullptr);
+}
+
+Result<OffsetResult> lattice(const Mesh& mesh, const LatticeOptions& options) {
+  if (!(options.width > 0.0) || !(options.distance > 0.0) || !std::isfinite(options.width) ||
+      !std::isfinite(options.distance)) {
+    return KernelError{KernelError::Kind::InvalidArgument,
+                       fmt::format("lattice width {} and distance {} must be positive",
+                                   options.width, options.distance),
+                       {}, {}, {}};
+  }
+  // Frame soup: the input vertices, then one inner vertex per face corner.
+  PolygonSoup frame;
+  frame.positions = mesh.positions();
+  std::vector<FaceId> frame_origin;
+  std::vector<int32_t> outer;
+  std::vector<int32_t> inner;
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    outer.clear();
+    inner.clear();
+    dvec3 centre(0.0);
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      outer.push_back(mesh.use_tail(u).index);
+      centre += mesh.position(mesh.use_tail(u));
+    });
+    centre /= double(outer.size());
+    for (int32_t v : outer) {
+      const dvec3& p = mesh.position(VertexId(v));
+      const double len = glm::length(centre - p);
+      const double t = len > 0.0 ? std::min(options.width / len, 0.9) : 0.0;
+      inner.push_back(frame.add_vertex(p + t * (centre - p)));
+    }
+    const size_t n = outer.size();
+    for (size_t i = 0; i < n; ++i) {
+      const size_t j = (i + 1) % n;
+      frame.add_face({outer[i], outer[j], inner[j], inner[i]});
+      frame_origin.push_back(FaceId(f));
+      frame.face_sources.push_back(mesh.face_source(FaceId(f)));
+      if (mesh.has_face_colors()) {
+        frame.face_colors.push_back(mesh.face_color(FaceId(f)));
+      }
+    }
+  }
+  auto frame_mesh = build_mesh(frame);
+  if (!frame_mesh.has_value()) {
+    KernelError error = frame_mesh.error();
+    error.message = "lattice frame is not a manifold: " + error.message;
+    return error;
+  }
+  return offset_impl(*frame_mesh, options.distance, &frame_origin);
+}
+
+}  // namespace nomec::kernel
