@@ -1,0 +1,45 @@
+// Checker: resolves names, checks every statement's shape, arity and kinds, evaluates
+// expressions and parameters, and lowers the checked AST into the typed IR with its
+// dependency graph. Continues after errors so one run reports every problem.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "frontend/ast/ast.h"
+#include "frontend/diagnostics/diagnostic.h"
+#include "ir/ir.h"
+
+namespace nomec {
+
+enum class Dialect : uint8_t { Nome, Nome3, Slide };
+std::string_view dialect_name(Dialect d);
+std::optional<Dialect> dialect_by_name(std::string_view name);
+
+/// Reads an input file (the main file, `include`d files, `.anom` base files). Returns
+/// nullopt when the file cannot be read.
+using FileReader = std::function<std::optional<std::string>(const std::string& path)>;
+
+struct CheckOptions {
+  std::optional<Dialect> dialect;                          // --dialect
+  std::vector<std::pair<std::string, double>> overrides;  // -D bank.param=value
+  bool allow_out_of_range = false;                         // --allow-out-of-range
+  std::optional<std::string> base_file;                    // --base for `.anom` files
+  FileReader read_file;                                    // may be empty: no includes
+};
+
+struct CheckResult {
+  ir::Module module;
+  Dialect dialect = Dialect::Nome;
+  std::string dialect_reason;  // why this dialect was chosen (for --verbose)
+  std::string base_file;       // `.anom`: the base scene used, if any
+};
+
+/// Parses and checks the file `path` whose text is `text`. Never throws.
+CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
+                         const CheckOptions& options, DiagnosticEngine& diags);
+
+}  // namespace nomec

@@ -1,0 +1,204 @@
+// Diagnostics engine, text rendering and "did you mean" suggestions.
+#include <algorithm>
+#include <fmt/format.h>
+#include <tuple>
+
+#include "frontend/diagnostics/diagnostic.h"
+
+namespace nomec {
+
+namespace {
+struct KindInfo {
+  std::string_view name;
+  Severity severity;
+  std::string_view summary;
+};
+constexpr KindInfo kKindInfo[] = {
+#define NOMEC_DIAG(Name, Sev, Summary) {#Name, Severity::Sev, Summary},
+#include "frontend/diagnostics/kinds.def"
+};
+}  // namespace
+
+std::string_view diag_kind_name(DiagKind kind) { return kKindInfo[static_cast<int>(kind)].name; }
+Severity diag_kind_severity(DiagKind kind) { return kKindInfo[static_cast<int>(kind)].severity; }
+std::string_view diag_kind_summary(DiagKind kind) {
+  return kKindInfo[static_cast<int>(kind)].summary;
+}
+
+std::string_view severity_name(Severity severity) {
+  switch (severity) {
+    case Severity::Note:
+      return "note";
+    case Severity::Warning:
+      return "warning";
+    case Severity::Error:
+      return "error";
+  }
+  return "error";
+}
+
+DiagnosticEngine::Builder& DiagnosticEngine::Builder::note(SourceRange range,
+                                                           std::string message) {
+  diag_->notes.push_back({range, std::move(message)});
+  return *this;
+}
+
+DiagnosticEngine::Builder& DiagnosticEngine::Builder::fixit(SourceRange range,
+                                                            std::string replacement,
+                                                            std::string description) {
+  diag_->fixits.push_back({range, std::move(replacement), std::move(description)});
+  return *this;
+}
+
+DiagnosticEngine::Builder DiagnosticEngine::emit(DiagKind kind, SourceRange range,
+                                                 std::string message) {
+  diags_.push_back({kind, diag_kind_severity(kind), range, std::move(message), {}, {}});
+  return Builder(&diags_.back());
+}
+
+void DiagnosticEngine::sort_and_dedupe() {
+  auto key = [](const Diagnostic& d) {
+    return std::tuple(d.range.file.index, d.range.begin, d.range.end,
+                      static_cast<int>(d.kind), std::string_view(d.message));
+  };
+  std::stable_sort(diags_.begin(), diags_.end(),
+                   [&](const Diagnostic& a, const Diagnostic& b) { return key(a) < key(b); });
+  diags_.erase(std::unique(diags_.begin(), diags_.end(),
+                           [&](const Diagnostic& a, const Diagnostic& b) {
+                             return key(a) == key(b);
+                           }),
+               diags_.end());
+}
+
+int DiagnosticEngine::error_count() const {
+  return static_cast<int>(std::count_if(diags_.begin(), diags_.end(), [](const Diagnostic& d) {
+    return d.severity == Severity::Error;
+  }));
+}
+
+int DiagnosticEngine::warning_count() const {
+  return static_cast<int>(std::count_if(diags_.begin(), diags_.end(), [](const Diagnostic& d) {
+    return d.severity == Severity::Warning;
+  }));
+}
+
+void DiagnosticEngine::append(DiagnosticEngine&& other) {
+  for (auto& d : other.diags_) {
+    diags_.push_back(std::move(d));
+  }
+  other.diags_.clear();
+}
+
+namespace {
+
+// Appends `file:line:col: ` (or nothing for an invalid range), the source line and a
+// caret/underline for the range.
+void render_location(const SourceManager& sources, SourceRange range, std::string& out,
+                     std::string_view header) {
+  if (!range.is_valid()) {
+    out += header;
+    out += '\n';
+    return;
+  }
+  LineCol begin = sources.line_col(range.file, range.begin);
+  out += fmt::format("{}:{}:{}: {}\n", sources.name(range.file), begin.line, begin.column,
+                     header);
+  std::string_view line = sources.line_text(range.file, begin.line);
+  if (line.size() > 240) {
+    return;  // minified or generated input: the caret line would not help
+  }
+  std::string gutter = fmt::format("{:>5} | ", begin.line);
+  out += gutter;
+  out += line;
+  out += '\n';
+  out += std::string(gutter.size() - 2, ' ');
+  out += "| ";
+  uint32_t col0 = begin.column - 1;
+  for (uint32_t i = 0; i < col0 && i < line.size(); ++i) {
+    out += line[i] == '\t' ? '\t' : ' ';
+  }
+  LineCol end = sources.line_col(range.file, range.end);
+  uint32_t width = 1;
+  if (end.line == begin.line && end.column > begin.column) {
+    width = end.column - begin.column;
+  } else if (end.line > begin.line) {
+    width = static_cast<uint32_t>(line.size() > col0 ? line.size() - col0 : 1);
+  }
+  out += '^';
+  if (width > 1) {
+    out += std::string(width - 1, '~');
+  }
+  out += '\n';
+}
+
+}  // namespace
+
+std::string render_text(const SourceManager& sources, const Diagnostic& diag, bool werror,
+                        bool color) {
+  Severity sev = diag.severity;
+  if (werror && sev == Severity::Warning) {
+    sev = Severity::Error;
+  }
+  std::string_view sev_text = severity_name(sev);
+  std::string sev_colored(sev_text);
+  if (color) {
+    const char* code = sev == Severity::Error ? "\033[1;31m"
+                       : sev == Severity::Warning ? "\033[1;35m"
+                                                  : "\033[1;36m";
+    sev_colored = fmt::format("{}{}\033[0m", code, sev_text);
+  }
+  std::string out;
+  render_location(
+      sources, diag.range, out,
+      fmt::format("{}: {} [{}]", sev_colored, diag.message, diag_kind_name(diag.kind)));
+  for (const DiagNote& note : diag.notes) {
+    render_location(sources, note.range, out, fmt::format("note: {}", note.message));
+  }
+  for (const FixIt& fix : diag.fixits) {
+    if (fix.range.is_valid()) {
+      LineCol at = sources.line_col(fix.range.file, fix.range.begin);
+      out += fmt::format("{}:{}:{}: fix-it: {}\n", sources.name(fix.range.file), at.line,
+                         at.column, fix.description);
+    }
+  }
+  return out;
+}
+
+namespace {
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> prev(b.size() + 1);
+  std::vector<size_t> cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) {
+    prev[j] = j;
+  }
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t cost = (std::tolower(a[i - 1]) == std::tolower(b[j - 1])) ? 0 : 1;
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+}  // namespace
+
+std::string closest_match(std::string_view name, const std::vector<std::string>& candidates) {
+  size_t best = std::string::npos;
+  std::string result;
+  // Allow roughly one edit per three characters, at least one.
+  size_t limit = std::max<size_t>(1, (name.size() + 2) / 3);
+  for (const std::string& c : candidates) {
+    if (c == name) {
+      continue;
+    }
+    size_t d = edit_distance(name, c);
+    if (d <= limit && d < best) {
+      best = d;
+      result = c;
+    }
+  }
+  return result;
+}
+
+}  // namespace nomec

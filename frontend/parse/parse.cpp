@@ -1,0 +1,677 @@
+// Parse layer implementation. Stages: lex with the generated NomeLexer; a token pass that
+// reports stray characters and unclosed comments/blocks and assigns the list-sign token
+// types (SPLUS/SMINUS, language.md §3); parse with SLL prediction, falling back to full
+// LL on error; then convert the parse tree into the ANTLR-free AST of frontend/ast.
+#include "frontend/parse/parse.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wall"
+#pragma GCC diagnostic ignored "-Wextra"
+#pragma GCC diagnostic ignored "-Wattributes"
+#pragma GCC diagnostic ignored "-Woverloaded-virtual"
+#include "NomeLexer.h"
+#include "NomeParser.h"
+#include "antlr4-runtime.h"
+#pragma GCC diagnostic pop
+
+namespace nomec {
+
+namespace {
+
+using nomec_antlr::NomeLexer;
+using nomec_antlr::NomeParser;
+
+// ANTLR indexes code points; diagnostics use byte offsets. The input is decoded here (not by
+// ANTLR, whose decoder throws on invalid UTF-8): every invalid byte becomes one U+FFFD, so
+// any byte sequence lexes, and `byte_of` maps a code-point index back to its byte offset.
+struct Offsets {
+  std::vector<uint32_t> cp_to_byte;  // empty when the text is ASCII (identity)
+  uint32_t byte_of(size_t cp) const {
+    if (cp_to_byte.empty()) return static_cast<uint32_t>(cp);
+    return cp < cp_to_byte.size() ? cp_to_byte[cp] : cp_to_byte.back();
+  }
+};
+
+std::u32string decode_utf8(std::string_view text, Offsets& offsets) {
+  std::u32string out;
+  out.reserve(text.size());
+  bool ascii = std::all_of(text.begin(), text.end(), [](char c) { return (c & 0x80) == 0; });
+  for (size_t i = 0; i < text.size();) {
+    auto b = static_cast<unsigned char>(text[i]);
+    char32_t cp = 0xFFFD;
+    size_t len = 1;
+    if (b < 0x80) {
+      cp = b;
+    } else {
+      size_t need = (b & 0xE0) == 0xC0 ? 2 : (b & 0xF0) == 0xE0 ? 3 : (b & 0xF8) == 0xF0 ? 4 : 0;
+      if (need > 0 && i + need <= text.size()) {
+        char32_t v = b & (0x7F >> need);
+        bool ok = true;
+        for (size_t k = 1; k < need; ++k) {
+          auto c = static_cast<unsigned char>(text[i + k]);
+          if ((c & 0xC0) != 0x80) { ok = false; break; }
+          v = (v << 6) | (c & 0x3F);
+        }
+        if (ok && v <= 0x10FFFF && !(v >= 0xD800 && v <= 0xDFFF)) {
+          cp = v;
+          len = need;
+        }
+      }
+    }
+    if (!ascii) offsets.cp_to_byte.push_back(static_cast<uint32_t>(i));
+    out.push_back(cp);
+    i += len;
+  }
+  if (!ascii) offsets.cp_to_byte.push_back(static_cast<uint32_t>(text.size()));
+  return out;
+}
+
+class DecodedInput : public antlr4::ANTLRInputStream {
+ public:
+  explicit DecodedInput(std::u32string data) {
+    _data = std::move(data);
+    p = 0;
+  }
+};
+
+// Maps keyword token types to block kinds, derived from the lexer's literal names so the
+// grammar and block_kinds.def cannot drift apart silently (a missing keyword fails a test).
+struct KeywordTable {
+  std::unordered_map<size_t, ast::BlockKind> open;
+  std::unordered_map<size_t, ast::BlockKind> close;
+};
+
+const KeywordTable& keyword_table() {
+  static const KeywordTable table = [] {
+    KeywordTable t;
+    antlr4::ANTLRInputStream empty(std::string{});
+    NomeLexer lexer(&empty);
+    const antlr4::dfa::Vocabulary& vocab = lexer.getVocabulary();
+    std::unordered_map<std::string, size_t> by_literal;
+    for (size_t type = 1; type <= vocab.getMaxTokenType(); ++type) {
+      std::string lit = vocab.getLiteralName(type);
+      if (lit.size() > 2) {
+        by_literal[lit.substr(1, lit.size() - 2)] = type;
+      }
+    }
+    for (int k = 0; k < ast::kBlockKindCount; ++k) {
+      auto kind = static_cast<ast::BlockKind>(k);
+      std::string_view open = ast::open_keyword(kind);
+      if (auto it = by_literal.find(std::string(open)); it != by_literal.end()) {
+        t.open[it->second] = kind;
+      }
+      if (auto it = by_literal.find(std::string(ast::close_keyword(kind)));
+          it != by_literal.end()) {
+        t.close[it->second] = kind;
+      }
+    }
+    return t;
+  }();
+  return table;
+}
+
+std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
+  if (type == antlr4::Token::EOF) {
+    return "end of file";
+  }
+  std::string lit = vocab.getLiteralName(type);
+  if (lit.size() > 2) {
+    return fmt::format("`{}`", lit.substr(1, lit.size() - 2));
+  }
+  std::string sym = vocab.getSymbolicName(type);
+  if (sym == "IDENT") {
+    return "a name";
+  }
+  if (sym == "NUMBER") {
+    return "a number";
+  }
+  if (sym == "DOLLAR_REF") {
+    return "a `$` reference";
+  }
+  return sym;
+}
+
+bool is_end_token(size_t type) { return keyword_table().close.contains(type); }
+
+// Converts ANTLR syntax errors into diagnostics, phrased in terms of NOME statements.
+class SyntaxErrorListener : public antlr4::BaseErrorListener {
+ public:
+  SyntaxErrorListener(FileId file, const Offsets& offsets, DiagnosticEngine& diags)
+      : file_(file), offsets_(offsets), diags_(diags) {}
+
+  void syntaxError(antlr4::Recognizer* recognizer, antlr4::Token* offending, size_t, size_t,
+                   const std::string&, std::exception_ptr) override {
+    ++error_count_;
+    auto* parser = dynamic_cast<NomeParser*>(recognizer);
+    if (parser == nullptr || offending == nullptr) {
+      return;
+    }
+    const auto& vocab = parser->getVocabulary();
+    SourceRange at = range_of(offending);
+    // The innermost open block, if any: its opening keyword explains most errors.
+    antlr4::ParserRuleContext* ctx = parser->getContext();
+    antlr4::Token* opener = nullptr;
+    for (auto* c = ctx; c != nullptr; c = dynamic_cast<antlr4::ParserRuleContext*>(c->parent)) {
+      if (c->start != nullptr && keyword_table().open.contains(c->start->getType()) &&
+          c->getRuleIndex() != NomeParser::RuleWord && c->getRuleIndex() != NomeParser::RuleBlock &&
+          c->getRuleIndex() != NomeParser::RuleTopStmt &&
+          c->getRuleIndex() != NomeParser::RuleItem) {
+        opener = c->start;
+        break;
+      }
+    }
+    antlr4::misc::IntervalSet expected = parser->getExpectedTokens();
+    size_t type = offending->getType();
+    if (opener != nullptr) {
+      ast::BlockKind kind = keyword_table().open.at(opener->getType());
+      std::string open(ast::open_keyword(kind));
+      std::string close(ast::close_keyword(kind));
+      if (type == antlr4::Token::EOF) {
+        diags_
+            .emit(DiagKind::MissingEndKeyword, range_of(opener),
+                  fmt::format("`{}` is never closed: expected `{}` before the end of the file",
+                              open, close))
+            .fixit(SourceRange{file_, at.begin, at.begin}, fmt::format("{}\n", close),
+                   fmt::format("insert `{}`", close));
+        return;
+      }
+      if (is_end_token(type)) {
+        diags_
+            .emit(DiagKind::MismatchedEndKeyword, at,
+                  fmt::format("`{}` does not close the open `{}`; expected `{}`",
+                              offending->getText(), open, close))
+            .note(range_of(opener), fmt::format("`{}` opened here", open));
+        return;
+      }
+    }
+    std::vector<std::string> names;
+    for (size_t t : expected.toList()) {
+      if (t == NomeParser::SPLUS || t == NomeParser::SMINUS) {
+        continue;
+      }
+      std::string d = token_display(vocab, t);
+      if (std::find(names.begin(), names.end(), d) == names.end()) {
+        names.push_back(d);
+      }
+    }
+    std::string expect;
+    if (!names.empty() && names.size() <= 6) {
+      expect = "; expected " + fmt::format("{}", fmt::join(names, ", "));
+    }
+    std::string shown = type == antlr4::Token::EOF ? "end of file"
+                                                   : fmt::format("`{}`", offending->getText());
+    diags_.emit(DiagKind::SyntaxError, at, fmt::format("unexpected {}{}", shown, expect));
+  }
+
+  int error_count() const { return error_count_; }
+
+ private:
+  SourceRange range_of(antlr4::Token* token) const {
+    if (token->getType() == antlr4::Token::EOF) {
+      uint32_t at = offsets_.byte_of(token->getStartIndex());
+      return SourceRange{file_, at, at};
+    }
+    return SourceRange{file_, offsets_.byte_of(token->getStartIndex()),
+                       offsets_.byte_of(token->getStopIndex() + 1)};
+  }
+
+  FileId file_;
+  const Offsets& offsets_;
+  DiagnosticEngine& diags_;
+  int error_count_ = 0;
+};
+
+// Silences ANTLR's console output from the lexer (all characters are tokens, so the lexer
+// itself has nothing to report).
+class SilentListener : public antlr4::BaseErrorListener {};
+
+// Token pass: diagnostics for stray characters and unclosed constructs, and the list-sign
+// rule. Returns the tokens the parser should see.
+std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
+    std::vector<std::unique_ptr<antlr4::Token>> tokens, std::string_view text,
+    const Offsets& offsets, FileId file, DiagnosticEngine& diags) {
+  std::vector<std::unique_ptr<antlr4::Token>> out;
+  out.reserve(tokens.size());
+  auto range = [&](const antlr4::Token& t) {
+    return SourceRange{file, offsets.byte_of(t.getStartIndex()),
+                       offsets.byte_of(t.getStopIndex() + 1)};
+  };
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    auto& tok = tokens[i];
+    size_t type = tok->getType();
+    if (type == antlr4::Token::EOF) {
+      out.push_back(std::move(tok));
+      break;
+    }
+    size_t start = offsets.byte_of(tok->getStartIndex());
+    if (type == NomeLexer::LPAREN && start + 1 < text.size() && text[start + 1] == '*') {
+      diags.emit(DiagKind::UnclosedBlockComment, SourceRange{file, (uint32_t)start, (uint32_t)start + 2},
+                 "block comment `(*` is never closed by a matching `*)`");
+      // Everything after an unclosed comment is comment text.
+      while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
+        ++i;
+      }
+      continue;
+    }
+    if (type == NomeLexer::IDENT && tok->getText() == "tclinit") {
+      diags.emit(DiagKind::UnclosedTclBlock, range(*tok),
+                 "`tclinit` block is not enclosed in balanced braces `{ … }`");
+      while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
+        ++i;
+      }
+      continue;
+    }
+    if (type == NomeLexer::UNEXPECTED_CHAR) {
+      char c = text[start];
+      if (c == '"') {
+        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
+                   "string is not closed: `\"` has no matching `\"` on this line");
+      } else if (c == '[') {
+        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
+                   "`[` is not closed by a matching `]`");
+      } else if (c == ';') {
+        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
+                   "unexpected `;`: NOME statements end with their `end…` keyword")
+            .fixit(range(*tok), "", "remove `;`");
+      } else {
+        unsigned char uc = static_cast<unsigned char>(c);
+        std::string shown = std::isprint(uc) ? std::string(1, c) : fmt::format("\\x{:02x}", uc);
+        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
+                   fmt::format("unexpected character `{}`", shown));
+      }
+      continue;
+    }
+    if ((type == NomeLexer::PLUS || type == NomeLexer::MINUS) &&
+        tok->getChannel() == antlr4::Token::DEFAULT_CHANNEL) {
+      bool before = start == 0 || std::isspace(static_cast<unsigned char>(text[start - 1])) ||
+                    text[start - 1] == '(';
+      bool after = start + 1 < text.size() &&
+                   !std::isspace(static_cast<unsigned char>(text[start + 1]));  // ASCII sign
+      if (before && after) {
+        auto* common = dynamic_cast<antlr4::CommonToken*>(tok.get());
+        if (common != nullptr) {
+          common->setType(type == NomeLexer::PLUS ? NomeParser::SPLUS : NomeParser::SMINUS);
+        }
+      }
+    }
+    out.push_back(std::move(tok));
+  }
+  return out;
+}
+
+// Converts the parse tree into the AST.
+class AstBuilder {
+ public:
+  AstBuilder(FileId file, std::string_view text, const Offsets& offsets, ast::Ast& out)
+      : file_(file), text_(text), offsets_(offsets), ast_(out) {}
+
+  void build_file(NomeParser::FileContext* file) {
+    for (auto* top : file->topStmt()) {
+      if (top->TCLINIT() != nullptr) {
+        antlr4::Token* t = top->TCLINIT()->getSymbol();
+        ast::Item item;
+        item.kind = ast::ItemKind::Tcl;
+        item.range = token_range(t);
+        item.text = text_.substr(item.range.begin, item.range.end - item.range.begin);
+        ast_.top.push_back(item);
+      } else if (auto* inc = top->includeStmt()) {
+        ast::Item item;
+        item.kind = ast::ItemKind::Include;
+        item.range = ctx_range(inc);
+        if (inc->STRING() != nullptr) {
+          SourceRange s = token_range(inc->STRING()->getSymbol());
+          item.text = text_.substr(s.begin + 1, s.end - s.begin - 2);
+        }
+        ast_.top.push_back(item);
+      } else if (auto* block = top->block()) {
+        if (auto item = block_item(block)) {
+          ast_.top.push_back(*item);
+        }
+      } else if (auto* stray = top->strayItem()) {
+        if (stray->item() != nullptr) {
+          if (auto item = convert_item(stray->item())) {
+            ast_.top.push_back(*item);
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  SourceRange token_range(antlr4::Token* t) const {
+    return SourceRange{file_, offsets_.byte_of(t->getStartIndex()),
+                       offsets_.byte_of(t->getStopIndex() + 1)};
+  }
+  SourceRange ctx_range(antlr4::ParserRuleContext* ctx) const {
+    size_t begin_cp = ctx->start != nullptr ? ctx->start->getStartIndex() : 0;
+    uint32_t begin = offsets_.byte_of(begin_cp);
+    uint32_t end = begin;
+    if (ctx->stop != nullptr && ctx->stop->getType() != antlr4::Token::EOF &&
+        ctx->stop->getStopIndex() + 1 >= begin_cp) {
+      end = offsets_.byte_of(ctx->stop->getStopIndex() + 1);
+    }
+    return SourceRange{file_, begin, end};
+  }
+  std::string_view view(SourceRange r) const { return text_.substr(r.begin, r.end - r.begin); }
+
+  // A `block` wrapper or a concrete `xxxStmt` context -> Block item.
+  std::optional<ast::Item> block_item(antlr4::ParserRuleContext* ctx) {
+    if (ctx->getRuleIndex() == NomeParser::RuleBlock) {
+      if (ctx->children.empty()) {
+        return std::nullopt;
+      }
+      auto* inner = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]);
+      return inner != nullptr ? block_item(inner) : std::nullopt;
+    }
+    if (ctx->start == nullptr) {
+      return std::nullopt;
+    }
+    auto open_it = keyword_table().open.find(ctx->start->getType());
+    if (open_it == keyword_table().open.end()) {
+      return std::nullopt;
+    }
+    ast::Stmt stmt;
+    stmt.kind = open_it->second;
+    stmt.range = ctx_range(ctx);
+    stmt.open_kw = token_range(ctx->start);
+    std::vector<ast::Item> items;
+    for (size_t i = 1; i < ctx->children.size(); ++i) {
+      antlr4::tree::ParseTree* child = ctx->children[i];
+      if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
+        if (dynamic_cast<antlr4::tree::ErrorNode*>(child) != nullptr) {
+          continue;
+        }
+        antlr4::Token* t = term->getSymbol();
+        if (is_end_token(t->getType()) && t->getTokenIndex() != static_cast<size_t>(-1) &&
+            t->getStartIndex() != static_cast<size_t>(-1) && t->getStopIndex() >= t->getStartIndex()) {
+          stmt.close_kw = token_range(t);
+          stmt.close_text = view(stmt.close_kw);
+        }
+        continue;
+      }
+      auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child);
+      if (rule == nullptr) {
+        continue;
+      }
+      if (rule->getRuleIndex() == NomeParser::RuleItem) {
+        if (auto item = convert_item(rule)) {
+          items.push_back(*item);
+        }
+      } else if (auto item = block_item(rule)) {
+        items.push_back(*item);
+      }
+    }
+    stmt.items = std::move(items);
+    ast_.stmts.push_back(std::move(stmt));
+    ast::Item item;
+    item.kind = ast::ItemKind::Block;
+    item.range = ast_.stmts.back().range;
+    item.block = ast::StmtId{static_cast<int32_t>(ast_.stmts.size() - 1)};
+    return item;
+  }
+
+  std::optional<ast::Item> convert_item(antlr4::ParserRuleContext* ctx) {
+    ast::Item item;
+    item.range = ctx_range(ctx);
+    if (auto* w = dynamic_cast<NomeParser::WordItemContext*>(ctx)) {
+      item.kind = ast::ItemKind::Word;
+      item.range = ctx_range(w->word());
+      item.text = view(item.range);
+      return item;
+    }
+    if (auto* l = dynamic_cast<NomeParser::ListItemContext*>(ctx)) {
+      item.kind = ast::ItemKind::List;
+      item.list = convert_list(l->parenList());
+      return item;
+    }
+    if (auto* v = dynamic_cast<NomeParser::ValueItemContext*>(ctx)) {
+      item.kind = ast::ItemKind::Value;
+      item.expr = convert_expr(v->itemExpr());
+      return item;
+    }
+    return std::nullopt;
+  }
+
+  ast::ListId convert_list(NomeParser::ParenListContext* ctx) {
+    ast::ParenList list;
+    list.range = ctx_range(ctx);
+    for (auto* child : ctx->children) {
+      if (auto* e = dynamic_cast<NomeParser::ListExprContext*>(child)) {
+        list.elems.push_back(convert_expr(e));
+      } else if (auto* t = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
+        if (t->getSymbol()->getType() == NomeParser::COMMA) {
+          list.commas.push_back(token_range(t->getSymbol()));
+        }
+      }
+    }
+    ast_.lists.push_back(std::move(list));
+    return ast::ListId{static_cast<int32_t>(ast_.lists.size() - 1)};
+  }
+
+  ast::ExprId add(ast::Expr e) {
+    ast_.exprs.push_back(std::move(e));
+    return ast::ExprId{static_cast<int32_t>(ast_.exprs.size() - 1)};
+  }
+
+  ast::ExprId error_expr(antlr4::ParserRuleContext* ctx) {
+    ast::Expr e;
+    e.kind = ast::ExprKind::Error;
+    e.range = ctx != nullptr ? ctx_range(ctx) : SourceRange{file_, 0, 0};
+    return add(e);
+  }
+
+  static char op_of(antlr4::Token* t) {
+    switch (t->getType()) {
+      case NomeParser::PLUS:
+      case NomeParser::SPLUS:
+        return '+';
+      case NomeParser::MINUS:
+      case NomeParser::SMINUS:
+        return '-';
+      case NomeParser::STAR:
+        return '*';
+      case NomeParser::SLASH:
+        return '/';
+      case NomeParser::DSLASH:
+        return 'i';
+      case NomeParser::PERCENT:
+        return '%';
+      case NomeParser::CARET:
+        return '^';
+      default:
+        return '?';
+    }
+  }
+
+  // Generic conversion over the expression rules; the rule shapes are:
+  //   chains (expr, listExpr, mulExpr, itemExpr, itemMul): operand (op operand)*
+  //   unary (unaryExpr, itemUnary): op unaryExpr | pow
+  //   pow (powExpr, itemPow): atom (^ unaryExpr)?
+  ast::ExprId convert_expr(antlr4::ParserRuleContext* ctx) {
+    if (ctx == nullptr || ctx->children.empty() || ctx->exception != nullptr) {
+      return error_expr(ctx);
+    }
+    size_t rule = ctx->getRuleIndex();
+    switch (rule) {
+      case NomeParser::RuleExpr:
+      case NomeParser::RuleListExpr:
+      case NomeParser::RuleMulExpr:
+      case NomeParser::RuleItemExpr:
+      case NomeParser::RuleItemMul:
+      case NomeParser::RulePowExpr:
+      case NomeParser::RuleItemPow: {
+        auto* first = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]);
+        ast::ExprId acc = convert_expr(first);
+        for (size_t i = 1; i + 1 < ctx->children.size(); i += 2) {
+          auto* op = dynamic_cast<antlr4::tree::TerminalNode*>(ctx->children[i]);
+          auto* rhs = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[i + 1]);
+          if (op == nullptr || rhs == nullptr) {
+            return error_expr(ctx);
+          }
+          ast::Expr e;
+          e.kind = ast::ExprKind::Binary;
+          e.op = op_of(op->getSymbol());
+          e.lhs = acc;
+          e.rhs = convert_expr(rhs);
+          e.range = SourceRange{file_, ast_.exprs[acc.index].range.begin,
+                                ast_.exprs[e.rhs.index].range.end};
+          acc = add(e);
+        }
+        return acc;
+      }
+      case NomeParser::RuleUnaryExpr:
+      case NomeParser::RuleItemUnary: {
+        if (auto* op = dynamic_cast<antlr4::tree::TerminalNode*>(ctx->children[0])) {
+          if (ctx->children.size() < 2) {
+            return error_expr(ctx);
+          }
+          ast::Expr e;
+          e.kind = ast::ExprKind::Unary;
+          e.op = op_of(op->getSymbol());
+          e.lhs = convert_expr(dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[1]));
+          e.range = ctx_range(ctx);
+          return add(e);
+        }
+        return convert_expr(dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]));
+      }
+      default:
+        break;
+    }
+    return convert_atom(ctx);
+  }
+
+  ast::ExprId token_expr(ast::ExprKind kind, antlr4::Token* t) {
+    ast::Expr e;
+    e.kind = kind;
+    e.range = token_range(t);
+    e.text = view(e.range);
+    if (kind == ast::ExprKind::Number) {
+      e.number = std::strtod(std::string(e.text).c_str(), nullptr);
+    }
+    return add(e);
+  }
+
+  ast::ExprId convert_brace(NomeParser::BraceExprContext* b) {
+    if (b->tclBraces() != nullptr) {
+      ast::Expr e;
+      e.kind = ast::ExprKind::Raw;
+      e.in_braces = true;
+      e.range = ctx_range(b->tclBraces());
+      e.text = view(e.range);
+      return add(e);
+    }
+    ast::ExprId inner = convert_expr(b->expr());
+    ast_.exprs[inner.index].in_braces = true;
+    return inner;
+  }
+
+  ast::ExprId convert_atom(antlr4::ParserRuleContext* ctx) {
+    using P = NomeParser;
+    if (auto* a = dynamic_cast<P::NumberAtomContext*>(ctx)) return token_expr(ast::ExprKind::Number, a->NUMBER()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemNumberContext*>(ctx)) return token_expr(ast::ExprKind::Number, a->NUMBER()->getSymbol());
+    if (auto* a = dynamic_cast<P::DollarAtomContext*>(ctx)) return token_expr(ast::ExprKind::DollarRef, a->DOLLAR_REF()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemDollarContext*>(ctx)) return token_expr(ast::ExprKind::DollarRef, a->DOLLAR_REF()->getSymbol());
+    if (auto* a = dynamic_cast<P::TclArrayAtomContext*>(ctx)) return token_expr(ast::ExprKind::TclArrayRef, a->TCL_ARRAY_REF()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemTclArrayContext*>(ctx)) return token_expr(ast::ExprKind::TclArrayRef, a->TCL_ARRAY_REF()->getSymbol());
+    if (auto* a = dynamic_cast<P::RawAtomContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->BRACKET_RAW()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemRawContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->BRACKET_RAW()->getSymbol());
+    if (auto* a = dynamic_cast<P::PctAtomContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->PCT_RAW()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemPctContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->PCT_RAW()->getSymbol());
+    if (auto* a = dynamic_cast<P::StringAtomContext*>(ctx)) return token_expr(ast::ExprKind::String, a->STRING()->getSymbol());
+    if (auto* a = dynamic_cast<P::ItemStringContext*>(ctx)) return token_expr(ast::ExprKind::String, a->STRING()->getSymbol());
+    if (auto* a = dynamic_cast<P::BraceAtomContext*>(ctx)) return convert_brace(a->braceExpr());
+    if (auto* a = dynamic_cast<P::ItemBraceContext*>(ctx)) return convert_brace(a->braceExpr());
+    if (auto* a = dynamic_cast<P::ParenAtomContext*>(ctx)) return convert_expr(a->expr());
+    if (auto* a = dynamic_cast<P::NameAtomContext*>(ctx)) {
+      ast::Expr e;
+      e.kind = ast::ExprKind::Name;
+      e.range = ctx_range(a->word());
+      e.text = view(e.range);
+      return add(e);
+    }
+    if (auto* a = dynamic_cast<P::CallAtomContext*>(ctx)) {
+      ast::Expr e;
+      e.kind = ast::ExprKind::Call;
+      e.range = ctx_range(a);
+      e.text = view(ctx_range(a->word()));
+      for (auto* arg : a->expr()) {
+        e.args.push_back(convert_expr(arg));
+      }
+      return add(e);
+    }
+    return error_expr(ctx);
+  }
+
+  FileId file_;
+  std::string_view text_;
+  const Offsets& offsets_;
+  ast::Ast& ast_;
+};
+
+}  // namespace
+
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
+  std::string_view text = sources.text(file);
+  ast::Ast result;
+  result.file = file;
+
+  Offsets offsets;
+  DecodedInput input(decode_utf8(text, offsets));
+  NomeLexer lexer(&input);
+  lexer.removeErrorListeners();
+  SilentListener silent;
+  lexer.addErrorListener(&silent);
+  std::vector<std::unique_ptr<antlr4::Token>> raw = lexer.getAllTokens();
+  // getAllTokens() stops before EOF; add it so the parser sees a proper end.
+  raw.push_back(lexer.getTokenFactory()->create(
+      {&lexer, &input}, antlr4::Token::EOF, "<EOF>", antlr4::Token::DEFAULT_CHANNEL,
+      input.size(), input.size() - 1, 0, 0));
+  std::vector<std::unique_ptr<antlr4::Token>> tokens =
+      prepare_tokens(std::move(raw), text, offsets, file, diags);
+
+  antlr4::ListTokenSource source(std::move(tokens));
+  antlr4::CommonTokenStream stream(&source);
+  NomeParser parser(&stream);
+  parser.removeErrorListeners();
+
+  // Stage 1: fast SLL prediction that bails on the first error.
+  parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
+      antlr4::atn::PredictionMode::SLL);
+  parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
+  NomeParser::FileContext* tree = nullptr;
+  try {
+    tree = parser.file();
+  } catch (const antlr4::ParseCancellationException&) {
+    tree = nullptr;
+  }
+  SyntaxErrorListener listener(file, offsets, diags);
+  if (tree == nullptr) {
+    // Stage 2: full LL with error reporting and recovery.
+    stream.seek(0);
+    parser.reset();
+    parser.addErrorListener(&listener);
+    parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+    parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
+        antlr4::atn::PredictionMode::LL);
+    try {
+      tree = parser.file();
+    } catch (const std::exception&) {
+      tree = nullptr;  // recovery gave up; diagnostics were emitted
+    }
+  }
+  if (tree != nullptr) {
+    AstBuilder builder(file, text, offsets, result);
+    builder.build_file(tree);
+  }
+  return result;
+}
+
+}  // namespace nomec

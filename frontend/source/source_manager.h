@@ -1,0 +1,64 @@
+// Source manager: owns the text of every input file and turns compact locations
+// (file id + byte offset) into line and column, only when a human or the LSP needs them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace nomec {
+
+/// Identifies one file held by a SourceManager.
+struct FileId {
+  int32_t index = -1;
+  static constexpr FileId None() { return FileId{}; }
+  bool is_valid() const { return index >= 0; }
+  friend bool operator==(FileId, FileId) = default;
+  friend auto operator<=>(FileId, FileId) = default;
+};
+
+/// A half-open byte range [begin, end) in one file, e.g. the name `fun` in `funnel fun (…)`.
+struct SourceRange {
+  FileId file;
+  uint32_t begin = 0;
+  uint32_t end = 0;
+  bool is_valid() const { return file.is_valid(); }
+  friend bool operator==(const SourceRange&, const SourceRange&) = default;
+};
+
+/// A 1-based line and column (column counts bytes) for printing.
+struct LineCol {
+  uint32_t line = 0;
+  uint32_t column = 0;
+};
+
+class SourceManager {
+ public:
+  /// Adds a file's text under a display name; returns its id.
+  FileId add_file(std::string name, std::string text);
+
+  std::string_view name(FileId file) const { return files_[file.index].name; }
+  std::string_view text(FileId file) const { return files_[file.index].text; }
+  std::string_view text(SourceRange range) const;
+  size_t file_count() const { return files_.size(); }
+
+  /// Line and column of a byte offset (offset may equal the text size).
+  LineCol line_col(FileId file, uint32_t offset) const;
+  /// The text of a 1-based line without its line terminator.
+  std::string_view line_text(FileId file, uint32_t line) const;
+  /// The byte offset of a 1-based line/0-based byte column (clamped to the text).
+  uint32_t offset_of(FileId file, uint32_t line, uint32_t column0) const;
+
+ private:
+  // Rationale: line starts are computed once per file when it is added; every position
+  // query is then a binary search. Locations elsewhere stay 8 bytes (id + offset).
+  struct File {
+    std::string name;
+    std::string text;
+    std::vector<uint32_t> line_starts;
+  };
+  std::vector<File> files_;
+};
+
+}  // namespace nomec

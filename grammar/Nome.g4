@@ -1,0 +1,289 @@
+// Nome.g4: the one grammar for NOME 2016 (`.nome`, `.anom`), NOME3 (`.nom`) and the SLIDE
+// subset (`.slf`).
+//
+// Design: the grammar fixes *structure* exactly and leaves *meaning* to the front end.
+// Every block statement is `keyword … endkeyword` with a strictly paired end keyword, so
+// nesting is never guessed. A block body is a flat sequence of items (words, parenthesised
+// lists, values) and the nested blocks that this kind of block may contain. Which words a
+// command accepts, how many list elements it needs, and what they mean are checked by the
+// front end (frontend/check), where the diagnostics can name the command, show how a list
+// was split and suggest spellings. Keywords are contextual: any keyword can be used as a
+// name (rule `word`), except end keywords.
+//
+// Two token types are assigned after lexing by frontend/parse (not by this grammar), so the
+// grammar stays target-neutral:
+//  * SPLUS / SMINUS: a `+`/`-` preceded by whitespace or `(` and directly followed by a
+//    non-space character. At the top level of a list or block body it starts a new element
+//    (language.md §3); inside parentheses, braces and call arguments it is an ordinary
+//    binary operator wherever that reading is possible.
+grammar Nome;
+
+tokens { SPLUS, SMINUS }
+
+// ---------------------------------------------------------------------------------------
+// Parser
+// ---------------------------------------------------------------------------------------
+
+file : topStmt* EOF ;
+
+// A top-level statement. `strayItem` lets a word or value outside any block reach the
+// front end, which explains it (e.g. `set` outside a bank, a block missing its end keyword)
+// instead of an ANTLR message.
+topStmt : TCLINIT | includeStmt | block | strayItem ;
+
+// SLIDE `include "viewing.slf"`: no end keyword.
+includeStmt : K_INCLUDE STRING ;
+strayItem : item ;
+
+block
+  : bankStmt | surfaceStmt | pointStmt | polylineStmt | faceStmt | facetStmt | vertexStmt
+  | objectStmt | meshStmt | groupStmt | instanceStmt | sweepStmt | crosssectionStmt
+  | pathStmt | controlpointStmt | transformStmt | lookatStmt | deleteStmt | sharpStmt
+  | zipperStmt | mergeStmt | subdivisionStmt | offsetStmt | handleStmt | rindStmt
+  | sierpinskiStmt | mengerStmt | mirrorStmt | savedparameterStmt | consolidateStmt
+  | consolidatefaceStmt | savedworkingmeshStmt | cameraStmt | lightStmt | windowStmt
+  | viewportStmt | renderStmt | generatorStmt
+  ;
+
+// Blocks whose body is only items.
+bankStmt            : K_BANK item* E_BANK ;
+surfaceStmt         : K_SURFACE item* E_SURFACE ;
+pointStmt           : K_POINT item* E_POINT ;
+polylineStmt        : K_POLYLINE item* E_POLYLINE ;
+facetStmt           : K_FACET item* E_FACET ;
+vertexStmt          : K_VERTEX item* E_VERTEX ;
+objectStmt          : K_OBJECT item* E_OBJECT ;
+pathStmt            : K_PATH item* E_PATH ;
+controlpointStmt    : K_CONTROLPOINT item* E_CONTROLPOINT ;
+transformStmt       : K_TRANSFORM item* E_TRANSFORM ;
+lookatStmt          : K_LOOKAT item* E_LOOKAT ;
+sharpStmt           : K_SHARP item* E_SHARP ;
+zipperStmt          : K_ZIPPER item* E_ZIPPER ;
+savedparameterStmt  : K_SAVEDPARAMETER item* E_SAVEDPARAMETER ;
+cameraStmt          : K_CAMERA item* E_CAMERA ;
+lightStmt           : K_LIGHT item* E_LIGHT ;
+windowStmt          : K_WINDOW item* E_WINDOW ;
+viewportStmt        : K_VIEWPORT item* E_VIEWPORT ;
+renderStmt          : K_RENDER item* E_RENDER ;
+
+// Blocks with nested blocks.
+faceStmt            : K_FACE (vertexStmt | item)* E_FACE ;        // `.anom` faces list vertices
+meshStmt            : K_MESH (pointStmt | faceStmt | sharpStmt | vertexStmt | facetStmt | item)* E_MESH ;
+groupStmt           : K_GROUP (instanceStmt | item)* E_GROUP ;
+instanceStmt        : K_INSTANCE (lookatStmt | item)* E_INSTANCE ;
+sweepStmt           : K_SWEEP (crosssectionStmt | pathStmt | item)* E_SWEEP ;
+crosssectionStmt    : K_CROSSSECTION (transformStmt | item)* E_CROSSSECTION ;
+deleteStmt          : K_DELETE (faceStmt | item)* E_DELETE ;
+consolidateStmt     : K_CONSOLIDATE (consolidatefaceStmt | item)* E_CONSOLIDATE ;
+consolidatefaceStmt : K_CONSOLIDATEFACE (vertexStmt | item)* E_CONSOLIDATEFACE ;
+savedworkingmeshStmt: K_SAVEDWORKINGMESH (faceStmt | item)* E_SAVEDWORKINGMESH ;
+
+// Pipeline blocks contain instances and may nest further statements.
+mergeStmt           : K_MERGE (block | item)* E_MERGE ;
+subdivisionStmt     : K_SUBDIVISION (block | item)* E_SUBDIVISION ;
+offsetStmt          : K_OFFSET (block | item)* E_OFFSET ;
+handleStmt          : K_HANDLE (block | item)* E_HANDLE ;
+rindStmt            : K_RIND (block | item)* E_RIND ;
+sierpinskiStmt      : K_SIERPINSKI (block | item)* E_SIERPINSKI ;
+mengerStmt          : K_MENGER (block | item)* E_MENGER ;
+mirrorStmt          : K_MIRROR (block | item)* E_MIRROR ;
+
+// Generators. 2016 files close `tunnel` with `endfunnel`; the front end warns about it.
+generatorStmt
+  : K_FUNNEL item* E_FUNNEL
+  | K_TUNNEL item* (E_TUNNEL | E_FUNNEL)
+  | K_RIMRIBBON item* E_RIMRIBBON
+  | K_CIRCLE item* E_CIRCLE
+  | K_SPHERE item* E_SPHERE
+  | K_ELLIPSOID item* E_ELLIPSOID
+  | K_CYLINDER item* E_CYLINDER
+  | K_HYPERBOLOID item* E_HYPERBOLOID
+  | K_DUPIN item* E_DUPIN
+  | K_MOBIUSSTRIP item* E_MOBIUSSTRIP
+  | K_HELIX item* E_HELIX
+  | K_SPIRAL item* E_SPIRAL
+  | K_TORUS item* E_TORUS
+  | K_TORUSKNOT item* E_TORUSKNOT
+  | K_BEZIERCURVE item* E_BEZIERCURVE
+  | K_BSPLINE item* E_BSPLINE
+  | K_BSPLINECURVE item* E_BSPLINECURVE
+  | K_GENCARTESIANSURF item* E_GENCARTESIANSURF
+  | K_GENPARAMETRICSURF item* E_GENPARAMETRICSURF
+  | K_GENIMPLICITSURF item* E_GENIMPLICITSURF
+  ;
+
+// ----- Items: the flat contents of a block body -----
+// Alternatives start with disjoint tokens, so no item needs more than one token of
+// lookahead to choose its alternative.
+item
+  : word              # wordItem
+  | parenList         # listItem
+  | itemExpr          # valueItem
+  ;
+
+// `( e e e )`: space-separated elements (commas tolerated; the front end warns).
+parenList : LPAREN (listExpr | COMMA)* RPAREN ;
+
+// ----- Expressions -----
+// Loosest to tightest: `+ -`; `* / % //`; unary `+ -`; `^` (right-assoc); atoms.
+expr      : mulExpr ((PLUS | MINUS | SPLUS | SMINUS) mulExpr)* ;   // nested contexts
+listExpr  : mulExpr ((PLUS | MINUS) mulExpr)* ;                    // list elements
+mulExpr   : unaryExpr ((STAR | SLASH | DSLASH | PERCENT) unaryExpr)* ;
+unaryExpr : (PLUS | MINUS | SPLUS | SMINUS) unaryExpr | powExpr ;
+powExpr   : atom (CARET unaryExpr)? ;
+atom
+  : NUMBER                                          # numberAtom
+  | DOLLAR_REF                                      # dollarAtom
+  | TCL_ARRAY_REF                                   # tclArrayAtom
+  | word LPAREN (expr (COMMA? expr)*)? RPAREN       # callAtom
+  | word                                            # nameAtom
+  | LPAREN expr RPAREN                              # parenAtom
+  | braceExpr                                       # braceAtom
+  | BRACKET_RAW                                     # rawAtom
+  | STRING                                          # stringAtom
+  | PCT_RAW                                         # pctAtom
+  ;
+
+// A value in a block body: like `listExpr` but never starting with a bare word or `(`
+// (those are the `word` and `parenList` items), which keeps `item` LL(1).
+itemExpr  : itemMul ((PLUS | MINUS) mulExpr)* ;
+itemMul   : itemUnary ((STAR | SLASH | DSLASH | PERCENT) unaryExpr)* ;
+itemUnary : (PLUS | MINUS | SPLUS | SMINUS) unaryExpr | itemPow ;
+itemPow   : itemAtom (CARET unaryExpr)? ;
+itemAtom
+  : NUMBER          # itemNumber
+  | DOLLAR_REF      # itemDollar
+  | TCL_ARRAY_REF   # itemTclArray
+  | braceExpr       # itemBrace
+  | BRACKET_RAW     # itemRaw
+  | STRING          # itemString
+  | PCT_RAW         # itemPct
+  ;
+
+// `{expr …}` (Tcl heritage) or plain `{…}`; in SLIDE a brace value can also be a whole
+// Tcl script (`lod {if {$n >= 2} {expr 1} else {expr 0}}`), kept raw for the front end.
+braceExpr : LBRACE K_EXPR? expr RBRACE | tclBraces ;
+tclBraces : LBRACE (tclBraces | ~(LBRACE | RBRACE))* RBRACE ;
+
+// A name: identifiers and every contextual keyword.
+word
+  : IDENT | K_EXPR | K_INCLUDE
+  | K_BANK | K_SURFACE | K_POINT | K_POLYLINE | K_FACE | K_FACET | K_VERTEX | K_OBJECT
+  | K_MESH | K_GROUP | K_INSTANCE | K_SWEEP | K_CROSSSECTION | K_PATH | K_CONTROLPOINT
+  | K_TRANSFORM | K_LOOKAT | K_DELETE | K_SHARP | K_ZIPPER | K_MERGE | K_SUBDIVISION
+  | K_OFFSET | K_HANDLE | K_RIND | K_SIERPINSKI | K_MENGER | K_MIRROR | K_SAVEDPARAMETER
+  | K_CONSOLIDATE | K_CONSOLIDATEFACE | K_SAVEDWORKINGMESH | K_CAMERA | K_LIGHT | K_WINDOW
+  | K_VIEWPORT | K_RENDER | K_FUNNEL | K_TUNNEL | K_RIMRIBBON | K_CIRCLE | K_SPHERE
+  | K_ELLIPSOID | K_CYLINDER | K_HYPERBOLOID | K_DUPIN | K_MOBIUSSTRIP | K_HELIX | K_SPIRAL
+  | K_TORUS | K_TORUSKNOT | K_BEZIERCURVE | K_BSPLINE | K_BSPLINECURVE | K_GENCARTESIANSURF
+  | K_GENPARAMETRICSURF | K_GENIMPLICITSURF
+  ;
+
+// ---------------------------------------------------------------------------------------
+// Lexer
+// ---------------------------------------------------------------------------------------
+
+// `tclinit { … }` is kept whole, braces balanced, as raw text with its range.
+TCLINIT : 'tclinit' [ \t\r\n]* TCL_BRACES ;
+fragment TCL_BRACES : '{' ( TCL_BRACES | '\\' . | ~[{}\\] )* '}' ;
+
+// Nested `(* … *)` block comments (SLIDE semantics). An unclosed one does not match this
+// rule; the front end detects the `(` `*` pair and reports it at its opening.
+BLOCK_COMMENT : '(*' ( BLOCK_COMMENT | . )*? '*)' -> channel(HIDDEN) ;
+LINE_COMMENT  : '#' ~[\r\n]* -> channel(HIDDEN) ;
+WS            : [ \t\r\n\f\u000B]+ -> channel(HIDDEN) ;
+
+K_EXPR : 'expr' ;
+K_INCLUDE : 'include' ;
+K_BANK : 'bank' ;                     E_BANK : 'endbank' ;
+K_SURFACE : 'surface' ;               E_SURFACE : 'endsurface' ;
+K_POINT : 'point' ;                   E_POINT : 'endpoint' ;
+K_POLYLINE : 'polyline' ;             E_POLYLINE : 'endpolyline' ;
+K_FACE : 'face' ;                     E_FACE : 'endface' ;
+K_FACET : 'facet' ;                   E_FACET : 'endfacet' ;
+K_VERTEX : 'vertex' ;                 E_VERTEX : 'endvertex' ;
+K_OBJECT : 'object' ;                 E_OBJECT : 'endobject' ;
+K_MESH : 'mesh' ;                     E_MESH : 'endmesh' ;
+K_GROUP : 'group' ;                   E_GROUP : 'endgroup' ;
+K_INSTANCE : 'instance' ;             E_INSTANCE : 'endinstance' ;
+K_SWEEP : 'sweep' ;                   E_SWEEP : 'endsweep' ;
+K_CROSSSECTION : 'crosssection' ;     E_CROSSSECTION : 'endcrosssection' ;
+K_PATH : 'path' ;                     E_PATH : 'endpath' ;
+K_CONTROLPOINT : 'controlpoint' ;     E_CONTROLPOINT : 'endcontrolpoint' ;
+K_TRANSFORM : 'transform' ;           E_TRANSFORM : 'endtransform' ;
+K_LOOKAT : 'lookat' ;                 E_LOOKAT : 'endlookat' ;
+K_DELETE : 'delete' ;                 E_DELETE : 'enddelete' ;
+K_SHARP : 'sharp' ;                   E_SHARP : 'endsharp' ;
+K_ZIPPER : 'zipper' ;                 E_ZIPPER : 'endzipper' ;
+K_MERGE : 'merge' ;                   E_MERGE : 'endmerge' ;
+K_SUBDIVISION : 'subdivision' ;       E_SUBDIVISION : 'endsubdivision' ;
+K_OFFSET : 'offset' ;                 E_OFFSET : 'endoffset' ;
+K_HANDLE : 'handle' ;                 E_HANDLE : 'endhandle' ;
+K_RIND : 'rind' ;                     E_RIND : 'endrind' ;
+K_SIERPINSKI : 'sierpinski' ;         E_SIERPINSKI : 'endsierpinski' ;
+K_MENGER : 'menger' ;                 E_MENGER : 'endmenger' ;
+K_MIRROR : 'mirror' ;                 E_MIRROR : 'endmirror' ;
+K_SAVEDPARAMETER : 'savedparameter' ; E_SAVEDPARAMETER : 'endsavedparameter' ;
+K_CONSOLIDATE : 'consolidate' ;       E_CONSOLIDATE : 'endconsolidate' ;
+K_CONSOLIDATEFACE : 'consolidateface' ;   E_CONSOLIDATEFACE : 'endconsolidateface' ;
+K_SAVEDWORKINGMESH : 'savedworkingmesh' ; E_SAVEDWORKINGMESH : 'endsavedworkingmesh' ;
+K_CAMERA : 'camera' ;                 E_CAMERA : 'endcamera' ;
+K_LIGHT : 'light' ;                   E_LIGHT : 'endlight' ;
+K_WINDOW : 'window' ;                 E_WINDOW : 'endwindow' ;
+K_VIEWPORT : 'viewport' ;             E_VIEWPORT : 'endviewport' ;
+K_RENDER : 'render' ;                 E_RENDER : 'endrender' ;
+K_FUNNEL : 'funnel' ;                 E_FUNNEL : 'endfunnel' ;
+K_TUNNEL : 'tunnel' ;                 E_TUNNEL : 'endtunnel' ;
+K_RIMRIBBON : 'rimribbon' ;           E_RIMRIBBON : 'endrimribbon' ;
+K_CIRCLE : 'circle' ;                 E_CIRCLE : 'endcircle' ;
+K_SPHERE : 'sphere' ;                 E_SPHERE : 'endsphere' ;
+K_ELLIPSOID : 'ellipsoid' ;           E_ELLIPSOID : 'endellipsoid' ;
+K_CYLINDER : 'cylinder' ;             E_CYLINDER : 'endcylinder' ;
+K_HYPERBOLOID : 'hyperboloid' ;       E_HYPERBOLOID : 'endhyperboloid' ;
+K_DUPIN : 'dupin' ;                   E_DUPIN : 'enddupin' ;
+K_MOBIUSSTRIP : 'mobiusstrip' ;       E_MOBIUSSTRIP : 'endmobiusstrip' ;
+K_HELIX : 'helix' ;                   E_HELIX : 'endhelix' ;
+K_SPIRAL : 'spiral' ;                 E_SPIRAL : 'endspiral' ;
+K_TORUS : 'torus' ;                   E_TORUS : 'endtorus' ;
+K_TORUSKNOT : 'torusknot' ;           E_TORUSKNOT : 'endtorusknot' ;
+K_BEZIERCURVE : 'beziercurve' ;       E_BEZIERCURVE : 'endbeziercurve' ;
+K_BSPLINE : 'bspline' ;               E_BSPLINE : 'endbspline' ;
+K_BSPLINECURVE : 'bsplinecurve' ;     E_BSPLINECURVE : 'endbsplinecurve' ;
+K_GENCARTESIANSURF : 'gencartesiansurf' ;   E_GENCARTESIANSURF : 'endgencartesiansurf' ;
+K_GENPARAMETRICSURF : 'genparametricsurf' ; E_GENPARAMETRICSURF : 'endgenparametricsurf' ;
+K_GENIMPLICITSURF : 'genimplicitsurf' ;     E_GENIMPLICITSURF : 'endgenimplicitsurf' ;
+
+NUMBER
+  : DIGITS ('.' DIGITS?)? EXPONENT?
+  | '.' DIGITS EXPONENT?
+  ;
+fragment DIGITS   : [0-9]+ ;
+fragment EXPONENT : [eE] [+-]? DIGITS ;
+
+// `$oSubdivision(type)`: a Tcl array element (SLIDE's slideui objects).
+TCL_ARRAY_REF : '$' ID_START ID_PART* '(' [A-Za-z0-9_]* ')' ;
+// `$bank.param`, `$bank_param`, `$time`.
+DOLLAR_REF    : '$' ID_START ID_PART* ;
+IDENT         : ID_START ID_PART* ;
+fragment ID_START : [A-Za-z_.] ;
+fragment ID_PART  : [A-Za-z0-9_.] ;
+
+STRING      : '"' ( '\\' . | ~["\\\r\n] )* '"' ;
+PCT_RAW     : '%{' .*? '}%' ;
+BRACKET_RAW : '[' ( BRACKET_RAW | ~[[\]] )* ']' ;
+
+DSLASH  : '//' ;
+PLUS    : '+' ;
+MINUS   : '-' ;
+STAR    : '*' ;
+SLASH   : '/' ;
+PERCENT : '%' ;
+CARET   : '^' ;
+LPAREN  : '(' ;
+RPAREN  : ')' ;
+LBRACE  : '{' ;
+RBRACE  : '}' ;
+COMMA   : ',' ;
+
+// Anything else becomes one token the front end reports as an unexpected character.
+UNEXPECTED_CHAR : . ;

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# bootstrap.sh: installs nomec's build dependencies (Debian 12 packages only) and builds the
+# project into build/ with CMake + Ninja. Safe to re-run: the apt step is skipped when every
+# package is already installed, and the build is incremental. Works from any directory.
+#
+# Usage (as root on a fresh Debian 12 machine):   scripts/bootstrap.sh
+# Afterwards: build/tools/nomec --check FILE...   and   ctest --test-dir build
+set -euo pipefail
+
+repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo_root"
+
+# Keep this list in sync with README.md ("Dependencies") and ARCHITECTURE.md.
+packages=(
+  antlr4 libantlr4-runtime-dev   # grammar/: ANTLR 4.7.2 tool + C++ runtime
+  libfmt-dev                     # formatting everywhere
+  libgtest-dev libgmock-dev      # tests/
+  libglm-dev                     # kernel/ vector math
+  nlohmann-json3-dev             # tools/ JSON output, lsp/
+  libcli11-dev                   # tools/ command line
+  libosd-dev                     # OpenSubdiv: test oracle and benchmark baseline only
+  libbenchmark-dev               # bench/
+  admesh                         # STL sanity checks in tests
+  cmake ninja-build g++ clang
+  ca-certificates git python3
+)
+
+missing=()
+for pkg in "${packages[@]}"; do
+  status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
+  if [[ "$status" != "install ok installed" ]]; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]} > 0)); then
+  echo "bootstrap: installing ${#missing[@]} missing package(s): ${missing[*]}"
+  sudo_cmd=()
+  if ((EUID != 0)); then
+    if command -v sudo >/dev/null 2>&1; then
+      sudo_cmd=(sudo)
+    else
+      echo "bootstrap: missing packages and not root (no sudo): ${missing[*]}" >&2
+      exit 1
+    fi
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update
+  "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${packages[@]}"
+else
+  echo "bootstrap: all ${#packages[@]} packages already installed; skipping apt"
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
+cmake --build build -j"$(nproc)"
