@@ -355,7 +355,9 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
   const int32_t edge_count = static_cast<int32_t>(flags.size());
   next.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
   prev.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
-  sharpness.assign(edge_count, 0.0f);
+  if (!soup.creases.empty()) {
+    sharpness.assign(edge_count, 0.0f);
+  }
 
   // Wings: link each face's uses into its cyclic loop.
   offset = 0;

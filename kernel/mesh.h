@@ -88,7 +88,9 @@ struct VertexCorner {
 /// a boundary edge hold the neighbouring boundary edges of its border loop. Per vertex we
 /// keep one incident edge (a boundary edge for boundary vertices, so a single walk
 /// covers the fan); per face one edge use. Face size, vertex valence and normals are
-/// redundant and are not stored: they are recomputed by traversal when needed.
+/// redundant and are not stored: they are recomputed by traversal when needed. Optional
+/// properties (sharpness, colours, names) are empty arrays when absent, so a smooth
+/// uncoloured mesh pays nothing for them.
 class Mesh {
  public:
   Mesh() = default;
@@ -121,8 +123,16 @@ class Mesh {
   FaceId edge_face(EdgeId e, int side) const { return use_faces_[2 * e.index + side]; }
   bool is_boundary(EdgeId e) const { return !use_faces_[2 * e.index + 1].is_valid(); }
   bool is_mobius(EdgeId e) const { return edge_flags_[e.index] & kMobiusFlag; }
-  float sharpness(EdgeId e) const { return sharpness_[e.index]; }
-  void set_sharpness(EdgeId e, float s) { sharpness_[e.index] = s; }
+  /// Crease sharpness (0 = smooth). Boundary edges are infinitely sharp regardless.
+  float sharpness(EdgeId e) const { return sharpness_.empty() ? 0.0f : sharpness_[e.index]; }
+  void set_sharpness(EdgeId e, float s) {
+    if (sharpness_.empty()) {
+      sharpness_.assign(edge_count(), 0.0f);
+    }
+    sharpness_[e.index] = s;
+  }
+  /// True if some edge may carry a non-zero sharpness (the array is allocated).
+  bool has_sharpness() const { return !sharpness_.empty(); }
   /// The edge joining `a` and `b` (either direction), or None. Linear in the valence.
   EdgeId find_edge(VertexId a, VertexId b) const;
 

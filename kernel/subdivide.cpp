@@ -89,9 +89,10 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   face_offsets[F] = corner_total;
 
   // Does any edge need the sharp rules?
+  const bool has_creases = !psharp.empty();
   bool has_sharp = false;
   for (int32_t e = 0; e < E && !has_sharp; ++e) {
-    has_sharp = !puf[2 * e + 1].is_valid() || psharp[e] > 0.0f;
+    has_sharp = !puf[2 * e + 1].is_valid() || (has_creases && psharp[e] > 0.0f);
   }
 
   // (2) Edge points, and (3a) per-vertex sums over edges.
@@ -109,7 +110,7 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     const dvec3& pa = pos[a];
     const dvec3& pb = pos[b];
     const bool is_boundary = !puf[2 * e + 1].is_valid();
-    const float s = is_boundary ? kInfiniteSharpness : psharp[e];
+    const float s = is_boundary ? kInfiniteSharpness : (has_creases ? psharp[e] : 0.0f);
     dvec3 point;
     if (s >= 1.0f) {
       point = 0.5 * (pa + pb);
@@ -145,8 +146,10 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     }
   }
 
-  // (3b) Face points around each vertex.
-  std::vector<dvec3> face_sum(V, dvec3(0.0));
+  // (3b) Face points around each vertex, summed in place in the vertex-point slots.
+  dvec3* vertex_points = cpos.data() + F + E;
+  std::fill_n(vertex_points, V, dvec3(0.0));
+  dvec3* face_sum = vertex_points;
   for (int32_t f = 0; f < F; ++f) {
     const dvec3& fp = cpos[f];
     for (int32_t i = face_offsets[f]; i < face_offsets[f + 1]; ++i) {
@@ -157,8 +160,7 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     }
   }
 
-  // (3c) Vertex points.
-  dvec3* vertex_points = cpos.data() + F + E;
+  // (3c) Vertex points (overwriting each vertex's face-point sum once it is read).
   for (int32_t v = 0; v < V; ++v) {
     const dvec3& p0 = pos[v];
     const int32_t n = valence[v];
@@ -214,7 +216,10 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   cnext.resize(2 * static_cast<size_t>(cE));
   cprev.resize(2 * static_cast<size_t>(cE));
   cflags.assign(cE, 0);
-  csharp.assign(cE, 0.0f);
+  bool has_child_creases = false;
+  if (has_creases) {
+    csharp.assign(cE, 0.0f);
+  }
   cface_uses.resize(cF);
   csources.resize(cF);
   cvertex_edges.resize(static_cast<size_t>(F) + E + V);
@@ -232,7 +237,11 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     cev[2 * h1] = VertexId(F + e);
     cev[2 * h1 + 1] = VertexId(vp_base + pev[2 * e + 1].index);
     cflags[h0] = cflags[h1] = pflags[e];
-    csharp[h0] = csharp[h1] = child_sharpness(psharp[e]);
+    if (has_creases) {
+      const float cs = child_sharpness(psharp[e]);
+      csharp[h0] = csharp[h1] = cs;
+      has_child_creases = has_child_creases || cs > 0.0f;
+    }
     if (!puf[2 * e + 1].is_valid()) {
       cuf[2 * h0 + 1] = FaceId::None();
       cuf[2 * h1 + 1] = FaceId::None();
@@ -296,27 +305,17 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     MeshAccess::link_borders(child);
   }
 
+  if (has_creases && !has_child_creases) {
+    csharp.clear();  // every crease has relaxed; drop the property
+  }
+
+  level.parent_face_count = F;
+  level.parent_edge_count = E;
   if (options.has_parent_maps) {
-    level.vertex_parents.resize(static_cast<size_t>(F) + E + V);
-    for (int32_t f = 0; f < F; ++f) {
-      level.vertex_parents[f] = {VertexParent::Kind::Face, f};
-    }
-    for (int32_t e = 0; e < E; ++e) {
-      level.vertex_parents[F + e] = {VertexParent::Kind::Edge, e};
-    }
-    for (int32_t v = 0; v < V; ++v) {
-      level.vertex_parents[vp_base + v] = {VertexParent::Kind::Vertex, v};
-    }
-    level.edge_parents.resize(cE);
-    for (int32_t e = 0; e < E; ++e) {
-      level.edge_parents[2 * e] = level.edge_parents[2 * e + 1] = {EdgeParent::Kind::Edge, e};
-    }
     level.face_parents.resize(cF);
     for (int32_t f = 0; f < F; ++f) {
-      for (int32_t i = face_offsets[f]; i < face_offsets[f + 1]; ++i) {
-        level.edge_parents[2 * E + i] = {EdgeParent::Kind::Face, f};
-        level.face_parents[i] = FaceId(f);
-      }
+      std::fill(level.face_parents.begin() + face_offsets[f],
+                level.face_parents.begin() + face_offsets[f + 1], FaceId(f));
     }
   }
   return level;

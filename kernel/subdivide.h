@@ -25,7 +25,7 @@ enum class VertexRule : uint8_t {
 struct SubdivisionOptions {
   int32_t levels = 1;
   VertexRule vertex_rule = VertexRule::CatmullClark;
-  /// Fill the child→parent maps of each level (costs 16 bytes per child face).
+  /// Fill the child→parent face map of each level (4 bytes per child face).
   bool has_parent_maps = true;
 };
 
@@ -45,18 +45,41 @@ struct EdgeParent {
   int32_t index = -1;
 };
 
-/// One refinement level: the child mesh and its child→parent maps (empty when
-/// `!has_parent_maps`).
+/// One refinement level: the child mesh and its child→parent maps.
 ///
-/// Layout (stable, relied on by the maps' users): child vertices are the F face points,
-/// then the E edge points, then the V vertex points; child edges are the two halves of
-/// each parent edge (2e near end 0, 2e+1 near end 1), then one edge per face corner;
-/// the child faces of parent face f are consecutive, one per corner in loop order.
+/// Layout (stable, relied on by the maps): child vertices are the F face points, then
+/// the E edge points, then the V vertex points; child edges are the two halves of each
+/// parent edge (2e near end 0, 2e+1 near end 1), then one edge per face corner (joining
+/// the corner's edge point to the face point); the child faces of parent face f are
+/// consecutive, one per corner in loop order.
+///
+/// Rationale: because of this layout the vertex and edge parents are pure index
+/// arithmetic, so only the face map (which needs the parent face sizes) is stored, at 4
+/// bytes per child face; `vertex_parent` and `edge_parent` compute the rest.
 struct SubdivisionLevel {
   Mesh mesh;
-  std::vector<VertexParent> vertex_parents;
-  std::vector<EdgeParent> edge_parents;
+  /// Child face -> parent face (empty when `!has_parent_maps`).
   std::vector<FaceId> face_parents;
+  int32_t parent_face_count = 0;
+  int32_t parent_edge_count = 0;
+
+  /// The parent element of a child vertex. Precondition: `v` is a vertex of `mesh`.
+  VertexParent vertex_parent(VertexId v) const {
+    if (v.index < parent_face_count) {
+      return {VertexParent::Kind::Face, v.index};
+    }
+    if (v.index < parent_face_count + parent_edge_count) {
+      return {VertexParent::Kind::Edge, v.index - parent_face_count};
+    }
+    return {VertexParent::Kind::Vertex, v.index - parent_face_count - parent_edge_count};
+  }
+  /// The parent element of a child edge. Precondition: `has_parent_maps` was set.
+  EdgeParent edge_parent(EdgeId e) const {
+    if (e.index < 2 * parent_edge_count) {
+      return {EdgeParent::Kind::Edge, e.index / 2};
+    }
+    return {EdgeParent::Kind::Face, face_parents[e.index - 2 * parent_edge_count].index};
+  }
 };
 
 /// One level of Catmull-Clark. Precondition: `mesh` came from `build_mesh` or a kernel

@@ -128,8 +128,8 @@ TEST(Subdivide, InfiniteCreaseKeepsCornerFixed) {
   for (int level = 0; level < 3; ++level) {
     SubdivisionLevel next = subdivide_once(m);
     const int32_t child = m.face_count() + m.edge_count() + corner;
-    EXPECT_EQ(next.vertex_parents[child].kind, VertexParent::Kind::Vertex);
-    EXPECT_EQ(next.vertex_parents[child].index, corner);
+    EXPECT_EQ(next.vertex_parent(VertexId(child)).kind, VertexParent::Kind::Vertex);
+    EXPECT_EQ(next.vertex_parent(VertexId(child)).index, corner);
     EXPECT_EQ(next.mesh.position(VertexId(child)), glm::dvec3(0, 0, 0)) << level;
     corner = child;
     m = std::move(next.mesh);
@@ -185,16 +185,55 @@ TEST(Subdivide, ProvenanceColoursAndParentMaps) {
     EXPECT_EQ(l2.mesh.face_color(FaceId(f)).x, float(p0.index));
   }
   EXPECT_EQ(l1.face_parents[5], FaceId(1));  // 4 children per quad, in order
-  EXPECT_EQ(l1.vertex_parents[3].kind, VertexParent::Kind::Face);
-  EXPECT_EQ(l1.vertex_parents[6 + 4].kind, VertexParent::Kind::Edge);
-  EXPECT_EQ(l1.vertex_parents[6 + 4].index, 4);
-  EXPECT_EQ(l1.edge_parents[23].kind, EdgeParent::Kind::Edge);
-  EXPECT_EQ(l1.edge_parents[23].index, 11);
-  EXPECT_EQ(l1.edge_parents[27].kind, EdgeParent::Kind::Face);
-  EXPECT_EQ(l1.edge_parents[27].index, 0);
-  EXPECT_EQ(l1.edge_parents[28].index, 1);
-  EXPECT_EQ(l1.edge_parents[24].kind, EdgeParent::Kind::Face);
-  EXPECT_EQ(l1.edge_parents[24].index, 0);
+  EXPECT_EQ(l1.vertex_parent(VertexId(3)).kind, VertexParent::Kind::Face);
+  EXPECT_EQ(l1.vertex_parent(VertexId(6 + 4)).kind, VertexParent::Kind::Edge);
+  EXPECT_EQ(l1.vertex_parent(VertexId(6 + 4)).index, 4);
+  EXPECT_EQ(l1.edge_parent(EdgeId(23)).kind, EdgeParent::Kind::Edge);
+  EXPECT_EQ(l1.edge_parent(EdgeId(23)).index, 11);
+  EXPECT_EQ(l1.edge_parent(EdgeId(27)).kind, EdgeParent::Kind::Face);
+  EXPECT_EQ(l1.edge_parent(EdgeId(27)).index, 0);
+  EXPECT_EQ(l1.edge_parent(EdgeId(28)).index, 1);
+  EXPECT_EQ(l1.edge_parent(EdgeId(24)).kind, EdgeParent::Kind::Face);
+  EXPECT_EQ(l1.edge_parent(EdgeId(24)).index, 0);
+}
+
+TEST(Subdivide, ParentMapsAgreeWithTopology) {
+  Mesh band = build(grid_soup(5, 2, Glue::Mobius));
+  SubdivisionLevel l1 = subdivide_once(band);
+  const Mesh& c = l1.mesh;
+  for (int32_t e = 0; e < c.edge_count(); ++e) {
+    const EdgeParent ep = l1.edge_parent(EdgeId(e));
+    const VertexParent a = l1.vertex_parent(c.edge_vertex(EdgeId(e), 0));
+    const VertexParent b = l1.vertex_parent(c.edge_vertex(EdgeId(e), 1));
+    if (ep.kind == EdgeParent::Kind::Edge) {
+      // A half: one end is the parent edge's point, the other one of its vertices.
+      const VertexParent& mid = a.kind == VertexParent::Kind::Edge ? a : b;
+      const VertexParent& end = a.kind == VertexParent::Kind::Edge ? b : a;
+      EXPECT_EQ(mid.index, ep.index);
+      ASSERT_EQ(end.kind, VertexParent::Kind::Vertex);
+      const EdgeId parent(ep.index);
+      EXPECT_TRUE(band.edge_vertex(parent, 0).index == end.index ||
+                  band.edge_vertex(parent, 1).index == end.index);
+      EXPECT_EQ(c.is_mobius(EdgeId(e)), band.is_mobius(parent));
+    } else {
+      EXPECT_EQ(a.kind, VertexParent::Kind::Edge);
+      EXPECT_EQ(b.kind, VertexParent::Kind::Face);
+      EXPECT_EQ(b.index, ep.index);
+      EXPECT_FALSE(c.is_mobius(EdgeId(e)));
+    }
+  }
+  for (int32_t f = 0; f < c.face_count(); ++f) {
+    // Each child face contains the face point of its parent face.
+    int face_points = 0;
+    for (VertexId v : c.face_vertices(FaceId(f))) {
+      const VertexParent p = l1.vertex_parent(v);
+      if (p.kind == VertexParent::Kind::Face) {
+        ++face_points;
+        EXPECT_EQ(p.index, l1.face_parents[f].index);
+      }
+    }
+    EXPECT_EQ(face_points, 1);
+  }
 }
 
 TEST(Subdivide, MixedPolygonsBecomeQuads) {

@@ -1,0 +1,162 @@
+// Entry point of bench_kernel: counts heap allocations (for bytes per output face), runs
+// the benchmarks, and prints the ours/OpenSubdiv time ratio for every pair of benchmarks
+// named `BM_Ours_<case>` / `BM_Osd_<case>` measured in this run.
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <new>
+#include <numbers>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "bench/kernel/bench_shapes.h"
+
+namespace {
+
+std::atomic<size_t> g_current{0};
+std::atomic<size_t> g_peak{0};
+constexpr size_t kHeader = 16;
+
+void* counted_alloc(size_t size) {
+  void* raw = std::malloc(size + kHeader);
+  if (raw == nullptr) {
+    throw std::bad_alloc();
+  }
+  *static_cast<size_t*>(raw) = size;
+  const size_t now = g_current.fetch_add(size, std::memory_order_relaxed) + size;
+  size_t peak = g_peak.load(std::memory_order_relaxed);
+  while (now > peak && !g_peak.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {
+  }
+  return static_cast<char*>(raw) + kHeader;
+}
+
+void counted_free(void* p) noexcept {
+  if (p == nullptr) {
+    return;
+  }
+  void* raw = static_cast<char*>(p) - kHeader;
+  g_current.fetch_sub(*static_cast<size_t*>(raw), std::memory_order_relaxed);
+  std::free(raw);
+}
+
+}  // namespace
+
+void* operator new(size_t size) { return counted_alloc(size); }
+void* operator new[](size_t size) { return counted_alloc(size); }
+void operator delete(void* p) noexcept { counted_free(p); }
+void operator delete[](void* p) noexcept { counted_free(p); }
+void operator delete(void* p, size_t) noexcept { counted_free(p); }
+void operator delete[](void* p, size_t) noexcept { counted_free(p); }
+
+namespace nomec::kernel::bench {
+
+size_t current_bytes() { return g_current.load(); }
+size_t peak_bytes() { return g_peak.load(); }
+void reset_peak_bytes() { g_peak.store(g_current.load()); }
+
+PolygonSoup torus_soup(int n, int m) {
+  PolygonSoup s;
+  const double pi = std::numbers::pi;
+  s.positions.reserve(size_t(n) * m);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * pi * i / n, v = 2 * pi * j / m;
+      s.positions.push_back(
+          {(3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)});
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const int i1 = (i + 1) % n, j1 = (j + 1) % m;
+      s.add_face({i * m + j, i1 * m + j, i1 * m + j1, i * m + j1});
+    }
+  }
+  return s;
+}
+
+PolygonSoup mixed_torus_soup(int n, int m) {
+  PolygonSoup grid = torus_soup(n, m);
+  PolygonSoup s;
+  s.positions = grid.positions;
+  auto id = [&](int i, int j) { return (i % n) * m + (j % m); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (i % 3 == 0) {
+        s.add_face({a, b, c});
+        s.add_face({a, c, d});
+      } else if (i % 3 == 1 && j % 2 == 0 && j + 1 < m) {
+        // Pentagon pair sharing edge c-d, split by a midpoint.
+        const int mid = s.add_vertex(0.5 * (grid.positions[c] + grid.positions[d]));
+        s.add_face({a, b, c, mid, d});
+        const int e = id(i + 1, j + 2), f = id(i, j + 2);
+        s.add_face({d, mid, c, e, f});
+        ++j;
+      } else {
+        s.add_face({a, b, c, d});
+      }
+    }
+  }
+  return s;
+}
+
+}  // namespace nomec::kernel::bench
+
+namespace {
+
+// Console output plus a ratio table at the end.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& run : runs) {
+      if (run.run_type != Run::RT_Iteration || run.error_occurred) {
+        continue;
+      }
+      const std::string name = run.benchmark_name();
+      times_[name] = run.GetAdjustedRealTime();
+      auto it = run.counters.find("bytes_per_face");
+      if (it != run.counters.end()) {
+        bytes_[name] = it->second.value;
+      }
+    }
+  }
+  void Finalize() override {
+    ConsoleReporter::Finalize();
+    std::printf("\nours / OpenSubdiv (time ratio < 1 means ours is faster; bytes are peak "
+                "heap bytes per output face)\n");
+    for (const auto& [name, ours] : times_) {
+      const std::string prefix = "BM_Ours_";
+      if (name.rfind(prefix, 0) != 0) {
+        continue;
+      }
+      const std::string rest = name.substr(prefix.size());
+      auto osd = times_.find("BM_Osd_" + rest);
+      if (osd == times_.end()) {
+        continue;
+      }
+      std::printf("  %-32s time ratio %.3f  bytes/face ours %.1f osd %.1f\n", rest.c_str(),
+                  ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest]);
+    }
+  }
+
+ private:
+  std::map<std::string, double> times_;
+  std::map<std::string, double> bytes_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
+    return 1;
+  }
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+  return 0;
+}

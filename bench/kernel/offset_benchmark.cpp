@@ -1,0 +1,61 @@
+// Offset scaling: offsets of quad tori and of Möbius bands of growing size, with
+// Google Benchmark's complexity fit to check the construction is linear in the size.
+#include <cmath>
+#include <numbers>
+
+#include <benchmark/benchmark.h>
+
+#include "bench/kernel/bench_shapes.h"
+#include "kernel/offset.h"
+
+namespace nomec::kernel::bench {
+namespace {
+
+// An n x 8 Möbius band (half twist at the seam).
+PolygonSoup mobius_soup(int n) {
+  const int m = 8;
+  PolygonSoup s;
+  const double pi = std::numbers::pi;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j <= m; ++j) {
+      const double u = 2 * pi * i / n, t = double(j) / m - 0.5;
+      s.add_vertex({(3 + t * std::cos(u / 2)) * std::cos(u),
+                    (3 + t * std::cos(u / 2)) * std::sin(u), t * std::sin(u / 2)});
+    }
+  }
+  auto id = [&](int i, int j) { return i == n ? m - j : i * (m + 1) + j; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      s.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return s;
+}
+
+void run_offset(benchmark::State& state, const PolygonSoup& soup) {
+  auto mesh = build_mesh(soup);
+  for (auto _ : state) {
+    auto slab = offset(*mesh, {.distance = 0.01});
+    benchmark::DoNotOptimize(slab->mesh.positions().data());
+  }
+  state.SetComplexityN(mesh->edge_count());
+  state.counters["edges"] = mesh->edge_count();
+}
+
+void BM_Offset_Torus(benchmark::State& state) {
+  const int n = int(state.range(0));
+  run_offset(state, torus_soup(n, n / 2));
+}
+void BM_Offset_Mobius(benchmark::State& state) {
+  run_offset(state, mobius_soup(int(state.range(0))));
+}
+
+BENCHMARK(BM_Offset_Torus)->RangeMultiplier(2)->Range(32, 512)->Complexity(benchmark::oN)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Offset_Mobius)->RangeMultiplier(4)->Range(64, 16384)->Complexity(benchmark::oN)
+    ->Unit(benchmark::kMillisecond);
+void BM_Offset_Smoke(benchmark::State& state) { run_offset(state, torus_soup(8, 6)); }
+BENCHMARK(BM_Offset_Smoke);
+
+}  // namespace
+}  // namespace nomec::kernel::bench

@@ -1,0 +1,131 @@
+// Catmull-Clark throughput and memory: ours (builder + `subdivide`, full winged-edge
+// topology and child→parent maps at every level) against OpenSubdiv (TopologyRefiner
+// factory + RefineUniform + PrimvarRefiner::Interpolate of double positions, default
+// options, i.e. without full topology in the last level) on the same soup.
+#include <memory>
+
+#include <benchmark/benchmark.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include "bench/kernel/bench_shapes.h"
+#include "kernel/subdivide.h"
+
+namespace nomec::kernel::bench {
+namespace {
+
+using namespace OpenSubdiv;
+
+struct Point {
+  double p[3];
+  void Clear() { p[0] = p[1] = p[2] = 0; }
+  void AddWithWeight(const Point& src, double w) {
+    p[0] += w * src.p[0];
+    p[1] += w * src.p[1];
+    p[2] += w * src.p[2];
+  }
+};
+
+void report(benchmark::State& state, size_t peak, int64_t faces) {
+  state.counters["bytes_per_face"] = double(peak) / double(faces);
+  state.counters["out_faces"] = double(faces);
+  state.counters["faces_per_s"] =
+      benchmark::Counter(double(faces), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
+  size_t peak = 0;
+  int64_t faces = 0;
+  double bytes_per_edge = 0;
+  for (auto _ : state) {
+    const size_t base = current_bytes();
+    reset_peak_bytes();
+    auto mesh = build_mesh(soup);
+    auto result = subdivide(*mesh, {.levels = levels});
+    const Mesh& last = result->back().mesh;
+    benchmark::DoNotOptimize(last.positions().data());
+    peak = peak_bytes() - base;
+    faces = last.face_count();
+    bytes_per_edge = double(last.memory_bytes()) / last.edge_count();
+  }
+  report(state, peak, faces);
+  state.counters["mesh_bytes_per_edge"] = bytes_per_edge;
+}
+
+void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
+  Far::TopologyDescriptor desc;
+  desc.numVertices = soup.vertex_count();
+  desc.numFaces = soup.face_count();
+  desc.numVertsPerFace = soup.face_sizes.data();
+  desc.vertIndicesPerFace = soup.face_vertices.data();
+  Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  size_t peak = 0;
+  int64_t faces = 0;
+  for (auto _ : state) {
+    const size_t base = current_bytes();
+    reset_peak_bytes();
+    std::unique_ptr<Far::TopologyRefiner> refiner(
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    std::vector<Point> points(refiner->GetNumVerticesTotal());
+    for (int v = 0; v < soup.vertex_count(); ++v) {
+      points[v] = {{soup.positions[v].x, soup.positions[v].y, soup.positions[v].z}};
+    }
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    Point* src = points.data();
+    for (int level = 1; level <= levels; ++level) {
+      Point* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+      primvar.Interpolate(level, src, dst);
+      src = dst;
+    }
+    benchmark::DoNotOptimize(points.data());
+    peak = peak_bytes() - base;
+    faces = refiner->GetLevel(levels).GetNumFaces();
+  }
+  report(state, peak, faces);
+}
+
+const PolygonSoup& torus_2k() {
+  static const PolygonSoup s = torus_soup(64, 32);  // 2048 quads
+  return s;
+}
+const PolygonSoup& mixed() {
+  static const PolygonSoup s = mixed_torus_soup(48, 24);
+  return s;
+}
+const PolygonSoup& torus_100k() {
+  static const PolygonSoup s = torus_soup(400, 250);  // 100000 quads
+  return s;
+}
+const PolygonSoup& small() {
+  static const PolygonSoup s = torus_soup(8, 6);
+  return s;
+}
+
+void BM_Ours_Torus2k_L4(benchmark::State& s) { run_ours(s, torus_2k(), 4); }
+void BM_Osd_Torus2k_L4(benchmark::State& s) { run_osd(s, torus_2k(), 4); }
+void BM_Ours_Torus2k_L5(benchmark::State& s) { run_ours(s, torus_2k(), 5); }
+void BM_Osd_Torus2k_L5(benchmark::State& s) { run_osd(s, torus_2k(), 5); }
+void BM_Ours_Mixed_L4(benchmark::State& s) { run_ours(s, mixed(), 4); }
+void BM_Osd_Mixed_L4(benchmark::State& s) { run_osd(s, mixed(), 4); }
+void BM_Ours_Torus100k_L2(benchmark::State& s) { run_ours(s, torus_100k(), 2); }
+void BM_Osd_Torus100k_L2(benchmark::State& s) { run_osd(s, torus_100k(), 2); }
+void BM_Ours_Smoke_L2(benchmark::State& s) { run_ours(s, small(), 2); }
+void BM_Osd_Smoke_L2(benchmark::State& s) { run_osd(s, small(), 2); }
+
+BENCHMARK(BM_Ours_Torus2k_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Osd_Torus2k_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ours_Torus2k_L5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Osd_Torus2k_L5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ours_Mixed_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Osd_Mixed_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ours_Torus100k_L2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Osd_Torus100k_L2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Ours_Smoke_L2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Osd_Smoke_L2)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace nomec::kernel::bench
