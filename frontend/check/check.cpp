@@ -821,8 +821,8 @@ class Checker {
       ir::NodeId p = lookup_param_text(key);
       if (!p.is_valid()) {
         // Saved work may name sliders the scene no longer has (real files do): warn.
-        diags_.emit(DiagKind::UnknownParameter, it.range,
-                    fmt::format("saved value for `{}`, but the scene has no such slider", key));
+        diags_.emit(DiagKind::StaleSavedParameter, it.range,
+                    fmt::format("saved value for `{}`, but the scene has no such slider; the value is ignored", key));
         continue;
       }
       if (r.ok) m_.node(p).value = r.value;
@@ -845,7 +845,29 @@ class Checker {
         add_ref_field(id, s.kind == BlockKind::Path ? "path" : "crosssection", target, s.items[0].range);
       }
     }
-    read_body(a, s, pos, id, ctx);
+    auto positional = [&](const ast::Item& it) -> bool {
+      switch (s.kind) {
+        case BlockKind::Polyline:
+          if (it.kind != ItemKind::List) return false;
+          add_vertices_field(a, id, "points", it, ir::NodeId::None());
+          if (a.list(it.list).elems.size() < 2) {
+            diags_.emit(DiagKind::ListArity, it.range, "a polyline needs at least 2 points");
+          }
+          return true;
+        case BlockKind::Object:
+          if (it.kind != ItemKind::List) return false;
+          add_names_field(a, id, "faces", it, Ns::Face);
+          return true;
+        case BlockKind::Crosssection:
+          // SLIDE `type polyline NAME`: the curve the cross section is made of.
+          if (it.kind != ItemKind::Word) return false;
+          add_ref_field(id, "shape", resolve_any(std::string(it.text), it.range), it.range);
+          return true;
+        default:
+          return false;
+      }
+    };
+    read_body(a, s, pos, id, ctx, positional);
     return id;
   }
 
@@ -1453,8 +1475,9 @@ class Checker {
         diags_.emit(DiagKind::ExpectedNameList, x.range, fmt::format("expected a name in this list, found `{}`", clip(x.text.empty() ? sources_.text(x.range) : x.text)));
         continue;
       }
-      ir::NodeId t = ns == Ns::Count ? resolve_any(std::string(x.text), x.range)
-                                     : resolve_point_like(std::string(x.text), x.range);
+      ir::NodeId t = ns == Ns::Count  ? resolve_any(std::string(x.text), x.range)
+                     : ns == Ns::Face ? resolve(Ns::Face, std::string(x.text), x.range, "a face")
+                                      : resolve_point_like(std::string(x.text), x.range);
       f.refs.push_back(t);
       if (t.is_valid()) m_.deps.add_edge(t, id);
     }
@@ -1526,8 +1549,13 @@ class Checker {
     return out;
   }
 
+  // Names only Tcl defines are reported once per name (real SLIDE files use them hundreds
+  // of times); later uses stay quiet.
+  bool first_tcl_report(const std::string& name) { return tcl_reported_.insert(name).second; }
+
   ir::NodeId report_unknown(Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
     if (dialect_ == Dialect::Slide && has_tcl_) {
+      if (!first_tcl_report(name)) return ir::NodeId::None();
       diags_.emit(DiagKind::TclDefinedName, use,
                   fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, which nomec does not evaluate yet", name));
       return ir::NodeId::None();
@@ -1619,8 +1647,10 @@ class Checker {
       return ref;
     }
     if (dialect_ == Dialect::Slide && has_tcl_) {
-      diags_.emit(DiagKind::TclDefinedName, use,
-                  fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, which nomec does not evaluate yet", text));
+      if (first_tcl_report(text)) {
+        diags_.emit(DiagKind::TclDefinedName, use,
+                    fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, which nomec does not evaluate yet", text));
+      }
       return ref;
     }
     std::vector<std::string> cands = names_in(Ns::Point);
@@ -1908,12 +1938,11 @@ class Checker {
         }
         if (dialect_ == Dialect::Slide && x.kind == ast::ExprKind::DollarRef) {
           std::string why = tcl_var_hint(name);
+          if (first_tcl_report("$" + name))
           diags_.emit(DiagKind::TclDefinedName, x.range,
-                      fmt::format("`${}` is {}; nomec does not evaluate Tcl yet, so it is treated as 0",
+                      fmt::format("`${}` is {}; nomec does not evaluate Tcl yet, so values that use it are not checked yet",
                                   name, why.empty() ? "not a slider of this file; it may be defined by Tcl code" : why));
-          e.kind = ir::ExprKind::Const;
-          e.value = 0;
-          return m_.add_expr(e);
+          return error_ir(x.range);
         }
         std::vector<std::string> all;
         bool dotted_style = name.find('.') != std::string::npos || dialect_ == Dialect::Nome3;
@@ -1936,11 +1965,10 @@ class Checker {
       }
       case ast::ExprKind::TclArrayRef: {
         if (dialect_ == Dialect::Slide) {
+          if (first_tcl_report(std::string(x.text)))
           diags_.emit(DiagKind::TclDefinedName, x.range,
-                      fmt::format("`{}` is an element of a Tcl array made by a `slideui` object in `tclinit`; nomec does not evaluate Tcl yet, so it is treated as 0", x.text));
-          e.kind = ir::ExprKind::Const;
-          e.value = 0;
-          return m_.add_expr(e);
+                      fmt::format("`{}` is an element of a Tcl array made by a `slideui` object in `tclinit`; nomec does not evaluate Tcl yet, so values that use it are not checked yet", x.text));
+          return error_ir(x.range);
         }
         diags_.emit(DiagKind::UnknownParameter, x.range,
                     fmt::format("`{}` is a Tcl array element, which only SLIDE files can use", x.text));
@@ -1949,10 +1977,8 @@ class Checker {
       case ast::ExprKind::Raw:
         if (dialect_ == Dialect::Slide && x.in_braces) {
           diags_.emit(DiagKind::TclDefinedName, x.range,
-                      fmt::format("this value is a Tcl script (`{}`); nomec does not evaluate Tcl yet, so it is treated as 0", clip(x.text)));
-          e.kind = ir::ExprKind::Const;
-          e.value = 0;
-          return m_.add_expr(e);
+                      fmt::format("this value is a Tcl script (`{}`); nomec does not evaluate Tcl yet, so values that use it are not checked yet", clip(x.text)));
+          return error_ir(x.range);
         }
         diags_.emit(DiagKind::ExpectedNumber, x.range, fmt::format("expected a number, found raw text `{}`", clip(x.text)));
         return error_ir(x.range);
@@ -2064,6 +2090,7 @@ class Checker {
   std::set<int32_t> ambiguous_instances_;
   std::set<std::string> tcl_vars_;
   std::set<std::string> tcl_suffixes_;
+  std::set<std::string> tcl_reported_;
   std::vector<PendingList> pending_list_;
   bool has_tcl_ = false;
   int order_ = 0;

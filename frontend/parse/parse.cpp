@@ -240,6 +240,7 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     const Offsets& offsets, FileId file, DiagnosticEngine& diags) {
   std::vector<std::unique_ptr<antlr4::Token>> out;
   out.reserve(tokens.size());
+  int brace_depth = 0;
   auto range = [&](const antlr4::Token& t) {
     return SourceRange{file, offsets.byte_of(t.getStartIndex()),
                        offsets.byte_of(t.getStopIndex() + 1)};
@@ -267,6 +268,17 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;
       }
+      continue;
+    }
+    if (type == NomeLexer::LBRACE) {
+      ++brace_depth;
+    } else if (type == NomeLexer::RBRACE && brace_depth > 0) {
+      --brace_depth;
+    }
+    if (type == NomeLexer::UNEXPECTED_CHAR && brace_depth > 0 && text[start] != '"') {
+      // Inside braces any character may belong to a Tcl script (`{if {$n >= 2} …}`); the
+      // parser keeps such a value raw and the checker explains it.
+      out.push_back(std::move(tok));
       continue;
     }
     if (type == NomeLexer::UNEXPECTED_CHAR) {
