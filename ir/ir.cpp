@@ -362,11 +362,31 @@ std::string node_ref(const Module& m, NodeId id) {
   return n.name.empty() ? fmt::format("%{}", id.index) : fmt::format("%{} `{}`", id.index, n.name);
 }
 
-// An expression with its current value when it is not a plain constant.
+bool depends_on_input(const Module& m, ExprId id) {
+  const Expr& e = m.expr(id);
+  if (e.kind == ExprKind::Param || e.kind == ExprKind::Builtin) {
+    return true;
+  }
+  for (ExprId c : {e.lhs, e.rhs}) {
+    if (c.is_valid() && depends_on_input(m, c)) {
+      return true;
+    }
+  }
+  for (ExprId c : e.args) {
+    if (depends_on_input(m, c)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// An expression with its current value when it depends on sliders; constants print as
+// their value.
 std::string value_text(const Module& m, ExprId id) {
   std::string text = expr_text(m, id);
-  if (m.expr(id).kind == ExprKind::Const) {
-    return text;
+  if (!depends_on_input(m, id)) {
+    EvalResult r = evaluate(m, id);
+    return r.ok ? fmt::format("{}", r.value) : text;
   }
   EvalResult r = evaluate(m, id);
   return r.ok ? fmt::format("{{{} = {}}}", text, r.value) : fmt::format("{{{}}}", text);
@@ -379,6 +399,9 @@ std::string field_text(const Module& m, const Field& f) {
     case FieldKind::Vector:
       for (ExprId e : f.exprs) {
         parts.push_back(value_text(m, e));
+      }
+      if (f.name == "rotate" && parts.size() == 4) {  // axis, then angle in degrees
+        return fmt::format("({} {} {}) ({})", parts[0], parts[1], parts[2], parts[3]);
       }
       return f.kind == FieldKind::Scalar && parts.size() == 1
                  ? parts[0]
