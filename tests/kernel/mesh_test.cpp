@@ -134,7 +134,7 @@ TEST(MeshBuilder, KleinBottleIsClosedWithMobiusEdges) {
 TEST(MeshBuilder, ThirdFaceOnEdgeIsStructuredError) {
   PolygonSoup s;
   for (int i = 0; i < 5; ++i) {
-    s.add_vertex({double(i), double(i * i), 0.0}, "p" + std::to_string(i));
+    s.add_vertex({double(i), double(i * i), 0.0}, fmt::format("p{}", i));
   }
   s.add_face({0, 1, 2});
   s.add_face({1, 0, 3});

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "kernel/mesh.h"
 
 namespace nomec::kernel::testing {
@@ -17,7 +19,7 @@ inline PolygonSoup cube_soup() {
   PolygonSoup s;
   for (int i = 0; i < 8; ++i) {
     s.add_vertex({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)},
-                 "v" + std::to_string(i));
+                 fmt::format("v{}", i));
   }
   s.add_face({0, 2, 3, 1});  // z = 0
   s.add_face({4, 5, 7, 6});  // z = 1
