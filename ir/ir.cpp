@@ -56,8 +56,16 @@ void DepGraph::add_edge(NodeId from, NodeId to) {
     users_.resize(need);
   }
   auto& list = users_[from.index];
-  if (std::find(list.begin(), list.end(), to) == list.end()) {
+  // Duplicates are removed in `finalize`; skipping the common repeat here keeps lists short.
+  if (list.empty() || list.back() != to) {
     list.push_back(to);
+  }
+}
+
+void DepGraph::finalize() {
+  for (auto& list : users_) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
   }
 }
 

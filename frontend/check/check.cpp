@@ -2053,6 +2053,7 @@ class Checker {
                                 hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
       }
     }
+    m_.deps.finalize();
     std::vector<ir::NodeId> cycle;
     m_.deps.topo_order(&cycle);
     if (!cycle.empty()) {
