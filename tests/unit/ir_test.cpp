@@ -1,0 +1,104 @@
+// IR: dependency graph order, cycles, reachability and de-duplication; expression
+// evaluation including domain errors.
+#include <gtest/gtest.h>
+
+#include "ir/ir.h"
+
+namespace nomec::ir {
+namespace {
+
+NodeId add(Module& m, NodeKind kind, std::string name) {
+  Node n;
+  n.kind = kind;
+  n.name = std::move(name);
+  return m.add_node(std::move(n));
+}
+
+TEST(DepGraph, TopologicalOrderAndReachability) {
+  Module m;
+  NodeId p = add(m, NodeKind::Param, "b.p");
+  NodeId v = add(m, NodeKind::Value, "pt.position");
+  NodeId pt = add(m, NodeKind::Point, "pt");
+  NodeId inst = add(m, NodeKind::Instance, "i");
+  NodeId other = add(m, NodeKind::Instance, "j");
+  m.deps.add_edge(p, v);
+  m.deps.add_edge(v, pt);
+  m.deps.add_edge(pt, inst);
+  m.deps.add_edge(pt, inst);  // duplicate
+  m.deps.add_edge(v, inst);
+  m.deps.add_edge(pt, inst);  // non-adjacent duplicate, removed by finalize
+  m.deps.finalize();
+  EXPECT_EQ(m.deps.edge_count(), 4u);
+  std::vector<NodeId> cycle;
+  std::vector<NodeId> order = m.deps.topo_order(&cycle);
+  EXPECT_TRUE(cycle.empty());
+  auto pos = [&](NodeId n) { return std::find(order.begin(), order.end(), n) - order.begin(); };
+  EXPECT_LT(pos(p), pos(v));
+  EXPECT_LT(pos(v), pos(pt));
+  EXPECT_LT(pos(pt), pos(inst));
+  std::vector<NodeId> affected = m.deps.affected_by(p);
+  EXPECT_EQ(affected, (std::vector<NodeId>{v, pt, inst}));
+  EXPECT_TRUE(m.deps.affected_by(other).empty());
+}
+
+TEST(DepGraph, CyclesAreReported) {
+  Module m;
+  NodeId a = add(m, NodeKind::Group, "a");
+  NodeId b = add(m, NodeKind::Group, "b");
+  NodeId c = add(m, NodeKind::Instance, "c");
+  m.deps.add_edge(a, b);
+  m.deps.add_edge(b, a);
+  m.deps.add_edge(c, a);
+  std::vector<NodeId> cycle;
+  m.deps.topo_order(&cycle);
+  EXPECT_EQ(cycle, (std::vector<NodeId>{a, b}));
+}
+
+ExprId num(Module& m, double v) {
+  Expr e;
+  e.kind = ExprKind::Const;
+  e.value = v;
+  return m.add_expr(e);
+}
+
+ExprId bin(Module& m, char op, ExprId a, ExprId b) {
+  Expr e;
+  e.kind = ExprKind::Binary;
+  e.op = op;
+  e.lhs = a;
+  e.rhs = b;
+  return m.add_expr(e);
+}
+
+TEST(Evaluate, ArithmeticAndFunctions) {
+  Module m;
+  EXPECT_DOUBLE_EQ(evaluate(m, bin(m, '^', num(m, 2), bin(m, '^', num(m, 3), num(m, 2)))).value, 512);
+  EXPECT_DOUBLE_EQ(evaluate(m, bin(m, 'i', num(m, 7), num(m, 2))).value, 3);
+  Expr call;
+  call.kind = ExprKind::Call;
+  call.func = Func::Atan2;
+  call.args = {num(m, 1), num(m, 1)};
+  EXPECT_NEAR(evaluate(m, m.add_expr(call)).value, 0.7853981633974483, 1e-15);
+  NodeId p = m.add_node(Node{.kind = NodeKind::Param, .name = "b.x", .value = 4});
+  Expr ref;
+  ref.kind = ExprKind::Param;
+  ref.param = p;
+  EXPECT_DOUBLE_EQ(evaluate(m, bin(m, '*', m.add_expr(ref), num(m, 2))).value, 8);
+}
+
+TEST(Evaluate, DomainErrorsNameTheValues) {
+  Module m;
+  EvalResult r = evaluate(m, bin(m, '/', num(m, 1), num(m, 0)));
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.problem, "division by zero: 1 / 0");
+  Expr call;
+  call.kind = ExprKind::Call;
+  call.func = Func::Sqrt;
+  call.args = {num(m, -4)};
+  EvalResult s = evaluate(m, m.add_expr(call));
+  EXPECT_FALSE(s.ok);
+  EXPECT_EQ(s.problem, "`sqrt(-4)`: square root of a negative number");
+}
+
+}  // namespace
+}  // namespace nomec::ir

@@ -1,0 +1,53 @@
+// Source manager and diagnostics engine: line/column mapping (including UTF-8 text and
+// files without a final newline), sorting and de-duplication, "did you mean".
+#include <gtest/gtest.h>
+
+#include "frontend/diagnostics/diagnostic.h"
+#include "frontend/source/source_manager.h"
+
+namespace nomec {
+namespace {
+
+TEST(SourceManager, LineAndColumn) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "point p\n  (1 2 3)\nendpoint");
+  EXPECT_EQ(sm.line_col(f, 0).line, 1u);
+  EXPECT_EQ(sm.line_col(f, 8).line, 2u);
+  EXPECT_EQ(sm.line_col(f, 10).column, 3u);
+  EXPECT_EQ(sm.line_text(f, 3), "endpoint");
+  EXPECT_EQ(sm.line_col(f, 100).line, 3u);  // clamped to the end
+  EXPECT_EQ(sm.offset_of(f, 2, 2), 10u);
+}
+
+TEST(Diagnostics, SortsAndDedupes) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "abc def\n");
+  DiagnosticEngine d;
+  d.emit(DiagKind::UnknownName, {f, 4, 7}, "unknown `def`");
+  d.emit(DiagKind::UnknownName, {f, 0, 3}, "unknown `abc`");
+  d.emit(DiagKind::UnknownName, {f, 4, 7}, "unknown `def`");
+  d.sort_and_dedupe();
+  ASSERT_EQ(d.diagnostics().size(), 2u);
+  EXPECT_EQ(d.diagnostics()[0].range.begin, 0u);
+  EXPECT_EQ(d.error_count(), 2);
+  std::string text = render_text(sm, d.diagnostics()[1], false, false);
+  EXPECT_EQ(text, "a.nome:1:5: error: unknown `def` [UnknownName]\n    1 | abc def\n      |     ^~~\n");
+}
+
+TEST(Diagnostics, WerrorPromotesWarnings) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "x\n");
+  DiagnosticEngine d;
+  d.emit(DiagKind::CommaInList, {f, 0, 1}, "commas");
+  EXPECT_NE(render_text(sm, d.diagnostics()[0], true, false).find(": error: "), std::string::npos);
+  EXPECT_NE(render_text(sm, d.diagnostics()[0], false, false).find(": warning: "), std::string::npos);
+}
+
+TEST(Diagnostics, ClosestMatch) {
+  EXPECT_EQ(closest_match("radus", {"radius", "ratio", "n"}), "radius");
+  EXPECT_EQ(closest_match("pint", {"point", "face"}), "point");
+  EXPECT_EQ(closest_match("zzzzzz", {"point", "face"}), "");
+}
+
+}  // namespace
+}  // namespace nomec
