@@ -70,9 +70,13 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   SubdivisionLevel level;
   Mesh& child = level.mesh;
   std::vector<dvec3>& cpos = MeshAccess::positions(child);
-  cpos.resize(static_cast<size_t>(F) + E + V);
+  cpos.resize(static_cast<size_t>(F) + E + V);  // zero-initialised
+  // The vertex-point slots first accumulate the face points around each vertex (3b),
+  // done here while the face's uses are still in cache.
+  dvec3* vertex_points = cpos.data() + F + E;
   for (int32_t f = 0; f < F; ++f) {
-    face_offsets[f] = static_cast<int32_t>(uses.size());
+    const int32_t o = static_cast<int32_t>(uses.size());
+    face_offsets[f] = o;
     dvec3 sum(0.0);
     const EdgeUse start = pface_uses[f];
     EdgeUse u = start;
@@ -83,7 +87,14 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
       sum += pos[pev[2 * e + (is_forward ? 0 : 1)].index];
       u = pnext[u.index];
     } while (u != start);
-    cpos[f] = sum / double(static_cast<int32_t>(uses.size()) - face_offsets[f]);
+    const int32_t n = static_cast<int32_t>(uses.size()) - o;
+    const dvec3 fp = sum / double(n);
+    cpos[f] = fp;
+    for (int32_t i = o; i < o + n; ++i) {
+      const int32_t e = uses[i].index >> 1;
+      const bool is_forward = (uses[i].index & 1) == 0 || (pflags[e] & mobius_flag);
+      vertex_points[pev[2 * e + (is_forward ? 0 : 1)].index] += fp;
+    }
   }
   const int32_t corner_total = static_cast<int32_t>(uses.size());
   face_offsets[F] = corner_total;
@@ -146,19 +157,7 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     }
   }
 
-  // (3b) Face points around each vertex, summed in place in the vertex-point slots.
-  dvec3* vertex_points = cpos.data() + F + E;
-  std::fill_n(vertex_points, V, dvec3(0.0));
-  dvec3* face_sum = vertex_points;
-  for (int32_t f = 0; f < F; ++f) {
-    const dvec3& fp = cpos[f];
-    for (int32_t i = face_offsets[f]; i < face_offsets[f + 1]; ++i) {
-      const EdgeUse u = uses[i];
-      const int32_t e = u.index >> 1;
-      const bool is_forward = (u.index & 1) == 0 || (pflags[e] & mobius_flag);
-      face_sum[pev[2 * e + (is_forward ? 0 : 1)].index] += fp;
-    }
-  }
+  const dvec3* face_sum = vertex_points;
 
   // (3c) Vertex points (overwriting each vertex's face-point sum once it is read).
   for (int32_t v = 0; v < V; ++v) {
@@ -211,17 +210,19 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   auto& cface_uses = MeshAccess::face_uses(child);
   auto& csources = MeshAccess::face_sources(child);
   auto& cvertex_edges = MeshAccess::vertex_edges(child);
-  cev.resize(2 * static_cast<size_t>(cE));
+  // Arrays written in index order are filled by push_back (one pass over the memory);
+  // the per-use arrays are written out of order and are sized up front.
+  cev.reserve(2 * static_cast<size_t>(cE));
   cuf.resize(2 * static_cast<size_t>(cE));
   cnext.resize(2 * static_cast<size_t>(cE));
   cprev.resize(2 * static_cast<size_t>(cE));
-  cflags.assign(cE, 0);
+  cflags.reserve(cE);
   bool has_child_creases = false;
   if (has_creases) {
-    csharp.assign(cE, 0.0f);
+    csharp.reserve(cE);
   }
-  cface_uses.resize(cF);
-  csources.resize(cF);
+  cface_uses.reserve(cF);
+  csources.reserve(cF);
   cvertex_edges.resize(static_cast<size_t>(F) + E + V);
   const bool has_colors = parent.has_face_colors();
   if (has_colors) {
@@ -232,14 +233,16 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   for (int32_t e = 0; e < E; ++e) {
     const int32_t h0 = 2 * e;
     const int32_t h1 = 2 * e + 1;
-    cev[2 * h0] = VertexId(vp_base + pev[2 * e].index);
-    cev[2 * h0 + 1] = VertexId(F + e);
-    cev[2 * h1] = VertexId(F + e);
-    cev[2 * h1 + 1] = VertexId(vp_base + pev[2 * e + 1].index);
-    cflags[h0] = cflags[h1] = pflags[e];
+    cev.push_back(VertexId(vp_base + pev[2 * e].index));
+    cev.push_back(VertexId(F + e));
+    cev.push_back(VertexId(F + e));
+    cev.push_back(VertexId(vp_base + pev[2 * e + 1].index));
+    cflags.push_back(pflags[e]);
+    cflags.push_back(pflags[e]);
     if (has_creases) {
       const float cs = child_sharpness(psharp[e]);
-      csharp[h0] = csharp[h1] = cs;
+      csharp.push_back(cs);
+      csharp.push_back(cs);
       has_child_creases = has_child_creases || cs > 0.0f;
     }
     if (!puf[2 * e + 1].is_valid()) {
@@ -282,10 +285,14 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
       cprev[u1] = EdgeUse(u0);
       cprev[u2] = EdgeUse(u1);
       cprev[u3] = EdgeUse(u2);
-      cface_uses[q] = EdgeUse(u0);
-      cev[2 * interior] = VertexId(F + e);
-      cev[2 * interior + 1] = VertexId(f);
-      csources[q] = source;
+      cface_uses.push_back(EdgeUse(u0));
+      cev.push_back(VertexId(F + e));
+      cev.push_back(VertexId(f));
+      cflags.push_back(0);
+      if (has_creases) {
+        csharp.push_back(0.0f);
+      }
+      csources.push_back(source);
       prev_head_half = head_half;
       prev_side = s;
     }

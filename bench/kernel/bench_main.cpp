@@ -122,6 +122,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (it != run.counters.end()) {
         bytes_[name] = it->second.value;
       }
+      auto ratio = run.counters.find("ratio");
+      if (ratio != run.counters.end()) {
+        pair_ratios_[name] = ratio->second.value;
+      }
     }
   }
   void Finalize() override {
@@ -141,11 +145,16 @@ class RatioReporter : public benchmark::ConsoleReporter {
       std::printf("  %-32s time ratio %.3f  bytes/face ours %.1f osd %.1f\n", rest.c_str(),
                   ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest]);
     }
+    std::printf("interleaved pairs (ours and OpenSubdiv alternating in each iteration)\n");
+    for (const auto& [name, ratio] : pair_ratios_) {
+      std::printf("  %-40s time ratio %.3f\n", name.c_str(), ratio);
+    }
   }
 
  private:
   std::map<std::string, double> times_;
   std::map<std::string, double> bytes_;
+  std::map<std::string, double> pair_ratios_;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // topology and child→parent maps at every level) against OpenSubdiv (TopologyRefiner
 // factory + RefineUniform + PrimvarRefiner::Interpolate of double positions, default
 // options, i.e. without full topology in the last level) on the same soup.
+#include <chrono>
 #include <memory>
 
 #include <benchmark/benchmark.h>
@@ -34,26 +35,20 @@ void report(benchmark::State& state, size_t peak, int64_t faces) {
       benchmark::Counter(double(faces), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
-  size_t peak = 0;
-  int64_t faces = 0;
-  double bytes_per_edge = 0;
-  for (auto _ : state) {
-    const size_t base = current_bytes();
-    reset_peak_bytes();
-    auto mesh = build_mesh(soup);
-    auto result = subdivide(*mesh, {.levels = levels});
-    const Mesh& last = result->back().mesh;
-    benchmark::DoNotOptimize(last.positions().data());
-    peak = peak_bytes() - base;
-    faces = last.face_count();
-    bytes_per_edge = double(last.memory_bytes()) / last.edge_count();
+// One refinement with our kernel; returns the number of output faces.
+int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge) {
+  auto mesh = build_mesh(soup);
+  auto result = subdivide(*mesh, {.levels = levels});
+  const Mesh& last = result->back().mesh;
+  benchmark::DoNotOptimize(last.positions().data());
+  if (bytes_per_edge != nullptr) {
+    *bytes_per_edge = double(last.memory_bytes()) / last.edge_count();
   }
-  report(state, peak, faces);
-  state.counters["mesh_bytes_per_edge"] = bytes_per_edge;
+  return last.face_count();
 }
 
-void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
+// One refinement with OpenSubdiv; returns the number of output faces.
+int64_t osd_once(const PolygonSoup& soup, int levels) {
   Far::TopologyDescriptor desc;
   desc.numVertices = soup.vertex_count();
   desc.numFaces = soup.face_count();
@@ -62,30 +57,74 @@ void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
   Sdc::Options sdc;
   sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+  refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+  std::vector<Point> points(refiner->GetNumVerticesTotal());
+  for (int v = 0; v < soup.vertex_count(); ++v) {
+    points[v] = {{soup.positions[v].x, soup.positions[v].y, soup.positions[v].z}};
+  }
+  Far::PrimvarRefinerReal<double> primvar(*refiner);
+  Point* src = points.data();
+  for (int level = 1; level <= levels; ++level) {
+    Point* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+    primvar.Interpolate(level, src, dst);
+    src = dst;
+  }
+  benchmark::DoNotOptimize(points.data());
+  return refiner->GetLevel(levels).GetNumFaces();
+}
+
+void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
+  size_t peak = 0;
+  int64_t faces = 0;
+  double bytes_per_edge = 0;
+  for (auto _ : state) {
+    const size_t base = current_bytes();
+    reset_peak_bytes();
+    faces = ours_once(soup, levels, &bytes_per_edge);
+    peak = peak_bytes() - base;
+  }
+  report(state, peak, faces);
+  state.counters["mesh_bytes_per_edge"] = bytes_per_edge;
+}
+
+void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
   size_t peak = 0;
   int64_t faces = 0;
   for (auto _ : state) {
     const size_t base = current_bytes();
     reset_peak_bytes();
-    std::unique_ptr<Far::TopologyRefiner> refiner(
-        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
-    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
-    std::vector<Point> points(refiner->GetNumVerticesTotal());
-    for (int v = 0; v < soup.vertex_count(); ++v) {
-      points[v] = {{soup.positions[v].x, soup.positions[v].y, soup.positions[v].z}};
-    }
-    Far::PrimvarRefinerReal<double> primvar(*refiner);
-    Point* src = points.data();
-    for (int level = 1; level <= levels; ++level) {
-      Point* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
-      primvar.Interpolate(level, src, dst);
-      src = dst;
-    }
-    benchmark::DoNotOptimize(points.data());
+    faces = osd_once(soup, levels);
     peak = peak_bytes() - base;
-    faces = refiner->GetLevel(levels).GetNumFaces();
   }
   report(state, peak, faces);
+}
+
+// Ours and OpenSubdiv alternately within each iteration, so that load from other
+// processes on a shared machine affects both alike; reports both times and the ratio.
+void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels) {
+  using Clock = std::chrono::steady_clock;
+  double ours = 0, osd = 0;
+  bool is_ours_first = true;  // alternate the order to cancel allocator-state effects
+  for (auto _ : state) {
+    for (int k = 0; k < 2; ++k) {
+      const bool is_ours = (k == 0) == is_ours_first;
+      const auto t0 = Clock::now();
+      if (is_ours) {
+        ours_once(soup, levels, nullptr);
+      } else {
+        osd_once(soup, levels);
+      }
+      const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+      (is_ours ? ours : osd) += dt;
+    }
+    is_ours_first = !is_ours_first;
+  }
+  const double n = double(state.iterations());
+  state.counters["ours_ms"] = 1e3 * ours / n;
+  state.counters["osd_ms"] = 1e3 * osd / n;
+  state.counters["ratio"] = ours / osd;
 }
 
 const PolygonSoup& torus_2k() {
@@ -116,6 +155,12 @@ void BM_Osd_Torus100k_L2(benchmark::State& s) { run_osd(s, torus_100k(), 2); }
 void BM_Ours_Smoke_L2(benchmark::State& s) { run_ours(s, small(), 2); }
 void BM_Osd_Smoke_L2(benchmark::State& s) { run_osd(s, small(), 2); }
 
+void BM_Pair_Torus2k_L4(benchmark::State& s) { run_pair(s, torus_2k(), 4); }
+void BM_Pair_Torus2k_L5(benchmark::State& s) { run_pair(s, torus_2k(), 5); }
+void BM_Pair_Mixed_L4(benchmark::State& s) { run_pair(s, mixed(), 4); }
+void BM_Pair_Torus100k_L2(benchmark::State& s) { run_pair(s, torus_100k(), 2); }
+void BM_Pair_Smoke_L2(benchmark::State& s) { run_pair(s, small(), 2); }
+
 BENCHMARK(BM_Ours_Torus2k_L4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Osd_Torus2k_L4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ours_Torus2k_L5)->Unit(benchmark::kMillisecond);
@@ -126,6 +171,11 @@ BENCHMARK(BM_Ours_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Osd_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ours_Smoke_L2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Osd_Smoke_L2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Pair_Torus2k_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Pair_Torus2k_L5)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_Pair_Mixed_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Pair_Torus100k_L2)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_Pair_Smoke_L2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace nomec::kernel::bench
