@@ -58,6 +58,17 @@ EdgeId Mesh::find_edge(VertexId a, VertexId b) const {
   return found;
 }
 
+Result<bool> Mesh::set_vertex_normals(std::vector<glm::dvec3> normals) {
+  if (normals.size() != positions_.size()) {
+    return KernelError{KernelError::Kind::InvalidArgument,
+                       fmt::format("{} vertex normals given for {} vertices", normals.size(),
+                                   positions_.size()),
+                       {}, {}, {}};
+  }
+  normals_ = std::move(normals);
+  return true;
+}
+
 int32_t Mesh::face_size(FaceId f) const {
   int32_t n = 0;
   for_each_face_use(f, [&](EdgeUse) { ++n; });
@@ -101,7 +112,7 @@ bool Mesh::has_mobius_edges() const {
 
 size_t Mesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  size_t total = bytes(positions_) + bytes(vertex_edges_) + bytes(edge_vertices_) +
+  size_t total = bytes(positions_) + bytes(normals_) + bytes(vertex_edges_) + bytes(edge_vertices_) +
                  bytes(use_faces_) + bytes(next_) + bytes(prev_) + bytes(edge_flags_) +
                  bytes(sharpness_) + bytes(face_uses_) + bytes(face_sources_) +
                  bytes(face_colors_) + bytes(border_loops_);

@@ -111,6 +111,13 @@ class Mesh {
     return e.is_valid() && is_boundary(e);
   }
   /// Name given in the soup, or "" (meshes derived by subdivision carry no names).
+  /// Optional per-vertex normal property (see `assign_vertex_normals` in offset.h). Not
+  /// inherited by derived meshes, whose geometry differs: recompute it on them.
+  bool has_vertex_normals() const { return !normals_.empty(); }
+  /// Precondition: `has_vertex_normals()`.
+  const glm::dvec3& vertex_normal(VertexId v) const { return normals_[v.index]; }
+  /// Sets all vertex normals; fails with `InvalidArgument` unless there is one per vertex.
+  Result<bool> set_vertex_normals(std::vector<glm::dvec3> normals);
   bool has_vertex_names() const { return !names_.empty(); }
   std::string_view vertex_name(VertexId v) const {
     return names_.empty() ? std::string_view() : std::string_view(names_[v.index]);
@@ -207,6 +214,7 @@ class Mesh {
   std::vector<glm::dvec3> positions_;
   std::vector<EdgeId> vertex_edges_;
   std::vector<std::string> names_;
+  std::vector<glm::dvec3> normals_;
   // edges (2 entries per edge: end vertices / per-use arrays indexed by EdgeUse)
   std::vector<VertexId> edge_vertices_;
   std::vector<FaceId> use_faces_;

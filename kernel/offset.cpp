@@ -65,6 +65,11 @@ VertexNormals vertex_normals(const Mesh& mesh, const std::vector<dvec3>& fnormal
   return result;
 }
 
+void assign_vertex_normals(Mesh& mesh) {
+  VertexNormals vn = vertex_normals(mesh, face_normals(mesh));
+  (void)mesh.set_vertex_normals(std::move(vn.normals));
+}
+
 namespace {
 
 Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,

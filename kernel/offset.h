@@ -35,6 +35,10 @@ struct VertexNormals {
 /// Averages the signed face normals around every vertex (§5.1). Never fails.
 VertexNormals vertex_normals(const Mesh& mesh, const std::vector<glm::dvec3>& face_normals);
 
+/// Computes `vertex_normals(mesh, face_normals(mesh))` and stores the normals as the
+/// mesh's vertex-normal property (e.g. for OBJ/PLY output). Never fails.
+void assign_vertex_normals(Mesh& mesh);
+
 /// Options for `offset`, e.g. from NOME's `offset o min -0.1 max 0.1 endoffset`.
 struct OffsetOptions {
   /// Distance of each offset surface from the input; the slab is twice as thick.

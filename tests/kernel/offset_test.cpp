@@ -41,6 +41,29 @@ TEST(Offset, NewellNormals) {
   const double k = 1.0 / std::sqrt(3.0);
   EXPECT_NEAR(vn.normals[7].x, k, 1e-15);
   EXPECT_NEAR(vn.normals[0].z, -k, 1e-15);
+  EXPECT_FALSE(cube.has_vertex_normals());
+  assign_vertex_normals(cube);
+  ASSERT_TRUE(cube.has_vertex_normals());
+  EXPECT_EQ(cube.vertex_normal(VertexId(7)), vn.normals[7]);
+  EXPECT_FALSE(cube.set_vertex_normals({glm::dvec3(0.0)}).has_value());
+}
+
+TEST(Offset, MobiusVertexNormalsUseTheCounter) {
+  // On the seam of a Möbius band the neighbouring faces have opposite orientations; the
+  // signed average must still be a unit vector close to the surface normal, and every
+  // corner sign times the vertex normal must agree with its face normal.
+  Mesh band = build(grid_soup(12, 2, Glue::Mobius));
+  std::vector<glm::dvec3> fn = face_normals(band);
+  VertexNormals vn = vertex_normals(band, fn);
+  int mobius_vertices = 0;
+  for (int32_t v = 0; v < band.vertex_count(); ++v) {
+    EXPECT_NEAR(glm::length(vn.normals[v]), 1.0, 1e-12);
+    mobius_vertices += vn.is_mobius_vertex[v];
+    for (const VertexCorner& c : band.vertex_ring(VertexId(v))) {
+      EXPECT_GT(vn.corner_signs[c.use.index] * glm::dot(vn.normals[v], fn[c.face.index]), 0.5);
+    }
+  }
+  EXPECT_EQ(mobius_vertices, 3);  // the seam rung's three vertices
 }
 
 TEST(Offset, DiskBecomesSphere) {
