@@ -1,0 +1,48 @@
+// libFuzzer target for the front end: any bytes go through `nomec::check_source` as a NOME,
+// NOME3 or SLIDE file (chosen by the first byte). The run must not crash, trip a sanitizer
+// or throw, and every diagnostic range must lie inside its file. No file system access:
+// includes and `.anom` base scenes are reported as unreadable.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "frontend/check/check.h"
+
+namespace {
+
+bool inside(const nomec::SourceManager& sources, const nomec::SourceRange& r) {
+  if (!r.is_valid()) return true;
+  if (static_cast<size_t>(r.file.index) >= sources.file_count()) return false;
+  return r.begin <= r.end && r.end <= sources.text(r.file).size();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const char* const kPaths[] = {"fuzz.nome", "fuzz.nom", "fuzz.slf"};
+  const char* path = kPaths[size > 0 ? data[0] % 3 : 0];
+  std::string text(reinterpret_cast<const char*>(data), size);
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  nomec::CheckOptions options;
+  options.read_file = [](const std::string&) -> std::optional<std::string> { return std::nullopt; };
+  try {
+    nomec::check_source(sources, path, std::move(text), options, diags);
+    diags.sort_and_dedupe();
+  } catch (...) {
+    std::abort();  // "No stage throws" (ARCHITECTURE.md)
+  }
+  for (const nomec::Diagnostic& d : diags.diagnostics()) {
+    if (!inside(sources, d.range)) std::abort();
+    for (const auto& n : d.notes) {
+      if (!inside(sources, n.range)) std::abort();
+    }
+    for (const auto& f : d.fixits) {
+      if (!inside(sources, f.range)) std::abort();
+    }
+    // Rendering reads the source line under each range: exercise it too.
+    (void)nomec::render_text(sources, d, false, false);
+  }
+  return 0;
+}
