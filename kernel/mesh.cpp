@@ -178,42 +178,57 @@ void MeshAccess::link_borders(Mesh& m) {
 
 namespace {
 
-// Open-addressing map from an unordered vertex pair to an edge index; the builder's
-// auxiliary map (§2.2) without per-node allocations.
-class EdgeTable {
- public:
-  explicit EdgeTable(size_t expected) {
-    size_t cap = 16;
-    while (cap < expected * 2) {
-      cap <<= 1;
+// The builder's auxiliary map (§2.2) as a counting sort instead of a hash table: for
+// every use k (the k-th consecutive vertex pair in soup order) returns the smallest use
+// index with the same unordered vertex pair. Uses are bucketed by their smaller vertex
+// and each (small) bucket is scanned; unlike hashing, every pass is sequential or hits a
+// per-vertex array, which keeps large builds (offsets, merges) out of cache-miss land.
+// Linear for bounded valence, quadratic only in the valence of a single vertex.
+std::vector<int32_t> first_uses(const PolygonSoup& soup) {
+  const size_t use_count = soup.face_vertices.size();
+  const int32_t vertex_count = soup.vertex_count();
+  std::vector<int32_t> successor(use_count);
+  size_t offset = 0;
+  for (int32_t n : soup.face_sizes) {
+    for (int32_t i = 0; i < n; ++i) {
+      successor[offset + i] = soup.face_vertices[offset + (i + 1 == n ? 0 : i + 1)];
     }
-    keys_.assign(cap, kEmpty);
-    values_.resize(cap);
-    mask_ = cap - 1;
+    offset += n;
   }
-  // Returns a reference to the slot value and whether the key was already present.
-  std::pair<int32_t*, bool> find_or_insert(int32_t a, int32_t b) {
-    uint64_t key = a < b ? (uint64_t(uint32_t(a)) << 32) | uint32_t(b)
-                         : (uint64_t(uint32_t(b)) << 32) | uint32_t(a);
-    size_t h = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask_;
-    while (true) {
-      if (keys_[h] == kEmpty) {
-        keys_[h] = key;
-        return {&values_[h], false};
-      }
-      if (keys_[h] == key) {
-        return {&values_[h], true};
-      }
-      h = (h + 1) & mask_;
+  std::vector<int32_t> start(static_cast<size_t>(vertex_count) + 1, 0);
+  for (size_t k = 0; k < use_count; ++k) {
+    ++start[std::min(soup.face_vertices[k], successor[k]) + 1];
+  }
+  for (int32_t v = 0; v < vertex_count; ++v) {
+    start[v + 1] += start[v];
+  }
+  struct Entry {
+    int32_t hi;
+    int32_t use;
+  };
+  std::vector<Entry> bucket(use_count);
+  {
+    std::vector<int32_t> cursor(start.begin(), start.end() - 1);
+    for (size_t k = 0; k < use_count; ++k) {
+      const int32_t a = soup.face_vertices[k], b = successor[k];
+      bucket[cursor[std::min(a, b)]++] = {std::max(a, b), static_cast<int32_t>(k)};
     }
   }
-
- private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
-  std::vector<uint64_t> keys_;
-  std::vector<int32_t> values_;
-  size_t mask_ = 0;
-};
+  std::vector<int32_t> first(use_count);
+  for (int32_t v = 0; v < vertex_count; ++v) {
+    for (int32_t i = start[v]; i < start[v + 1]; ++i) {
+      // Entries were appended in use order, so the first match is the earliest use.
+      first[bucket[i].use] = bucket[i].use;
+      for (int32_t j = start[v]; j < i; ++j) {
+        if (bucket[j].hi == bucket[i].hi) {
+          first[bucket[i].use] = bucket[j].use;
+          break;
+        }
+      }
+    }
+  }
+  return first;
+}
 
 std::string vertex_label(const PolygonSoup& soup, int32_t v) {
   if (v >= 0 && v < static_cast<int32_t>(soup.names.size()) && !soup.names[v].empty()) {
@@ -292,7 +307,7 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
   flags.reserve(expected_edges);
   face_uses.resize(face_count);
 
-  EdgeTable table(expected_edges);
+  const std::vector<int32_t> first = first_uses(soup);
   std::vector<EdgeUse> uses(use_count);
   // Edges with a third (or later) face: edge index -> extra faces.
   std::vector<std::pair<int32_t, int32_t>> extra_faces;
@@ -304,10 +319,9 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
     for (int32_t i = 0; i < n; ++i) {
       const int32_t a = fv[i];
       const int32_t b = fv[(i + 1) % n];
-      auto [slot, is_present] = table.find_or_insert(a, b);
-      if (!is_present) {
+      const size_t k = offset + i;
+      if (first[k] == static_cast<int32_t>(k)) {
         const int32_t e = static_cast<int32_t>(flags.size());
-        *slot = e;
         edge_vertices.push_back(VertexId(a));
         edge_vertices.push_back(VertexId(b));
         use_faces.push_back(FaceId(f));
@@ -315,7 +329,7 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
         flags.push_back(0);
         uses[offset + i] = EdgeUse(EdgeId(e), 0);
       } else {
-        const int32_t e = *slot;
+        const int32_t e = uses[first[k]].edge().index;
         if (use_faces[2 * e + 1].is_valid()) {
           extra_faces.emplace_back(e, f);
           uses[offset + i] = EdgeUse::None();
