@@ -1,6 +1,9 @@
 // Catmull-Clark unit tests: exact counts per level, invariants (Euler characteristic,
 // orientability, borders) on single-sided surfaces, the vertex rules on hand-computed
 // positions, crease decay, provenance, colours and the child→parent maps.
+#include <algorithm>
+#include <array>
+
 #include <gtest/gtest.h>
 
 #include "kernel/subdivide.h"
@@ -248,6 +251,50 @@ TEST(Subdivide, MixedPolygonsBecomeQuads) {
   EXPECT_EQ(r.euler_characteristic, 1);
   EXPECT_EQ(r.border_loop_count, 1);
   expect_wings_consistent(l1.mesh);
+}
+
+// Sorted positions, for comparing meshes whose elements are numbered differently.
+std::vector<std::array<double, 3>> sorted_positions(const Mesh& m) {
+  std::vector<std::array<double, 3>> out;
+  for (const glm::dvec3& p : m.positions()) {
+    out.push_back({p.x, p.y, p.z});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Subdivide, PositionsIndependentOfFaceOrientation) {
+  // Reversing faces only flips orientations (creating Möbius edges); the refined
+  // geometry must be identical, including creases and borders.
+  PolygonSoup s = testing::mixed_disk_soup();
+  s.creases.push_back({0, 1, 1.5f});
+  PolygonSoup flipped = s;
+  size_t offset = 0;
+  for (int32_t f = 0; f < s.face_count(); ++f) {
+    if (f % 2 == 1) {
+      std::reverse(flipped.face_vertices.begin() + offset,
+                   flipped.face_vertices.begin() + offset + s.face_sizes[f]);
+    }
+    offset += s.face_sizes[f];
+  }
+  Mesh a = build(s);
+  Mesh b = build(flipped);
+  ASSERT_TRUE(b.has_mobius_edges());
+  auto la = subdivide(a, {.levels = 3});
+  auto lb = subdivide(b, {.levels = 3});
+  for (int level = 0; level < 3; ++level) {
+    auto pa = sorted_positions((*la)[level].mesh);
+    auto pb = sorted_positions((*lb)[level].mesh);
+    ASSERT_EQ(pa.size(), pb.size());
+    for (size_t i = 0; i < pa.size(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_NEAR(pa[i][c], pb[i][c], 1e-12) << "level " << level + 1;
+      }
+    }
+    TopologyReport r = topology((*lb)[level].mesh);
+    EXPECT_TRUE(r.is_orientable);
+    EXPECT_EQ(r.euler_characteristic, 1);
+  }
 }
 
 TEST(Subdivide, RejectsBadLevelCount) {
