@@ -279,4 +279,8 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
   return result;
 }
 
+Result<MergeResult> merge(std::span<const Mesh* const> meshes, const MergeOptions& options) {
+  return merge(concatenate(meshes), options);
+}
+
 }  // namespace nomec::kernel

@@ -40,6 +40,10 @@ struct MergeResult {
 ///   `vertices` list the offending input faces / vertices).
 Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options = {});
 
+/// Concatenates `meshes` and merges the result; `vertex_map` is indexed by the
+/// concatenated vertex numbering (see `concatenate`). Fails as `merge` above.
+Result<MergeResult> merge(std::span<const Mesh* const> meshes, const MergeOptions& options = {});
+
 /// Concatenates meshes into one (vertex and face IDs are offset by the sizes of the
 /// preceding meshes; face sources and colours are kept). Never fails.
 Mesh concatenate(std::span<const Mesh* const> meshes);

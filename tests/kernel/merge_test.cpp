@@ -46,7 +46,7 @@ TEST(Merge, SixSeparateCubeFacesMakeClosedCube) {
   Mesh all = concatenate(ptrs);
   EXPECT_EQ(all.vertex_count(), 24);
   EXPECT_EQ(topology(all).components.size(), 6u);
-  auto merged = merge(all);
+  auto merged = merge(ptrs);
   ASSERT_TRUE(merged.has_value()) << merged.error().message;
   EXPECT_EQ(merged->joined_edge_count, 12);
   const Mesh& cube = merged->mesh;
@@ -170,6 +170,30 @@ TEST(Merge, ThreeFacesOnOneEdgeAreRefused) {
   EXPECT_EQ(merged.error().kind, KernelError::Kind::NonManifoldMerge);
   EXPECT_EQ(merged.error().edges.size(), 3u);
   EXPECT_EQ(merged.error().faces.size(), 3u);
+}
+
+TEST(Merge, JoinDuplicatingAFaceIsRefused) {
+  // Mesh A: triangles (p q r) and (q p s) sharing the interior edge p-q. Mesh B: a copy
+  // of (p q r). B's edges q-r and r-p match A's border, which merges B onto T1 and puts
+  // three faces on p-q; that edge was never a candidate (it is interior in A), so the
+  // refusal comes from the rebuilt mesh.
+  PolygonSoup s;
+  const int p = s.add_vertex({0, 0, 0});
+  const int q = s.add_vertex({1, 0, 0});
+  const int r = s.add_vertex({0.5, 1, 0});
+  const int t = s.add_vertex({0.5, -1, 0});
+  s.add_face({p, q, r});
+  s.add_face({q, p, t});
+  const int p2 = s.add_vertex({0, 0, 0});
+  const int q2 = s.add_vertex({1, 0, 0});
+  const int r2 = s.add_vertex({0.5, 1, 0});
+  s.add_face({p2, q2, r2});
+  auto merged = merge(build(s));
+  ASSERT_FALSE(merged.has_value());
+  EXPECT_EQ(merged.error().kind, KernelError::Kind::NonManifoldMerge);
+  EXPECT_EQ(merged.error().faces, (std::vector<FaceId>{FaceId(0), FaceId(1), FaceId(2)}));
+  EXPECT_NE(merged.error().message.find("more than two faces"), std::string::npos)
+      << merged.error().message;
 }
 
 }  // namespace
