@@ -108,8 +108,13 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
 
   // (2) Edge points, and (3a) per-vertex sums over edges.
   const bool is_derose = options.vertex_rule == VertexRule::DeRose;
-  std::vector<dvec3> neighbour_sum(V, dvec3(0.0));  // other ends, or edge points (DeRose)
-  std::vector<int32_t> valence(V, 0);
+  // Per vertex: sum of the other ends of its edges (or of its edge points, DeRose) and its
+  // valence, side by side so each scatter touches one cache line.
+  struct EdgeSums {
+    dvec3 neighbours{0.0};
+    double valence = 0.0;
+  };
+  std::vector<EdgeSums> edge_sums(V);
   std::vector<SharpSums> sharp;
   if (has_sharp) {
     sharp.resize(V);
@@ -130,14 +135,16 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
       point = s <= 0.0f ? smooth : double(s) * (0.5 * (pa + pb)) + (1.0 - double(s)) * smooth;
     }
     edge_points[e] = point;
-    ++valence[a];
-    ++valence[b];
+    EdgeSums& sa = edge_sums[a];
+    EdgeSums& sb = edge_sums[b];
+    sa.valence += 1.0;
+    sb.valence += 1.0;
     if (is_derose) {
-      neighbour_sum[a] += point;
-      neighbour_sum[b] += point;
+      sa.neighbours += point;
+      sb.neighbours += point;
     } else {
-      neighbour_sum[a] += pb;
-      neighbour_sum[b] += pa;
+      sa.neighbours += pb;
+      sb.neighbours += pa;
     }
     if (s > 0.0f) {
       const float cs = child_sharpness(s);
@@ -162,13 +169,13 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   // (3c) Vertex points (overwriting each vertex's face-point sum once it is read).
   for (int32_t v = 0; v < V; ++v) {
     const dvec3& p0 = pos[v];
-    const int32_t n = valence[v];
+    const int32_t n = static_cast<int32_t>(edge_sums[v].valence);
     auto smooth_point = [&]() {
       if (n == 0) {
         return p0;
       }
       const double inv_n = 1.0 / n;
-      return (double(n - 2) * inv_n) * p0 + (inv_n * inv_n) * (neighbour_sum[v] + face_sum[v]);
+      return (double(n - 2) * inv_n) * p0 + (inv_n * inv_n) * (edge_sums[v].neighbours + face_sum[v]);
     };
     if (!has_sharp || sharp[v].parent_count < 2) {
       vertex_points[v] = smooth_point();
