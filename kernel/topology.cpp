@@ -1,10 +1,14 @@
-// Connected components and their classification. Orientability is decided by a
+// Connected components and their classification, plus the order-independent summary
+// helpers (bounding box, rounded-position hash) used by mesh goldens. Orientability is decided by a
 // breadth-first propagation of a ±1 orientation per face: crossing a regular edge keeps
 // the neighbour's sign equal, crossing a Möbius edge flips it; a contradiction means the
 // component is single-sided.
 #include "kernel/topology.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
 
 namespace nomec::kernel {
 
@@ -112,6 +116,45 @@ TopologyReport topology(const Mesh& mesh) {
   }
   report.euler_characteristic = report.vertex_count - report.edge_count + report.face_count;
   return report;
+}
+
+BoundingBox bounding_box(const Mesh& mesh) {
+  BoundingBox box;
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (!mesh.vertex_edge(VertexId(v)).is_valid()) {
+      continue;
+    }
+    box.min = glm::min(box.min, mesh.position(VertexId(v)));
+    box.max = glm::max(box.max, mesh.position(VertexId(v)));
+  }
+  return box;
+}
+
+uint64_t position_hash(const Mesh& mesh, double quantum) {
+  // Sum (mod 2^64) of a strong mix of each rounded coordinate triple: commutative, so
+  // independent of vertex order.
+  auto mix = [](uint64_t x) {
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return x;
+  };
+  uint64_t hash = 0;
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (!mesh.vertex_edge(VertexId(v)).is_valid()) {
+      continue;
+    }
+    const glm::dvec3& p = mesh.position(VertexId(v));
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (int c = 0; c < 3; ++c) {
+      const double rounded = std::round(p[c] / quantum);
+      h = mix(h ^ static_cast<uint64_t>(static_cast<int64_t>(rounded == 0.0 ? 0.0 : rounded)));
+    }
+    hash += h;
+  }
+  return hash;
 }
 
 }  // namespace nomec::kernel

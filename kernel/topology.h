@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "kernel/mesh.h"
@@ -43,6 +44,21 @@ struct TopologyReport {
   bool is_orientable = true;          ///< all components orientable
   bool is_closed = true;              ///< all components closed
 };
+
+/// Axis-aligned bounds of the vertices used by faces (min > max when there are none).
+struct BoundingBox {
+  glm::dvec3 min{std::numeric_limits<double>::infinity()};
+  glm::dvec3 max{-std::numeric_limits<double>::infinity()};
+};
+
+/// Bounding box of the vertices used by faces. Never fails.
+BoundingBox bounding_box(const Mesh& mesh);
+
+/// Order-independent hash of the used vertex positions rounded to multiples of
+/// `quantum` (> 0), for mesh goldens that must not depend on element numbering. Equal
+/// meshes up to renumbering hash equally; coordinates within quantum/2 of a rounding
+/// boundary may flip, so goldens should use a quantum well above their noise.
+uint64_t position_hash(const Mesh& mesh, double quantum);
 
 /// Computes the report in time linear in the number of edges. Never fails.
 TopologyReport topology(const Mesh& mesh);

@@ -113,5 +113,27 @@ TEST(Topology, SeparateComponentsAndIsolatedVertex) {
   EXPECT_FALSE(r.is_closed);
 }
 
+TEST(Topology, BoundingBoxAndPositionHash) {
+  PolygonSoup s = cube_soup();
+  s.add_vertex({50, 50, 50});  // unused: ignored by both
+  auto mesh = build_mesh(s);
+  ASSERT_TRUE(mesh.has_value());
+  BoundingBox box = bounding_box(*mesh);
+  EXPECT_EQ(box.min, glm::dvec3(0, 0, 0));
+  EXPECT_EQ(box.max, glm::dvec3(1, 1, 1));
+  // Renumbering the vertices keeps the hash; moving one vertex changes it.
+  PolygonSoup renumbered = cube_soup();
+  std::reverse(renumbered.positions.begin(), renumbered.positions.end());
+  for (int32_t& v : renumbered.face_vertices) {
+    v = 7 - v;
+  }
+  auto other = build_mesh(renumbered);
+  ASSERT_TRUE(other.has_value());
+  EXPECT_EQ(position_hash(*mesh, 1e-6), position_hash(*other, 1e-6));
+  renumbered.positions[0].x += 0.01;
+  auto moved = build_mesh(renumbered);
+  EXPECT_NE(position_hash(*mesh, 1e-6), position_hash(*moved, 1e-6));
+}
+
 }  // namespace
 }  // namespace nomec::kernel
