@@ -160,6 +160,39 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, Robustness, ::testing::ValuesIn(input_files()), test_name);
 
+// Token soup: random sequences of keywords, end keywords, names, numbers and punctuation
+// (fixed seed), which reach parser recovery paths that edits of real files rarely do.
+TEST(Robustness, TokenSoup) {
+  static const std::vector<std::string> tokens = {
+      "mesh", "endmesh", "point", "endpoint", "face", "endface", "group", "endgroup",
+      "instance", "endinstance", "bank", "endbank", "set", "list", "funnel", "endfunnel",
+      "tunnel", "endtunnel", "surface", "endsurface", "subdivision", "endsubdivision",
+      "sweep", "endsweep", "crosssection", "endcrosssection", "path", "endpath", "sharp",
+      "endsharp", "delete", "enddelete", "consolidate", "endconsolidate", "consolidateface",
+      "endconsolidateface", "vertex", "endvertex", "savedparameter", "endsavedparameter",
+      "camera", "endcamera", "include", "tclinit {", "}", "{", "{expr", "(", ")", "[", "]",
+      "(*", "*)", "#", "\n", "\"s\"", "$b.w", "$b_n", "$o(t)", "b", "n", "p", "m", "x.y.hc1",
+      "fun_hc1", "1", "-1", "0.5", ".5", "1e3", "-0.5*$b.w", "+", "-", "*", "/", "//", "%",
+      "^", ",", ";", "translate", "rotate", "scale", "color", "sd_type", "isloop", "id",
+      "\xC3", std::string(1, '\0')};
+  std::mt19937 rng(0x70CE5u);
+  const char* env = std::getenv("NOMEC_ROBUSTNESS_SOUP");  // more rounds for a local hunt
+  int rounds = env != nullptr && std::atoi(env) > 0 ? std::atoi(env) : 400;
+  for (int round = 0; round < rounds; ++round) {
+    std::string text;
+    int n = 1 + static_cast<int>(rng() % 60);
+    for (int i = 0; i < n; ++i) {
+      const std::string& t = tokens[rng() % tokens.size()];
+      text += t;
+      text += (rng() % 4 == 0) ? "" : " ";
+    }
+    for (const char* path : {"soup.nome", "soup.nom", "soup.slf"}) {
+      std::string failure = check_one(path, text);
+      EXPECT_EQ(failure, "") << path << " round " << round << ":\n" << text;
+    }
+  }
+}
+
 TEST(Robustness, FoundInputs) { EXPECT_GE(input_files().size(), 50u); }
 
 }  // namespace
