@@ -5,9 +5,9 @@
 // fan gets its own output vertex, so deleting faces never leaves a bowtie vertex.
 #include "kernel/edit.h"
 
-#include <numeric>
-
 #include <fmt/format.h>
+
+#include <numeric>
 
 namespace nomec::kernel {
 
@@ -19,7 +19,9 @@ Result<DeleteResult> delete_faces(const Mesh& mesh, std::span<const FaceId> face
     if (f.index < 0 || f.index >= F) {
       return KernelError{KernelError::Kind::InvalidArgument,
                          fmt::format("face {} does not exist; the mesh has {} faces", f.index, F),
-                         {}, {f}, {}};
+                         {},
+                         {f},
+                         {}};
     }
     is_deleted[f.index] = 1;
   }
@@ -38,9 +40,7 @@ Result<DeleteResult> delete_faces(const Mesh& mesh, std::span<const FaceId> face
     }
     return x;
   };
-  auto corner_at = [&](EdgeUse u, VertexId v) {
-    return mesh.use_tail(u) == v ? u : mesh.next(u);
-  };
+  auto corner_at = [&](EdgeUse u, VertexId v) { return mesh.use_tail(u) == v ? u : mesh.next(u); };
   for (int32_t e = 0; e < E; ++e) {
     const EdgeUse a(EdgeId(e), 0), b(EdgeId(e), 1);
     if (!is_kept_use(a) || !is_kept_use(b)) {

@@ -4,13 +4,13 @@
 // the joined faces have opposite orientations and detects non-manifold results).
 #include "kernel/merge.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numeric>
 #include <unordered_map>
-
-#include <fmt/format.h>
-#include <glm/geometric.hpp>
 
 namespace nomec::kernel {
 namespace {
@@ -94,7 +94,10 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
   using Kind = KernelError::Kind;
   if (!(options.tolerance >= 0.0)) {
     return KernelError{Kind::InvalidArgument,
-                       fmt::format("merge tolerance {} is negative", options.tolerance), {}, {}, {}};
+                       fmt::format("merge tolerance {} is negative", options.tolerance),
+                       {},
+                       {},
+                       {}};
   }
   const int32_t V = mesh.vertex_count();
   const int32_t E = mesh.edge_count();
@@ -246,7 +249,8 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
     for (PolygonSoup::Crease c : soup.creases) {
       c.a = result.vertex_map[c.a].index;
       c.b = result.vertex_map[c.b].index;
-      const uint64_t key = (uint64_t(uint32_t(std::min(c.a, c.b))) << 32) | uint32_t(std::max(c.a, c.b));
+      const uint64_t key =
+          (uint64_t(uint32_t(std::min(c.a, c.b))) << 32) | uint32_t(std::max(c.a, c.b));
       auto [it, is_new] = seen.emplace(key, merged.creases.size());
       if (is_new) {
         merged.creases.push_back(c);

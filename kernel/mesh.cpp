@@ -2,10 +2,10 @@
 // linking, and the small traversal helpers that are not hot enough to live inline.
 #include "kernel/mesh.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
-
-#include <fmt/format.h>
 
 namespace nomec::kernel {
 
@@ -60,10 +60,12 @@ EdgeId Mesh::find_edge(VertexId a, VertexId b) const {
 
 Result<bool> Mesh::set_vertex_normals(std::vector<glm::dvec3> normals) {
   if (normals.size() != positions_.size()) {
-    return KernelError{KernelError::Kind::InvalidArgument,
-                       fmt::format("{} vertex normals given for {} vertices", normals.size(),
-                                   positions_.size()),
-                       {}, {}, {}};
+    return KernelError{
+        KernelError::Kind::InvalidArgument,
+        fmt::format("{} vertex normals given for {} vertices", normals.size(), positions_.size()),
+        {},
+        {},
+        {}};
   }
   normals_ = std::move(normals);
   return true;
@@ -112,9 +114,9 @@ bool Mesh::has_mobius_edges() const {
 
 size_t Mesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  size_t total = bytes(positions_) + bytes(normals_) + bytes(vertex_edges_) + bytes(edge_vertices_) +
-                 bytes(use_faces_) + bytes(next_) + bytes(prev_) + bytes(edge_flags_) +
-                 bytes(sharpness_) + bytes(face_uses_) + bytes(face_sources_) +
+  size_t total = bytes(positions_) + bytes(normals_) + bytes(vertex_edges_) +
+                 bytes(edge_vertices_) + bytes(use_faces_) + bytes(next_) + bytes(prev_) +
+                 bytes(edge_flags_) + bytes(sharpness_) + bytes(face_uses_) + bytes(face_sources_) +
                  bytes(face_colors_) + bytes(border_loops_);
   for (const std::string& n : names_) {
     total += sizeof(std::string) + (n.capacity() > 15 ? n.capacity() : 0);
@@ -248,8 +250,8 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
       (!soup.face_sources.empty() && soup.face_sources.size() != size_t(face_count)) ||
       (!soup.face_colors.empty() && soup.face_colors.size() != size_t(face_count)) ||
       (!soup.names.empty() && soup.names.size() != size_t(vertex_count))) {
-    return KernelError{Kind::InvalidArgument,
-                       "polygon soup arrays have inconsistent lengths", {}, {}, {}};
+    return KernelError{
+        Kind::InvalidArgument, "polygon soup arrays have inconsistent lengths", {}, {}, {}};
   }
 
   // Validate faces first so that later passes can trust the indices.
@@ -280,9 +282,9 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
       }
     }
     if (!degenerate.faces.empty()) {
-      degenerate.message = fmt::format(
-          "{} face(s) have fewer than 3 vertices or repeat a vertex, first is face {}",
-          degenerate.faces.size(), degenerate.faces[0].index);
+      degenerate.message =
+          fmt::format("{} face(s) have fewer than 3 vertices or repeat a vertex, first is face {}",
+                      degenerate.faces.size(), degenerate.faces[0].index);
       return degenerate;
     }
   }
@@ -366,14 +368,13 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
       error.faces.push_back(use_faces[2 * e]);
       error.faces.push_back(use_faces[2 * e + 1]);
       error.faces.push_back(FaceId(extra_faces[i].second));
-      listing += fmt::format("edge `{}`-`{}` in faces {}, {}, {}",
-                             vertex_label(soup, edge_vertices[2 * e].index),
-                             vertex_label(soup, edge_vertices[2 * e + 1].index),
-                             use_faces[2 * e].index, use_faces[2 * e + 1].index,
-                             extra_faces[i].second);
+      listing += fmt::format(
+          "edge `{}`-`{}` in faces {}, {}, {}", vertex_label(soup, edge_vertices[2 * e].index),
+          vertex_label(soup, edge_vertices[2 * e + 1].index), use_faces[2 * e].index,
+          use_faces[2 * e + 1].index, extra_faces[i].second);
     }
-    error.message = fmt::format(
-        "{} edge(s) are shared by more than two faces: {}", error.edges.size(), listing);
+    error.message = fmt::format("{} edge(s) are shared by more than two faces: {}",
+                                error.edges.size(), listing);
     return error;
   }
 
@@ -435,9 +436,9 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
       }
     }
     if (!error.vertices.empty()) {
-      error.message = fmt::format(
-          "{} vertex(es) join faces that do not form a single fan, first is `{}`",
-          error.vertices.size(), vertex_label(soup, error.vertices[0].index));
+      error.message =
+          fmt::format("{} vertex(es) join faces that do not form a single fan, first is `{}`",
+                      error.vertices.size(), vertex_label(soup, error.vertices[0].index));
       return error;
     }
   }
@@ -504,8 +505,7 @@ PolygonSoup to_soup(const Mesh& mesh) {
   for (int32_t e = 0; e < mesh.edge_count(); ++e) {
     if (mesh.sharpness(EdgeId(e)) > 0.0f) {
       soup.creases.push_back({mesh.edge_vertex(EdgeId(e), 0).index,
-                              mesh.edge_vertex(EdgeId(e), 1).index,
-                              mesh.sharpness(EdgeId(e))});
+                              mesh.edge_vertex(EdgeId(e), 1).index, mesh.sharpness(EdgeId(e))});
     }
   }
   return soup;

@@ -5,13 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <limits>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "kernel/ids.h"
 #include "kernel/result.h"

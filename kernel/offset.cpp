@@ -6,9 +6,9 @@
 // rebuilt with the builder, which confirms the result is a manifold.
 #include "kernel/offset.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 #include <glm/geometric.hpp>
 
 namespace nomec::kernel {
@@ -138,8 +138,8 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
   const size_t out_faces = result.face_parents.size();
   soup.face_sources.reserve(out_faces);
   for (size_t i = 0; i < out_faces; ++i) {
-    const int32_t f = i < size_t(2 * F) ? int32_t(i % F)
-                                        : mesh.edge_face(result.face_parents[i].edge, 0).index;
+    const int32_t f =
+        i < size_t(2 * F) ? int32_t(i % F) : mesh.edge_face(result.face_parents[i].edge, 0).index;
     soup.face_sources.push_back(mesh.face_source(FaceId(f)));
     if (mesh.has_face_colors()) {
       soup.face_colors.push_back(mesh.face_color(FaceId(f)));
@@ -161,9 +161,10 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
 Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options) {
   if (!(options.distance > 0.0) || !std::isfinite(options.distance)) {
     return KernelError{KernelError::Kind::InvalidArgument,
-                       fmt::format("offset distance {} is not a positive number",
-                                   options.distance),
-                       {}, {}, {}};
+                       fmt::format("offset distance {} is not a positive number", options.distance),
+                       {},
+                       {},
+                       {}};
   }
   return offset_impl(mesh, options.distance, nullptr);
 }
@@ -174,7 +175,9 @@ Result<OffsetResult> lattice(const Mesh& mesh, const LatticeOptions& options) {
     return KernelError{KernelError::Kind::InvalidArgument,
                        fmt::format("lattice width {} and distance {} must be positive",
                                    options.width, options.distance),
-                       {}, {}, {}};
+                       {},
+                       {},
+                       {}};
   }
   // Frame soup: the input vertices, then one inner vertex per face corner.
   PolygonSoup frame;

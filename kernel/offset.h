@@ -7,9 +7,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "kernel/mesh.h"
 #include "kernel/result.h"

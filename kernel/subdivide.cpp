@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <glm/geometric.hpp>
 
 namespace nomec::kernel {
@@ -175,7 +174,8 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
         return p0;
       }
       const double inv_n = 1.0 / n;
-      return (double(n - 2) * inv_n) * p0 + (inv_n * inv_n) * (edge_sums[v].neighbours + face_sum[v]);
+      return (double(n - 2) * inv_n) * p0 +
+             (inv_n * inv_n) * (edge_sums[v].neighbours + face_sum[v]);
     };
     if (!has_sharp || sharp[v].parent_count < 2) {
       vertex_points[v] = smooth_point();
@@ -311,8 +311,7 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   for (int32_t v = 0; v < V; ++v) {
     const EdgeId a = parent.vertex_edge(VertexId(v));
     cvertex_edges[vp_base + v] =
-        a.is_valid() ? EdgeId(2 * a.index + (pev[2 * a.index].index == v ? 0 : 1))
-                     : EdgeId::None();
+        a.is_valid() ? EdgeId(2 * a.index + (pev[2 * a.index].index == v ? 0 : 1)) : EdgeId::None();
   }
 
   if (!parent.border_loops().empty()) {
@@ -339,7 +338,10 @@ Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
                                                 const SubdivisionOptions& options) {
   if (options.levels < 0 || options.levels > 12) {
     return KernelError{KernelError::Kind::InvalidArgument,
-                       "subdivision level count must be between 0 and 12", {}, {}, {}};
+                       "subdivision level count must be between 0 and 12",
+                       {},
+                       {},
+                       {}};
   }
   std::vector<SubdivisionLevel> levels;
   levels.reserve(options.levels);

@@ -1,13 +1,12 @@
 // Connected components and their classification, plus the order-independent summary
-// helpers (bounding box, rounded-position hash) used by mesh goldens. Orientability is decided by a
-// breadth-first propagation of a ±1 orientation per face: crossing a regular edge keeps
-// the neighbour's sign equal, crossing a Möbius edge flips it; a contradiction means the
-// component is single-sided.
+// helpers (bounding box, rounded-position hash) used by mesh goldens. Orientability is
+// decided by a breadth-first propagation of a ±1 orientation per face: crossing a
+// regular edge keeps the neighbour's sign equal, crossing a Möbius edge flips it; a
+// contradiction means the component is single-sided.
 #include "kernel/topology.h"
 
 #include <algorithm>
 #include <cmath>
-
 #include <glm/common.hpp>
 
 namespace nomec::kernel {
@@ -90,8 +89,7 @@ TopologyReport topology(const Mesh& mesh) {
         if (!other.is_valid()) {
           return;
         }
-        const int8_t expected =
-            static_cast<int8_t>(mesh.is_mobius(u.edge()) ? -sign[f] : sign[f]);
+        const int8_t expected = static_cast<int8_t>(mesh.is_mobius(u.edge()) ? -sign[f] : sign[f]);
         if (sign[other.index] == 0) {
           sign[other.index] = expected;
           queue.push_back(other.index);

@@ -1,6 +1,8 @@
 // Entry point of bench_kernel: counts heap allocations (for bytes per output face), runs
 // the benchmarks, and prints the ours/OpenSubdiv time ratio for every pair of benchmarks
 // named `BM_Ours_<case>` / `BM_Osd_<case>` measured in this run.
+#include <benchmark/benchmark.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -9,8 +11,6 @@
 #include <new>
 #include <numbers>
 #include <string>
-
-#include <benchmark/benchmark.h>
 
 #include "bench/kernel/bench_shapes.h"
 
@@ -130,8 +130,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
   void Finalize() override {
     ConsoleReporter::Finalize();
-    std::printf("\nours / OpenSubdiv (time ratio < 1 means ours is faster; bytes are peak "
-                "heap bytes per output face)\n");
+    std::printf(
+        "\nours / OpenSubdiv (time ratio < 1 means ours is faster; bytes are peak "
+        "heap bytes per output face)\n");
     for (const auto& [name, ours] : times_) {
       const std::string prefix = "BM_Ours_";
       if (name.rfind(prefix, 0) != 0) {

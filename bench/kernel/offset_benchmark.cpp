@@ -1,9 +1,9 @@
 // Offset scaling: offsets of quad tori and of Möbius bands of growing size, with
 // Google Benchmark's complexity fit to check the construction is linear in the size.
+#include <benchmark/benchmark.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <benchmark/benchmark.h>
 
 #include "bench/kernel/bench_shapes.h"
 #include "kernel/offset.h"
@@ -50,9 +50,15 @@ void BM_Offset_Mobius(benchmark::State& state) {
   run_offset(state, mobius_soup(int(state.range(0))));
 }
 
-BENCHMARK(BM_Offset_Torus)->RangeMultiplier(2)->Range(32, 512)->Complexity(benchmark::oN)
+BENCHMARK(BM_Offset_Torus)
+    ->RangeMultiplier(2)
+    ->Range(32, 512)
+    ->Complexity(benchmark::oN)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Offset_Mobius)->RangeMultiplier(4)->Range(64, 16384)->Complexity(benchmark::oN)
+BENCHMARK(BM_Offset_Mobius)
+    ->RangeMultiplier(4)
+    ->Range(64, 16384)
+    ->Complexity(benchmark::oN)
     ->Unit(benchmark::kMillisecond);
 void BM_Offset_Smoke(benchmark::State& state) { run_offset(state, torus_soup(8, 6)); }
 BENCHMARK(BM_Offset_Smoke);

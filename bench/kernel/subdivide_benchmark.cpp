@@ -2,13 +2,13 @@
 // topology and child→parent maps at every level) against OpenSubdiv (TopologyRefiner
 // factory + RefineUniform + PrimvarRefiner::Interpolate of double positions, default
 // options, i.e. without full topology in the last level) on the same soup.
-#include <chrono>
-#include <memory>
-
 #include <benchmark/benchmark.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <chrono>
+#include <memory>
 
 #include "bench/kernel/bench_shapes.h"
 #include "kernel/subdivide.h"

@@ -1,8 +1,9 @@
 // Face deletion tests: cleanup of edges and vertices, F_a refill on edges that lost
 // their first face, splitting of pinched vertices, Möbius bands cut open, provenance.
+#include "kernel/edit.h"
+
 #include <gtest/gtest.h>
 
-#include "kernel/edit.h"
 #include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
 

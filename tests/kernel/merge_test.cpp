@@ -1,9 +1,10 @@
 // Merge tests: separate faces zipped into closed shapes, strips glued into Möbius bands,
 // opposite-orientation joins becoming Möbius edges, tolerance handling, vertices that
 // only touch staying apart, and refusal of non-manifold joins.
+#include "kernel/merge.h"
+
 #include <gtest/gtest.h>
 
-#include "kernel/merge.h"
 #include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
 

@@ -1,11 +1,12 @@
 // Unit tests for the winged-edge builder and traversals: exact counts, wings, border
 // loops, Möbius flags, and the structured errors for non-manifold input.
-#include <algorithm>
-#include <set>
+#include "kernel/mesh.h"
 
 #include <gtest/gtest.h>
 
-#include "kernel/mesh.h"
+#include <algorithm>
+#include <set>
+
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {

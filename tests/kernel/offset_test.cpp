@@ -1,10 +1,12 @@
 // Offset and lattice tests: disks become spheres, Möbius bands and Klein bottles become
 // tori, closed orientable inputs give two shells, the slab can be subdivided again, and
 // the lattice of a cube is a genus-5 handlebody surface.
+#include "kernel/offset.h"
+
 #include <gtest/gtest.h>
+
 #include <glm/geometric.hpp>
 
-#include "kernel/offset.h"
 #include "kernel/subdivide.h"
 #include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
@@ -78,8 +80,7 @@ TEST(Offset, DiskBecomesSphere) {
   EXPECT_EQ(slab->face_parents[18].kind, OffsetParent::Kind::Ribbon);
   // Every offset vertex is at the offset distance along the (planar) normal.
   for (int32_t v = 0; v < slab->mesh.vertex_count(); ++v) {
-    const glm::dvec3 d =
-        slab->mesh.position(VertexId(v)) - disk.position(slab->vertex_parents[v]);
+    const glm::dvec3 d = slab->mesh.position(VertexId(v)) - disk.position(slab->vertex_parents[v]);
     EXPECT_NEAR(glm::length(d), 0.1, 1e-12);
     EXPECT_NEAR(std::abs(d.z), 0.1, 1e-12);
   }

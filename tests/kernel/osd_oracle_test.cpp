@@ -4,12 +4,12 @@
 // and triangles/quads/pentagons. Vertices are matched through OpenSubdiv's own
 // parent→child relations (face/edge/vertex child vertex), so the check does not depend
 // on either side's numbering of edges.
-#include <map>
-
 #include <gtest/gtest.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <map>
 
 #include "kernel/subdivide.h"
 #include "tests/kernel/shapes.h"

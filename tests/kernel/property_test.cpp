@@ -4,9 +4,9 @@
 // the merge restores the exact counts and classification, Catmull-Clark keeps χ,
 // orientability and borders, and the offset is a closed orientable 2-manifold without
 // Möbius edges with χ = 2·χ(input).
-#include <cstdint>
-
 #include <gtest/gtest.h>
+
+#include <cstdint>
 
 #include "kernel/merge.h"
 #include "kernel/offset.h"
@@ -48,11 +48,21 @@ Case random_case(Rng& rng) {
   PolygonSoup grid = testing::grid_soup(n, m, glue, 0.01);
   Case c;
   switch (glue) {
-    case Glue::None: c = {{}, 1, true, 1, {}, n}; break;
-    case Glue::Cylinder: c = {{}, 0, true, 2, {}, n}; break;
-    case Glue::Mobius: c = {{}, 0, false, 1, {}, n}; break;
-    case Glue::Torus: c = {{}, 0, true, 0, {}, n}; break;
-    case Glue::Klein: c = {{}, 0, false, 0, {}, n}; break;
+    case Glue::None:
+      c = {{}, 1, true, 1, {}, n};
+      break;
+    case Glue::Cylinder:
+      c = {{}, 0, true, 2, {}, n};
+      break;
+    case Glue::Mobius:
+      c = {{}, 0, false, 1, {}, n};
+      break;
+    case Glue::Torus:
+      c = {{}, 0, true, 0, {}, n};
+      break;
+    case Glue::Klein:
+      c = {{}, 0, false, 0, {}, n};
+      break;
   }
   // Re-emit faces: quads stay, split into two triangles, or fan-split around a new
   // centre vertex; each result may be reversed.

@@ -4,11 +4,11 @@
 // V/E/F so tests can assert counts.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "kernel/mesh.h"
 
@@ -32,11 +32,11 @@ inline PolygonSoup cube_soup() {
 
 /// How the two pairs of sides of an n x m grid of quads are glued.
 enum class Glue {
-  None,       ///< disk: (n+1)(m+1) V, n(m+1)+m(n+1) E, nm F
-  Cylinder,   ///< i wraps: annulus, 2 borders
-  Mobius,     ///< i wraps with a flip of j: Möbius band, 1 border
-  Torus,      ///< i and j wrap
-  Klein,      ///< j wraps, i wraps with a flip of j: Klein bottle
+  None,      ///< disk: (n+1)(m+1) V, n(m+1)+m(n+1) E, nm F
+  Cylinder,  ///< i wraps: annulus, 2 borders
+  Mobius,    ///< i wraps with a flip of j: Möbius band, 1 border
+  Torus,     ///< i and j wrap
+  Klein,     ///< j wraps, i wraps with a flip of j: Klein bottle
 };
 
 /// An n x m quad grid with the given gluing. Positions come from a parametrisation in

@@ -1,12 +1,13 @@
 // Catmull-Clark unit tests: exact counts per level, invariants (Euler characteristic,
 // orientability, borders) on single-sided surfaces, the vertex rules on hand-computed
 // positions, crease decay, provenance, colours and the child→parent maps.
-#include <algorithm>
-#include <array>
+#include "kernel/subdivide.h"
 
 #include <gtest/gtest.h>
 
-#include "kernel/subdivide.h"
+#include <algorithm>
+#include <array>
+
 #include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
 

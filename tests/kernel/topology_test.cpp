@@ -1,8 +1,9 @@
 // Topology report on analytic shapes: Euler characteristic, orientability, border
 // loops and genus for disks, annuli, Möbius bands, tori, Klein bottles and cubes.
+#include "kernel/topology.h"
+
 #include <gtest/gtest.h>
 
-#include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
