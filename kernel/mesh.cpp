@@ -185,7 +185,7 @@ namespace {
 // index with the same unordered vertex pair. Uses are bucketed by their smaller vertex
 // and each (small) bucket is scanned; unlike hashing, every pass is sequential or hits a
 // per-vertex array, which keeps large builds (offsets, merges) out of cache-miss land.
-// Linear for bounded valence, quadratic only in the valence of a single vertex.
+// Linear for bounded valence; buckets of high-valence vertices are sorted instead.
 std::vector<int32_t> first_uses(const PolygonSoup& soup) {
   const size_t use_count = soup.face_vertices.size();
   const int32_t vertex_count = soup.vertex_count();
@@ -217,7 +217,21 @@ std::vector<int32_t> first_uses(const PolygonSoup& soup) {
     }
   }
   std::vector<int32_t> first(use_count);
+  constexpr int32_t kSortAbove = 32;
   for (int32_t v = 0; v < vertex_count; ++v) {
+    if (start[v + 1] - start[v] > kSortAbove) {
+      // High-valence vertex (e.g. the pole of a fan): sort its bucket instead of the
+      // quadratic scan.
+      std::sort(bucket.begin() + start[v], bucket.begin() + start[v + 1],
+                [](const Entry& x, const Entry& y) {
+                  return x.hi != y.hi ? x.hi < y.hi : x.use < y.use;
+                });
+      for (int32_t i = start[v]; i < start[v + 1]; ++i) {
+        const bool is_first = i == start[v] || bucket[i - 1].hi != bucket[i].hi;
+        first[bucket[i].use] = is_first ? bucket[i].use : first[bucket[i - 1].use];
+      }
+      continue;
+    }
     for (int32_t i = start[v]; i < start[v + 1]; ++i) {
       // Entries were appended in use order, so the first match is the earliest use.
       first[bucket[i].use] = bucket[i].use;

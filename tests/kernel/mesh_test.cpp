@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "tests/kernel/shapes.h"
@@ -129,6 +130,33 @@ TEST(MeshBuilder, KleinBottleIsClosedWithMobiusEdges) {
   for (int32_t v = 0; v < 16; ++v) {
     EXPECT_EQ(mesh->vertex_ring(VertexId(v)).size(), 4u) << v;
   }
+  expect_consistent(*mesh);
+}
+
+TEST(MeshBuilder, HighValenceFanAndCone) {
+  // A closed cone: a 200-triangle fan around a pole plus a 200-gon base. The pole has
+  // valence 200, exercising the sorted-bucket path of the builder.
+  PolygonSoup s;
+  const int n = 200;
+  const int pole = s.add_vertex({0, 0, 1});
+  for (int i = 0; i < n; ++i) {
+    s.add_vertex({std::cos(0.0314159 * i), std::sin(0.0314159 * i), 0});
+  }
+  std::vector<int32_t> base;
+  for (int i = 0; i < n; ++i) {
+    s.add_face({pole, 1 + i, 1 + (i + 1) % n});
+    base.push_back(n - i);
+  }
+  s.add_face(base);
+  auto mesh = build_mesh(s);
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  EXPECT_EQ(mesh->edge_count(), 2 * n);
+  EXPECT_TRUE(mesh->border_loops().empty());
+  EXPECT_FALSE(mesh->has_mobius_edges());
+  EXPECT_EQ(mesh->vertex_valence(VertexId(pole)), n);
+  // Edges are numbered in order of first appearance: face 0 creates edges 0, 1, 2.
+  EXPECT_EQ(mesh->find_edge(VertexId(pole), VertexId(1)), EdgeId(0));
+  EXPECT_EQ(mesh->find_edge(VertexId(2), VertexId(pole)), EdgeId(2));
   expect_consistent(*mesh);
 }
 
