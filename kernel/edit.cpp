@@ -93,6 +93,13 @@ Result<DeleteResult> delete_faces(const Mesh& mesh, std::span<const FaceId> face
       soup.names.emplace_back(mesh.vertex_name(v));
     }
   }
+  // Corners on every copy of their vertex.
+  for (size_t i = 0; i < result.vertex_parents.size(); ++i) {
+    const float s = mesh.vertex_sharpness(result.vertex_parents[i]);
+    if (s > 0.0f) {
+      soup.corners.push_back({static_cast<int32_t>(i), s});
+    }
+  }
   // Creases of surviving edges, on the output vertices of one of their faces.
   for (int32_t e = 0; e < E; ++e) {
     if (mesh.sharpness(EdgeId(e)) <= 0.0f) {

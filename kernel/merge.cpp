@@ -79,6 +79,10 @@ Mesh concatenate(std::span<const Mesh* const> meshes) {
       soup.face_colors.insert(soup.face_colors.end(), part.face_colors.begin(),
                               part.face_colors.end());
     }
+    for (PolygonSoup::Corner c : part.corners) {
+      c.vertex += base;
+      soup.corners.push_back(c);
+    }
     for (PolygonSoup::Crease c : part.creases) {
       c.a += base;
       c.b += base;
@@ -243,7 +247,16 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
   }
   merged.face_sources = std::move(soup.face_sources);
   merged.face_colors = std::move(soup.face_colors);
-  // Creases: keep the larger sharpness when two merged edges both carry one.
+  // Corners and creases: keep the larger sharpness when merged elements both carry one
+  // (corners are sorted by sharpness so the builder, which keeps the last, keeps the max).
+  for (PolygonSoup::Corner c : soup.corners) {
+    c.vertex = result.vertex_map[c.vertex].index;
+    merged.corners.push_back(c);
+  }
+  std::sort(merged.corners.begin(), merged.corners.end(),
+            [](const PolygonSoup::Corner& x, const PolygonSoup::Corner& y) {
+              return x.vertex != y.vertex ? x.vertex < y.vertex : x.sharpness < y.sharpness;
+            });
   {
     std::unordered_map<uint64_t, size_t> seen;
     for (PolygonSoup::Crease c : soup.creases) {

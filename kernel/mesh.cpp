@@ -114,10 +114,10 @@ bool Mesh::has_mobius_edges() const {
 
 size_t Mesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  size_t total = bytes(positions_) + bytes(normals_) + bytes(vertex_edges_) +
-                 bytes(edge_vertices_) + bytes(use_faces_) + bytes(next_) + bytes(prev_) +
-                 bytes(edge_flags_) + bytes(sharpness_) + bytes(face_uses_) + bytes(face_sources_) +
-                 bytes(face_colors_) + bytes(border_loops_);
+  size_t total = bytes(positions_) + bytes(normals_) + bytes(vertex_sharpness_) +
+                 bytes(vertex_edges_) + bytes(edge_vertices_) + bytes(use_faces_) + bytes(next_) +
+                 bytes(prev_) + bytes(edge_flags_) + bytes(sharpness_) + bytes(face_uses_) +
+                 bytes(face_sources_) + bytes(face_colors_) + bytes(border_loops_);
   for (const std::string& n : names_) {
     total += sizeof(std::string) + (n.capacity() > 15 ? n.capacity() : 0);
   }
@@ -492,6 +492,19 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
     sharpness[e.index] = std::max(c.sharpness, 0.0f);
   }
 
+  for (const PolygonSoup::Corner& c : soup.corners) {
+    if (c.vertex < 0 || c.vertex >= vertex_count) {
+      return KernelError{Kind::UnknownVertex,
+                         fmt::format("sharp corner references vertex index {} but the mesh "
+                                     "has {} vertices",
+                                     c.vertex, vertex_count),
+                         {},
+                         {},
+                         {}};
+    }
+    m.set_vertex_sharpness(VertexId(c.vertex), std::max(c.sharpness, 0.0f));
+  }
+
   MeshAccess::link_borders(m);
   return m;
 }
@@ -520,6 +533,11 @@ PolygonSoup to_soup(const Mesh& mesh) {
     if (mesh.sharpness(EdgeId(e)) > 0.0f) {
       soup.creases.push_back({mesh.edge_vertex(EdgeId(e), 0).index,
                               mesh.edge_vertex(EdgeId(e), 1).index, mesh.sharpness(EdgeId(e))});
+    }
+  }
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (mesh.vertex_sharpness(VertexId(v)) > 0.0f) {
+      soup.corners.push_back({v, mesh.vertex_sharpness(VertexId(v))});
     }
   }
   return soup;

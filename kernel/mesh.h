@@ -50,6 +50,12 @@ struct PolygonSoup {
   /// Empty, or one RGB colour per face.
   std::vector<glm::vec3> face_colors;
   std::vector<Crease> creases;
+  /// Sharp vertex (corner sharpness), e.g. NOME's `sharp 3 (a) endsharp`.
+  struct Corner {
+    int32_t vertex = -1;
+    float sharpness = 0.0f;
+  };
+  std::vector<Corner> corners;
 
   /// Appends a vertex and returns its index.
   int32_t add_vertex(const glm::dvec3& position, std::string name = {});
@@ -139,6 +145,16 @@ class Mesh {
   }
   /// True if some edge may carry a non-zero sharpness (the array is allocated).
   bool has_sharpness() const { return !sharpness_.empty(); }
+  /// Vertex (corner) sharpness: a vertex with sharpness > 0 follows the corner rule.
+  float vertex_sharpness(VertexId v) const {
+    return vertex_sharpness_.empty() ? 0.0f : vertex_sharpness_[v.index];
+  }
+  void set_vertex_sharpness(VertexId v, float s) {
+    if (vertex_sharpness_.empty()) {
+      vertex_sharpness_.assign(vertex_count(), 0.0f);
+    }
+    vertex_sharpness_[v.index] = s;
+  }
   /// The edge joining `a` and `b` (either direction), or None. Linear in the valence.
   EdgeId find_edge(VertexId a, VertexId b) const;
 
@@ -214,6 +230,7 @@ class Mesh {
   std::vector<EdgeId> vertex_edges_;
   std::vector<std::string> names_;
   std::vector<glm::dvec3> normals_;
+  std::vector<float> vertex_sharpness_;
   // edges (2 entries per edge: end vertices / per-use arrays indexed by EdgeUse)
   std::vector<VertexId> edge_vertices_;
   std::vector<FaceId> use_faces_;
@@ -242,7 +259,7 @@ class Mesh {
 Result<Mesh> build_mesh(const PolygonSoup& soup);
 
 /// The inverse of `build_mesh`: positions, faces in loop order, sources, colours and
-/// creases (edges with non-zero sharpness).
+/// creases (edges with non-zero sharpness) and corners (sharp vertices).
 PolygonSoup to_soup(const Mesh& mesh);
 
 /// Internal access to the storage for kernel algorithms (subdivision, offset); not part
@@ -256,6 +273,7 @@ struct MeshAccess {
   static std::vector<EdgeUse>& prev(Mesh& m) { return m.prev_; }
   static std::vector<uint8_t>& edge_flags(Mesh& m) { return m.edge_flags_; }
   static std::vector<float>& sharpness(Mesh& m) { return m.sharpness_; }
+  static std::vector<float>& vertex_sharpness(Mesh& m) { return m.vertex_sharpness_; }
   static std::vector<EdgeUse>& face_uses(Mesh& m) { return m.face_uses_; }
   static std::vector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
   static std::vector<glm::vec3>& face_colors(Mesh& m) { return m.face_colors_; }
@@ -267,6 +285,7 @@ struct MeshAccess {
   static const std::vector<EdgeUse>& prev(const Mesh& m) { return m.prev_; }
   static const std::vector<uint8_t>& edge_flags(const Mesh& m) { return m.edge_flags_; }
   static const std::vector<float>& sharpness(const Mesh& m) { return m.sharpness_; }
+  static const std::vector<float>& vertex_sharpness(const Mesh& m) { return m.vertex_sharpness_; }
   static const std::vector<EdgeUse>& face_uses(const Mesh& m) { return m.face_uses_; }
   static const std::vector<FaceSource>& face_sources(const Mesh& m) { return m.face_sources_; }
   static const std::vector<glm::vec3>& face_colors(const Mesh& m) { return m.face_colors_; }

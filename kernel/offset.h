@@ -38,7 +38,7 @@ VertexNormals vertex_normals(const Mesh& mesh, const std::vector<glm::dvec3>& fa
 /// mesh's vertex-normal property (e.g. for OBJ/PLY output). Never fails.
 void assign_vertex_normals(Mesh& mesh);
 
-/// Options for `offset`, e.g. from NOME's `offset o min -0.1 max 0.1 endoffset`.
+/// Options for `offset`, e.g. the thickness requested by a NOME offset block.
 struct OffsetOptions {
   /// Distance of each offset surface from the input; the slab is twice as thick.
   double distance = 0.1;

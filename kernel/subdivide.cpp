@@ -98,8 +98,11 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
   const int32_t corner_total = static_cast<int32_t>(uses.size());
   face_offsets[F] = corner_total;
 
-  // Does any edge need the sharp rules?
-  const bool has_creases = !psharp.empty();
+  // Does any edge need the sharp rules? Plain Catmull-Clark ignores creases and corners
+  // (boundaries stay sharp).
+  const bool has_creases = options.is_sharpness_honoured && !psharp.empty();
+  const std::vector<float>& pvsharp = MeshAccess::vertex_sharpness(p);
+  const bool has_corners = options.is_sharpness_honoured && !pvsharp.empty();
   bool has_sharp = false;
   for (int32_t e = 0; e < E && !has_sharp; ++e) {
     has_sharp = !puf[2 * e + 1].is_valid() || (has_creases && psharp[e] > 0.0f);
@@ -177,13 +180,16 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
       return (double(n - 2) * inv_n) * p0 +
              (inv_n * inv_n) * (edge_sums[v].neighbours + face_sum[v]);
     };
-    if (!has_sharp || sharp[v].parent_count < 2) {
+    const float corner = has_corners ? pvsharp[v] : 0.0f;
+    if (corner <= 0.0f && (!has_sharp || sharp[v].parent_count < 2)) {
       vertex_points[v] = smooth_point();
       continue;
     }
-    const SharpSums& ss = sharp[v];
-    const int parent_rule = rule_of(ss.parent_count);
-    const int child_rule = rule_of(ss.child_count);
+    const SharpSums ss = has_sharp ? sharp[v] : SharpSums{};
+    // A sharp vertex is a corner while its sharpness lasts.
+    const float child_corner = child_sharpness(corner);
+    const int parent_rule = corner > 0.0f ? 3 : rule_of(ss.parent_count);
+    const int child_rule = child_corner > 0.0f ? 3 : rule_of(ss.child_count);
     auto point_for = [&](int rule, const dvec3& sharp_neighbours) {
       if (rule == 3) {
         return p0;
@@ -200,7 +206,13 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     }
     // A semi-sharp feature relaxes in this level: blend by the average sharpness of the
     // edges that become smooth (OpenSubdiv's fractional weight, uniform creasing).
-    double w = ss.transition_count > 0 ? double(ss.transition_sum) / ss.transition_count : 0.0;
+    double transition_sum = ss.transition_sum;
+    int transition_count = ss.transition_count;
+    if (corner > 0.0f && child_corner <= 0.0f) {
+      transition_sum += corner;
+      ++transition_count;
+    }
+    double w = transition_count > 0 ? transition_sum / transition_count : 0.0;
     w = std::min(w, 1.0);
     vertex_points[v] = w * parent_point + (1.0 - w) * point_for(child_rule, ss.child_neighbours);
   }
@@ -318,6 +330,20 @@ SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& op
     MeshAccess::link_borders(child);
   }
 
+  if (has_corners) {
+    // Corner sharpness decays like crease sharpness; only vertex points inherit it.
+    bool has_child_corners = false;
+    for (int32_t v = 0; v < V && !has_child_corners; ++v) {
+      has_child_corners = child_sharpness(pvsharp[v]) > 0.0f;
+    }
+    if (has_child_corners) {
+      auto& cvsharp = MeshAccess::vertex_sharpness(child);
+      cvsharp.assign(static_cast<size_t>(F) + E + V, 0.0f);
+      for (int32_t v = 0; v < V; ++v) {
+        cvsharp[vp_base + v] = child_sharpness(pvsharp[v]);
+      }
+    }
+  }
   if (has_creases && !has_child_creases) {
     csharp.clear();  // every crease has relaxed; drop the property
   }

@@ -25,6 +25,10 @@ enum class VertexRule : uint8_t {
 struct SubdivisionOptions {
   int32_t levels = 1;
   VertexRule vertex_rule = VertexRule::CatmullClark;
+  /// Honour crease and corner sharpness (NOME_SD_CC_sharp, the default); false gives
+  /// plain Catmull-Clark where only boundary edges are sharp (NOME_SD_CatmullClark) and
+  /// the child meshes carry no sharpness.
+  bool is_sharpness_honoured = true;
   /// Fill the child→parent face map of each level (4 bytes per child face).
   bool has_parent_maps = true;
 };
@@ -84,7 +88,8 @@ struct SubdivisionLevel {
 
 /// One level of Catmull-Clark. Precondition: `mesh` came from `build_mesh` or a kernel
 /// operation (so it is a 2-manifold). Never fails. Möbius flags, colours and face
-/// sources are inherited; edge sharpness s becomes max(s - 1, 0) (infinity stays).
+/// sources are inherited; edge and vertex sharpness s become max(s - 1, 0) (infinity
+/// stays), and a vertex with sharpness > 0 follows the corner rule.
 SubdivisionLevel subdivide_once(const Mesh& mesh, const SubdivisionOptions& options = {});
 
 /// `options.levels` levels; element i is level i + 1. Fails with `InvalidArgument` if

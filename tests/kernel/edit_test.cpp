@@ -81,6 +81,7 @@ TEST(DeleteFaces, CuttingMobiusBandGivesDisk) {
 TEST(DeleteFaces, KeepsCreasesAndSources) {
   PolygonSoup s = testing::cube_soup();
   s.creases.push_back({1, 3, 2.0f});
+  s.corners.push_back({7, 4.0f});
   for (int f = 0; f < 6; ++f) {
     s.face_sources.push_back({f, 9});
   }
@@ -94,6 +95,14 @@ TEST(DeleteFaces, KeepsCreasesAndSources) {
     sharp += r->mesh.sharpness(EdgeId(e)) == 2.0f ? 1 : 0;
   }
   EXPECT_EQ(sharp, 1);
+  int corners = 0;
+  for (int32_t v = 0; v < r->mesh.vertex_count(); ++v) {
+    if (r->mesh.vertex_sharpness(VertexId(v)) == 4.0f) {
+      ++corners;
+      EXPECT_EQ(r->vertex_parents[v], VertexId(7));
+    }
+  }
+  EXPECT_EQ(corners, 1);
   std::vector<FaceId> bad{FaceId(17)};
   EXPECT_FALSE(delete_faces(cube, bad).has_value());
 }

@@ -66,6 +66,28 @@ TEST(Merge, SixSeparateCubeFacesMakeClosedCube) {
   EXPECT_EQ(merged->vertex_map.size(), 24u);
 }
 
+TEST(Merge, SharpnessSurvivesWithTheLargerValue) {
+  std::vector<Mesh> parts = explode(testing::cube_soup());
+  // Faces 0 and 4 both contain corner (0,0,0) and edge (0,0,0)-(0,1,0).
+  parts[0].set_vertex_sharpness(VertexId(0), 1.0f);
+  parts[4].set_vertex_sharpness(VertexId(0), 2.5f);
+  parts[0].set_sharpness(parts[0].find_edge(VertexId(0), VertexId(1)), 3.0f);
+  std::vector<const Mesh*> ptrs;
+  for (const Mesh& m : parts) {
+    ptrs.push_back(&m);
+  }
+  auto merged = merge(ptrs);
+  ASSERT_TRUE(merged.has_value()) << merged.error().message;
+  const Mesh& cube = merged->mesh;
+  const VertexId origin = merged->vertex_map[0];
+  EXPECT_EQ(cube.position(origin), glm::dvec3(0, 0, 0));
+  EXPECT_EQ(cube.vertex_sharpness(origin), 2.5f);
+  const EdgeId edge = cube.find_edge(origin, merged->vertex_map[1]);
+  ASSERT_TRUE(edge.is_valid());
+  EXPECT_EQ(cube.sharpness(edge), 3.0f);
+  EXPECT_FALSE(cube.is_boundary(edge));
+}
+
 TEST(Merge, StripGluedWithHalfTwistIsMobiusBand) {
   // An open 6x1 strip placed on a Möbius parametrisation: its two end rungs coincide
   // with opposite orientation.

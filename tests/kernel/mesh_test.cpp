@@ -241,6 +241,17 @@ TEST(MeshBuilder, CreasesAndRoundTrip) {
   ASSERT_EQ(back.creases.size(), 1u);
   EXPECT_FLOAT_EQ(back.creases[0].sharpness, 2.5f);
   EXPECT_EQ(back.face_colors.size(), 6u);
+  EXPECT_TRUE(back.corners.empty());
+  s.corners.push_back({3, 1.5f});
+  auto with_corner = build_mesh(s);
+  ASSERT_TRUE(with_corner.has_value());
+  EXPECT_EQ(with_corner->vertex_sharpness(VertexId(3)), 1.5f);
+  ASSERT_EQ(to_soup(*with_corner).corners.size(), 1u);
+  EXPECT_EQ(to_soup(*with_corner).corners[0].vertex, 3);
+  s.corners.push_back({42, 1.0f});
+  auto bad = build_mesh(s);
+  ASSERT_FALSE(bad.has_value());
+  EXPECT_EQ(bad.error().kind, KernelError::Kind::UnknownVertex);
   EXPECT_EQ(back.names.size(), 8u);
 }
 

@@ -54,6 +54,16 @@ void expect_matches_opensubdiv(const PolygonSoup& soup, int max_level) {
   desc.numCreases = static_cast<int>(crease_weights.size());
   desc.creaseVertexIndexPairs = crease_pairs.data();
   desc.creaseWeights = crease_weights.data();
+  std::vector<int> corner_vertices;
+  std::vector<float> corner_weights;
+  for (const PolygonSoup::Corner& c : soup.corners) {
+    corner_vertices.push_back(c.vertex);
+    corner_weights.push_back(std::isinf(c.sharpness) ? Sdc::Crease::SHARPNESS_INFINITE
+                                                     : c.sharpness);
+  }
+  desc.numCorners = static_cast<int>(corner_weights.size());
+  desc.cornerVertexIndices = corner_vertices.data();
+  desc.cornerWeights = corner_weights.data();
   Sdc::Options sdc;
   sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   sdc.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
@@ -148,6 +158,26 @@ TEST(OpenSubdivOracle, CubeWithCreases) {
   s.creases.push_back({6, 7, 3.0f});
   s.creases.push_back({4, 6, 3.0f});
   s.creases.push_back({0, 4, 3.0f});  // vertex 4 has three sharp edges: corner
+  expect_matches_opensubdiv(s, 3);
+}
+
+TEST(OpenSubdivOracle, CubeWithSharpCorners) {
+  // Vertex sharpness: integer (decays over two levels), fractional (blends), infinite,
+  // and a sharp corner on a crease.
+  PolygonSoup s = testing::cube_soup();
+  s.corners.push_back({0, 2.0f});
+  s.corners.push_back({3, 0.6f});
+  s.corners.push_back({5, kInfiniteSharpness});
+  s.corners.push_back({6, 1.4f});
+  s.creases.push_back({6, 7, 1.0f});
+  s.creases.push_back({6, 4, 2.5f});
+  expect_matches_opensubdiv(s, 3);
+}
+
+TEST(OpenSubdivOracle, GridWithInteriorCorner) {
+  PolygonSoup s = grid_soup(4, 4, Glue::None);
+  s.corners.push_back({12, 1.5f});  // interior vertex (2,2)
+  s.corners.push_back({1, 3.0f});   // border vertex
   expect_matches_opensubdiv(s, 3);
 }
 

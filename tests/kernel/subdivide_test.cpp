@@ -140,6 +140,24 @@ TEST(Subdivide, InfiniteCreaseKeepsCornerFixed) {
   }
 }
 
+TEST(Subdivide, PlainRuleIgnoresCreasesAndCorners) {
+  PolygonSoup sharp = cube_soup();
+  sharp.creases.push_back({0, 2, kInfiniteSharpness});
+  sharp.corners.push_back({7, 3.0f});
+  Mesh creased = build(sharp);
+  Mesh smooth = build(cube_soup());
+  SubdivisionLevel plain = subdivide_once(creased, {.is_sharpness_honoured = false});
+  SubdivisionLevel reference = subdivide_once(smooth);
+  EXPECT_EQ(plain.mesh.positions(), reference.mesh.positions());
+  EXPECT_FALSE(plain.mesh.has_sharpness());
+  // Honoured: the corner stays put and decays 3 -> 2 on its vertex point.
+  SubdivisionLevel honoured = subdivide_once(creased);
+  const VertexId corner(6 + 12 + 7);
+  EXPECT_EQ(honoured.mesh.position(corner), glm::dvec3(1, 1, 1));
+  EXPECT_EQ(honoured.mesh.vertex_sharpness(corner), 2.0f);
+  EXPECT_EQ(honoured.mesh.vertex_sharpness(VertexId(0)), 0.0f);
+}
+
 TEST(Subdivide, MobiusBandStaysNonOrientableWithOneBorder) {
   Mesh band = build(grid_soup(5, 1, Glue::Mobius));
   auto levels = subdivide(band, {.levels = 3});
