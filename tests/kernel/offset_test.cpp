@@ -152,6 +152,15 @@ TEST(Offset, ReversedFacesStillGiveOrientableShells) {
   expect_closed_orientable(slab->mesh, 2, 1);
 }
 
+TEST(Offset, IsolatedVerticesAreDropped) {
+  PolygonSoup s = grid_soup(1, 1, Glue::None);
+  s.add_vertex({9, 9, 9});
+  auto slab = offset(build(s), {.distance = 0.1});
+  ASSERT_TRUE(slab.has_value());
+  EXPECT_EQ(slab->mesh.vertex_count(), 8);  // a box around the single quad
+  expect_closed_orientable(slab->mesh, 2, 1);
+}
+
 TEST(Offset, RejectsBadDistance) {
   Mesh cube = build(testing::cube_soup());
   auto r = offset(cube, {.distance = 0.0});

@@ -316,6 +316,23 @@ TEST(Subdivide, PositionsIndependentOfFaceOrientation) {
   }
 }
 
+TEST(Subdivide, EmptyMeshAndIsolatedVertex) {
+  Mesh empty = build(PolygonSoup{});
+  SubdivisionLevel l1 = subdivide_once(empty);
+  EXPECT_EQ(l1.mesh.vertex_count(), 0);
+  EXPECT_EQ(l1.mesh.face_count(), 0);
+  PolygonSoup s = cube_soup();
+  s.add_vertex({5, 5, 5});  // not used by any face
+  SubdivisionLevel l2 = subdivide_once(build(s));
+  EXPECT_EQ(l2.mesh.vertex_count(), 6 + 12 + 9);
+  const VertexId lonely(6 + 12 + 8);
+  EXPECT_EQ(l2.mesh.position(lonely), glm::dvec3(5, 5, 5));
+  EXPECT_FALSE(l2.mesh.vertex_edge(lonely).is_valid());
+  TopologyReport r = topology(l2.mesh);
+  EXPECT_EQ(r.isolated_vertex_count, 1);
+  EXPECT_EQ(r.euler_characteristic, 2);
+}
+
 TEST(Subdivide, RejectsBadLevelCount) {
   Mesh cube = build(cube_soup());
   auto r = subdivide(cube, {.levels = -1});
