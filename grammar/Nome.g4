@@ -27,13 +27,14 @@ tokens { SPLUS, SMINUS }
 file : topStmt* EOF ;
 
 // A top-level statement. `strayItem` lets a word or value outside any block reach the
-// front end, which explains it (e.g. `set` outside a bank, a block missing its end keyword)
-// instead of an ANTLR message.
+// front end, which explains it (e.g. `set` outside a bank, a misspelt keyword) instead of
+// an ANTLR message. A block keyword is never a stray word, so a damaged block is recovered
+// inside its own rule and its error names the block.
 topStmt : TCLINIT | includeStmt | block | strayItem ;
 
 // SLIDE `include "viewing.slf"`: no end keyword.
 includeStmt : K_INCLUDE STRING ;
-strayItem : item ;
+strayItem : IDENT | K_EXPR | parenList | itemExpr ;
 
 block
   : bankStmt | surfaceStmt | pointStmt | polylineStmt | faceStmt | facetStmt | vertexStmt

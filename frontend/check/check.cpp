@@ -521,15 +521,6 @@ class Checker {
 
   void report_stray(const ast::Item& it) {
     if (it.kind == ItemKind::Word) {
-      for (std::string_view kw : ast::all_open_keywords()) {
-        if (kw == it.text) {
-          BlockKind kind = kind_by_open(kw);
-          diags_.emit(DiagKind::MissingEndKeyword, it.range,
-                      fmt::format("`{}` is never closed: expected `{}` after its contents", kw,
-                                  ast::close_keyword(kind)));
-          return;
-        }
-      }
       if (it.text == "set" || it.text == "list") {
         diags_.emit(DiagKind::StrayTopLevelItem, it.range,
                     fmt::format("`{}` outside a bank; sliders are declared inside `bank NAME … endbank`", it.text));
@@ -555,8 +546,17 @@ class Checker {
     std::string rel(it.text);
     std::filesystem::path base = std::filesystem::path(std::string(sources_.name(a.file))).parent_path();
     std::string path = (base / rel).string();
+    if (rel.empty()) {
+      diags_.emit(DiagKind::UnknownName, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
+      return;
+    }
+    if (include_depth_ >= 16) {
+      diags_.emit(DiagKind::UnknownName, it.range,
+                  fmt::format("`include \"{}\"` nests more than 16 files deep; does a file include itself?", rel));
+      return;
+    }
     std::optional<std::string> text;
-    if (options_.read_file && include_depth_ < 16) text = options_.read_file(path);
+    if (options_.read_file) text = options_.read_file(path);
     if (!text) {
       diags_.emit(DiagKind::UnknownName, it.range,
                   fmt::format("cannot read included file `{}` (looked for `{}`)", rel, path));
@@ -1219,6 +1219,18 @@ class Checker {
           continue;
         }
         if (positional && positional(it)) { ++pos; continue; }
+        if (is_block_keyword(it.text)) {
+          // `point p (0 0 0)` followed by `point q … endpoint`: the first one's end keyword is
+          // missing, and the rest of this body belongs to the next statement.
+          diags_.emit(DiagKind::MissingEndBeforeStatement, it.range,
+                      fmt::format("`{}` starts a new statement, but the `{}` above is not closed; is `{}` missing before it?",
+                                  it.text, ast::open_keyword(s.kind), ast::close_keyword(s.kind)))
+              .note(s.open_kw, fmt::format("`{}` opened here", ast::open_keyword(s.kind)))
+              .fixit(SourceRange{it.range.file, it.range.begin, it.range.begin},
+                     fmt::format("{}\n", ast::close_keyword(s.kind)),
+                     fmt::format("insert `{}`", ast::close_keyword(s.kind)));
+          return;
+        }
         report_unknown_word(s, it, opts);
         ++pos;
         continue;
@@ -1229,6 +1241,11 @@ class Checker {
                   fmt::format("unexpected {} `{}` in `{}`", what, clip(sources_.text(it.range)), ast::open_keyword(s.kind)));
       ++pos;
     }
+  }
+
+  static bool is_block_keyword(std::string_view word) {
+    const auto& kws = ast::all_open_keywords();
+    return std::find(kws.begin(), kws.end(), word) != kws.end();
   }
 
   void report_unknown_word(const ast::Stmt& s, const ast::Item& it, const std::vector<OptSpec>& opts) {
@@ -2056,17 +2073,53 @@ class Checker {
     m_.deps.finalize();
     std::vector<ir::NodeId> cycle;
     m_.deps.topo_order(&cycle);
-    if (!cycle.empty()) {
-      std::vector<std::string> names;
-      SourceRange at;
-      for (ir::NodeId n : cycle) {
-        const ir::Node& node = m_.node(n);
-        if (node.kind == ir::NodeKind::Value) continue;
-        if (!at.is_valid()) at = node.range;
-        names.push_back(fmt::format("`{}`", node.name));
+    if (!cycle.empty()) report_cycle(cycle);
+  }
+
+  // Reports one cycle of the dependency graph, following its edges from the first node so
+  // the message reads in dependency order: `a` → `a.b` → `b` → `b.a` → `a`.
+  void report_cycle(const std::vector<ir::NodeId>& cycle_nodes) {
+    std::set<int32_t> in_cycle;
+    for (ir::NodeId n : cycle_nodes) in_cycle.insert(n.index);
+    // Kahn leaves nodes downstream of a cycle too; find a node that reaches itself.
+    std::vector<ir::NodeId> path;
+    for (ir::NodeId start : cycle_nodes) {
+      std::vector<ir::NodeId> stack{start};
+      std::map<int32_t, int32_t> parent;
+      bool found = false;
+      while (!stack.empty() && !found) {
+        ir::NodeId n = stack.back();
+        stack.pop_back();
+        for (ir::NodeId to : m_.deps.users(n)) {
+          if (!in_cycle.contains(to.index)) continue;
+          if (to == start) {
+            for (ir::NodeId p = n;; p = ir::NodeId{parent[p.index]}) {
+              path.push_back(p);
+              if (p == start) break;
+            }
+            std::reverse(path.begin(), path.end());
+            found = true;
+            break;
+          }
+          if (!parent.contains(to.index)) {
+            parent[to.index] = n.index;
+            stack.push_back(to);
+          }
+        }
       }
-      diags_.emit(DiagKind::DependencyCycle, at,
-                  fmt::format("these definitions depend on each other in a cycle: {}", fmt::join(names, " → ")));
+      if (found) break;
+    }
+    if (path.empty()) return;
+    std::vector<std::string> names;
+    for (ir::NodeId n : path) {
+      if (m_.node(n).kind != ir::NodeKind::Value) names.push_back(fmt::format("`{}`", m_.node(n).name));
+    }
+    names.push_back(names.front());
+    auto d = diags_.emit(DiagKind::DependencyCycle, m_.node(path.front()).range,
+                         fmt::format("these definitions depend on each other in a cycle: {}", fmt::join(names, " → ")));
+    for (size_t i = 1; i < path.size(); ++i) {
+      const ir::Node& n = m_.node(path[i]);
+      if (n.kind != ir::NodeKind::Value) d.note(n.range, fmt::format("`{}` is part of the cycle", n.name));
     }
   }
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
 
 #pragma GCC diagnostic push
@@ -34,8 +35,10 @@ using nomec_antlr::NomeParser;
 // any byte sequence lexes, and `byte_of` maps a code-point index back to its byte offset.
 struct Offsets {
   std::vector<uint32_t> cp_to_byte;  // empty when the text is ASCII (identity)
+  uint32_t text_size = 0;
+  // Clamped to the text: tokens the parser conjures during recovery have no real position.
   uint32_t byte_of(size_t cp) const {
-    if (cp_to_byte.empty()) return static_cast<uint32_t>(cp);
+    if (cp_to_byte.empty()) return static_cast<uint32_t>(std::min<size_t>(cp, text_size));
     return cp < cp_to_byte.size() ? cp_to_byte[cp] : cp_to_byte.back();
   }
 };
@@ -160,16 +163,36 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
     antlr4::ParserRuleContext* ctx = parser->getContext();
     antlr4::Token* opener = nullptr;
     for (auto* c = ctx; c != nullptr; c = dynamic_cast<antlr4::ParserRuleContext*>(c->parent)) {
-      if (c->start != nullptr && keyword_table().open.contains(c->start->getType()) &&
-          c->getRuleIndex() != NomeParser::RuleWord && c->getRuleIndex() != NomeParser::RuleBlock &&
-          c->getRuleIndex() != NomeParser::RuleTopStmt &&
-          c->getRuleIndex() != NomeParser::RuleItem) {
+      const std::string& rule = parser->getRuleNames()[c->getRuleIndex()];
+      bool is_block_rule = rule.size() > 4 && rule.ends_with("Stmt") && rule != "topStmt" &&
+                           rule != "includeStmt";
+      if (is_block_rule && c->start != nullptr &&
+          keyword_table().open.contains(c->start->getType())) {
         opener = c->start;
         break;
       }
     }
     antlr4::misc::IntervalSet expected = parser->getExpectedTokens();
     size_t type = offending->getType();
+    std::string shown = type == antlr4::Token::EOF ? std::string("the end of the file")
+                                                   : fmt::format("`{}`", offending->getText());
+    // An unclosed `(` or `{`: name the bracket, not the statement around it.
+    for (auto [open_type, close_type, open_text, close_text] :
+         {std::tuple{NomeParser::LPAREN, NomeParser::RPAREN, "(", ")"},
+          std::tuple{NomeParser::LBRACE, NomeParser::RBRACE, "{", "}"}}) {
+      if (!expected.contains(static_cast<size_t>(close_type)) || type == static_cast<size_t>(close_type)) {
+        continue;
+      }
+      antlr4::Token* bracket = innermost_start(ctx, static_cast<size_t>(open_type));
+      if (bracket == nullptr) {
+        continue;
+      }
+      auto d = diags_.emit(DiagKind::SyntaxError, at,
+                           fmt::format("`{}` is never closed: expected `{}` before {}", open_text,
+                                       close_text, shown));
+      d.note(range_of(bracket), fmt::format("`{}` opened here", open_text));
+      return;
+    }
     if (opener != nullptr) {
       ast::BlockKind kind = keyword_table().open.at(opener->getType());
       std::string open(ast::open_keyword(kind));
@@ -183,7 +206,7 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
                    fmt::format("insert `{}`", close));
         return;
       }
-      if (is_end_token(type)) {
+      if (is_end_token(type) && offending->getText() != close) {
         diags_
             .emit(DiagKind::MismatchedEndKeyword, at,
                   fmt::format("`{}` does not close the open `{}`; expected `{}`",
@@ -191,6 +214,14 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
             .note(range_of(opener), fmt::format("`{}` opened here", open));
         return;
       }
+    }
+    if (opener == nullptr && is_end_token(type)) {
+      diags_.emit(DiagKind::UnmatchedEndKeyword, at,
+                  fmt::format("`{}` closes nothing: no `{}` statement is open here",
+                              offending->getText(),
+                              ast::open_keyword(keyword_table().close.at(type))))
+          .fixit(at, "", fmt::format("remove `{}`", offending->getText()));
+      return;
     }
     std::vector<std::string> names;
     for (size_t t : expected.toList()) {
@@ -206,14 +237,26 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
     if (!names.empty() && names.size() <= 6) {
       expect = "; expected " + fmt::format("{}", fmt::join(names, ", "));
     }
-    std::string shown = type == antlr4::Token::EOF ? "end of file"
-                                                   : fmt::format("`{}`", offending->getText());
     diags_.emit(DiagKind::SyntaxError, at, fmt::format("unexpected {}{}", shown, expect));
   }
 
   int error_count() const { return error_count_; }
 
  private:
+  // The start token of the innermost enclosing rule that begins with `type` (e.g. the `(`
+  // of an unclosed list).
+  static antlr4::Token* innermost_start(antlr4::ParserRuleContext* ctx, size_t type) {
+    for (auto* c = ctx; c != nullptr; c = dynamic_cast<antlr4::ParserRuleContext*>(c->parent)) {
+      if (c->start != nullptr && c->start->getType() == type) {
+        return c->start;
+      }
+      if (c->getRuleIndex() == NomeParser::RuleTopStmt) {
+        break;
+      }
+    }
+    return nullptr;
+  }
+
   SourceRange range_of(antlr4::Token* token) const {
     if (token->getType() == antlr4::Token::EOF) {
       uint32_t at = offsets_.byte_of(token->getStartIndex());
@@ -332,7 +375,7 @@ class AstBuilder {
         ast::Item item;
         item.kind = ast::ItemKind::Tcl;
         item.range = token_range(t);
-        item.text = text_.substr(item.range.begin, item.range.end - item.range.begin);
+        item.text = view(item.range);
         ast_.top.push_back(item);
       } else if (auto* inc = top->includeStmt()) {
         ast::Item item;
@@ -340,7 +383,9 @@ class AstBuilder {
         item.range = ctx_range(inc);
         if (inc->STRING() != nullptr) {
           SourceRange s = token_range(inc->STRING()->getSymbol());
-          item.text = text_.substr(s.begin + 1, s.end - s.begin - 2);
+          if (s.end >= s.begin + 2) {  // a conjured (missing) string has no text
+            item.text = view(SourceRange{file_, s.begin + 1, s.end - 1});
+          }
         }
         ast_.top.push_back(item);
       } else if (auto* block = top->block()) {
@@ -348,11 +393,19 @@ class AstBuilder {
           ast_.top.push_back(*item);
         }
       } else if (auto* stray = top->strayItem()) {
-        if (stray->item() != nullptr) {
-          if (auto item = convert_item(stray->item())) {
-            ast_.top.push_back(*item);
-          }
+        ast::Item item;
+        item.range = ctx_range(stray);
+        if (stray->parenList() != nullptr) {
+          item.kind = ast::ItemKind::List;
+          item.list = convert_list(stray->parenList());
+        } else if (stray->itemExpr() != nullptr) {
+          item.kind = ast::ItemKind::Value;
+          item.expr = convert_expr(stray->itemExpr());
+        } else {
+          item.kind = ast::ItemKind::Word;
+          item.text = view(item.range);
         }
+        ast_.top.push_back(item);
       }
     }
   }
@@ -372,7 +425,11 @@ class AstBuilder {
     }
     return SourceRange{file_, begin, end};
   }
-  std::string_view view(SourceRange r) const { return text_.substr(r.begin, r.end - r.begin); }
+  std::string_view view(SourceRange r) const {
+    size_t begin = std::min<size_t>(r.begin, text_.size());
+    size_t end = std::clamp<size_t>(r.end, begin, text_.size());
+    return text_.substr(begin, end - begin);
+  }
 
   // A `block` wrapper or a concrete `xxxStmt` context -> Block item.
   std::optional<ast::Item> block_item(antlr4::ParserRuleContext* ctx) {
@@ -636,6 +693,7 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
   result.file = file;
 
   Offsets offsets;
+  offsets.text_size = static_cast<uint32_t>(text.size());
   DecodedInput input(decode_utf8(text, offsets));
   NomeLexer lexer(&input);
   lexer.removeErrorListeners();
