@@ -24,7 +24,7 @@ struct DeleteResult {
 };
 
 /// Deletes `faces` (duplicates allowed) from `mesh`, e.g. the faces picked with
-/// `delete face f1 f2 enddelete`. Edges left without faces and vertices left without
+/// `delete face inst.f1 endface … enddelete`. Edges left without faces and vertices left without
 /// edges are removed; an edge that loses F_a keeps its other face as F_a; a vertex whose
 /// remaining faces form several fans becomes one vertex per fan. Remaining faces keep
 /// their order, orientation, sources and colours; creases are kept. Linear in the number

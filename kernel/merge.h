@@ -13,7 +13,7 @@
 
 namespace nomec::kernel {
 
-/// Options for `merge`, e.g. from NOME's `merge` with its tolerance.
+/// Options for `merge`, e.g. from NOME's `merge m tolerance 0.001 … endmerge`.
 struct MergeOptions {
   /// Two vertices coincide when their distance is at most this. Must be >= 0.
   double tolerance = 1e-6;

@@ -38,9 +38,10 @@ VertexNormals vertex_normals(const Mesh& mesh, const std::vector<glm::dvec3>& fa
 /// mesh's vertex-normal property (e.g. for OBJ/PLY output). Never fails.
 void assign_vertex_normals(Mesh& mesh);
 
-/// Options for `offset`, e.g. the thickness requested by a NOME offset block.
+/// Options for `offset`, e.g. from NOME's `offset o height 0.1 … endoffset`.
 struct OffsetOptions {
-  /// Distance of each offset surface from the input; the slab is twice as thick.
+  /// Distance of each offset surface from the input (NOME's `height`); the slab is twice
+  /// as thick.
   double distance = 0.1;
 };
 
@@ -74,7 +75,8 @@ struct OffsetResult {
 /// `distance` is not positive and finite.
 Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options);
 
-/// Options for `lattice`, e.g. NOME3's offset with `width`.
+/// Options for `lattice`, e.g. from NOME's `offset o offset_type NOME_OFFSET_GRID
+/// height 0.05 width 0.1 … endoffset`.
 struct LatticeOptions {
   /// How far each face's inner hole boundary lies from its edges (moved towards the face
   /// centre, at most 90% of the way).

@@ -20,8 +20,8 @@ enum class VertexRule : uint8_t {
   DeRose,
 };
 
-/// Options for `subdivide`, e.g. from NOME's `subdivision s type catmullclark
-/// subdivisions 3 endsubdivision`.
+/// Options for `subdivide`, e.g. from NOME's `subdivision s sd_type NOME_SD_CC_sharp
+/// sd_level 3 … endsubdivision`.
 struct SubdivisionOptions {
   int32_t levels = 1;
   VertexRule vertex_rule = VertexRule::CatmullClark;
