@@ -547,18 +547,18 @@ class Checker {
     std::filesystem::path base = std::filesystem::path(std::string(sources_.name(a.file))).parent_path();
     std::string path = (base / rel).string();
     if (rel.empty()) {
-      diags_.emit(DiagKind::UnknownName, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
+      diags_.emit(DiagKind::IncludeFailed, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
       return;
     }
     if (include_depth_ >= 16) {
-      diags_.emit(DiagKind::UnknownName, it.range,
+      diags_.emit(DiagKind::IncludeFailed, it.range,
                   fmt::format("`include \"{}\"` nests more than 16 files deep; does a file include itself?", rel));
       return;
     }
     std::optional<std::string> text;
     if (options_.read_file) text = options_.read_file(path);
     if (!text) {
-      diags_.emit(DiagKind::UnknownName, it.range,
+      diags_.emit(DiagKind::IncludeFailed, it.range,
                   fmt::format("cannot read included file `{}` (looked for `{}`)", rel, path));
       return;
     }
