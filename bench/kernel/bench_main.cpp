@@ -122,6 +122,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (it != run.counters.end()) {
         bytes_[name] = it->second.value;
       }
+      auto per_edge = run.counters.find("bytes_per_edge");
+      if (per_edge != run.counters.end()) {
+        edge_bytes_[name] = per_edge->second.value;
+      }
       auto ratio = run.counters.find("ratio");
       if (ratio != run.counters.end()) {
         pair_ratios_[name] = ratio->second.value;
@@ -131,8 +135,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
   void Finalize() override {
     ConsoleReporter::Finalize();
     std::printf(
-        "\nours / OpenSubdiv (time ratio < 1 means ours is faster; bytes are peak "
-        "heap bytes per output face)\n");
+        "\nours / OpenSubdiv, separate runs (time ratio < 1 means ours is faster; bytes are "
+        "peak heap bytes during the refinement per output face / edge)\n");
     for (const auto& [name, ours] : times_) {
       const std::string prefix = "BM_Ours_";
       if (name.rfind(prefix, 0) != 0) {
@@ -143,8 +147,11 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (osd == times_.end()) {
         continue;
       }
-      std::printf("  %-32s time ratio %.3f  bytes/face ours %.1f osd %.1f\n", rest.c_str(),
-                  ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest]);
+      std::printf(
+          "  %-24s time ratio %.3f  peak bytes/face ours %.1f osd %.1f  bytes/edge ours %.1f "
+          "osd %.1f\n",
+          rest.c_str(), ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest],
+          edge_bytes_["BM_Ours_" + rest], edge_bytes_["BM_Osd_" + rest]);
     }
     std::printf("interleaved pairs (ours and OpenSubdiv alternating in each iteration)\n");
     for (const auto& [name, ratio] : pair_ratios_) {
@@ -155,6 +162,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
  private:
   std::map<std::string, double> times_;
   std::map<std::string, double> bytes_;
+  std::map<std::string, double> edge_bytes_;
   std::map<std::string, double> pair_ratios_;
 };
 

@@ -28,15 +28,17 @@ struct Point {
   }
 };
 
-void report(benchmark::State& state, size_t peak, int64_t faces) {
+void report(benchmark::State& state, size_t peak, int64_t faces, int64_t edges) {
   state.counters["bytes_per_face"] = double(peak) / double(faces);
+  state.counters["bytes_per_edge"] = double(peak) / double(edges);
   state.counters["out_faces"] = double(faces);
   state.counters["faces_per_s"] =
       benchmark::Counter(double(faces), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// One refinement with our kernel; returns the number of output faces.
-int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge) {
+// One refinement with our kernel; returns the number of output faces (and edges).
+int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge,
+                  int64_t* edges = nullptr) {
   auto mesh = build_mesh(soup);
   auto result = subdivide(*mesh, {.levels = levels});
   const Mesh& last = result->back().mesh;
@@ -44,11 +46,14 @@ int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge) {
   if (bytes_per_edge != nullptr) {
     *bytes_per_edge = double(last.memory_bytes()) / last.edge_count();
   }
+  if (edges != nullptr) {
+    *edges = last.edge_count();
+  }
   return last.face_count();
 }
 
-// One refinement with OpenSubdiv; returns the number of output faces.
-int64_t osd_once(const PolygonSoup& soup, int levels) {
+// One refinement with OpenSubdiv; returns the number of output faces (and edges).
+int64_t osd_once(const PolygonSoup& soup, int levels, int64_t* edges = nullptr) {
   Far::TopologyDescriptor desc;
   desc.numVertices = soup.vertex_count();
   desc.numFaces = soup.face_count();
@@ -72,33 +77,38 @@ int64_t osd_once(const PolygonSoup& soup, int levels) {
     src = dst;
   }
   benchmark::DoNotOptimize(points.data());
+  if (edges != nullptr) {
+    *edges = refiner->GetLevel(levels).GetNumEdges();
+  }
   return refiner->GetLevel(levels).GetNumFaces();
 }
 
 void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
   size_t peak = 0;
   int64_t faces = 0;
+  int64_t edges = 0;
   double bytes_per_edge = 0;
   for (auto _ : state) {
     const size_t base = current_bytes();
     reset_peak_bytes();
-    faces = ours_once(soup, levels, &bytes_per_edge);
+    faces = ours_once(soup, levels, &bytes_per_edge, &edges);
     peak = peak_bytes() - base;
   }
-  report(state, peak, faces);
+  report(state, peak, faces, edges);
   state.counters["mesh_bytes_per_edge"] = bytes_per_edge;
 }
 
 void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
   size_t peak = 0;
   int64_t faces = 0;
+  int64_t edges = 0;
   for (auto _ : state) {
     const size_t base = current_bytes();
     reset_peak_bytes();
-    faces = osd_once(soup, levels);
+    faces = osd_once(soup, levels, &edges);
     peak = peak_bytes() - base;
   }
-  report(state, peak, faces);
+  report(state, peak, faces, edges);
 }
 
 // Ours and OpenSubdiv alternately within each iteration, so that load from other
