@@ -182,6 +182,20 @@ TEST(Lattice, CubeFrameIsGenusFive) {
   EXPECT_EQ(slab->face_parents[23].face, FaceId(5));
 }
 
+TEST(Lattice, SubdividedLatticeStaysGenusFive) {
+  // The usual NOME pipeline: a lattice of a subdivided cube, rounded by subdividing again.
+  auto smooth = subdivide(build(testing::cube_soup()), {.levels = 1});
+  ASSERT_TRUE(smooth.has_value());
+  auto slab = lattice(smooth->back().mesh, {.width = 0.05, .distance = 0.02});
+  ASSERT_TRUE(slab.has_value()) << slab.error().message;
+  // χ = 2 (χ - F) = 2 (2 - 24) = -44: genus 23.
+  expect_closed_orientable(slab->mesh, -44, 1);
+  auto rounded = subdivide(slab->mesh, {.levels = 1});
+  ASSERT_TRUE(rounded.has_value());
+  expect_closed_orientable(rounded->back().mesh, -44, 1);
+  EXPECT_EQ(topology(rounded->back().mesh).components[0].genus, 23);
+}
+
 TEST(Lattice, MobiusBandLattice) {
   Mesh band = build(grid_soup(6, 1, Glue::Mobius));
   auto slab = lattice(band, {.width = 0.1, .distance = 0.02});
