@@ -76,7 +76,6 @@ enum class Shape : uint8_t {
   Vec3,          // `color (1 0 0)`
   Vec2,          // `texture (0 1)`, `weights (1 1)`
   Vec4,          // `mirror (a b c d)`
-  Lists,         // one or more lists: `frustum (…) (…)`
   Rotate,        // `rotate (ax ay az) (deg)`; the angle list is optional in controlpoints
   Surface,       // `surface S`
   Ref,           // a shape name: `point P`, `cameraID cam1`
@@ -752,7 +751,6 @@ class Checker {
     while (pos < bank.items.size() && bank.items[pos].kind != ItemKind::Word) {
       vals.push_back(&bank.items[pos++]);
     }
-    static const char* kNames[] = {"value", "min", "max", "step"};
     double v[4] = {0, 0, 0, 1};
     bool ok = true;
     if (vals.size() != 4) {
@@ -801,7 +799,6 @@ class Checker {
       diags_.emit(DiagKind::ValueOutOfRange, vals[0]->range,
                   fmt::format("slider `{}`: value {} is outside its range [{}, {}]", key, v[0], v[1], v[2]));
     }
-    (void)kNames;
   }
 
   void handle_savedparameter(const ast::Ast& a, const ast::Stmt& s) {
@@ -1098,7 +1095,6 @@ class Checker {
                     fmt::format("instance name `{}` is used twice in this {}; paths through `{}` will be ambiguous",
                                 name, ctx.top ? "file" : ast::open_keyword(ctx.parent_kind), name))
             .note(m_.node(it->second).range, "first instance with this name");
-        ambiguous_instances_.insert(it->second.index);
       } else {
         scope[name] = id;
       }
@@ -1309,7 +1305,6 @@ class Checker {
         if (spec.name == "color") check_color(a, *n);
         return;
       }
-      case Shape::Lists:
       case Shape::Rotate: {
         const ast::Item* n = next();
         if (n == nullptr || n->kind != ItemKind::List) {
@@ -1819,19 +1814,13 @@ class Checker {
         for (auto n : mt.chain) k.push_back(n.index);
         distinct.insert(k);
       }
-      if (distinct.size() > 1 && instance_path_ambiguous(matches)) {
+      if (distinct.size() > 1) {
         diags_.emit(DiagKind::AmbiguousName, ref.range,
                     fmt::format("`{}` matches {} instance paths; write it with dots to choose one, e.g. `{}`", text,
                                 distinct.size(), dotted(matches[0].chain, matches[0].vertex)));
       }
     }
     return true;
-  }
-
-  template <typename M>
-  bool instance_path_ambiguous(const std::vector<M>& matches) const {
-    // Matches that only differ by the same instance reached through the same chain are one.
-    return matches.size() > 1 && dotted(matches[0].chain, matches[0].vertex) != dotted(matches[1].chain, matches[1].vertex);
   }
 
   std::string dotted(const std::vector<ir::NodeId>& chain, const std::string& vertex) const {
@@ -2141,7 +2130,6 @@ class Checker {
   std::map<int32_t, std::map<std::string, ir::NodeId>> mesh_points_;
   // Instance scopes keyed by owner node index + 1 (0 = top level).
   std::map<int32_t, std::map<std::string, ir::NodeId>> instance_scopes_;
-  std::set<int32_t> ambiguous_instances_;
   std::set<std::string> tcl_vars_;
   std::set<std::string> tcl_suffixes_;
   std::set<std::string> tcl_reported_;
@@ -2209,26 +2197,21 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   result.module.dialect = std::string(dialect_name(checker.dialect_));
 
   if (base_ast) {
-    DiagnosticEngine base_diags;
-    DiagnosticEngine& keep = diags;
-    (void)keep;
-    // Base-scene diagnostics belong to that file's own check; suppress them here.
-    Checker* c = &checker;
-    c->collect_tcl(*base_ast);
-    c->collect_banks(*base_ast);
-    c->apply_saved(*base_ast);
+    checker.collect_tcl(*base_ast);
+    checker.collect_banks(*base_ast);
+    checker.apply_saved(*base_ast);
   }
   checker.collect_tcl(main_ast);
   checker.collect_banks(main_ast);
   checker.apply_saved(main_ast);
   checker.apply_overrides();
   if (base_ast) {
+    // The base scene is checked with a scratch engine: its problems belong to its own check,
+    // and only the saved work is reported here.
     checker.declare(*base_ast, -(1 << 21));
     DiagnosticEngine scratch;
-    Checker& c = checker;
-    // Process the base scene with a scratch engine so only the saved work is reported.
     std::swap(scratch, diags);
-    c.process(*base_ast, -(1 << 21));
+    checker.process(*base_ast, -(1 << 21));
     std::swap(scratch, diags);
   }
   checker.declare(main_ast, 0);
