@@ -530,6 +530,12 @@ class Checker {
       kws.emplace_back("include");
       kws.emplace_back("tclinit");
       std::string hint = closest_match(it.text, kws);
+      if (dialect_ == Dialect::Slide && hint.empty()) {
+        // language.md §7: SLIDE statements nomec does not implement are named as such.
+        diags_.emit(DiagKind::UnsupportedSlideSyntax, it.range,
+                    fmt::format("`{}` is SLIDE syntax that nomec does not support yet; the statement is skipped", it.text));
+        return;
+      }
       auto d = diags_.emit(DiagKind::StrayTopLevelItem, it.range,
                            hint.empty()
                                ? fmt::format("unexpected `{}` at the top level; statements start with a keyword such as `point`, `mesh` or `instance`", it.text)
