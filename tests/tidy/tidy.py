@@ -7,6 +7,8 @@
                  code; prints the kinds emitted from several sites
   readmes        every top-level folder that holds code has a README.md
   nlohmann       only lsp/ and tools/ include nlohmann-json
+  headers        every source file starts with a comment saying what it is for
+                 (engineering.md §8)
 
 Usage: tidy.py CHECK [--root REPO]
 """
@@ -153,11 +155,34 @@ def check_nlohmann(root):
     return ok
 
 
+HEADER_EXTS = (".cpp", ".cc", ".h", ".hpp", ".g4", ".def", ".py", ".sh", ".cmake")
+
+
+def check_headers(root):
+    ok = True
+    for path in walk(root):
+        rel = os.path.relpath(path, root)
+        name = os.path.basename(path)
+        if not (path.endswith(HEADER_EXTS) or name == "CMakeLists.txt"):
+            continue
+        if "testdata" in rel.split(os.sep) or rel.split(os.sep)[0] in SKIP_DIRS or is_build_dir(rel.split(os.sep)[0]):
+            continue
+        with open(path, encoding="utf-8", errors="replace") as f:
+            lines = f.read().splitlines()
+        i = 1 if lines and lines[0].startswith("#!") else 0
+        first = lines[i].strip() if i < len(lines) else ""
+        if not first.startswith(("//", "#", "/*", '"""')):
+            ok = False
+            print(f"{rel}: does not start with a comment saying what the file is for")
+    return ok
+
+
 CHECKS = {
     "kinds-covered": check_kinds_covered,
     "emit-sites": check_emit_sites,
     "readmes": check_readmes,
     "nlohmann": check_nlohmann,
+    "headers": check_headers,
 }
 
 
