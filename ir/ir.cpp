@@ -307,8 +307,8 @@ EvalResult eval(const Module& m, ExprId id, double time, double frame) {
 
 }  // namespace
 
-EvalResult evaluate(const Module& module, ExprId expr, double time, double frame) {
-  return eval(module, expr, time, frame);
+EvalResult evaluate(const Module& module, ExprId expr) {
+  return eval(module, expr, module.time, module.frame);
 }
 
 namespace {

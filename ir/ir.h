@@ -144,6 +144,9 @@ class DepGraph {
 /// A checked scene.
 struct Module {
   std::string dialect;
+  /// Values of the built-ins `$time` and `$frame` (`--time`, `--frame`; 0 by default).
+  double time = 0;
+  double frame = 0;
   std::vector<Expr> exprs;
   std::vector<Node> nodes;
   std::vector<NodeId> scene;  // top-level visible instances and pipeline blocks
@@ -166,7 +169,8 @@ struct EvalResult {
   std::string problem;   // e.g. "division by zero"
   SourceRange where;
 };
-EvalResult evaluate(const Module& module, ExprId expr, double time = 0, double frame = 0);
+/// Evaluates with the module's current parameter values and its `time`/`frame`.
+EvalResult evaluate(const Module& module, ExprId expr);
 
 /// Human-readable dump (`nomec --emit ir`).
 std::string dump_ir(const Module& module, const SourceManager& sources);

@@ -75,6 +75,8 @@ int main(int argc, char** argv) {
   std::string format = "text";
   std::string base;
   std::string color = "auto";
+  double time = 0;
+  double frame = 0;
   app.add_option("files", files, "Input files (.nome, .nom, .slf, .anom)")->required();
   app.add_flag("--check", check_only, "Check the files and report diagnostics (default)");
   app.add_option("--emit", emit, "Emit `ir` (readable typed IR) or `deps` (DOT graph)")
@@ -90,6 +92,8 @@ int main(int argc, char** argv) {
   app.add_option("--base", base, "Base scene for a saved-work .anom file");
   app.add_option("--color", color, "Colour diagnostics: auto, always, never")
       ->check(CLI::IsMember({"auto", "always", "never"}));
+  app.add_option("--time", time, "Value of `$time` in expressions (default 0)");
+  app.add_option("--frame", frame, "Value of `$frame` in expressions (default 0)");
   app.add_flag("-v,--verbose", verbose, "Report the dialect used and summary counts");
   try {
     app.parse(argc, argv);
@@ -107,6 +111,8 @@ int main(int argc, char** argv) {
     options.dialect = nomec::dialect_by_name(dialect);
   }
   options.allow_out_of_range = allow_out_of_range;
+  options.time = time;
+  options.frame = frame;
   if (!base.empty()) {
     options.base_file = base;
   }

@@ -2175,6 +2175,8 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
                          const CheckOptions& options, DiagnosticEngine& diags) {
   CheckResult result;
+  result.module.time = options.time;
+  result.module.frame = options.frame;
   Checker checker(sources, diags, options, result.module);
   FileId file = sources.add_file(path, std::move(text));
   ast::Ast main_ast = parse_file(sources, file, diags);
