@@ -1,0 +1,138 @@
+// Curve generators: helix, spiral, beziercurve, bspline. Output is a polyline in
+// `Generated::curves` over vertices `v0…` of a soup without faces.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "backend/generators/impl.h"
+
+namespace nomec::backend::detail {
+namespace {
+
+Generated polyline(const std::vector<glm::dvec3>& pts, bool closed) {
+  Generated g;
+  Generated::Curve c;
+  c.is_closed = closed;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    c.vertices.push_back(g.soup.add_vertex(pts[i], "v" + std::to_string(i)));
+  }
+  g.curves.push_back(std::move(c));
+  return g;
+}
+
+double nonzero(const ArgReader& a, std::string_view name) {
+  const Arg v = a.number({name});
+  if (v.value == 0.0) {
+    fail(name, "`" + std::string(name) + "` must not be 0");
+  }
+  return v.value;
+}
+
+bool is_closed(const ArgReader& a) {
+  return a.has("closed") && a.number({"closed"}).value != 0.0;
+}
+
+// de Boor evaluation of a B-spline of order k (degree k-1) with knot vector `t` at `x`.
+glm::dvec3 de_boor(const std::vector<glm::dvec3>& p, const std::vector<double>& t, int k, double x) {
+  const int n = static_cast<int>(p.size());
+  const int deg = k - 1;
+  int l = deg;
+  while (l < n - 1 && x >= t[l + 1]) ++l;
+  std::vector<glm::dvec3> d(k);
+  for (int j = 0; j <= deg; ++j) d[j] = p[j + l - deg];
+  for (int r = 1; r <= deg; ++r) {
+    for (int j = deg; j >= r; --j) {
+      const double den = t[j + 1 + l - r] - t[j + l - deg];
+      const double alpha = den == 0.0 ? 0.0 : (x - t[j + l - deg]) / den;
+      d[j] = (1.0 - alpha) * d[j - 1] + alpha * d[j];
+    }
+  }
+  return d[deg];
+}
+
+}  // namespace
+
+Generated make_helix(const ArgReader& a) {
+  const double r = a.positive({"radius"});
+  const double h = a.number({"height"}).value;
+  const double turns = nonzero(a, "turns");
+  const int segs = a.count({"segs"}, 1);
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i <= segs; ++i) {
+    const double s = static_cast<double>(i) / segs;
+    const double th = 2.0 * kPi * turns * s;
+    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
+  }
+  return polyline(pts, false);
+}
+
+Generated make_spiral(const ArgReader& a) {
+  const double growth = a.positive({"growth"});
+  const double h = a.number({"height"}).value;
+  const double turns = nonzero(a, "turns");
+  const int segs = a.count({"segs"}, 1);
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i <= segs; ++i) {
+    const double s = static_cast<double>(i) / segs;
+    const double th = 2.0 * kPi * turns * s;
+    const double r = growth * std::abs(turns) * s;  // grows by `growth` per turn
+    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
+  }
+  return polyline(pts, false);
+}
+
+Generated make_beziercurve(const ArgReader& a) {
+  const auto& cps = a.raw().points;
+  if (cps.size() < 2) {
+    fail("points", "a bezier curve needs at least 2 control points, got " + std::to_string(cps.size()));
+  }
+  const int segs = a.count_or({"segs", "slices"}, 1, 16);
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i <= segs; ++i) {
+    const double t = static_cast<double>(i) / segs;
+    std::vector<glm::dvec3> d = cps;
+    for (size_t r = 1; r < d.size(); ++r) {
+      for (size_t j = 0; j + r < d.size(); ++j) d[j] = (1.0 - t) * d[j] + t * d[j + 1];
+    }
+    pts.push_back(d[0]);
+  }
+  return polyline(pts, false);
+}
+
+Generated make_bspline(const ArgReader& a) {
+  const auto& cps = a.raw().points;
+  const int k = a.count_or({"order"}, 2, 4);
+  const int n = static_cast<int>(cps.size());
+  const bool closed = is_closed(a);
+  if (n < k) {
+    fail("points", "a b-spline of order " + std::to_string(k) + " needs at least " +
+                       std::to_string(k) + " control points, got " + std::to_string(n));
+  }
+  if (closed && n < 3) {
+    fail("points", "a closed b-spline needs at least 3 control points");
+  }
+  const int spans = closed ? n : n - k + 1;
+  const int segs = a.count_or({"segs", "slices"}, closed ? 3 : 1, 8 * spans);
+  check_size(segs, "segs");
+  std::vector<glm::dvec3> pts;
+  if (!closed) {
+    // Clamped uniform knots: the curve starts and ends at the end control points.
+    std::vector<double> t(n + k);
+    for (int i = 0; i < n + k; ++i) {
+      t[i] = i < k ? 0.0 : i >= n ? 1.0 : static_cast<double>(i - k + 1) / (n - k + 1);
+    }
+    for (int i = 0; i <= segs; ++i) pts.push_back(de_boor(cps, t, k, static_cast<double>(i) / segs));
+  } else {
+    // Periodic: wrap k-1 control points, uniform knots, domain [k-1, n+k-1].
+    std::vector<glm::dvec3> p = cps;
+    for (int i = 0; i < k - 1; ++i) p.push_back(cps[i]);
+    std::vector<double> t(p.size() + k);
+    for (size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i);
+    for (int i = 0; i < segs; ++i) {
+      pts.push_back(de_boor(p, t, k, (k - 1) + static_cast<double>(n) * i / segs));
+    }
+  }
+  return polyline(pts, closed);
+}
+
+}  // namespace nomec::backend::detail

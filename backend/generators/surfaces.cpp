@@ -1,0 +1,219 @@
+// Closed-form surfaces: torus, sphere, ellipsoid, cylinder, hyperboloid, Dupin cyclide and
+// the torus-knot tube. Full 360-degree ranges weld the seam (no duplicate vertices), poles
+// are single vertices with triangle fans (no degenerate faces).
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "backend/generators/impl.h"
+
+namespace nomec::backend::detail {
+namespace {
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+/// Segment count along a direction: >= 3 when it wraps around, else >= 1.
+int segs_for(const ArgReader& a, std::string_view name, bool wraps) {
+  return a.count({name}, wraps ? 3 : 1);
+}
+
+// Sphere-like surface of revolution: equatorial radius `ra`, polar radius `rb`.
+// theta (azimuth) in [0, theta_max], phi (latitude) in [phi_min, phi_max] within
+// [-90, 90] degrees.
+Generated spheroid(const ArgReader& a, double ra, double rb) {
+  const double theta_max = a.number({"theta_max"}).value;
+  const bool wrap = full_turn(theta_max, "theta_max");
+  const double phi_min = a.number({"phi_min"}).value;
+  const double phi_max = a.number({"phi_max"}).value;
+  if (phi_min < -90.0 - 1e-9 || phi_min > 90.0) {
+    fail("phi_min", "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + num(phi_min));
+  }
+  if (phi_max > 90.0 + 1e-9 || phi_max < -90.0) {
+    fail("phi_max", "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + num(phi_max));
+  }
+  if (!(phi_max > phi_min)) {
+    fail("phi_max", "`phi_max` must be greater than `phi_min`");
+  }
+  const bool south = phi_min <= -90.0 + 1e-9;
+  const bool north = phi_max >= 90.0 - 1e-9;
+  const int ts = segs_for(a, "theta_segs", wrap);
+  const int ps = a.count({"phi_segs"}, south && north ? 2 : 1);
+  const int ni = wrap ? ts : ts + 1;
+  check_size(static_cast<long long>(ni) * (ps + 1), "phi_segs");
+
+  Generated g;
+  std::vector<int32_t> row_start(ps + 1);
+  std::vector<bool> is_pole(ps + 1, false);
+  for (int j = 0; j <= ps; ++j) {
+    const double phi = j == ps ? radians(phi_max) : radians(phi_min + (phi_max - phi_min) * j / ps);
+    row_start[j] = g.soup.vertex_count();
+    const bool pole = (j == 0 && south) || (j == ps && north);
+    is_pole[j] = pole;
+    if (pole) {
+      g.soup.add_vertex({0.0, 0.0, j == 0 ? -rb : rb}, "v0_" + std::to_string(j));
+      continue;
+    }
+    for (int i = 0; i < ni; ++i) {
+      const double th = radians(theta_max * i / ts);
+      g.soup.add_vertex({ra * std::cos(phi) * std::cos(th), ra * std::cos(phi) * std::sin(th),
+                         rb * std::sin(phi)},
+                        "v" + std::to_string(i) + "_" + std::to_string(j));
+    }
+  }
+  auto at = [&](int i, int j) { return is_pole[j] ? row_start[j] : row_start[j] + i % ni; };
+  for (int j = 0; j < ps; ++j) {
+    for (int i = 0; i < ts; ++i) {
+      if (is_pole[j]) {
+        g.soup.add_face({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      } else if (is_pole[j + 1]) {
+        g.soup.add_face({at(i, j), at(i + 1, j), at(i, j + 1)});
+      } else {
+        g.soup.add_face({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+Generated make_torus(const ArgReader& a) {
+  const double R = a.positive({"major_radius"});
+  const double r = a.positive({"minor_radius"});
+  const double theta_max = a.number({"theta_max"}).value;
+  const double phi_min = a.number({"phi_min"}).value;
+  const double phi_max = a.number({"phi_max"}).value;
+  const bool wrap_i = full_turn(theta_max, "theta_max");
+  const bool wrap_j = full_turn(phi_max - phi_min, "phi_max");
+  const int ts = segs_for(a, "theta_segs", wrap_i);
+  const int ps = segs_for(a, "phi_segs", wrap_j);
+  check_size(static_cast<long long>(ts + 1) * (ps + 1), "theta_segs");
+  Generated g;
+  add_grid(g.soup, ts, ps, wrap_i, wrap_j, [&](int i, int j) {
+    const double th = radians(theta_max * i / ts);
+    const double ph = radians(phi_min + (phi_max - phi_min) * j / ps);
+    const double rr = R + r * std::cos(ph);
+    return glm::dvec3(rr * std::cos(th), rr * std::sin(th), r * std::sin(ph));
+  });
+  return g;
+}
+
+Generated make_sphere(const ArgReader& a) {
+  const double r = a.positive({"radius"});
+  return spheroid(a, r, r);
+}
+
+Generated make_ellipsoid(const ArgReader& a) {
+  const double ra = a.positive({"a"});
+  const double rb = a.positive({"b"});
+  return spheroid(a, ra, rb);
+}
+
+Generated make_cylinder(const ArgReader& a) {
+  const double r = a.positive({"radius"});
+  const double h = a.positive({"height"});
+  const double theta_max = a.number({"theta_max"}).value;
+  const bool wrap = full_turn(theta_max, "theta_max");
+  const int ts = segs_for(a, "theta_segs", wrap);
+  const int hs = a.count({"height_segs"}, 1);
+  check_size(static_cast<long long>(ts + 1) * (hs + 1), "theta_segs");
+  Generated g;
+  add_grid(g.soup, ts, hs, wrap, false, [&](int i, int j) {
+    const double th = radians(theta_max * i / ts);
+    return glm::dvec3(r * std::cos(th), r * std::sin(th), h * j / hs);
+  });
+  return g;
+}
+
+Generated make_hyperboloid(const ArgReader& a) {
+  const double ra = a.positive({"a"});
+  const double rb = a.positive({"b"});
+  const double rc = a.positive({"c"});
+  const double h = a.positive({"height"});
+  const int ts = a.count({"theta_segs"}, 3);
+  const int hs = a.count({"height_segs"}, 1);
+  check_size(static_cast<long long>(ts) * (hs + 1), "theta_segs");
+  Generated g;
+  add_grid(g.soup, ts, hs, true, false, [&](int i, int j) {
+    const double th = 2.0 * kPi * i / ts;
+    const double z = -h / 2.0 + h * j / hs;
+    const double k = std::sqrt(1.0 + z * z / (rc * rc));
+    return glm::dvec3(ra * k * std::cos(th), rb * k * std::sin(th), z);
+  });
+  return g;
+}
+
+Generated make_dupin(const ArgReader& a) {
+  const double ca = a.positive({"a"});
+  const double cb = a.positive({"b"});
+  const double cc = a.number({"c"}).value;
+  const double cd = a.number({"d"}).value;
+  if (!(ca > std::abs(cc))) {
+    fail("c", "`c` must be smaller than `a` in absolute value (the cyclide is unbounded otherwise)");
+  }
+  const int us = a.count({"u_segs"}, 3);
+  const int vs = a.count({"v_segs"}, 3);
+  check_size(static_cast<long long>(us) * vs, "u_segs");
+  Generated g;
+  add_grid(g.soup, us, vs, true, true, [&](int i, int j) {
+    const double u = 2.0 * kPi * i / us;
+    const double v = 2.0 * kPi * j / vs;
+    const double den = ca - cc * std::cos(u) * std::cos(v);
+    return glm::dvec3((cd * (cc - ca * std::cos(u) * std::cos(v)) + cb * cb * std::cos(u)) / den,
+                      cb * std::sin(u) * (ca - cd * std::cos(v)) / den,
+                      cb * std::sin(v) * (cc * std::cos(u) - cd) / den);
+  });
+  return g;
+}
+
+Generated make_torusknot(const ArgReader& a) {
+  auto whole_nonzero = [&](std::string_view name) {
+    const Arg v = a.number({name});
+    if (std::abs(v.value - std::round(v.value)) > 1e-9 || std::lround(v.value) == 0) {
+      fail(name, "`" + std::string(name) + "` must be a non-zero whole number, got " + num(v.value));
+    }
+    if (std::abs(v.value) > 1000) {
+      fail(name, "`" + std::string(name) + "` must be at most 1000 in absolute value");
+    }
+    return static_cast<double>(std::lround(v.value));
+  };
+  const double p = whole_nonzero("symm");
+  const double q = whole_nonzero("turns");
+  const double R = a.positive({"major_radius"});
+  const double r = a.positive({"minor_radius"});
+  const double tube = a.positive({"tube_radius"});
+  const int cs = a.count({"circ_segs"}, 3);
+  const int ss = a.count({"sweep_segs"}, 3);
+  check_size(static_cast<long long>(cs) * ss, "sweep_segs");
+  // The knot lies on a torus (R, r); its exact normal frame is the torus normal N (which
+  // is periodic, so the tube closes without a twist seam) and B = T x N.
+  std::vector<glm::dvec3> centre(ss), nrm(ss), bin(ss);
+  for (int i = 0; i < ss; ++i) {
+    const double t = 2.0 * kPi * i / ss;
+    const double rr = R + r * std::cos(q * t);
+    centre[i] = {rr * std::cos(p * t), rr * std::sin(p * t), r * std::sin(q * t)};
+    const glm::dvec3 d(-r * q * std::sin(q * t) * std::cos(p * t) - rr * p * std::sin(p * t),
+                       -r * q * std::sin(q * t) * std::sin(p * t) + rr * p * std::cos(p * t),
+                       r * q * std::cos(q * t));
+    const glm::dvec3 tan = d / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    nrm[i] = {std::cos(q * t) * std::cos(p * t), std::cos(q * t) * std::sin(p * t), std::sin(q * t)};
+    bin[i] = {tan.y * nrm[i].z - tan.z * nrm[i].y, tan.z * nrm[i].x - tan.x * nrm[i].z,
+              tan.x * nrm[i].y - tan.y * nrm[i].x};
+  }
+  Generated g;
+  add_grid(
+      g.soup, ss, cs, true, true,
+      [&](int i, int j) {
+        const double ph = 2.0 * kPi * j / cs;
+        return centre[i] + tube * (std::cos(ph) * nrm[i] + std::sin(ph) * bin[i]);
+      },
+      /*flip=*/true);
+  return g;
+}
+
+}  // namespace nomec::backend::detail

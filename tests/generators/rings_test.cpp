@@ -1,0 +1,192 @@
+// Funnel, tunnel, circle and Möbius strip: exact counts, topology, named vertex positions,
+// NOME3 aliases and argument errors.
+#include <cmath>
+#include <numbers>
+
+#include "backend/generators/names.h"
+#include "tests/generators/helpers.h"
+
+namespace nomec::backend::testing {
+namespace {
+
+TEST(Funnel, NomeIsAnAnnulusOfNQuads) {
+  Generated g = run("funnel", numbers({{"n", 8}, {"ro", 2}, {"ratio", 0.5}, {"h", 1}}));
+  EXPECT_EQ(g.soup.vertex_count(), 16);
+  EXPECT_EQ(g.soup.face_count(), 8);
+  for (int32_t s : g.soup.face_sizes) EXPECT_EQ(s, 4);
+  kernel::TopologyReport r = topo(g.soup);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.vertex_count, 16);
+  EXPECT_EQ(r.edge_count, 24);
+  EXPECT_EQ(r.face_count, 8);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_EQ(r.border_loop_count, 2);
+  EXPECT_TRUE(r.is_orientable);
+  EXPECT_FALSE(r.is_closed);
+  EXPECT_EQ(r.components[0].genus, 0);
+  expect_near(named(g.soup, "bc0"), {2, 0, 0});
+  expect_near(named(g.soup, "hc0"), {3, 0, 1});
+  expect_near(named(g.soup, "bc2"), {0, 2, 0});
+  expect_near(named(g.soup, "hc6"), {0, -3, 1});
+  EXPECT_TRUE(g.curves.empty());
+}
+
+TEST(Funnel, FacesPointOutward) {
+  Generated g = run("funnel", numbers({{"n", 4}, {"ro", 1}, {"ratio", 0}, {"h", 1}}));
+  // Face 0 = (bc0 bc1 hc1 hc0): its normal points away from the axis, towards +x+y.
+  const auto& p = g.soup.positions;
+  const glm::dvec3 a = p[g.soup.face_vertices[0]], b = p[g.soup.face_vertices[1]],
+                   c = p[g.soup.face_vertices[2]];
+  const glm::dvec3 u = b - a, v = c - a;
+  const glm::dvec3 n(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x);
+  EXPECT_GT(n.x, 0);
+  EXPECT_GT(n.y, 0);
+}
+
+TEST(Funnel, Nome3ArgumentNames) {
+  Generated g = run("funnel",
+                    numbers({{"radius", 1}, {"ratio", -0.25}, {"height", 2}, {"n", 6}}, "nome3"));
+  EXPECT_EQ(g.soup.vertex_count(), 12);
+  EXPECT_EQ(topo(g.soup).euler_characteristic, 0);
+  expect_near(named(g.soup, "bc0"), {1, 0, 0});
+  expect_near(named(g.soup, "hc0"), {0.75, 0, 2});
+}
+
+TEST(Funnel, Nome3AliasesMapToCanonicalNames) {
+  auto aliases = vertex_aliases("funnel");
+  ASSERT_EQ(aliases.size(), 2u);
+  EXPECT_EQ(aliases[0], (std::pair<std::string, std::string>{"v2_", "bc"}));
+  EXPECT_EQ(aliases[1], (std::pair<std::string, std::string>{"v1_", "hc"}));
+  EXPECT_EQ(canonical_vertex_name("funnel", "v2_3"), "bc3");
+  EXPECT_EQ(canonical_vertex_name("funnel", "v1_0"), "hc0");
+  EXPECT_EQ(canonical_vertex_name("funnel", "hc0"), "hc0");
+  EXPECT_EQ(canonical_vertex_name("tunnel", "v3_5"), "lc5");
+  EXPECT_TRUE(vertex_aliases("torus").empty());
+}
+
+TEST(Funnel, ErrorsNameTheArgument) {
+  GeneratorError e = run_error("funnel", numbers({{"n", 2}, {"ro", 1}, {"ratio", 0}, {"h", 1}}));
+  EXPECT_EQ(e.argument, "n");
+  EXPECT_NE(e.message.find("at least 3"), std::string::npos) << e.message;
+  EXPECT_EQ(run_error("funnel", numbers({{"n", 4.5}, {"ro", 1}, {"ratio", 0}, {"h", 1}})).argument, "n");
+  EXPECT_EQ(run_error("funnel", numbers({{"n", 4}, {"ro", 0}, {"ratio", 0}, {"h", 1}})).argument, "ro");
+  EXPECT_EQ(run_error("funnel", numbers({{"n", 4}, {"ro", 1}, {"ratio", -1}, {"h", 1}})).argument, "ratio");
+  GeneratorError missing = run_error("funnel", numbers({{"n", 4}, {"ro", 1}, {"ratio", 0}}));
+  EXPECT_EQ(missing.argument, "h");
+  EXPECT_EQ(missing.message, "missing argument `h`");
+  EXPECT_EQ(run_error("funnel", numbers({{"n", 4}, {"ratio", 0}, {"height", 1}}, "nome3")).argument,
+            "radius");
+  EXPECT_EQ(run_error("funnel", numbers({{"n", 1e9}, {"ro", 1}, {"ratio", 0}, {"h", 1}})).argument, "n");
+  EXPECT_EQ(run_error("funnel", numbers({{"n", NAN}, {"ro", 1}, {"ratio", 0}, {"h", 1}})).argument, "n");
+}
+
+TEST(Generators, UnknownKeyword) {
+  EXPECT_FALSE(is_generator("mesh"));
+  EXPECT_TRUE(is_generator("funnel"));
+  EXPECT_TRUE(is_generator("torusknot"));
+  GeneratorError e = run_error("teapot", {});
+  EXPECT_EQ(e.argument, "");
+  EXPECT_EQ(e.message, "unknown generator `teapot`");
+}
+
+TEST(Tunnel, SymmetricIsAnAnnulusOfThreeRings) {
+  Generated g = run("tunnel", numbers({{"n", 8}, {"ro", 1}, {"ratio", 0.5}, {"h", 2}}));
+  kernel::TopologyReport r = topo(g.soup);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.vertex_count, 24);
+  EXPECT_EQ(r.edge_count, 40);
+  EXPECT_EQ(r.face_count, 16);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_EQ(r.border_loop_count, 2);
+  EXPECT_TRUE(r.is_orientable);
+  EXPECT_EQ(r.components[0].mobius_edge_count, 0);
+  expect_near(named(g.soup, "bc0"), {1, 0, 0});
+  expect_near(named(g.soup, "hc0"), {1.5, 0, 2});
+  expect_near(named(g.soup, "lc0"), {1.5, 0, -2});
+}
+
+TEST(Tunnel, AsymmetricLowerRing) {
+  Generated g = run("tunnel", numbers({{"n", 4}, {"ro", 2}, {"ratio", 0.5}, {"h", 1},
+                                       {"dri_low", -0.5}, {"hgt_low", 3}}));
+  EXPECT_EQ(topo(g.soup).euler_characteristic, 0);
+  expect_near(named(g.soup, "hc0"), {3, 0, 1});
+  expect_near(named(g.soup, "lc0"), {1, 0, -3});
+  EXPECT_EQ(run_error("tunnel", numbers({{"n", 4}, {"ro", 2}, {"ratio", 0.5}, {"h", 1},
+                                          {"dri_low", -2}, {"hgt_low", 3}}))
+                .argument,
+            "dri_low");
+  EXPECT_EQ(run_error("tunnel", numbers({{"n", 2}, {"ro", 1}, {"ratio", 0}, {"h", 1}})).argument, "n");
+}
+
+TEST(Circle, ClosedCurveWithoutFaces) {
+  Generated g = run("circle", numbers({{"radius", 5}, {"segs", 10}}, "nome3"));
+  EXPECT_EQ(g.soup.vertex_count(), 10);
+  EXPECT_EQ(g.soup.face_count(), 0);
+  ASSERT_EQ(g.curves.size(), 1u);
+  EXPECT_TRUE(g.curves[0].is_closed);
+  EXPECT_EQ(g.curves[0].vertices.size(), 10u);
+  expect_near(named(g.soup, "v0"), {5, 0, 0});
+  expect_near(named(g.soup, "v5"), {-5, 0, 0});
+  EXPECT_EQ(run_error("circle", numbers({{"radius", 20}, {"segs", 1}})).argument, "segs");
+  EXPECT_EQ(run_error("circle", numbers({{"radius", -1}, {"segs", 8}})).argument, "radius");
+}
+
+kernel::TopologyReport mobius(double twists, int n = 10) {
+  Generated g = run("mobiusstrip",
+                    numbers({{"radius", 1}, {"num_twists", twists}, {"num_cuts", 0}, {"n", double(n)}}, "nome3"));
+  EXPECT_EQ(g.soup.vertex_count(), 2 * n);
+  return topo(g.soup);
+}
+
+TEST(MobiusStrip, OneHalfTwistIsNonOrientableWithOneBorder) {
+  kernel::TopologyReport r = mobius(1);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.vertex_count, 20);
+  EXPECT_EQ(r.edge_count, 30);
+  EXPECT_EQ(r.face_count, 10);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_FALSE(r.is_orientable);
+  EXPECT_EQ(r.border_loop_count, 1);
+  EXPECT_EQ(r.components[0].genus, 1);
+}
+
+TEST(MobiusStrip, EvenTwistsAreOrientableBands) {
+  kernel::TopologyReport two = mobius(2);
+  EXPECT_TRUE(two.is_orientable);
+  EXPECT_EQ(two.border_loop_count, 2);
+  EXPECT_EQ(two.euler_characteristic, 0);
+  kernel::TopologyReport zero = mobius(0, 3);
+  EXPECT_TRUE(zero.is_orientable);
+  EXPECT_EQ(zero.border_loop_count, 2);
+  kernel::TopologyReport three = mobius(3, 5);
+  EXPECT_FALSE(three.is_orientable);
+  EXPECT_EQ(three.border_loop_count, 1);
+}
+
+TEST(MobiusStrip, SeamIsWelded) {
+  Generated g = run("mobiusstrip",
+                    numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 0}, {"n", 12}}, "nome3"));
+  // No two vertices coincide (the 360-degree cross-section is the 0-degree one).
+  for (int i = 0; i < g.soup.vertex_count(); ++i) {
+    for (int j = i + 1; j < g.soup.vertex_count(); ++j) {
+      const glm::dvec3 d = g.soup.positions[i] - g.soup.positions[j];
+      EXPECT_GT(d.x * d.x + d.y * d.y + d.z * d.z, 1e-12) << i << " " << j;
+    }
+  }
+}
+
+TEST(MobiusStrip, Errors) {
+  GeneratorError cuts = run_error(
+      "mobiusstrip", numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 2}, {"n", 10}}));
+  EXPECT_EQ(cuts.argument, "num_cuts");
+  EXPECT_NE(cuts.message.find("not supported yet"), std::string::npos);
+  EXPECT_EQ(run_error("mobiusstrip", numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 0}, {"n", 2}}))
+                .argument,
+            "n");
+  EXPECT_EQ(run_error("mobiusstrip", numbers({{"radius", 1}, {"num_twists", 0.5}, {"num_cuts", 0}, {"n", 8}}))
+                .argument,
+            "num_twists");
+}
+
+}  // namespace
+}  // namespace nomec::backend::testing
