@@ -28,8 +28,10 @@ double nonzero(const ArgReader& a, std::string_view name) {
   return v.value;
 }
 
+// `closed` arrives as a number (non-zero = closed) or, as a bare flag, as a text.
 bool is_closed(const ArgReader& a) {
-  return a.has("closed") && a.number({"closed"}).value != 0.0;
+  if (a.has("closed")) return a.number({"closed"}).value != 0.0;
+  return a.raw().texts.find("closed") != a.raw().texts.end();
 }
 
 // de Boor evaluation of a B-spline of order k (degree k-1) with knot vector `t` at `x`.

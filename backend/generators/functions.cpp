@@ -153,8 +153,109 @@ Generated make_gencartesiansurf(const ArgReader& a) {
   return g;
 }
 
-Generated make_genimplicitsurf(const ArgReader&) {
-  fail("", "`genimplicitsurf` is not supported yet");
+Generated make_genimplicitsurf(const ArgReader& a) {
+  const Expression f = parse_func(a, "func", {"x", "y", "z"});
+  const Range x = range(a, "x_min", "x_max");
+  const Range y = range(a, "y_min", "y_max");
+  const Range z = range(a, "z_min", "z_max");
+  const int res = a.count({"resolution"}, 1);
+  if (res > 256) {
+    fail("resolution", "`resolution` must be at most 256, got " + std::to_string(res));
+  }
+  // Sample f on the (res+1)^3 grid; exact zeros are nudged so that no grid value lies on
+  // the surface (this keeps the marching-tetrahedra result a manifold).
+  const int n = res + 1;
+  auto gp = [&](int i, int j, int k) {
+    return glm::dvec3(x.lo + (x.hi - x.lo) * i / res, y.lo + (y.hi - y.lo) * j / res,
+                      z.lo + (z.hi - z.lo) * k / res);
+  };
+  std::vector<double> val(static_cast<size_t>(n) * n * n);
+  auto vid = [&](int i, int j, int k) { return (static_cast<size_t>(i) * n + j) * n + k; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const glm::dvec3 p = gp(i, j, k);
+        double v = f.evaluate({p.x, p.y, p.z});
+        if (!std::isfinite(v)) {
+          fail("func", "`func` is not finite at x=" + num(p.x) + ", y=" + num(p.y) + ", z=" + num(p.z));
+        }
+        if (v == 0.0) v = 1e-300;
+        val[vid(i, j, k)] = v;
+      }
+    }
+  }
+  Generated g;
+  std::unordered_map<uint64_t, int32_t> edge_vertex;  // grid edge -> soup vertex
+  auto crossing = [&](size_t p, size_t q) -> int32_t {
+    if (p > q) std::swap(p, q);
+    const uint64_t key = static_cast<uint64_t>(p) * (static_cast<uint64_t>(n) * n * n) + q;
+    auto it = edge_vertex.find(key);
+    if (it != edge_vertex.end()) return it->second;
+    auto pos = [&](size_t id) {
+      const int k = static_cast<int>(id % n), j = static_cast<int>((id / n) % n), i = static_cast<int>(id / n / n);
+      return gp(i, j, k);
+    };
+    // Clamped away from the corners so that crossings never coincide.
+    const double t = std::clamp(val[p] / (val[p] - val[q]), 1e-3, 1.0 - 1e-3);
+    const int32_t v = g.soup.add_vertex(pos(p) + t * (pos(q) - pos(p)), "");
+    edge_vertex.emplace(key, v);
+    return v;
+  };
+  // Kuhn triangulation of each cube into 6 tetrahedra along the main diagonal (consistent
+  // across neighbouring cubes).
+  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7},
+                                  {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
+  for (int i = 0; i < res; ++i) {
+    for (int j = 0; j < res; ++j) {
+      for (int k = 0; k < res; ++k) {
+        size_t c[8];
+        glm::dvec3 cp[8];
+        for (int b = 0; b < 8; ++b) {
+          // corner bit 0 = x, 1 = y, 2 = z
+          c[b] = vid(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
+          cp[b] = gp(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
+        }
+        for (const auto& tet : kTets) {
+          std::vector<int> in, out;
+          for (int t : tet) (val[c[t]] < 0 ? in : out).push_back(t);
+          if (in.empty() || out.empty()) continue;
+          std::vector<int32_t> poly;
+          if (in.size() == 1 || out.size() == 1) {
+            const std::vector<int>& lone = in.size() == 1 ? in : out;
+            const std::vector<int>& rest = in.size() == 1 ? out : in;
+            for (int r : rest) poly.push_back(crossing(c[lone[0]], c[r]));
+          } else {
+            poly = {crossing(c[in[0]], c[out[0]]), crossing(c[in[0]], c[out[1]]),
+                    crossing(c[in[1]], c[out[1]]), crossing(c[in[1]], c[out[0]])};
+          }
+          // Orient outward (from f < 0 towards f > 0): the polygon of the crossed edges'
+          // midpoints has the same cyclic order and is never degenerate, so its normal
+          // decides, compared with the direction from the inside corners to the outside ones.
+          auto cross = [](const glm::dvec3& u, const glm::dvec3& v) {
+            return glm::dvec3(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x);
+          };
+          auto dot = [](const glm::dvec3& u, const glm::dvec3& v) { return u.x * v.x + u.y * v.y + u.z * v.z; };
+          std::vector<glm::dvec3> mid;
+          if (in.size() == 1 || out.size() == 1) {
+            const std::vector<int>& lone = in.size() == 1 ? in : out;
+            const std::vector<int>& rest = in.size() == 1 ? out : in;
+            for (int r : rest) mid.push_back(0.5 * (cp[lone[0]] + cp[r]));
+          } else {
+            mid = {0.5 * (cp[in[0]] + cp[out[0]]), 0.5 * (cp[in[0]] + cp[out[1]]),
+                   0.5 * (cp[in[1]] + cp[out[1]]), 0.5 * (cp[in[1]] + cp[out[0]])};
+          }
+          glm::dvec3 nrm(0.0);
+          for (size_t q = 1; q + 1 < mid.size(); ++q) nrm += cross(mid[q] - mid[0], mid[q + 1] - mid[0]);
+          glm::dvec3 ci(0.0), co(0.0);
+          for (int t : in) ci += cp[t] / static_cast<double>(in.size());
+          for (int t : out) co += cp[t] / static_cast<double>(out.size());
+          if (dot(nrm, co - ci) < 0) std::reverse(poly.begin(), poly.end());
+          g.soup.add_face(poly);
+        }
+      }
+    }
+  }
+  return g;
 }
 
 }  // namespace nomec::backend::detail

@@ -128,9 +128,64 @@ TEST(GenCartesianSurf, GraphOfAFunction) {
   EXPECT_EQ(run_error("gencartesiansurf", a).argument, "func");
 }
 
-TEST(GenImplicitSurf, NotSupportedYet) {
-  GeneratorError e = run_error("genimplicitsurf", {});
-  EXPECT_NE(e.message.find("not supported yet"), std::string::npos);
+GeneratorArgs implicit(std::string func, double lo, double hi, int res) {
+  GeneratorArgs a = numbers({{"x_min", lo}, {"x_max", hi}, {"y_min", lo}, {"y_max", hi},
+                             {"z_min", lo}, {"z_max", hi}, {"resolution", double(res)}},
+                            "nome3");
+  a.texts["func"] = "[" + func + "]";
+  return a;
+}
+
+double enclosed_volume(const kernel::PolygonSoup& s) {
+  double vol = 0;
+  size_t off = 0;
+  for (int32_t n : s.face_sizes) {
+    const glm::dvec3 a = s.positions[s.face_vertices[off]];
+    for (int32_t k = 1; k + 1 < n; ++k) {
+      const glm::dvec3 b = s.positions[s.face_vertices[off + k]];
+      const glm::dvec3 c = s.positions[s.face_vertices[off + k + 1]];
+      vol += (a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
+              a.z * (b.x * c.y - b.y * c.x)) / 6.0;
+    }
+    off += n;
+  }
+  return vol;
+}
+
+TEST(GenImplicitSurf, SphereIsClosedAndOutward) {
+  Generated g = run("genimplicitsurf", implicit("x^2 + y^2 + z^2 - 1", -1.5, 1.5, 12));
+  kernel::TopologyReport r = topo(g.soup);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_TRUE(r.is_closed);
+  EXPECT_TRUE(r.is_orientable);
+  EXPECT_EQ(r.components[0].mobius_edge_count, 0);
+  EXPECT_NEAR(enclosed_volume(g.soup), 4.0 / 3.0 * M_PI, 0.3);
+  for (const glm::dvec3& p : g.soup.positions) {
+    EXPECT_NEAR(std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), 1.0, 0.1);
+  }
+}
+
+TEST(GenImplicitSurf, TorusAndClippedPlane) {
+  kernel::TopologyReport torus =
+      topo(run("genimplicitsurf", implicit("(sqrt(x^2 + y^2) - 1)^2 + z^2 - 0.16", -1.6, 1.6, 24)).soup);
+  EXPECT_EQ(torus.components.size(), 1u);
+  EXPECT_EQ(torus.euler_characteristic, 0);
+  EXPECT_TRUE(torus.is_closed);
+  EXPECT_TRUE(torus.is_orientable);
+  // A plane cut by the box is a disk; a function without zeros gives nothing.
+  kernel::TopologyReport plane = topo(run("genimplicitsurf", implicit("z - 0.1", -1, 1, 4)).soup);
+  EXPECT_EQ(plane.euler_characteristic, 1);
+  EXPECT_EQ(plane.border_loop_count, 1);
+  EXPECT_EQ(run("genimplicitsurf", implicit("1 + x^2", -1, 1, 4)).soup.face_count(), 0);
+}
+
+TEST(GenImplicitSurf, Errors) {
+  EXPECT_EQ(run_error("genimplicitsurf", implicit("x + w", -1, 1, 4)).argument, "func");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit("x", -1, 1, 0)).argument, "resolution");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit("x", -1, 1, 1000)).argument, "resolution");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit("log(x)", -1, 1, 4)).argument, "func");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit("x", 1, -1, 4)).argument, "x_max");
 }
 
 }  // namespace
