@@ -24,6 +24,7 @@ constexpr std::array kGenerators = {
     Entry{"tunnel", &detail::make_tunnel},
     Entry{"circle", &detail::make_circle},
     Entry{"mobiusstrip", &detail::make_mobiusstrip},
+    Entry{"rimribbon", &detail::make_rimribbon},
     Entry{"torus", &detail::make_torus},
     Entry{"sphere", &detail::make_sphere},
     Entry{"ellipsoid", &detail::make_ellipsoid},

@@ -11,6 +11,7 @@ Generated make_funnel(const ArgReader& a);
 Generated make_tunnel(const ArgReader& a);
 Generated make_circle(const ArgReader& a);
 Generated make_mobiusstrip(const ArgReader& a);
+Generated make_rimribbon(const ArgReader& a);
 // surfaces.cpp
 Generated make_torus(const ArgReader& a);
 Generated make_sphere(const ArgReader& a);

@@ -133,3 +133,91 @@ Generated make_mobiusstrip(const ArgReader& a) {
 }
 
 }  // namespace nomec::backend::detail
+
+namespace nomec::backend::detail {
+namespace {
+
+glm::dvec3 cross3(const glm::dvec3& u, const glm::dvec3& v) {
+  return {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
+}
+double dot3(const glm::dvec3& u, const glm::dvec3& v) { return u.x * v.x + u.y * v.y + u.z * v.z; }
+double len3(const glm::dvec3& u) { return std::sqrt(dot3(u, u)); }
+// Rotates `v` (perpendicular to unit `axis`) by `angle` radians about `axis`.
+glm::dvec3 rotate_about(const glm::dvec3& v, const glm::dvec3& axis, double angle) {
+  return std::cos(angle) * v + std::sin(angle) * cross3(axis, v);
+}
+
+}  // namespace
+
+Generated make_rimribbon(const ArgReader& a) {
+  const auto& pts = a.raw().points;
+  const int m = static_cast<int>(pts.size());
+  const bool closed = (a.has("closed") && a.number({"closed"}).value != 0.0) ||
+                      a.raw().texts.find("closed") != a.raw().texts.end();
+  if (m < (closed ? 3 : 2)) {
+    fail("path", "a rim ribbon needs a path of at least " + std::string(closed ? "3" : "2") +
+                     " points, got " + std::to_string(m));
+  }
+  for (int k = 0; k + 1 < m + (closed ? 1 : 0); ++k) {
+    if (len3(pts[(k + 1) % m] - pts[k]) == 0.0) {
+      fail("path", "the path repeats point " + std::to_string(k) + " (zero-length segment)");
+    }
+  }
+  const double width = a.number({"width"}).value;
+  if (width == 0.0) {
+    fail("width", "`width` must not be 0");
+  }
+  const double azimuth = radians(a.number_or({"azimuth"}, 0.0).value);
+  const double twist = radians(a.number_or({"twist"}, 0.0).value);
+  // Unit tangents (central differences) and arc length.
+  std::vector<glm::dvec3> tan(m);
+  std::vector<double> arc(m + 1, 0.0);
+  for (int k = 0; k < m; ++k) {
+    const glm::dvec3 prev = (k > 0 || closed) ? pts[k] - pts[(k + m - 1) % m] : glm::dvec3(0.0);
+    const glm::dvec3 next = (k + 1 < m || closed) ? pts[(k + 1) % m] - pts[k] : glm::dvec3(0.0);
+    glm::dvec3 t = (len3(prev) > 0 ? prev / len3(prev) : prev) + (len3(next) > 0 ? next / len3(next) : next);
+    if (len3(t) < 1e-12) t = next;  // a path that doubles back: use the outgoing segment
+    tan[k] = t / len3(t);
+    if (k + 1 < m || closed) arc[k + 1] = arc[k] + len3(next);
+  }
+  const double total = closed ? arc[m] : arc[m - 1];
+  // Start direction: +z (else +x) made perpendicular to the first tangent, turned by azimuth.
+  glm::dvec3 ref(0, 0, 1);
+  if (std::abs(dot3(ref, tan[0])) > 0.99) ref = glm::dvec3(1, 0, 0);
+  glm::dvec3 n0 = ref - dot3(ref, tan[0]) * tan[0];
+  n0 = rotate_about(n0 / len3(n0), tan[0], azimuth);
+  // Parallel transport by projection; for a closed path the holonomy (the angle the
+  // transported direction is off by after one loop) is spread evenly along the path.
+  std::vector<glm::dvec3> nrm(m);
+  nrm[0] = n0;
+  for (int k = 1; k < m; ++k) {
+    glm::dvec3 v = nrm[k - 1] - dot3(nrm[k - 1], tan[k]) * tan[k];
+    if (len3(v) < 1e-12) v = cross3(tan[k], cross3(nrm[k - 1], tan[k]));
+    nrm[k] = v / len3(v);
+  }
+  double holonomy = 0.0;
+  if (closed) {
+    glm::dvec3 back = nrm[m - 1] - dot3(nrm[m - 1], tan[0]) * tan[0];
+    if (len3(back) > 1e-12) {
+      back = back / len3(back);
+      holonomy = std::atan2(dot3(cross3(back, n0), tan[0]), dot3(back, n0));
+    }
+  }
+  Generated g;
+  for (int k = 0; k < m; ++k) {
+    g.soup.add_vertex(pts[k], "bc" + std::to_string(k));
+  }
+  for (int k = 0; k < m; ++k) {
+    const double s = total > 0 ? arc[k] / total : 0.0;
+    const glm::dvec3 d = rotate_about(nrm[k], tan[k], twist * s + holonomy * s);
+    g.soup.add_vertex(pts[k] + width * d, "hc" + std::to_string(k));
+  }
+  add_band(g.soup, 0, m, m);
+  if (!closed) {
+    g.soup.face_sizes.pop_back();
+    g.soup.face_vertices.resize(g.soup.face_vertices.size() - 4);
+  }
+  return g;
+}
+
+}  // namespace nomec::backend::detail

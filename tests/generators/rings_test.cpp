@@ -188,5 +188,50 @@ TEST(MobiusStrip, Errors) {
             "num_twists");
 }
 
+GeneratorArgs ribbon(std::vector<glm::dvec3> path, std::vector<std::pair<std::string, double>> nums) {
+  GeneratorArgs a = numbers(std::move(nums));
+  a.points = std::move(path);
+  for (size_t i = 0; i < a.points.size(); ++i) a.point_names.push_back("p" + std::to_string(i));
+  return a;
+}
+
+TEST(RimRibbon, OpenPathGivesAStrip) {
+  Generated g = run("rimribbon", ribbon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{"width", 1}}));
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.vertex_count, 6);
+  EXPECT_EQ(r.face_count, 2);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_EQ(r.border_loop_count, 1);
+  expect_near(named(g.soup, "bc1"), {1, 0, 0});
+  expect_near(named(g.soup, "hc1"), {1, 0, 1});
+  // A quarter twist over the path turns the far edge from +z to -y.
+  Generated t = run("rimribbon", ribbon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{"width", 1}, {"twist", 90}}));
+  expect_near(named(t.soup, "hc0"), {0, 0, 1});
+  expect_near(named(t.soup, "hc2"), {2, -1, 0});
+  // Azimuth turns the start direction about the first tangent.
+  Generated az = run("rimribbon", ribbon({{0, 0, 0}, {1, 0, 0}}, {{"width", 2}, {"azimuth", -90}}));
+  expect_near(named(az.soup, "hc0"), {0, 2, 0});
+}
+
+TEST(RimRibbon, ClosedPathGivesAnAnnulus) {
+  std::vector<glm::dvec3> square = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  Generated g = run("rimribbon", ribbon(square, {{"width", 0.5}, {"closed", 1}}));
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.vertex_count, 8);
+  EXPECT_EQ(r.edge_count, 12);
+  EXPECT_EQ(r.face_count, 4);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_EQ(r.border_loop_count, 2);
+  EXPECT_TRUE(r.is_orientable);
+  expect_near(named(g.soup, "hc2"), {-1, 0, 0.5});
+}
+
+TEST(RimRibbon, Errors) {
+  EXPECT_EQ(run_error("rimribbon", ribbon({{0, 0, 0}}, {{"width", 1}})).argument, "path");
+  EXPECT_EQ(run_error("rimribbon", ribbon({{0, 0, 0}, {0, 0, 0}}, {{"width", 1}})).argument, "path");
+  EXPECT_EQ(run_error("rimribbon", ribbon({{0, 0, 0}, {1, 0, 0}}, {{"width", 0}})).argument, "width");
+  EXPECT_EQ(run_error("rimribbon", ribbon({{0, 0, 0}, {1, 0, 0}}, {})).argument, "width");
+}
+
 }  // namespace
 }  // namespace nomec::backend::testing
