@@ -1,7 +1,11 @@
 // The `nomec` command line: checks NOME/NOME3/SLIDE files and prints diagnostics (text like
-// clang, or JSON), or emits the IR dump or the dependency graph. The first client of the
+// clang, or JSON), or emits the IR dump, the dependency graph, meshes (STL/OBJ/PLY through
+// backend/) or a JSON topology summary of them. The first client of the
 // nomec libraries; it knows only what they expose.
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <fmt/format.h>
 #include <fstream>
@@ -10,8 +14,11 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "backend/evaluate.h"
+#include "backend/write.h"
 #include "frontend/check/check.h"
 #include "ir/ir.h"
+#include "kernel/topology.h"
 
 namespace {
 
@@ -59,6 +66,38 @@ nlohmann::json diag_json(const nomec::SourceManager& sources, const nomec::Diagn
   return j;
 }
 
+double round6(double x) { return std::round(x * 1e6) / 1e6; }
+
+// `--emit summary`: one object per output mesh (kernel::topology of the built mesh).
+nlohmann::json summary_json(const std::string& path, const std::vector<nomec::backend::OutputMesh>& meshes) {
+  nlohmann::json out = {{"file", path}, {"meshes", nlohmann::json::array()}};
+  for (const auto& m : meshes) {
+    nomec::kernel::TopologyReport t = nomec::kernel::topology(m.mesh);
+    int32_t genus = 0;
+    for (const auto& c : t.components) genus += c.genus;
+    nomec::kernel::BoundingBox b = nomec::kernel::bounding_box(m.mesh);
+    nlohmann::json bbox = nullptr;
+    if (b.min.x <= b.max.x) {
+      bbox = {{"min", {round6(b.min.x), round6(b.min.y), round6(b.min.z)}},
+              {"max", {round6(b.max.x), round6(b.max.y), round6(b.max.z)}}};
+    }
+    out["meshes"].push_back({{"name", m.name},
+                             {"vertices", t.vertex_count},
+                             {"edges", t.edge_count},
+                             {"faces", t.face_count},
+                             {"euler", t.euler_characteristic},
+                             {"orientable", t.is_orientable},
+                             {"border_loops", t.border_loop_count},
+                             {"genus", genus},
+                             {"components", t.components.size()},
+                             {"closed", t.is_closed},
+                             {"curves", m.curve_count},
+                             {"bounding_box", bbox},
+                             {"position_hash", fmt::format("{:016x}", nomec::kernel::position_hash(m.mesh, 1e-3))}});
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -79,8 +118,31 @@ int main(int argc, char** argv) {
   double frame = 0;
   app.add_option("files", files, "Input files (.nome, .nom, .slf, .anom)")->required();
   app.add_flag("--check", check_only, "Check the files and report diagnostics (default)");
-  app.add_option("--emit", emit, "Emit `ir` (readable typed IR) or `deps` (DOT graph)")
-      ->check(CLI::IsMember({"ir", "deps"}));
+  app.add_option("--emit", emit,
+                 "Emit `ir` (readable typed IR), `deps` (DOT graph), a mesh (`stl`, `obj`, `ply`) "
+                 "or `summary` (JSON topology per output mesh)")
+      ->check(CLI::IsMember({"ir", "deps", "stl", "obj", "ply", "summary"}));
+  std::string output;
+  bool stl_ascii = false;
+  bool time_report = false;
+  nomec::backend::PipelineOptions pipeline;
+  std::string rule = "catmull-clark";
+  app.add_option("-o", output, "Output file (`-` = standard output); default: the input's "
+                               "basename with the format's extension (summary: standard output)");
+  app.add_flag("--stl-ascii", stl_ascii, "Write ASCII STL instead of binary");
+  app.add_flag("--merge", pipeline.is_merge, "Merge coinciding boundary edges of the whole scene");
+  app.add_option("--merge-tolerance", pipeline.merge_tolerance,
+                 "Merge tolerance (default 1e-4 x bounding-box diagonal)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--subdivide", pipeline.subdivide_levels, "Catmull-Clark levels after merging")
+      ->check(CLI::Range(0, 12));
+  app.add_option("--rule", rule, "Smooth-vertex rule: catmull-clark or derose")
+      ->check(CLI::IsMember({"catmull-clark", "derose"}));
+  app.add_option("--offset", pipeline.offset_height, "Offset the (merged, subdivided) scene into a slab of this half-thickness")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--subdivide-after", pipeline.subdivide_after_levels, "Catmull-Clark levels after the offset")
+      ->check(CLI::Range(0, 12));
+  app.add_flag("--time-report", time_report, "Print the time of each stage to stderr");
   app.add_option("--dialect", dialect, "Force the dialect instead of detecting it")
       ->check(CLI::IsMember({"nome", "nome3", "slide"}));
   app.add_option("-D", defines, "Override a slider: -D bank.param=value (repeatable)");
@@ -100,6 +162,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
     return e.get_exit_code() == 0 ? code : 2;
+  }
+  pipeline.rule = rule == "derose" ? nomec::kernel::VertexRule::DeRose : nomec::kernel::VertexRule::CatmullClark;
+  const bool emit_mesh = emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary";
+  if (!emit_mesh && (pipeline.any() || !output.empty() || stl_ascii || time_report)) {
+    std::cerr << "nomec: -o, --stl-ascii, --time-report, --merge, --subdivide, --offset and "
+                 "--subdivide-after need --emit stl|obj|ply|summary\n";
+    return 2;
   }
   if (!emit.empty() && files.size() != 1) {
     std::cerr << "nomec: --emit takes exactly one input file\n";
@@ -137,6 +206,95 @@ int main(int argc, char** argv) {
 
   int errors = 0;
   nlohmann::json json_out = nlohmann::json::array();
+
+  // Evaluates the checked scene, runs the --merge/--subdivide/--offset pipeline and writes
+  // the requested format. Returns the number of errors (diagnostics or a failed write).
+  auto emit_meshes = [&](const std::string& path, const nomec::SourceManager& sources,
+                         const nomec::ir::Module& module, double check_ms) -> int {
+    namespace be = nomec::backend;
+    const bool progress = isatty(STDERR_FILENO) != 0;
+    auto say = [&](std::string_view stage) {
+      if (progress) {
+        std::cerr << fmt::format("\r\033[Knomec: {}: {}…", path, stage) << std::flush;
+      }
+    };
+    be::StageTimings timings;
+    nomec::DiagnosticEngine geo;
+    say("evaluate");
+    std::vector<be::OutputMesh> meshes = be::evaluate_scene(module, geo, &timings);
+    if (geo.error_count() == 0 && pipeline.any()) {
+      std::string stem = std::filesystem::path(path).stem().string();
+      nomec::SourceRange where;
+      if (!module.scene.empty()) {
+        where = module.node(module.scene.front()).range;
+      }
+      meshes = be::run_pipeline(std::move(meshes), pipeline, stem, where, geo, &timings, say);
+    }
+    if (progress) {
+      std::cerr << "\r\033[K" << std::flush;
+    }
+    geo.sort_and_dedupe();
+    for (const auto& d : geo.diagnostics()) {
+      if (format == "json") {
+        json_out.back()["diagnostics"].push_back(diag_json(sources, d, werror));
+      } else {
+        std::cerr << nomec::render_text(sources, d, werror, use_color);
+      }
+    }
+    if (geo.error_count() > 0) {
+      return geo.error_count();
+    }
+    auto write_start = std::chrono::steady_clock::now();
+    std::string target = output;
+    std::string ext = emit == "summary" ? "json" : emit;
+    if (target.empty()) {
+      target = emit == "summary" ? "-" : std::filesystem::path(path).stem().string() + "." + ext;
+    }
+    std::string content;
+    std::string mtl;
+    if (emit == "stl") {
+      content = stl_ascii ? be::to_stl_ascii(meshes) : be::to_stl_binary(meshes);
+    } else if (emit == "ply") {
+      content = be::to_ply(meshes);
+    } else if (emit == "summary") {
+      content = summary_json(path, meshes).dump(2) + "\n";
+    } else {
+      bool colored = std::any_of(meshes.begin(), meshes.end(),
+                                 [](const be::OutputMesh& m) { return !m.soup.face_colors.empty(); });
+      std::string mtl_name;
+      if (target != "-" && colored) {
+        mtl_name = std::filesystem::path(target).stem().string() + ".mtl";
+        mtl = be::to_mtl(meshes);
+      }
+      content = be::to_obj(meshes, mtl_name);
+    }
+    int failed = 0;
+    if (target == "-") {
+      std::cout.write(content.data(), static_cast<std::streamsize>(content.size()));
+      std::cout.flush();
+    } else {
+      std::string err = be::write_file_atomically(target, content);
+      if (err.empty() && !mtl.empty()) {
+        std::filesystem::path mtl_path = std::filesystem::path(target).replace_extension(".mtl");
+        err = be::write_file_atomically(mtl_path.string(), mtl);
+      }
+      if (!err.empty()) {
+        std::cerr << fmt::format("nomec: {}\n", err);
+        failed = 1;
+      }
+    }
+    double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - write_start).count();
+    if (time_report) {
+      double total = check_ms + timings.evaluate_ms + timings.merge_ms + timings.subdivide_ms +
+                     timings.offset_ms + write_ms;
+      std::cerr << fmt::format(
+          "time report for {} (ms):\n  parse+check {:10.2f}\n  evaluate    {:10.2f}\n  merge       {:10.2f}\n"
+          "  subdivide   {:10.2f}\n  offset      {:10.2f}\n  write       {:10.2f}\n  total       {:10.2f}\n",
+          path, check_ms, timings.evaluate_ms, timings.merge_ms, timings.subdivide_ms, timings.offset_ms,
+          write_ms, total);
+    }
+    return failed;
+  };
   for (const std::string& path : files) {
     std::optional<std::string> text = read_file(path);
     if (!text) {
@@ -145,7 +303,9 @@ int main(int argc, char** argv) {
     }
     nomec::SourceManager sources;
     nomec::DiagnosticEngine diags;
+    auto check_start = std::chrono::steady_clock::now();
     nomec::CheckResult result = nomec::check_source(sources, path, std::move(*text), options, diags);
+    double check_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - check_start).count();
     diags.sort_and_dedupe();
     if (format == "json") {
       nlohmann::json file = {{"file", path},
@@ -173,6 +333,8 @@ int main(int argc, char** argv) {
       std::cout << nomec::ir::dump_ir(result.module, sources);
     } else if (emit == "deps") {
       std::cout << nomec::ir::dump_deps_dot(result.module);
+    } else if (emit_mesh && file_errors == 0) {
+      errors += emit_meshes(path, sources, result.module, check_ms);
     }
   }
   if (format == "json") {

@@ -1,0 +1,822 @@
+// Scene evaluation: walks the IR scene, composes transform chains, instantiates meshes and
+// generators, runs pipeline blocks through the kernel and turns kernel and generator
+// failures into located diagnostics (see evaluate.h).
+#include "backend/evaluate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat4x4.hpp>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "backend/generators/generators.h"
+#include "kernel/merge.h"
+#include "kernel/offset.h"
+#include "kernel/topology.h"
+
+namespace nomec::backend {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::string short_name(std::string_view qualified) {
+  size_t dot = qualified.rfind('.');
+  return std::string(dot == std::string_view::npos ? qualified : qualified.substr(dot + 1));
+}
+
+const ir::Field* find_field(const ir::Node& n, std::string_view name) {
+  for (const ir::Field& f : n.fields) {
+    if (f.name == name) {
+      return &f;
+    }
+  }
+  return nullptr;
+}
+
+// Faces collected for one scene entry or one pipeline block's input.
+//
+// Rationale: the soup is the kernel's input format, so faces are appended to it directly;
+// the parallel arrays hold what the soup has no room for: whether a face got a colour
+// (uncoloured faces get a neutral grey only if some face is coloured) and the face's scene
+// path (`cf.fun3.f1`) for `delete` edits.
+struct Collected {
+  kernel::PolygonSoup soup;
+  std::vector<uint8_t> has_color;
+  std::vector<std::string> face_paths;
+  int32_t curve_count = 0;
+};
+
+constexpr glm::vec3 kDefaultColor{0.8f, 0.8f, 0.8f};
+
+// Appends `part` (already in its own frame) to `out` transformed by `t`.
+void append_soup(Collected& out, const kernel::PolygonSoup& part, const glm::dmat4& t,
+                 const std::optional<glm::vec3>& color, bool part_colored) {
+  const int32_t base = out.soup.vertex_count();
+  const bool flip = glm::determinant(glm::dmat3(t)) < 0;
+  for (int32_t v = 0; v < part.vertex_count(); ++v) {
+    glm::dvec3 p = glm::dvec3(t * glm::dvec4(part.positions[v], 1.0));
+    std::string name = part.names.empty() ? std::string() : part.names[v];
+    if (!out.soup.names.empty() || !name.empty()) {
+      out.soup.names.resize(out.soup.positions.size());
+      out.soup.names.push_back(std::move(name));
+    }
+    out.soup.positions.push_back(p);
+  }
+  size_t at = 0;
+  std::vector<int32_t> face;
+  for (int32_t f = 0; f < part.face_count(); ++f) {
+    face.assign(part.face_vertices.begin() + at, part.face_vertices.begin() + at + part.face_sizes[f]);
+    at += part.face_sizes[f];
+    for (int32_t& v : face) {
+      v += base;
+    }
+    if (flip) {
+      std::reverse(face.begin() + 1, face.end());
+    }
+    out.soup.add_face(face);
+    out.soup.face_sources.push_back(part.face_sources.empty() ? kernel::FaceSource{}
+                                                              : part.face_sources[f]);
+    if (part_colored && !part.face_colors.empty()) {
+      out.soup.face_colors.push_back(part.face_colors[f]);
+      out.has_color.push_back(1);
+    } else {
+      out.soup.face_colors.push_back(color.value_or(kDefaultColor));
+      out.has_color.push_back(color.has_value() ? 1 : 0);
+    }
+    out.face_paths.emplace_back();
+  }
+  for (const auto& c : part.creases) {
+    out.soup.creases.push_back({c.a + base, c.b + base, c.sharpness});
+  }
+  for (const auto& c : part.corners) {
+    out.soup.corners.push_back({c.vertex + base, c.sharpness});
+  }
+}
+
+bool is_soup_edge(const kernel::PolygonSoup& s, int32_t a, int32_t b) {
+  size_t at = 0;
+  for (int32_t f = 0; f < s.face_count(); ++f) {
+    const int32_t n = s.face_sizes[f];
+    for (int32_t i = 0; i < n; ++i) {
+      int32_t u = s.face_vertices[at + i], w = s.face_vertices[at + (i + 1) % n];
+      if ((u == a && w == b) || (u == b && w == a)) return true;
+    }
+    at += n;
+  }
+  return false;
+}
+
+// Drops the colour array when no face was given a colour.
+kernel::PolygonSoup finish(Collected& c) {
+  if (std::none_of(c.has_color.begin(), c.has_color.end(), [](uint8_t b) { return b != 0; })) {
+    c.soup.face_colors.clear();
+  }
+  if (!c.soup.names.empty()) {
+    c.soup.names.resize(c.soup.positions.size());
+  }
+  return std::move(c.soup);
+}
+
+class Evaluator {
+ public:
+  Evaluator(const ir::Module& m, DiagnosticEngine& diags) : m_(m), diags_(diags) {
+    kids_.resize(m.nodes.size());
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      ir::NodeId p = m.nodes[i].parent;
+      if (p.is_valid()) {
+        kids_[p.index].push_back(ir::NodeId{static_cast<int32_t>(i)});
+      }
+    }
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      const ir::Node& n = m.nodes[i];
+      if (n.kind == ir::NodeKind::Edit && n.keyword == "delete") {
+        if (const ir::Field* f = find_field(n, "faces")) {
+          size_t start = 0;
+          const std::string& t = f->text;
+          while (start < t.size()) {
+            size_t end = t.find(' ', start);
+            if (end == std::string::npos) end = t.size();
+            if (end > start) deleted_.push_back(normalize(t.substr(start, end - start)));
+            start = end + 1;
+          }
+        }
+      }
+    }
+  }
+
+  std::map<int32_t, std::string> instance_paths;
+
+  // Evaluates one scene entry into an output mesh (false if it produced nothing).
+  bool scene_entry(ir::NodeId id, OutputMesh& out) {
+    const ir::Node& n = m_.node(id);
+    Collected c;
+    if (n.kind == ir::NodeKind::Instance) {
+      instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
+    } else if (n.kind == ir::NodeKind::Pipeline) {
+      pipeline(id, glm::dmat4(1.0), std::nullopt, short_name(n.name), c, 0);
+    } else {
+      return false;
+    }
+    apply_deletes(c);
+    out.name = short_name(n.name);
+    out.scene_node = id;
+    out.curve_count = c.curve_count;
+    if (c.soup.face_count() == 0 && c.curve_count == 0) {
+      return false;
+    }
+    out.soup = finish(c);
+    auto built = kernel::build_mesh(out.soup);
+    if (!built) {
+      report(built.error(), out.soup, n.range, out.name);
+      return false;
+    }
+    out.mesh = std::move(*built);
+    return true;
+  }
+
+  // Converts a kernel error into a diagnostic at the face statement that caused it.
+  void report(const kernel::KernelError& e, const kernel::PolygonSoup& soup, SourceRange fallback,
+              std::string_view what) {
+    DiagKind kind = e.kind == kernel::KernelError::Kind::NonManifoldEdge ||
+                            e.kind == kernel::KernelError::Kind::NonManifoldVertex ||
+                            e.kind == kernel::KernelError::Kind::NonManifoldMerge
+                        ? DiagKind::NonManifoldGeometry
+                        : DiagKind::GeometryFailed;
+    std::vector<std::pair<SourceRange, std::string>> places;
+    for (kernel::FaceId f : e.faces) {
+      if (f.index < 0 || static_cast<size_t>(f.index) >= soup.face_sources.size()) continue;
+      const kernel::FaceSource& s = soup.face_sources[f.index];
+      SourceRange r = s.source_face >= 0 ? m_.nodes[s.source_face].range : fallback;
+      std::string label;
+      if (s.source_face >= 0) {
+        const ir::Node& src = m_.nodes[s.source_face];
+        label = src.kind == ir::NodeKind::Face ? fmt::format("face `{}`", short_name(src.name))
+                                               : fmt::format("`{}` `{}`", src.keyword, short_name(src.name));
+      }
+      auto it = instance_paths.find(s.instance);
+      if (it != instance_paths.end()) {
+        label += fmt::format(" of instance `{}`", it->second);
+      }
+      places.emplace_back(r, label);
+      if (places.size() >= 4) break;
+    }
+    std::string where = places.empty() ? fmt::format(" in `{}`", what) : fmt::format(" ({})", places[0].second);
+    SourceRange at = places.empty() ? fallback : places[0].first;
+    std::string message = fmt::format("{}{}", e.message, where);
+    auto d = kind == DiagKind::NonManifoldGeometry
+                 ? diags_.emit(DiagKind::NonManifoldGeometry, at, std::move(message))
+                 : diags_.emit(DiagKind::GeometryFailed, at, std::move(message));
+    for (size_t i = 1; i < places.size(); ++i) {
+      d.note(places[i].first, fmt::format("also involves {}", places[i].second));
+    }
+  }
+
+ private:
+  static std::string normalize(std::string s) {
+    std::replace(s.begin(), s.end(), '.', '_');
+    return s;
+  }
+
+  void apply_deletes(Collected& c) {
+    if (deleted_.empty()) return;
+    std::vector<uint8_t> drop(c.soup.face_count(), 0);
+    bool any = false;
+    for (int32_t f = 0; f < c.soup.face_count(); ++f) {
+      if (c.face_paths[f].empty()) continue;
+      std::string p = normalize(c.face_paths[f]);
+      for (const std::string& d : deleted_) {
+        if (p == d || (p.size() > d.size() && p.ends_with(d) && p[p.size() - d.size() - 1] == '_')) {
+          drop[f] = 1;
+          any = true;
+        }
+      }
+    }
+    if (!any) return;
+    Collected k;
+    k.soup.positions = c.soup.positions;
+    k.soup.names = c.soup.names;
+    k.soup.creases = c.soup.creases;
+    k.soup.corners = c.soup.corners;
+    k.curve_count = c.curve_count;
+    size_t at = 0;
+    for (int32_t f = 0; f < c.soup.face_count(); ++f) {
+      int32_t n = c.soup.face_sizes[f];
+      if (!drop[f]) {
+        k.soup.add_face(std::span<const int32_t>(c.soup.face_vertices.data() + at, n));
+        k.soup.face_sources.push_back(c.soup.face_sources[f]);
+        k.soup.face_colors.push_back(c.soup.face_colors[f]);
+        k.has_color.push_back(c.has_color[f]);
+        k.face_paths.push_back(c.face_paths[f]);
+      }
+      at += n;
+    }
+    // Creases whose edge vanished with the faces would be refused by the kernel.
+    c = std::move(k);
+  }
+
+  double scalar(const ir::Field& f, size_t i, double fallback) {
+    if (i >= f.exprs.size()) return fallback;
+    ir::EvalResult r = ir::evaluate(m_, f.exprs[i]);
+    if (!r.ok) {
+      diags_.emit(DiagKind::GeometryFailed, r.where.is_valid() ? r.where : f.range,
+                  fmt::format("cannot evaluate `{}`: {}", f.name, r.problem));
+      return fallback;
+    }
+    return r.value;
+  }
+
+  glm::dvec3 vec3(const ir::Field& f, double fallback = 0) {
+    return {scalar(f, 0, fallback), scalar(f, 1, fallback), scalar(f, 2, fallback)};
+  }
+
+  // The transform chain of an instance, in written order (first written acts first).
+  glm::dmat4 local(const ir::Node& inst) {
+    glm::dmat4 t(1.0);
+    for (const ir::Field& f : inst.fields) {
+      glm::dmat4 step(1.0);
+      if (f.name == "translate" && f.kind == ir::FieldKind::Vector) {
+        step = glm::translate(glm::dmat4(1.0), vec3(f));
+      } else if (f.name == "scale" && f.kind == ir::FieldKind::Vector) {
+        step = glm::scale(glm::dmat4(1.0), vec3(f, 1));
+      } else if (f.name == "rotate" && f.kind == ir::FieldKind::Vector) {
+        glm::dvec3 axis = vec3(f);
+        double deg = scalar(f, 3, 0);
+        if (glm::length(axis) > 0) {
+          step = glm::rotate(glm::dmat4(1.0), glm::radians(deg), glm::normalize(axis));
+        }
+      } else if (f.name == "mirror" && f.kind == ir::FieldKind::Vector) {
+        glm::dvec3 n = vec3(f);
+        double d = scalar(f, 3, 0);
+        double len = glm::length(n);
+        if (len > 0) {
+          n /= len;
+          d /= len;
+          // x' = x - 2 (n·x - d) n
+          glm::dmat3 l = glm::dmat3(1.0) - 2.0 * glm::outerProduct(n, n);
+          step = glm::dmat4(l);
+          step[3] = glm::dvec4(2.0 * d * n, 1.0);
+        }
+      } else {
+        continue;
+      }
+      t = step * t;
+    }
+    return t;
+  }
+
+  // World transform of an instance as first placed in the scene (also for hidden ones).
+  glm::dmat4 world_of(ir::NodeId inst, int depth = 0) {
+    if (auto it = world_.find(inst.index); it != world_.end()) return it->second;
+    const ir::Node& n = m_.node(inst);
+    glm::dmat4 parent(1.0);
+    if (n.parent.is_valid() && depth < 64) {
+      const ir::Node& p = m_.node(n.parent);
+      if (p.kind == ir::NodeKind::Group || p.kind == ir::NodeKind::Pipeline) {
+        // The first instance that places the enclosing group or block.
+        for (size_t i = 0; i < m_.nodes.size(); ++i) {
+          const ir::Node& c = m_.nodes[i];
+          if (c.kind == ir::NodeKind::Instance && c.target == n.parent) {
+            parent = world_of(ir::NodeId{static_cast<int32_t>(i)}, depth + 1);
+            break;
+          }
+        }
+      }
+    }
+    glm::dmat4 w = parent * local(n);
+    world_.emplace(inst.index, w);
+    return w;
+  }
+
+  std::optional<glm::vec3> surface_color(const ir::Node& n) {
+    const ir::Field* s = find_field(n, "surface");
+    if (s == nullptr || s->refs.empty() || !s->refs[0].is_valid()) return std::nullopt;
+    const ir::Node& surf = m_.node(s->refs[0]);
+    const ir::Field* c = find_field(surf, "color");
+    if (c == nullptr) return std::nullopt;
+    glm::dvec3 v = vec3(*c);
+    return glm::vec3(glm::clamp(v, 0.0, 1.0));
+  }
+
+  // Runs a generator once per node; errors are reported once.
+  const Generated* generated(ir::NodeId gen_id, std::string_view inst_path) {
+    if (auto it = generated_.find(gen_id.index); it != generated_.end()) {
+      return it->second ? &*it->second : nullptr;
+    }
+    const ir::Node& g = m_.node(gen_id);
+    GeneratorArgs args;
+    args.dialect = m_.dialect;
+    for (const ir::Field& f : g.fields) {
+      if (f.kind == ir::FieldKind::Scalar && !f.exprs.empty()) {
+        args.numbers[f.name] = scalar(f, 0, 0);
+      } else if (f.kind == ir::FieldKind::Text) {
+        args.texts[f.name] = f.text;
+      } else if (f.kind == ir::FieldKind::Refs) {
+        for (ir::NodeId p : f.refs) {
+          if (!p.is_valid() || m_.node(p).kind != ir::NodeKind::Point) continue;
+          if (const ir::Field* pos = find_field(m_.node(p), "position")) {
+            args.points.push_back(vec3(*pos));
+            args.point_names.push_back(short_name(m_.node(p).name));
+          }
+        }
+      }
+    }
+    GeneratorResult r = generate(g.keyword, args);
+    if (!r.ok()) {
+      SourceRange at = g.range;
+      if (!r.error.argument.empty()) {
+        if (const ir::Field* f = find_field(g, r.error.argument)) at = f->range.is_valid() ? f->range : at;
+      }
+      diags_.emit(DiagKind::GeometryFailed, at,
+                  fmt::format("`{}` `{}`: {}{}", g.keyword, short_name(g.name), r.error.message,
+                              inst_path.empty() ? "" : fmt::format(" (in instance `{}`)", inst_path)));
+      generated_.emplace(gen_id.index, std::nullopt);
+      return nullptr;
+    }
+    auto [it, _] = generated_.emplace(gen_id.index, std::move(r.value));
+    return &*it->second;
+  }
+
+  // Local position of a vertex reference of a face in a mesh.
+  std::optional<glm::dvec3> ref_position(const ir::VertexRef& ref, std::string_view inst_path) {
+    if (ref.point.is_valid()) {
+      if (const ir::Field* pos = find_field(m_.node(ref.point), "position")) return vec3(*pos);
+      return std::nullopt;
+    }
+    if (ref.instances.empty() || !ref.instances[0].is_valid()) return std::nullopt;
+    glm::dmat4 t = world_of(ref.instances[0]);
+    for (size_t i = 1; i < ref.instances.size(); ++i) {
+      if (!ref.instances[i].is_valid()) return std::nullopt;
+      t = t * local(m_.node(ref.instances[i]));
+    }
+    ir::NodeId target = m_.node(ref.instances.back()).target;
+    if (!target.is_valid()) return std::nullopt;
+    const ir::Node& tn = m_.node(target);
+    std::optional<glm::dvec3> p;
+    if (tn.kind == ir::NodeKind::Generator || tn.kind == ir::NodeKind::Curve) {
+      if (const Generated* g = generated(target, inst_path)) {
+        for (size_t v = 0; v < g->soup.names.size(); ++v) {
+          if (g->soup.names[v] == ref.vertex) {
+            p = g->soup.positions[v];
+            break;
+          }
+        }
+      } else {
+        return std::nullopt;  // the generator's error was reported
+      }
+    } else if (tn.kind == ir::NodeKind::Mesh) {
+      for (ir::NodeId k : kids_[target.index]) {
+        const ir::Node& kn = m_.node(k);
+        if (kn.kind == ir::NodeKind::Point && short_name(kn.name) == ref.vertex) {
+          if (const ir::Field* pos = find_field(kn, "position")) p = vec3(*pos);
+        }
+      }
+    }
+    if (!p) {
+      diags_.emit(DiagKind::GeometryFailed, ref.range,
+                  fmt::format("`{}` names no vertex of the geometry of `{}`; it has no vertex `{}`",
+                              ref.text, short_name(tn.name), ref.vertex));
+      return std::nullopt;
+    }
+    return glm::dvec3(t * glm::dvec4(*p, 1.0));
+  }
+
+  // Adds the faces of a mesh (or object / consolidate / saved mesh) in its local frame.
+  void mesh(ir::NodeId mesh_id, const std::optional<glm::vec3>& color, const std::string& path,
+            ir::NodeId inst, Collected& out) {
+    const ir::Node& mn = m_.node(mesh_id);
+    std::map<std::string, int32_t> index;  // vertex key -> soup index
+    std::vector<std::string> names;
+    Collected local_c;
+    kernel::PolygonSoup& soup = local_c.soup;
+    auto vertex_index = [&](const ir::VertexRef& ref) -> std::optional<int32_t> {
+      std::string key;
+      if (ref.point.is_valid()) {
+        key = fmt::format("p{}", ref.point.index);
+      } else {
+        for (ir::NodeId i : ref.instances) key += fmt::format("i{}.", i.index);
+        key += ref.vertex;
+      }
+      if (auto it = index.find(key); it != index.end()) return it->second;
+      std::optional<glm::dvec3> p = ref_position(ref, path);
+      if (!p) return std::nullopt;
+      int32_t v = soup.add_vertex(*p, ref.text);
+      index.emplace(key, v);
+      return v;
+    };
+    std::vector<ir::NodeId> faces;
+    if (const ir::Field* objf = find_field(mn, "faces"); objf && objf->kind == ir::FieldKind::Refs) {
+      for (ir::NodeId f : objf->refs) if (f.is_valid()) faces.push_back(f);
+    }
+    for (ir::NodeId k : kids_[mesh_id.index]) {
+      const ir::Node& kn = m_.node(k);
+      if (kn.keyword != "sharp" && find_field(kn, "vertices") != nullptr) faces.push_back(k);
+    }
+    for (ir::NodeId fid : faces) {
+      const ir::Node& fn = m_.node(fid);
+      const ir::Field* vf = find_field(fn, "vertices");
+      if (vf == nullptr || vf->vertices.size() < 3) continue;
+      std::vector<int32_t> face;
+      bool ok = true;
+      for (const ir::VertexRef& r : vf->vertices) {
+        auto v = vertex_index(r);
+        if (!v) {
+          ok = false;
+          break;
+        }
+        face.push_back(*v);
+      }
+      if (!ok) continue;
+      soup.add_face(face);
+      soup.face_sources.push_back({fid.index, inst.index});
+      std::optional<glm::vec3> fc = surface_color(fn);
+      soup.face_colors.push_back(fc.value_or(color.value_or(kDefaultColor)));
+      local_c.has_color.push_back(fc || color ? 1 : 0);
+      std::string fname = short_name(fn.name);
+      local_c.face_paths.push_back(path.empty() ? fname : path + "." + fname);
+    }
+    for (ir::NodeId k : kids_[mesh_id.index]) {
+      const ir::Node& kn = m_.node(k);
+      if (kn.keyword != "sharp") continue;
+      const ir::Field* sf = find_field(kn, "sharpness");
+      float s = sf ? static_cast<float>(scalar(*sf, 0, 0)) : 0.0f;
+      for (const ir::Field& f : kn.fields) {
+        if (f.name != "edges" || f.kind != ir::FieldKind::Vertices) continue;
+        std::vector<int32_t> vs;
+        std::vector<const ir::VertexRef*> refs;
+        for (const ir::VertexRef& r : f.vertices) {
+          if (auto v = vertex_index(r)) {
+            vs.push_back(*v);
+            refs.push_back(&r);
+          }
+        }
+        if (vs.size() == 1) {
+          soup.corners.push_back({vs[0], s});
+        }
+        for (size_t i = 0; i + 1 < vs.size(); ++i) {
+          if (!is_soup_edge(soup, vs[i], vs[i + 1])) {
+            SourceRange r = refs[i]->range;
+            r.end = refs[i + 1]->range.end;
+            diags_.emit(DiagKind::GeometryFailed, r,
+                        fmt::format("`{}` and `{}` are not joined by an edge of mesh `{}`; `sharp` "
+                                    "marks edges between consecutive vertices of a face (instance `{}`)",
+                                    refs[i]->text, refs[i + 1]->text, short_name(mn.name), path));
+            continue;
+          }
+          soup.creases.push_back({vs[i], vs[i + 1], s});
+        }
+      }
+    }
+    // Merge into `out` (identity transform: the caller transforms whole collections).
+    const int32_t face_base = out.soup.face_count();
+    append_soup(out, soup, glm::dmat4(1.0), std::nullopt, true);
+    for (int32_t f = 0; f < soup.face_count(); ++f) {
+      out.has_color[face_base + f] = local_c.has_color[f];
+      out.face_paths[face_base + f] = local_c.face_paths[f];
+    }
+  }
+
+  // Adds an instance of `inst` placed by `parent_t`.
+  void instance(ir::NodeId inst, const glm::dmat4& parent_t, std::optional<glm::vec3> color,
+                const std::string& parent_path, Collected& out, int depth) {
+    const ir::Node& n = m_.node(inst);
+    if (n.is_hidden || !n.target.is_valid()) return;
+    if (depth > 64) {
+      diags_.emit(DiagKind::GeometryFailed, n.range, "instances nest more than 64 levels deep");
+      return;
+    }
+    std::string path = parent_path.empty() ? short_name(n.name) : parent_path + "." + short_name(n.name);
+    instance_paths.emplace(inst.index, path);
+    glm::dmat4 t = parent_t * local(n);
+    if (auto c = surface_color(n)) color = c;
+    target(n.target, t, color, path, inst, out, depth);
+  }
+
+  void target(ir::NodeId tid, const glm::dmat4& t, std::optional<glm::vec3> color,
+              const std::string& path, ir::NodeId inst, Collected& out, int depth) {
+    const ir::Node& tn = m_.node(tid);
+    switch (tn.kind) {
+      case ir::NodeKind::Mesh: {
+        Collected c;
+        mesh(tid, color, path, inst, c);
+        transform_into(out, c, t);
+        return;
+      }
+      case ir::NodeKind::Generator:
+      case ir::NodeKind::Curve: {
+        const Generated* g = generated(tid, path);
+        if (g == nullptr) return;
+        kernel::PolygonSoup s = g->soup;
+        s.face_sources.assign(s.face_count(), kernel::FaceSource{tid.index, inst.index});
+        s.face_colors.clear();
+        append_soup(out, s, t, color, false);
+        out.curve_count += static_cast<int32_t>(g->curves.size());
+        return;
+      }
+      case ir::NodeKind::Polyline:
+        out.curve_count += 1;
+        return;
+      case ir::NodeKind::Group: {
+        if (auto c = surface_color(tn)) color = c;
+        for (ir::NodeId k : kids_[tid.index]) {
+          if (m_.node(k).kind == ir::NodeKind::Instance) instance(k, t, color, path, out, depth + 1);
+        }
+        return;
+      }
+      case ir::NodeKind::Pipeline:
+        pipeline(tid, t, color, path, out, depth + 1);
+        return;
+      case ir::NodeKind::Sweep:
+        diags_.emit(DiagKind::GeometryFailed, tn.range,
+                    fmt::format("sweep `{}` cannot be built yet: sweeps are not implemented in "
+                                "the backend (instance `{}`)", short_name(tn.name), path));
+        return;
+      default:
+        diags_.emit(DiagKind::GeometryFailed, tn.range,
+                    fmt::format("`{}` `{}` produces no geometry the backend can place (instance `{}`)",
+                                tn.keyword, short_name(tn.name), path));
+        return;
+    }
+  }
+
+  void transform_into(Collected& out, Collected& c, const glm::dmat4& t) {
+    const int32_t face_base = out.soup.face_count();
+    kernel::PolygonSoup s = c.soup;
+    append_soup(out, s, t, std::nullopt, true);
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      out.has_color[face_base + f] = c.has_color[f];
+      out.face_paths[face_base + f] = c.face_paths[f];
+    }
+    out.curve_count += c.curve_count;
+  }
+
+  // Evaluates a pipeline block's instances in its own frame, runs the operation, and adds
+  // the result placed by `t`.
+  void pipeline(ir::NodeId pid, const glm::dmat4& t, std::optional<glm::vec3> color,
+                const std::string& path, Collected& out, int depth) {
+    const ir::Node& p = m_.node(pid);
+    if (depth > 64) return;
+    if (auto it = pipeline_cache_.find(pid.index); it == pipeline_cache_.end()) {
+      pipeline_cache_.emplace(pid.index, run_block(pid, path, depth));
+    }
+    const std::optional<Collected>& res = pipeline_cache_.at(pid.index);
+    if (!res) return;
+    Collected c = *res;
+    if (color) {
+      for (size_t f = 0; f < c.has_color.size(); ++f) {
+        if (!c.has_color[f]) {
+          c.soup.face_colors[f] = *color;
+          c.has_color[f] = 1;
+        }
+      }
+    }
+    (void)p;
+    transform_into(out, c, t);
+  }
+
+  std::optional<Collected> run_block(ir::NodeId pid, const std::string& path, int depth) {
+    const ir::Node& p = m_.node(pid);
+    Collected in;
+    for (ir::NodeId k : kids_[pid.index]) {
+      if (m_.node(k).kind == ir::NodeKind::Instance) {
+        instance(k, glm::dmat4(1.0), std::nullopt, path, in, depth + 1);
+      }
+    }
+    apply_deletes(in);
+    std::vector<uint8_t> colored = in.has_color;
+    int32_t curves = in.curve_count;
+    kernel::PolygonSoup soup = finish(in);
+    const std::string& kw = p.keyword;
+    if (kw != "merge" && kw != "subdivision" && kw != "offset") {
+      diags_.emit(DiagKind::GeometryFailed, p.range,
+                  fmt::format("`{}` blocks are not implemented in the backend yet", kw));
+      return std::nullopt;
+    }
+    if (soup.face_count() == 0) {
+      diags_.emit(DiagKind::GeometryFailed, p.range,
+                  fmt::format("`{}` `{}` has no faces to work on", kw, short_name(p.name)));
+      return std::nullopt;
+    }
+    auto built = kernel::build_mesh(soup);
+    if (!built) {
+      report(built.error(), soup, p.range, short_name(p.name));
+      return std::nullopt;
+    }
+    double tol = -1;
+    if (const ir::Field* f = find_field(p, "tolerance")) tol = scalar(*f, 0, -1);
+    auto merged = merge_mesh(*built, tol);
+    if (!merged) {
+      report(merged.error(), soup, p.range, short_name(p.name));
+      return std::nullopt;
+    }
+    kernel::Mesh result = std::move(merged->mesh);
+    if (kw == "subdivision") {
+      kernel::SubdivisionOptions o;
+      o.has_parent_maps = false;
+      const ir::Field* lf = find_field(p, "sd_level");
+      if (lf == nullptr) lf = find_field(p, "subdivisions");
+      double lv = lf ? scalar(*lf, 0, 1) : 1;
+      o.levels = static_cast<int32_t>(std::lround(lv));
+      std::string type;
+      if (const ir::Field* tf = find_field(p, "sd_type")) type = tf->text;
+      if (const ir::Field* tf = find_field(p, "type"); tf && type.empty()) type = tf->text;
+      if (type == "NOME_SD_CatmullClark" || type == "NOME_SD_CC" ||
+          type == "SLF_SUBDIVISION_CATMULL_CLARK") {
+        o.is_sharpness_honoured = false;
+      } else if (type == "NOME_SD_DeRose") {
+        o.vertex_rule = kernel::VertexRule::DeRose;
+      }
+      auto levels = kernel::subdivide(result, o);
+      if (!levels) {
+        report(levels.error(), soup, lf ? lf->range : p.range, short_name(p.name));
+        return std::nullopt;
+      }
+      if (!levels->empty()) result = std::move(levels->back().mesh);
+    } else if (kw == "offset") {
+      const ir::Field* hf = find_field(p, "height");
+      const ir::Field* wf = find_field(p, "width");
+      const ir::Field* tf = find_field(p, "offset_type");
+      double h = hf ? scalar(*hf, 0, 0.1) : 0.1;
+      double w = wf ? scalar(*wf, 0, 0) : 0;
+      bool grid = tf && tf->text == "NOME_OFFSET_GRID";
+      kernel::Result<kernel::OffsetResult> r =
+          grid && w > 0 ? kernel::lattice(result, kernel::LatticeOptions{w, h})
+                        : kernel::offset(result, kernel::OffsetOptions{h});
+      if (!r) {
+        report(r.error(), soup, hf ? hf->range : p.range, short_name(p.name));
+        return std::nullopt;
+      }
+      result = std::move(r->mesh);
+    }
+    Collected c;
+    c.soup = kernel::to_soup(result);
+    c.curve_count = curves;
+    bool any_color = std::any_of(colored.begin(), colored.end(), [](uint8_t b) { return b != 0; });
+    c.has_color.assign(c.soup.face_count(), any_color ? 1 : 0);
+    if (!any_color) c.soup.face_colors.assign(c.soup.face_count(), kDefaultColor);
+    if (c.soup.face_colors.size() != static_cast<size_t>(c.soup.face_count())) {
+      c.soup.face_colors.assign(c.soup.face_count(), kDefaultColor);
+    }
+    c.face_paths.assign(c.soup.face_count(), std::string());
+    return c;
+  }
+
+ public:
+  static kernel::Result<kernel::MergeResult> merge_mesh(const kernel::Mesh& mesh, double tol) {
+    if (tol < 0) {
+      kernel::BoundingBox b = kernel::bounding_box(mesh);
+      double diag = b.min.x <= b.max.x ? glm::length(b.max - b.min) : 0;
+      tol = diag > 0 ? 1e-4 * diag : 1e-9;
+    }
+    return kernel::merge(mesh, kernel::MergeOptions{tol});
+  }
+
+ private:
+  const ir::Module& m_;
+  DiagnosticEngine& diags_;
+  std::vector<std::vector<ir::NodeId>> kids_;
+  std::vector<std::string> deleted_;
+  std::map<int32_t, glm::dmat4> world_;
+  std::map<int32_t, std::optional<Generated>> generated_;
+  std::map<int32_t, std::optional<Collected>> pipeline_cache_;
+};
+
+}  // namespace
+
+std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
+                                       StageTimings* timings) {
+  auto t0 = Clock::now();
+  Evaluator ev(module, diags);
+  std::vector<OutputMesh> out;
+  for (ir::NodeId id : module.scene) {
+    OutputMesh m;
+    if (ev.scene_entry(id, m)) out.push_back(std::move(m));
+  }
+  if (timings) timings->evaluate_ms += ms_since(t0);
+  return out;
+}
+
+std::vector<OutputMesh> run_pipeline(std::vector<OutputMesh> meshes, const PipelineOptions& o,
+                                     std::string_view name, SourceRange where,
+                                     DiagnosticEngine& diags, StageTimings* timings,
+                                     const std::function<void(std::string_view)>& progress) {
+  if (!o.any() || meshes.empty()) return meshes;
+  auto say = [&](std::string_view s) {
+    if (progress) progress(s);
+  };
+  auto fail = [&](std::string_view stage, const kernel::KernelError& e) {
+    DiagKind kind = e.kind == kernel::KernelError::Kind::NonManifoldMerge ||
+                            e.kind == kernel::KernelError::Kind::NonManifoldEdge ||
+                            e.kind == kernel::KernelError::Kind::NonManifoldVertex
+                        ? DiagKind::NonManifoldGeometry
+                        : DiagKind::GeometryFailed;
+    std::string message = fmt::format("--{} of the whole scene failed: {}", stage, e.message);
+    if (kind == DiagKind::NonManifoldGeometry) {
+      diags.emit(DiagKind::NonManifoldGeometry, where, std::move(message));
+    } else {
+      diags.emit(DiagKind::GeometryFailed, where, std::move(message));
+    }
+  };
+  std::vector<const kernel::Mesh*> parts;
+  int32_t curves = 0;
+  for (const OutputMesh& m : meshes) {
+    parts.push_back(&m.mesh);
+    curves += m.curve_count;
+  }
+  auto t0 = Clock::now();
+  say("merge");
+  kernel::Mesh all = kernel::concatenate(parts);
+  auto merged = Evaluator::merge_mesh(all, o.merge_tolerance);
+  if (timings) timings->merge_ms += ms_since(t0);
+  if (!merged) {
+    fail("merge", merged.error());
+    return {};
+  }
+  kernel::Mesh mesh = std::move(merged->mesh);
+  auto subdivide = [&](int32_t levels, std::string_view flag) -> bool {
+    if (levels <= 0) return true;
+    say("subdivide");
+    auto t1 = Clock::now();
+    kernel::SubdivisionOptions so;
+    so.levels = levels;
+    so.vertex_rule = o.rule;
+    so.has_parent_maps = false;
+    auto r = kernel::subdivide(mesh, so);
+    if (timings) timings->subdivide_ms += ms_since(t1);
+    if (!r) {
+      fail(flag, r.error());
+      return false;
+    }
+    if (!r->empty()) mesh = std::move(r->back().mesh);
+    return true;
+  };
+  if (!subdivide(o.subdivide_levels, "subdivide")) return {};
+  if (o.offset_height > 0) {
+    say("offset");
+    auto t2 = Clock::now();
+    auto r = kernel::offset(mesh, kernel::OffsetOptions{o.offset_height});
+    if (timings) timings->offset_ms += ms_since(t2);
+    if (!r) {
+      fail("offset", r.error());
+      return {};
+    }
+    mesh = std::move(r->mesh);
+  }
+  if (!subdivide(o.subdivide_after_levels, "subdivide-after")) return {};
+  OutputMesh out;
+  out.name = std::string(name);
+  out.soup = kernel::to_soup(mesh);
+  out.mesh = std::move(mesh);
+  out.curve_count = curves;
+  std::vector<OutputMesh> result;
+  result.push_back(std::move(out));
+  return result;
+}
+
+}  // namespace nomec::backend

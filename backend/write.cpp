@@ -1,0 +1,286 @@
+// STL/OBJ/PLY rendering and atomic file replacement (see write.h).
+#include "backend/write.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <algorithm>
+#include <map>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace nomec::backend {
+namespace {
+
+glm::dvec3 newell(const kernel::PolygonSoup& s, const int32_t* v, int32_t n) {
+  glm::dvec3 nrm(0.0);
+  for (int32_t i = 0; i < n; ++i) {
+    const glm::dvec3& a = s.positions[v[i]];
+    const glm::dvec3& b = s.positions[v[(i + 1) % n]];
+    nrm.x += (a.y - b.y) * (a.z + b.z);
+    nrm.y += (a.z - b.z) * (a.x + b.x);
+    nrm.z += (a.x - b.x) * (a.y + b.y);
+  }
+  return nrm;
+}
+
+// Ear clipping of one polygon projected onto the plane orthogonal to `nrm`.
+bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm,
+              std::vector<int32_t>& out) {
+  // Project to 2D: drop the dominant axis of the normal, keep the orientation.
+  int axis = std::fabs(nrm.x) > std::fabs(nrm.y) ? (std::fabs(nrm.x) > std::fabs(nrm.z) ? 0 : 2)
+                                                 : (std::fabs(nrm.y) > std::fabs(nrm.z) ? 1 : 2);
+  int u = (axis + 1) % 3, w = (axis + 2) % 3;
+  double sign = nrm[axis] >= 0 ? 1.0 : -1.0;
+  std::vector<glm::dvec2> p(n);
+  for (int32_t i = 0; i < n; ++i) p[i] = {s.positions[v[i]][u], s.positions[v[i]][w]};
+  std::vector<int32_t> idx(n);
+  for (int32_t i = 0; i < n; ++i) idx[i] = i;
+  auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  };
+  size_t guard = 0;
+  while (idx.size() > 3 && guard++ < static_cast<size_t>(n) * n) {
+    bool clipped = false;
+    for (size_t i = 0; i < idx.size(); ++i) {
+      int32_t a = idx[(i + idx.size() - 1) % idx.size()], b = idx[i], c = idx[(i + 1) % idx.size()];
+      if (sign * cross(p[a], p[b], p[c]) <= 0) continue;  // reflex or degenerate
+      bool inside = false;
+      for (int32_t q : idx) {
+        if (q == a || q == b || q == c) continue;
+        if (sign * cross(p[a], p[b], p[q]) >= 0 && sign * cross(p[b], p[c], p[q]) >= 0 &&
+            sign * cross(p[c], p[a], p[q]) >= 0) {
+          inside = true;
+          break;
+        }
+      }
+      if (inside) continue;
+      out.insert(out.end(), {v[a], v[b], v[c]});
+      idx.erase(idx.begin() + static_cast<long>(i));
+      clipped = true;
+      break;
+    }
+    if (!clipped) return false;
+  }
+  if (idx.size() == 3) out.insert(out.end(), {v[idx[0]], v[idx[1]], v[idx[2]]});
+  return true;
+}
+
+bool is_convex(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm) {
+  for (int32_t i = 0; i < n; ++i) {
+    glm::dvec3 a = s.positions[v[i]], b = s.positions[v[(i + 1) % n]], c = s.positions[v[(i + 2) % n]];
+    if (glm::dot(glm::cross(b - a, c - b), nrm) < 0) return false;
+  }
+  return true;
+}
+
+std::string color_name(const glm::vec3& c) {
+  auto q = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
+  return fmt::format("c{:02x}{:02x}{:02x}", q(c.r), q(c.g), q(c.b));
+}
+
+void put_u32(std::string& s, uint32_t x) {
+  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
+}
+void put_f32(std::string& s, float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  put_u32(s, x);
+}
+
+glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
+  glm::dvec3 n = glm::cross(s.positions[b] - s.positions[a], s.positions[c] - s.positions[a]);
+  double l = glm::length(n);
+  return l > 0 ? n / l : glm::dvec3(0.0);
+}
+
+}  // namespace
+
+std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
+  std::vector<int32_t> out;
+  size_t at = 0;
+  for (int32_t f = 0; f < s.face_count(); ++f) {
+    const int32_t n = s.face_sizes[f];
+    const int32_t* v = s.face_vertices.data() + at;
+    at += n;
+    glm::dvec3 nrm = newell(s, v, n);
+    if (n > 3 && !is_convex(s, v, n, nrm)) {
+      std::vector<int32_t> tris;
+      if (ear_clip(s, v, n, nrm, tris)) {
+        out.insert(out.end(), tris.begin(), tris.end());
+        continue;
+      }
+    }
+    for (int32_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {v[0], v[i], v[i + 1]});
+  }
+  return out;
+}
+
+std::string to_stl_binary(std::span<const OutputMesh> meshes) {
+  std::string out(80, '\0');
+  std::string header = "nomec binary STL";
+  std::copy(header.begin(), header.end(), out.begin());
+  std::vector<std::vector<int32_t>> tris;
+  uint32_t count = 0;
+  for (const OutputMesh& m : meshes) {
+    tris.push_back(triangulate(m.soup));
+    count += static_cast<uint32_t>(tris.back().size() / 3);
+  }
+  put_u32(out, count);
+  out.reserve(out.size() + 50 * static_cast<size_t>(count));
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const kernel::PolygonSoup& s = meshes[i].soup;
+    const auto& t = tris[i];
+    for (size_t k = 0; k + 2 < t.size(); k += 3) {
+      glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
+      for (int c = 0; c < 3; ++c) put_f32(out, static_cast<float>(n[c]));
+      for (int j = 0; j < 3; ++j) {
+        for (int c = 0; c < 3; ++c) put_f32(out, static_cast<float>(s.positions[t[k + j]][c]));
+      }
+      out.push_back('\0');
+      out.push_back('\0');
+    }
+  }
+  return out;
+}
+
+std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
+  std::string out;
+  for (const OutputMesh& m : meshes) {
+    std::string name = m.name.empty() ? "nomec" : m.name;
+    out += fmt::format("solid {}\n", name);
+    const kernel::PolygonSoup& s = m.soup;
+    std::vector<int32_t> t = triangulate(s);
+    for (size_t k = 0; k + 2 < t.size(); k += 3) {
+      glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
+      // `+ 0.0` turns -0 into 0, so goldens do not depend on the sign of zero.
+      out += fmt::format("  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+      for (int j = 0; j < 3; ++j) {
+        const glm::dvec3& p = s.positions[t[k + j]];
+        out += fmt::format("      vertex {:e} {:e} {:e}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+      }
+      out += "    endloop\n  endfacet\n";
+    }
+    out += fmt::format("endsolid {}\n", name);
+  }
+  return out;
+}
+
+std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file) {
+  std::string out = "# written by nomec\n";
+  if (!mtl_file.empty()) out += fmt::format("mtllib {}\n", mtl_file);
+  int64_t base = 1;
+  for (const OutputMesh& m : meshes) {
+    const kernel::PolygonSoup& s = m.soup;
+    out += fmt::format("o {}\n", m.name.empty() ? "nomec" : m.name);
+    for (const glm::dvec3& p : s.positions) out += fmt::format("v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    std::string current;
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      if (!mtl_file.empty() && !s.face_colors.empty()) {
+        std::string c = color_name(s.face_colors[f]);
+        if (c != current) {
+          out += fmt::format("usemtl {}\n", c);
+          current = c;
+        }
+      }
+      out += "f";
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) out += fmt::format(" {}", base + s.face_vertices[at + i]);
+      out += "\n";
+      at += s.face_sizes[f];
+    }
+    base += s.vertex_count();
+  }
+  return out;
+}
+
+std::string to_mtl(std::span<const OutputMesh> meshes) {
+  std::map<std::string, glm::vec3> colors;
+  for (const OutputMesh& m : meshes) {
+    for (const glm::vec3& c : m.soup.face_colors) colors.emplace(color_name(c), c);
+  }
+  std::string out;
+  for (const auto& [name, c] : colors) {
+    out += fmt::format("newmtl {}\nKd {} {} {}\n\n", name, c.r, c.g, c.b);
+  }
+  return out;
+}
+
+std::string to_ply(std::span<const OutputMesh> meshes) {
+  size_t vcount = 0, fcount = 0;
+  bool colored = false;
+  for (const OutputMesh& m : meshes) {
+    vcount += m.soup.positions.size();
+    fcount += static_cast<size_t>(m.soup.face_count());
+    colored = colored || !m.soup.face_colors.empty();
+  }
+  std::string out = fmt::format(
+      "ply\nformat ascii 1.0\ncomment written by nomec\nelement vertex {}\nproperty double x\n"
+      "property double y\nproperty double z\nelement face {}\nproperty list uchar int "
+      "vertex_indices\n",
+      vcount, fcount);
+  if (colored) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  out += "end_header\n";
+  for (const OutputMesh& m : meshes) {
+    for (const glm::dvec3& p : m.soup.positions) out += fmt::format("{} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+  }
+  size_t base = 0;
+  for (const OutputMesh& m : meshes) {
+    const kernel::PolygonSoup& s = m.soup;
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      out += fmt::format("{}", s.face_sizes[f]);
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) out += fmt::format(" {}", base + s.face_vertices[at + i]);
+      at += s.face_sizes[f];
+      if (colored) {
+        glm::vec3 c = s.face_colors.empty() ? glm::vec3(0.8f) : s.face_colors[f];
+        auto q = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
+        out += fmt::format(" {} {} {}", q(c.r), q(c.g), q(c.b));
+      }
+      out += "\n";
+    }
+    base += s.positions.size();
+  }
+  return out;
+}
+
+std::string write_file_atomically(const std::string& path, std::string_view content) {
+  std::string tmpl = path + ".tmp.XXXXXX";
+  std::vector<char> name(tmpl.begin(), tmpl.end());
+  name.push_back('\0');
+  int fd = mkstemp(name.data());
+  if (fd < 0) return fmt::format("cannot create `{}`: {}", tmpl, std::strerror(errno));
+  size_t done = 0;
+  while (done < content.size()) {
+    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      std::string err = fmt::format("cannot write `{}`: {}", name.data(), std::strerror(errno));
+      ::close(fd);
+      ::unlink(name.data());
+      return err;
+    }
+    done += static_cast<size_t>(n);
+  }
+  // mkstemp creates 0600; outputs are ordinary files (0644 less the umask).
+  mode_t mask = umask(0);
+  umask(mask);
+  fchmod(fd, 0666 & ~mask);
+  if (::close(fd) != 0) {
+    ::unlink(name.data());
+    return fmt::format("cannot write `{}`: {}", name.data(), std::strerror(errno));
+  }
+  if (std::rename(name.data(), path.c_str()) != 0) {
+    std::string err = fmt::format("cannot rename `{}` to `{}`: {}", name.data(), path, std::strerror(errno));
+    ::unlink(name.data());
+    return err;
+  }
+  return {};
+}
+
+}  // namespace nomec::backend

@@ -1,0 +1,37 @@
+// Output writers: STL (binary and ASCII), OBJ with an MTL of face colours, and ASCII PLY
+// with face colours, e.g. `nomec --emit stl funnel_cube.nome -o funnel_cube.stl`. Writers
+// render to a string; `write_file_atomically` puts it on disk via a temporary file in the
+// same directory and a rename, so a failed compile never touches an existing output.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "backend/evaluate.h"
+
+namespace nomec::backend {
+
+/// Splits every face into triangles (indices into `soup.positions`), three per triangle.
+/// Triangles and convex faces are fanned from their first vertex; other faces are ear
+/// clipped in the plane of their Newell normal (falling back to a fan if clipping fails).
+std::vector<int32_t> triangulate(const kernel::PolygonSoup& soup);
+
+/// Binary STL: 80-byte header, triangle count, 50 bytes per triangle (little endian).
+std::string to_stl_binary(std::span<const OutputMesh> meshes);
+/// ASCII STL, one `solid` per mesh.
+std::string to_stl_ascii(std::span<const OutputMesh> meshes);
+/// OBJ (`o` per mesh, polygons kept as written). When `mtl_file` is not empty, a
+/// `mtllib` line is written and `usemtl` switches per face colour.
+std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file);
+/// The MTL matching `to_obj` (one `newmtl` per distinct colour; empty if uncoloured).
+std::string to_mtl(std::span<const OutputMesh> meshes);
+/// ASCII PLY with `red green blue` face properties when any mesh has face colours.
+std::string to_ply(std::span<const OutputMesh> meshes);
+
+/// Writes `content` to `path` through `path.tmp.XXXXXX` and rename. Returns "" or an error
+/// message (lowercase, e.g. "cannot create `out/x.stl.tmp`: No such file or directory").
+std::string write_file_atomically(const std::string& path, std::string_view content);
+
+}  // namespace nomec::backend
