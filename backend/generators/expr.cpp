@@ -1,6 +1,7 @@
 // Recursive-descent parser and tree evaluator for generator function texts (expr.h).
 #include "backend/generators/expr.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -24,6 +25,7 @@ const Function kFunctions[] = {
     {"tanh", [](double x) { return std::tanh(x); }},
 };
 constexpr int kMaxDepth = 200;
+constexpr int kMaxHeight = 2000;
 
 }  // namespace
 
@@ -75,6 +77,16 @@ class ExprParser {
     return false;
   }
   int add(Expression::Node n) {
+    // Evaluation recurses once per level of the tree: bound its height (a long chain
+    // `u+u+…` is as deep as it is long).
+    int height = 1;
+    if (n.lhs >= 0) height = std::max(height, heights_[n.lhs] + 1);
+    if (n.rhs >= 0) height = std::max(height, heights_[n.rhs] + 1);
+    if (height > kMaxHeight) {
+      set_error("expression too long or nested too deeply");
+      return -1;
+    }
+    heights_.push_back(height);
     out_.nodes_.push_back(n);
     return static_cast<int>(out_.nodes_.size()) - 1;
   }
@@ -231,6 +243,7 @@ class ExprParser {
   Expression& out_;
   size_t pos_ = 0;
   std::string error_;
+  std::vector<int> heights_;
 };
 
 std::optional<Expression> Expression::parse(std::string_view text,

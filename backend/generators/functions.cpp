@@ -159,8 +159,8 @@ Generated make_genimplicitsurf(const ArgReader& a) {
   const Range y = range(a, "y_min", "y_max");
   const Range z = range(a, "z_min", "z_max");
   const int res = a.count({"resolution"}, 1);
-  if (res > 256) {
-    fail("resolution", "`resolution` must be at most 256, got " + std::to_string(res));
+  if (res > 128) {
+    fail("resolution", "`resolution` must be at most 128, got " + std::to_string(res));
   }
   // Sample f on the (res+1)^3 grid; exact zeros are nudged so that no grid value lies on
   // the surface (this keeps the marching-tetrahedra result a manifold).

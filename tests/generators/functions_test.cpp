@@ -52,6 +52,12 @@ TEST(Expression, Errors) {
   EXPECT_EQ(parse_error(std::string(1000, '(') + "u" + std::string(1000, ')')),
             "expression nested too deeply");
   EXPECT_EQ(parse_error(std::string(1000, '-') + "u"), "expression nested too deeply");
+  std::string chain = "u";
+  for (int i = 0; i < 100000; ++i) chain += "+u";
+  EXPECT_EQ(parse_error(chain), "expression too long or nested too deeply");
+  std::string ok = "u";
+  for (int i = 0; i < 1000; ++i) ok += "+u";
+  EXPECT_DOUBLE_EQ(eval(ok, 1), 1001);
 }
 
 GeneratorArgs param(std::string x, std::string y, std::string z, double umax, double vmax, int us, int vs) {
