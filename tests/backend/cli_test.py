@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""Command-line tests of nomec's mesh outputs (run by ctest as backend/<case>).
+
+  outputs  default output names, binary STL layout, OBJ + MTL next to the output, PLY,
+           atomic replacement (a failed compile leaves the old file and no temp files),
+           write errors, --time-report, pipeline flags and usage errors
+  admesh   an offset output written as binary STL is checked by Debian's `admesh`: no
+           edges needed fixing, no facets were added, no holes were filled
+"""
+import argparse
+import json
+import os
+import re
+import struct
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.getcwd()
+FAILURES = []
+
+
+def check(cond, what):
+    if not cond:
+        FAILURES.append(what)
+        print(f"FAIL: {what}")
+
+
+def run(nomec, args, cwd=None):
+    p = subprocess.run([nomec, "--color", "never"] + args, cwd=cwd, capture_output=True)
+    return p.returncode, p.stdout, p.stderr.decode("utf-8", "replace")
+
+
+def src(rel):
+    return os.path.join(ROOT, rel)
+
+
+def summary(nomec, args):
+    code, out, err = run(nomec, ["--emit", "summary", "-o", "-"] + args)
+    check(code == 0, f"summary {args} exits 0 (got {code}: {err})")
+    return json.loads(out)["meshes"] if code == 0 else []
+
+
+def case_outputs(nomec, _admesh):
+    with tempfile.TemporaryDirectory() as tmp:
+        # Default output name: the input's basename with the format's extension, in the cwd.
+        code, _, err = run(nomec, ["--emit", "stl", src("examples/funnel_cube.nome")], cwd=tmp)
+        stl = os.path.join(tmp, "funnel_cube.stl")
+        check(code == 0 and os.path.isfile(stl), f"default STL name (exit {code}: {err})")
+        if os.path.isfile(stl):
+            data = open(stl, "rb").read()
+            (count,) = struct.unpack_from("<I", data, 80)
+            check(count == 96, f"funnel cube STL has 96 triangles (48 quads), got {count}")
+            check(len(data) == 84 + 50 * count, "binary STL size is 84 + 50 per triangle")
+        # Binary STL on standard output.
+        code, out, _ = run(nomec, ["--emit", "stl", "-o", "-", src("examples/funnel_cube.nome")])
+        check(code == 0 and len(out) == 84 + 50 * 96, "binary STL on stdout")
+
+        # OBJ to a file: colours go to an MTL next to it.
+        obj = os.path.join(tmp, "sub", "coloured.obj")
+        os.makedirs(os.path.dirname(obj))
+        code, _, err = run(nomec, ["--emit", "obj", "-o", obj, src("tests/mesh/testdata/output_obj_colours.nome")])
+        check(code == 0, f"OBJ with colours (exit {code}: {err})")
+        mtl = os.path.join(tmp, "sub", "coloured.mtl")
+        if code == 0:
+            text = open(obj).read()
+            check("mtllib coloured.mtl" in text, "OBJ names its MTL")
+            check("usemtl cff0000" in text and "usemtl c0000ff" in text, "OBJ switches materials per colour")
+            check(os.path.isfile(mtl) and "Kd 1 0 0" in open(mtl).read(), "MTL holds the red material")
+        # PLY to a file.
+        ply = os.path.join(tmp, "x.ply")
+        code, _, _ = run(nomec, ["--emit", "ply", "-o", ply, src("tests/mesh/testdata/output_ply_colours.nome")])
+        check(code == 0 and open(ply).read().startswith("ply\nformat ascii 1.0\n"), "PLY file")
+
+        # Atomic replacement: a failed compile leaves the existing output alone.
+        old = os.path.join(tmp, "keep.stl")
+        with open(old, "w") as f:
+            f.write("previous output")
+        code, _, err = run(nomec, ["--emit", "stl", "-o", old, src("tests/mesh/testdata/fail_non_manifold_edge.nome")])
+        check(code == 1 and "[NonManifoldGeometry]" in err, f"non-manifold input exits 1 (got {code})")
+        check(open(old).read() == "previous output", "failed compile keeps the previous output")
+        # A check error also stops before evaluation.
+        bad = os.path.join(tmp, "bad.nome")
+        with open(bad, "w") as f:
+            f.write("instance i nosuchmesh endinstance\n")
+        code, _, err = run(nomec, ["--emit", "stl", "-o", old, bad])
+        check(code == 1 and "[UnknownName]" in err, "check errors exit 1")
+        check(open(old).read() == "previous output", "check errors keep the previous output")
+        # A successful compile replaces it.
+        code, _, _ = run(nomec, ["--emit", "stl", "-o", old, src("examples/funnel_cube.nome")])
+        check(code == 0 and os.path.getsize(old) == 84 + 50 * 96, "successful compile replaces the output")
+        leftovers = [n for n in os.listdir(tmp) if ".tmp." in n]
+        check(not leftovers, f"no temporary files left behind: {leftovers}")
+        # Write errors are reported, exit 1.
+        code, _, err = run(nomec, ["--emit", "stl", "-o", os.path.join(tmp, "no", "such", "x.stl"),
+                                   src("examples/funnel_cube.nome")])
+        check(code == 1 and "cannot create" in err, f"unwritable output exits 1 ({code}: {err})")
+
+    # --time-report: one line per stage on stderr.
+    code, _, err = run(nomec, ["--emit", "summary", "-o", "-", "--time-report", "--merge", "--subdivide", "1",
+                               "--offset", "0.05", src("tests/mesh/testdata/cube_six_faces.nome")])
+    check(code == 0, "time report run exits 0")
+    for stage in ("parse+check", "evaluate", "merge", "subdivide", "offset", "write", "total"):
+        check(re.search(rf"^\s+{re.escape(stage)}\s+[0-9.]+$", err, re.M), f"--time-report shows {stage}")
+
+    # Pipeline flags.
+    cube = src("tests/mesh/testdata/cube_six_faces.nome")
+    m = summary(nomec, [cube])
+    check(len(m) == 1 and m[0]["components"] == 6 and not m[0]["closed"], "unmerged cube is six squares")
+    m = summary(nomec, ["--merge", "--merge-tolerance", "1e-9", cube])
+    check(m and m[0]["euler"] == 2 and m[0]["closed"], "--merge-tolerance 1e-9 still closes the cube")
+    cc = summary(nomec, ["--subdivide", "2", cube])
+    dr = summary(nomec, ["--subdivide", "2", "--rule", "derose", cube])
+    check(cc and dr and cc[0]["faces"] == 96 and dr[0]["faces"] == 96, "--subdivide 2 gives 96 faces")
+    check(cc and dr and cc[0]["position_hash"] != dr[0]["position_hash"], "--rule derose moves vertices")
+    after = summary(nomec, ["--subdivide", "1", "--offset", "0.1", "--subdivide-after", "1", cube])
+    check(after and after[0]["faces"] == 4 * 48 and after[0]["closed"] and after[0]["orientable"],
+          "--subdivide-after rounds the closed slab")
+
+    # Usage errors exit 2.
+    code, _, _ = run(nomec, ["--merge", cube])
+    check(code == 2, "--merge without a mesh --emit is a usage error")
+    code, _, _ = run(nomec, ["--emit", "stl", "--subdivide", "13", cube])
+    check(code == 2, "--subdivide 13 is a usage error")
+
+
+def case_admesh(nomec, admesh):
+    inputs = [
+        ("examples/klein_bottle.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
+        ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
+    ]
+    with tempfile.TemporaryDirectory() as tmp:
+        for rel, flags in inputs:
+            stl = os.path.join(tmp, os.path.basename(rel) + ".stl")
+            code, _, err = run(nomec, ["--emit", "stl", "-o", stl] + flags + [src(rel)])
+            check(code == 0, f"{rel}: nomec exits 0 ({err})")
+            if code != 0:
+                continue
+            p = subprocess.run([admesh, stl], capture_output=True, text=True)
+            out = p.stdout
+            check(p.returncode == 0, f"{rel}: admesh exits 0")
+
+            def stat(label):
+                m = re.search(rf"{re.escape(label)}\s*:\s*(\d+)", out)
+                return int(m.group(1)) if m else None
+
+            check("No holes need to be filled" in out, f"{rel}: admesh fills no holes")
+            check(stat("Edges fixed") == 0, f"{rel}: admesh fixes no edges ({stat('Edges fixed')})")
+            check(stat("Facets added") == 0, f"{rel}: admesh adds no facets ({stat('Facets added')})")
+            check(stat("Facets reversed") == 0, f"{rel}: admesh reverses no facets")
+            check(stat("Backwards edges") == 0, f"{rel}: no backwards edges")
+            check(stat("Degenerate facets") == 0, f"{rel}: no degenerate facets")
+            check(stat("Total disconnected facets") == 0, f"{rel}: no disconnected facets")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case", choices=["outputs", "admesh"])
+    ap.add_argument("--nomec", required=True)
+    ap.add_argument("--admesh", default="admesh")
+    a = ap.parse_args()
+    {"outputs": case_outputs, "admesh": case_admesh}[a.case](a.nomec, a.admesh)
+    if FAILURES:
+        print(f"{len(FAILURES)} check(s) failed")
+        return 1
+    print("ok")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,215 @@
+// Unit tests of scene evaluation: transform order (first written acts first, parent ·
+// child), mirrors reversing face order, colour precedence, hidden instances, provenance,
+// and geometry errors becoming diagnostics that name the instance path.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "backend/evaluate.h"
+#include "backend/write.h"
+#include "frontend/check/check.h"
+
+namespace nomec::backend {
+namespace {
+
+struct Evaluated {
+  SourceManager sources;
+  DiagnosticEngine diags;
+  CheckResult check;
+  std::vector<OutputMesh> meshes;
+};
+
+std::unique_ptr<Evaluated> eval(const std::string& text) {
+  auto e = std::make_unique<Evaluated>();
+  e->check = check_source(e->sources, "test.nome", text, CheckOptions{}, e->diags);
+  EXPECT_EQ(e->diags.error_count(), 0) << (e->diags.diagnostics().empty() ? "" : e->diags.diagnostics()[0].message);
+  e->meshes = evaluate_scene(e->check.module, e->diags);
+  return e;
+}
+
+void expect_near(const glm::dvec3& a, const glm::dvec3& b) {
+  EXPECT_NEAR(a.x, b.x, 1e-9);
+  EXPECT_NEAR(a.y, b.y, 1e-9);
+  EXPECT_NEAR(a.z, b.z, 1e-9);
+}
+
+glm::dvec3 face_normal(const kernel::PolygonSoup& s, int32_t f) {
+  int32_t at = 0;
+  for (int32_t i = 0; i < f; ++i) at += s.face_sizes[i];
+  glm::dvec3 a = s.positions[s.face_vertices[at]], b = s.positions[s.face_vertices[at + 1]],
+             c = s.positions[s.face_vertices[at + 2]];
+  return glm::normalize(glm::cross(b - a, c - a));
+}
+
+const std::string kTriangle =
+    "mesh tri\n"
+    "  point a (1 0 0) endpoint\n"
+    "  point b (2 0 0) endpoint\n"
+    "  point c (1 1 0) endpoint\n"
+    "  face f (a b c) endface\n"
+    "endmesh\n";
+
+TEST(Transforms, FirstWrittenActsFirst) {
+  auto e = eval(kTriangle +
+                "instance i1 tri translate (1 0 0) rotate (0 0 1) (90) endinstance\n"
+                "instance i2 tri rotate (0 0 1) (90) translate (1 0 0) endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 2u);
+  // i1: (1,0,0) -> translate (2,0,0) -> rotate (0,2,0).
+  expect_near(e->meshes[0].soup.positions[0], {0, 2, 0});
+  // i2: (1,0,0) -> rotate (0,1,0) -> translate (1,1,0).
+  expect_near(e->meshes[1].soup.positions[0], {1, 1, 0});
+}
+
+TEST(Transforms, ScaleAndNestingComposeParentTimesChild) {
+  auto e = eval(kTriangle +
+                "group g instance inner tri scale (2 2 2) endinstance endgroup\n"
+                "instance outer g translate (0 0 5) endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  // Child first (scale), then the parent (translate).
+  expect_near(e->meshes[0].soup.positions[0], {2, 0, 5});
+  expect_near(e->meshes[0].soup.positions[1], {4, 0, 5});
+}
+
+TEST(Transforms, ZeroRotationAxisIsIdentity) {
+  auto e = eval(kTriangle + "instance i tri rotate (0 0 0) (45) endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  expect_near(e->meshes[0].soup.positions[1], {2, 0, 0});
+}
+
+TEST(Transforms, MirrorReflectsAndReversesOrientation) {
+  auto e = eval(kTriangle +
+                "instance plain tri endinstance\n"
+                "instance m tri mirror (1 0 0 0.5) endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 2u);
+  // Reflection in x = 0.5: (1,0,0) -> (0,0,0), (2,0,0) -> (-1,0,0).
+  const kernel::PolygonSoup& s = e->meshes[1].soup;
+  expect_near(s.positions[0], {0, 0, 0});
+  expect_near(s.positions[1], {-1, 0, 0});
+  // Geometry reflected in a plane containing the z axis keeps a +z normal only if the
+  // vertex order is reversed.
+  expect_near(face_normal(e->meshes[0].soup, 0), {0, 0, 1});
+  expect_near(face_normal(s, 0), {0, 0, 1});
+  EXPECT_EQ(s.face_vertices[0], 0);
+  EXPECT_EQ(s.face_vertices[1], 2);
+  EXPECT_EQ(s.face_vertices[2], 1);
+}
+
+TEST(Transforms, NegativeScaleAlsoReversesOrientation) {
+  auto e = eval(kTriangle + "instance m tri scale (1 1 -1) endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  expect_near(face_normal(e->meshes[0].soup, 0), {0, 0, -1});
+  EXPECT_EQ(e->meshes[0].soup.face_vertices[1], 2);
+}
+
+TEST(Colours, FaceBeatsInstanceAndInnermostInstanceWins) {
+  auto e = eval(
+      "surface red color (1 0 0) endsurface\n"
+      "surface green color (0 1 0) endsurface\n"
+      "surface blue color (0 0 1) endsurface\n"
+      "mesh two\n"
+      "  point a (0 0 0) endpoint point b (1 0 0) endpoint point c (1 1 0) endpoint\n"
+      "  point d (0 1 0) endpoint point e (2 0 0) endpoint\n"
+      "  face f1 (a b c d) surface red endface\n"
+      "  face f2 (b e c) endface\n"
+      "endmesh\n"
+      "group g instance inner two surface green endinstance endgroup\n"
+      "instance outer g surface blue endinstance\n"
+      "instance plain two endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 2u);
+  const auto& c = e->meshes[0].soup.face_colors;
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(c[1], glm::vec3(0, 1, 0));
+  // An uncoloured instance: only the face with a surface has a colour; others get grey.
+  const auto& p = e->meshes[1].soup.face_colors;
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0], glm::vec3(1, 0, 0));
+  EXPECT_EQ(p[1], glm::vec3(0.8f, 0.8f, 0.8f));
+}
+
+TEST(Colours, NoSurfacesMeansNoColourArray) {
+  auto e = eval(kTriangle + "instance i tri endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  EXPECT_TRUE(e->meshes[0].soup.face_colors.empty());
+}
+
+TEST(Scene, HiddenInstanceIsReferenceableButNotOutput) {
+  auto e = eval(
+      "funnel fun (4 1 0 1) endfunnel\n"
+      "instance h fun translate (0 0 3) hidden endinstance\n"
+      "mesh cap face top (h.hc0 h.hc1 h.hc2 h.hc3) endface endmesh\n"
+      "instance c cap endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  EXPECT_EQ(e->meshes[0].name, "c");
+  EXPECT_EQ(e->meshes[0].soup.face_count(), 1);
+  // The funnel's top ring is at z = h = 1, moved up by 3.
+  for (const glm::dvec3& p : e->meshes[0].soup.positions) EXPECT_NEAR(p.z, 4.0, 1e-9);
+}
+
+TEST(Scene, ProvenanceNamesFaceAndInstanceNodes) {
+  auto e = eval(kTriangle + "instance i tri endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  const ir::Module& m = e->check.module;
+  const kernel::FaceSource& s = e->meshes[0].soup.face_sources.at(0);
+  ASSERT_GE(s.source_face, 0);
+  ASSERT_GE(s.instance, 0);
+  EXPECT_EQ(m.nodes[s.source_face].kind, ir::NodeKind::Face);
+  EXPECT_EQ(m.nodes[s.source_face].name, "tri.f");
+  EXPECT_EQ(m.nodes[s.instance].name, "i");
+}
+
+TEST(Errors, NonManifoldFacesGiveADiagnosticWithTheInstancePath) {
+  SourceManager sources;
+  DiagnosticEngine diags;
+  CheckResult r = check_source(sources, "t.nome",
+                               "mesh fan\n"
+                               "  point a (0 0 0) endpoint point b (1 0 0) endpoint\n"
+                               "  point c (0 1 0) endpoint point d (0 -1 0) endpoint\n"
+                               "  point e (0 0 1) endpoint\n"
+                               "  face f1 (a b c) endface face f2 (b a d) endface\n"
+                               "  face f3 (a b e) endface\n"
+                               "endmesh\n"
+                               "group g instance inner fan endinstance endgroup\n"
+                               "instance outer g endinstance\n",
+                               CheckOptions{}, diags);
+  ASSERT_EQ(diags.error_count(), 0);
+  std::vector<OutputMesh> meshes = evaluate_scene(r.module, diags);
+  EXPECT_TRUE(meshes.empty());
+  ASSERT_EQ(diags.error_count(), 1);
+  const Diagnostic& d = diags.diagnostics()[0];
+  EXPECT_EQ(d.kind, DiagKind::NonManifoldGeometry);
+  EXPECT_NE(d.message.find("instance `outer.inner`"), std::string::npos) << d.message;
+  EXPECT_EQ(d.notes.size(), 2u);
+}
+
+TEST(Errors, PipelineMergeOfTheWholeSceneReportsKernelErrors) {
+  auto e = eval(kTriangle + "instance i tri endinstance\n");
+  PipelineOptions o;
+  o.is_merge = true;
+  o.merge_tolerance = 0;
+  auto out = run_pipeline(std::move(e->meshes), o, "x", {}, e->diags);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].mesh.face_count(), 1);
+}
+
+TEST(Write, TriangulatesNonConvexPolygonsByEarClipping) {
+  kernel::PolygonSoup s;
+  // An L shape (6 vertices, one reflex corner at index 3).
+  for (glm::dvec3 p : {glm::dvec3(0, 0, 0), glm::dvec3(2, 0, 0), glm::dvec3(2, 1, 0),
+                       glm::dvec3(1, 1, 0), glm::dvec3(1, 2, 0), glm::dvec3(0, 2, 0)}) {
+    s.add_vertex(p);
+  }
+  s.add_face({0, 1, 2, 3, 4, 5});
+  std::vector<int32_t> t = triangulate(s);
+  ASSERT_EQ(t.size(), 12u);
+  double area = 0;
+  for (size_t k = 0; k < t.size(); k += 3) {
+    glm::dvec3 n = glm::cross(s.positions[t[k + 1]] - s.positions[t[k]], s.positions[t[k + 2]] - s.positions[t[k]]);
+    EXPECT_GT(n.z, 0) << "triangle " << k / 3 << " is flipped";
+    area += n.z / 2;
+  }
+  EXPECT_NEAR(area, 3.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace nomec::backend
