@@ -417,6 +417,22 @@ class Evaluator {
           if (const ir::Field* pos = find_field(kn, "position")) p = vec3(*pos);
         }
       }
+      // A vertex the mesh's faces use (a global point, or a vertex of another instance).
+      for (ir::NodeId k : kids_[target.index]) {
+        if (p) break;
+        const ir::Field* vf = find_field(m_.node(k), "vertices");
+        if (vf == nullptr) continue;
+        for (const ir::VertexRef& r : vf->vertices) {
+          bool named = r.text == ref.vertex ||
+                       (r.point.is_valid() && short_name(m_.node(r.point).name) == ref.vertex);
+          if (named && &r != &ref && ref_depth_ < 16) {
+            ++ref_depth_;
+            p = ref_position(r, inst_path);
+            --ref_depth_;
+            if (p) break;
+          }
+        }
+      }
     }
     if (!p) {
       diags_.emit(DiagKind::GeometryFailed, ref.range,
@@ -577,6 +593,12 @@ class Evaluator {
                     fmt::format("sweep `{}` cannot be built yet: sweeps are not implemented in "
                                 "the backend (instance `{}`)", short_name(tn.name), path));
         return;
+      case ir::NodeKind::Edit:
+        if (tn.keyword == "light" || tn.keyword == "camera" || tn.keyword == "window" ||
+            tn.keyword == "viewport" || tn.keyword == "render" || tn.keyword == "lookat") {
+          return;  // viewing set-up: no geometry (the checker already noted it)
+        }
+        [[fallthrough]];
       default:
         diags_.emit(DiagKind::GeometryFailed, tn.range,
                     fmt::format("`{}` `{}` produces no geometry the backend can place (instance `{}`)",
@@ -723,6 +745,7 @@ class Evaluator {
   std::vector<std::vector<ir::NodeId>> kids_;
   std::vector<std::string> deleted_;
   std::map<int32_t, glm::dmat4> world_;
+  int ref_depth_ = 0;
   std::map<int32_t, std::optional<Generated>> generated_;
   std::map<int32_t, std::optional<Collected>> pipeline_cache_;
 };
