@@ -161,6 +161,11 @@ class Evaluator {
       instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
     } else if (n.kind == ir::NodeKind::Pipeline) {
       pipeline(id, glm::dmat4(1.0), std::nullopt, short_name(n.name), c, 0);
+    } else if (n.kind == ir::NodeKind::Mesh) {
+      // A saved consolidated mesh that nothing instances (its vertices are world positions).
+      Collected m;
+      mesh(id, std::nullopt, short_name(n.name), ir::NodeId::None(), m);
+      transform_into(c, m, glm::dmat4(1.0));
     } else {
       return false;
     }
@@ -757,7 +762,21 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
   auto t0 = Clock::now();
   Evaluator ev(module, diags);
   std::vector<OutputMesh> out;
-  for (ir::NodeId id : module.scene) {
+  std::vector<ir::NodeId> entries = module.scene;
+  // NOME 2016 saved work: `consolidate` / `savedworkingmesh` meshes are part of the scene
+  // unless something instances them.
+  std::set<int32_t> instanced;
+  for (const ir::Node& n : module.nodes) {
+    if (n.kind == ir::NodeKind::Instance && n.target.is_valid()) instanced.insert(n.target.index);
+  }
+  for (size_t i = 0; i < module.nodes.size(); ++i) {
+    const ir::Node& n = module.nodes[i];
+    if (n.kind == ir::NodeKind::Mesh && (n.keyword == "consolidate" || n.keyword == "savedworkingmesh") &&
+        !instanced.contains(static_cast<int32_t>(i))) {
+      entries.push_back(ir::NodeId{static_cast<int32_t>(i)});
+    }
+  }
+  for (ir::NodeId id : entries) {
     OutputMesh m;
     if (ev.scene_entry(id, m)) out.push_back(std::move(m));
   }

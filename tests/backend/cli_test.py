@@ -4,7 +4,8 @@
   outputs  default output names, binary STL layout, OBJ + MTL next to the output, PLY,
            atomic replacement (a failed compile leaves the old file and no temp files),
            write errors, --time-report, pipeline flags and usage errors
-  admesh   an offset output written as binary STL is checked by Debian's `admesh`: no
+  admesh   offset outputs (the corpus Klein bottle, the Klein bottle example, a Möbius
+           band) written as binary STL is checked by Debian's `admesh`: no
            edges needed fixing, no facets were added, no holes were filled
 """
 import argparse
@@ -41,7 +42,7 @@ def summary(nomec, args):
     return json.loads(out)["meshes"] if code == 0 else []
 
 
-def case_outputs(nomec, _admesh):
+def case_outputs(nomec, _admesh, _corpus):
     with tempfile.TemporaryDirectory() as tmp:
         # Default output name: the input's basename with the format's extension, in the cwd.
         code, _, err = run(nomec, ["--emit", "stl", src("examples/funnel_cube.nome")], cwd=tmp)
@@ -124,8 +125,10 @@ def case_outputs(nomec, _admesh):
     check(code == 2, "--subdivide 13 is a usage error")
 
 
-def case_admesh(nomec, admesh):
+def case_admesh(nomec, admesh, corpus):
     inputs = [
+        (os.path.join(corpus, "nome1/kleinbottle/savetemp1.anom"),
+         ["--merge", "--subdivide", "1", "--offset", "0.05", "--subdivide-after", "1"]),
         ("examples/klein_bottle.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
         ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
     ]
@@ -158,8 +161,9 @@ def main():
     ap.add_argument("case", choices=["outputs", "admesh"])
     ap.add_argument("--nomec", required=True)
     ap.add_argument("--admesh", default="admesh")
+    ap.add_argument("--corpus", default=os.path.join(ROOT, "..", "shared", "corpus"))
     a = ap.parse_args()
-    {"outputs": case_outputs, "admesh": case_admesh}[a.case](a.nomec, a.admesh)
+    {"outputs": case_outputs, "admesh": case_admesh}[a.case](a.nomec, a.admesh, a.corpus)
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")
         return 1
