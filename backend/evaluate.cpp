@@ -235,12 +235,20 @@ class Evaluator {
     bool any = false;
     for (int32_t f = 0; f < c.soup.face_count(); ++f) {
       if (c.face_paths[f].empty()) continue;
-      std::string p = normalize(c.face_paths[f]);
-      for (const std::string& d : deleted_) {
-        if (p == d || (p.size() > d.size() && p.ends_with(d) && p[p.size() - d.size() - 1] == '_')) {
-          drop[f] = 1;
-          any = true;
+      // Alternatives are separated by '|': `cube1.c4|cube1.3` (by name and by index).
+      std::string all = normalize(c.face_paths[f]);
+      size_t start = 0;
+      while (start <= all.size()) {
+        size_t end = all.find('|', start);
+        if (end == std::string::npos) end = all.size();
+        std::string_view p(all.data() + start, end - start);
+        for (const std::string& d : deleted_) {
+          if (p == d || (p.size() > d.size() && p.ends_with(d) && p[p.size() - d.size() - 1] == '_')) {
+            drop[f] = 1;
+            any = true;
+          }
         }
+        start = end + 1;
       }
     }
     if (!any) return;
@@ -500,7 +508,8 @@ class Evaluator {
       soup.face_colors.push_back(fc.value_or(color.value_or(kDefaultColor)));
       local_c.has_color.push_back(fc || color ? 1 : 0);
       std::string fname = short_name(fn.name);
-      local_c.face_paths.push_back(path.empty() ? fname : path + "." + fname);
+      std::string prefix = path.empty() ? std::string() : path + ".";
+      local_c.face_paths.push_back(fmt::format("{}{}|{}{}", prefix, fname, prefix, soup.face_count() - 1));
     }
     for (ir::NodeId k : kids_[mesh_id.index]) {
       const ir::Node& kn = m_.node(k);
@@ -576,7 +585,11 @@ class Evaluator {
         kernel::PolygonSoup s = g->soup;
         s.face_sources.assign(s.face_count(), kernel::FaceSource{tid.index, inst.index});
         s.face_colors.clear();
+        const int32_t face_base = out.soup.face_count();
         append_soup(out, s, t, color, false);
+        for (int32_t f = 0; f < s.face_count(); ++f) {
+          out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);  // 2016 `fun2_5`
+        }
         out.curve_count += static_cast<int32_t>(g->curves.size());
         return;
       }
@@ -630,7 +643,9 @@ class Evaluator {
     const ir::Node& p = m_.node(pid);
     if (depth > 64) return;
     if (auto it = pipeline_cache_.find(pid.index); it == pipeline_cache_.end()) {
-      pipeline_cache_.emplace(pid.index, run_block(pid, path, depth));
+      // Paths inside a block start at the block's name (`openbox.b.top.f1`), wherever
+      // it is instanced, so one evaluation serves every instance.
+      pipeline_cache_.emplace(pid.index, run_block(pid, short_name(p.name), depth));
     }
     const std::optional<Collected>& res = pipeline_cache_.at(pid.index);
     if (!res) return;
@@ -643,7 +658,6 @@ class Evaluator {
         }
       }
     }
-    (void)p;
     transform_into(out, c, t);
   }
 
