@@ -80,6 +80,12 @@ def case_outputs(nomec, _admesh, _corpus):
         code, _, err = run(nomec, ["--emit", "stl", "-o", old, src("tests/mesh/testdata/fail_non_manifold_edge.nome")])
         check(code == 1 and "[NonManifoldGeometry]" in err, f"non-manifold input exits 1 (got {code})")
         check(open(old).read() == "previous output", "failed compile keeps the previous output")
+        # Geometry diagnostics in JSON, with the instance path in the message.
+        code, out, _ = run(nomec, ["--emit", "stl", "-o", old, "--diagnostics-format", "json",
+                                   src("tests/mesh/testdata/fail_non_manifold_edge.nome")])
+        diags = json.loads(out)[0]["diagnostics"] if code == 1 else []
+        check(any(d["code"] == "NonManifoldGeometry" and "outer.inner" in d["message"] for d in diags),
+              "geometry errors appear in JSON diagnostics")
         # A check error also stops before evaluation.
         bad = os.path.join(tmp, "bad.nome")
         with open(bad, "w") as f:
