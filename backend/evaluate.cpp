@@ -672,8 +672,16 @@ class Evaluator {
     apply_deletes(in);
     std::vector<uint8_t> colored = in.has_color;
     int32_t curves = in.curve_count;
-    kernel::PolygonSoup soup = finish(in);
     const std::string& kw = p.keyword;
+    if (kw == "mirror") {
+      // SLIDE `mirror … endmirror` "reverses all face orientations" to repair instances
+      // mirrored by a negative scale, which SLIDE leaves inside out. nomec already
+      // reverses faces placed by a transform with negative determinant, so the block's
+      // repair is done: its instances pass through unchanged. (A block around unmirrored
+      // instances, which SLIDE would turn inside out, therefore differs from SLIDE.)
+      return in;
+    }
+    kernel::PolygonSoup soup = finish(in);
     if (kw != "merge" && kw != "subdivision" && kw != "offset") {
       diags_.emit(DiagKind::GeometryFailed, p.range,
                   fmt::format("`{}` blocks are not implemented in the backend yet", kw));
