@@ -370,6 +370,9 @@ class Evaluator {
         args.numbers[f.name] = scalar(f, 0, 0);
       } else if (f.kind == ir::FieldKind::Text) {
         args.texts[f.name] = f.text;
+      } else if (f.kind == ir::FieldKind::Ref && f.name == "path" && !f.refs.empty() &&
+                 f.refs[0].is_valid()) {
+        path_points(f.refs[0], args, inst_path);
       } else if (f.kind == ir::FieldKind::Refs) {
         for (ir::NodeId p : f.refs) {
           if (!p.is_valid() || m_.node(p).kind != ir::NodeKind::Point) continue;
@@ -394,6 +397,34 @@ class Evaluator {
     }
     auto [it, _] = generated_.emplace(gen_id.index, std::move(r.value));
     return &*it->second;
+  }
+
+  // The points of a path (`rimribbon r path P …`): a polyline's vertices, or the polyline
+  // of a generated curve, in order; `closed` when the path is closed.
+  void path_points(ir::NodeId path_id, GeneratorArgs& args, std::string_view inst_path) {
+    const ir::Node& pn = m_.node(path_id);
+    if (pn.kind == ir::NodeKind::Polyline) {
+      if (const ir::Field* pts = find_field(pn, "points")) {
+        for (const ir::VertexRef& r : pts->vertices) {
+          if (auto p = ref_position(r, inst_path)) {
+            args.points.push_back(*p);
+            args.point_names.push_back(r.text);
+          }
+        }
+      }
+      const ir::Field* closed = find_field(pn, "closed");
+      bool is_closed = find_field(pn, "isloop") != nullptr ||
+                       (closed && (closed->kind == ir::FieldKind::Flag || scalar(*closed, 0, 0) != 0));
+      if (is_closed) args.numbers["closed"] = 1;
+    } else if (pn.kind == ir::NodeKind::Curve || pn.kind == ir::NodeKind::Generator) {
+      if (const Generated* g = generated(path_id, inst_path); g && !g->curves.empty()) {
+        for (int32_t v : g->curves[0].vertices) {
+          args.points.push_back(g->soup.positions[v]);
+          args.point_names.push_back(g->soup.names.empty() ? std::string() : g->soup.names[v]);
+        }
+        if (g->curves[0].is_closed) args.numbers["closed"] = 1;
+      }
+    }
   }
 
   // Local position of a vertex reference of a face in a mesh.
