@@ -427,6 +427,132 @@ class Evaluator {
     }
   }
 
+  // A sweep (NOME3 semantics): the cross section, a curve in its xy plane, is carried along
+  // the path by rotation-minimising frames (parallel transport of the normal; for a closed
+  // path the holonomy is spread evenly so the tube closes), turned by `azimuth` at the start
+  // and by `twist` degrees in total along the path. Quads join consecutive rings; a closed
+  // cross section on an open path gets `begincap` / `endcap` faces; `reverse` flips faces.
+  std::optional<kernel::PolygonSoup> sweep(ir::NodeId sweep_id, std::string_view inst_path) {
+    const ir::Node& sn = m_.node(sweep_id);
+    GeneratorArgs cs, pa;
+    double azimuth = 0, twist = 0;
+    bool begin_cap = false, end_cap = false, reverse = false;
+    SourceRange cs_range = sn.range, path_range = sn.range;
+    auto read_flag = [&](const ir::Field& f) {
+      return f.kind == ir::FieldKind::Flag || scalar(f, 0, 0) != 0;
+    };
+    auto read_parts = [&](const ir::Node& k) {
+      for (const ir::Field& f : k.fields) {
+        if ((f.name == "crosssection" || f.name == "shape" || f.name == "polyline" ||
+             f.name == "bsplinecurve" || f.name == "beziercurve") &&
+            f.kind == ir::FieldKind::Ref && !f.refs.empty() && f.refs[0].is_valid()) {
+          path_points(f.refs[0], cs, inst_path);
+          cs_range = f.range;
+        } else if (f.name == "path" && f.kind == ir::FieldKind::Ref && !f.refs.empty() &&
+                   f.refs[0].is_valid()) {
+          path_points(f.refs[0], pa, inst_path);
+          path_range = f.range;
+        } else if (f.name == "azimuth") {
+          azimuth = scalar(f, 0, 0);
+        } else if (f.name == "twist") {
+          twist = scalar(f, 0, 0);
+        } else if (f.name == "begincap") {
+          begin_cap = read_flag(f);
+        } else if (f.name == "endcap") {
+          end_cap = read_flag(f);
+        } else if (f.name == "reverse") {
+          reverse = true;
+        }
+      }
+    };
+    read_parts(sn);
+    for (ir::NodeId k : kids_[sweep_id.index]) read_parts(m_.node(k));
+    const bool cs_closed = cs.numbers.contains("closed");
+    const bool path_closed = pa.numbers.contains("closed");
+    const size_t nc = cs.points.size(), np = pa.points.size();
+    if (nc < 2 || (cs_closed && nc < 3)) {
+      diags_.emit(DiagKind::GeometryFailed, cs_range,
+                  fmt::format("sweep `{}` needs a cross section of at least {} points, got {} (instance `{}`)",
+                              short_name(sn.name), cs_closed ? 3 : 2, nc, inst_path));
+      return std::nullopt;
+    }
+    if (np < 2 || (path_closed && np < 3)) {
+      diags_.emit(DiagKind::GeometryFailed, path_range,
+                  fmt::format("sweep `{}` needs a path of at least {} points, got {} (instance `{}`)",
+                              short_name(sn.name), path_closed ? 3 : 2, np, inst_path));
+      return std::nullopt;
+    }
+    const auto& P = pa.points;
+    std::vector<glm::dvec3> tangent(np);
+    for (size_t i = 0; i < np; ++i) {
+      glm::dvec3 prev = i > 0 ? P[i - 1] : (path_closed ? P[np - 1] : P[i]);
+      glm::dvec3 next = i + 1 < np ? P[i + 1] : (path_closed ? P[0] : P[i]);
+      glm::dvec3 d = next - prev;
+      if (glm::length(d) == 0) {
+        diags_.emit(DiagKind::GeometryFailed, path_range,
+                    fmt::format("sweep `{}`: the path has repeated points (instance `{}`)",
+                                short_name(sn.name), inst_path));
+        return std::nullopt;
+      }
+      tangent[i] = glm::normalize(d);
+    }
+    auto perpendicular = [](const glm::dvec3& t, glm::dvec3 v) {
+      return v - glm::dot(v, t) * t;
+    };
+    glm::dvec3 n0 = std::fabs(tangent[0].z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+    n0 = glm::normalize(perpendicular(tangent[0], n0));
+    n0 = glm::dvec3(glm::rotate(glm::dmat4(1.0), glm::radians(azimuth), tangent[0]) * glm::dvec4(n0, 0));
+    std::vector<glm::dvec3> normal(np);
+    normal[0] = n0;
+    for (size_t i = 1; i < np; ++i) {
+      glm::dvec3 n = perpendicular(tangent[i], normal[i - 1]);
+      normal[i] = glm::length(n) > 1e-12 ? glm::normalize(n) : normal[i - 1];
+    }
+    double holonomy = 0;  // angle from the transported normal back to n0, closed paths
+    if (path_closed) {
+      glm::dvec3 back = glm::normalize(perpendicular(tangent[0], normal[np - 1]));
+      holonomy = std::atan2(glm::dot(glm::cross(back, n0), tangent[0]), glm::dot(back, n0));
+    }
+    kernel::PolygonSoup out;
+    const size_t rings = np;
+    const double steps = path_closed ? static_cast<double>(np) : static_cast<double>(np - 1);
+    for (size_t i = 0; i < rings; ++i) {
+      double frac = static_cast<double>(i) / steps;
+      double angle = glm::radians(twist) * frac + holonomy * frac;
+      glm::dvec3 n = glm::dvec3(glm::rotate(glm::dmat4(1.0), angle, tangent[i]) * glm::dvec4(normal[i], 0));
+      glm::dvec3 b = glm::cross(tangent[i], n);
+      for (size_t j = 0; j < nc; ++j) {
+        out.add_vertex(P[i] + cs.points[j].x * n + cs.points[j].y * b);
+      }
+    }
+    auto vid = [&](size_t i, size_t j) { return static_cast<int32_t>((i % rings) * nc + (j % nc)); };
+    auto add = [&](std::vector<int32_t> f) {
+      if (reverse) std::reverse(f.begin(), f.end());
+      out.add_face(f);
+    };
+    const size_t ring_edges = path_closed ? rings : rings - 1;
+    const size_t cs_edges = cs_closed ? nc : nc - 1;
+    for (size_t i = 0; i < ring_edges; ++i) {
+      for (size_t j = 0; j < cs_edges; ++j) {
+        // Outward for a cross section running counter-clockwise in its xy plane.
+        add({vid(i, j), vid(i, j + 1), vid(i + 1, j + 1), vid(i + 1, j)});
+      }
+    }
+    if (cs_closed && !path_closed) {
+      if (begin_cap) {
+        std::vector<int32_t> f;
+        for (size_t j = nc; j-- > 0;) f.push_back(vid(0, j));
+        add(f);
+      }
+      if (end_cap) {
+        std::vector<int32_t> f;
+        for (size_t j = 0; j < nc; ++j) f.push_back(vid(rings - 1, j));
+        add(f);
+      }
+    }
+    return out;
+  }
+
   // Local position of a vertex reference of a face in a mesh.
   std::optional<glm::dvec3> ref_position(const ir::VertexRef& ref, std::string_view inst_path) {
     if (ref.point.is_valid()) {
@@ -637,11 +763,17 @@ class Evaluator {
       case ir::NodeKind::Pipeline:
         pipeline(tid, t, color, path, out, depth + 1);
         return;
-      case ir::NodeKind::Sweep:
-        diags_.emit(DiagKind::GeometryFailed, tn.range,
-                    fmt::format("sweep `{}` cannot be built yet: sweeps are not implemented in "
-                                "the backend (instance `{}`)", short_name(tn.name), path));
+      case ir::NodeKind::Sweep: {
+        std::optional<kernel::PolygonSoup> sw = sweep(tid, path);
+        if (!sw) return;
+        sw->face_sources.assign(sw->face_count(), kernel::FaceSource{tid.index, inst.index});
+        const int32_t face_base = out.soup.face_count();
+        append_soup(out, *sw, t, color, false);
+        for (int32_t f = 0; f < sw->face_count(); ++f) {
+          out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);
+        }
         return;
+      }
       case ir::NodeKind::Edit:
         if (tn.keyword == "light" || tn.keyword == "camera" || tn.keyword == "window" ||
             tn.keyword == "viewport" || tn.keyword == "render" || tn.keyword == "lookat") {

@@ -137,6 +137,9 @@ def case_admesh(nomec, admesh, corpus):
          ["--merge", "--subdivide", "1", "--offset", "0.05", "--subdivide-after", "1"]),
         ("examples/klein_bottle.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
         ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
+        # Closed sweeps straight to STL: faces must already point outwards (none reversed).
+        ("tests/mesh/testdata/sweep_capped.nome", []),
+        (os.path.join(corpus, "nome3/sweeps_circle.nom"), []),
     ]
     with tempfile.TemporaryDirectory() as tmp:
         for rel, flags in inputs:
