@@ -11,6 +11,7 @@
 #include <glm/vec2.hpp>
 #include <algorithm>
 #include <map>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -249,7 +250,35 @@ std::string to_ply(std::span<const OutputMesh> meshes) {
   return out;
 }
 
+namespace {
+
+// Writes straight into an existing non-regular file (`/dev/null`, a FIFO, a terminal):
+// renaming a temporary file over it would replace the device or pipe with a plain file.
+std::string write_in_place(const std::string& path, std::string_view content) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+  if (fd < 0) return fmt::format("cannot open `{}`: {}", path, std::strerror(errno));
+  size_t done = 0;
+  while (done < content.size()) {
+    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      std::string err = fmt::format("cannot write `{}`: {}", path, std::strerror(errno));
+      ::close(fd);
+      return err;
+    }
+    done += static_cast<size_t>(n);
+  }
+  ::close(fd);
+  return {};
+}
+
+}  // namespace
+
 std::string write_file_atomically(const std::string& path, std::string_view content) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    return write_in_place(path, content);
+  }
   std::string tmpl = path + ".tmp.XXXXXX";
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');

@@ -30,7 +30,8 @@ std::string to_mtl(std::span<const OutputMesh> meshes);
 /// ASCII PLY with `red green blue` face properties when any mesh has face colours.
 std::string to_ply(std::span<const OutputMesh> meshes);
 
-/// Writes `content` to `path` through `path.tmp.XXXXXX` and rename. Returns "" or an error
+/// Writes `content` to `path` through `path.tmp.XXXXXX` and rename (an existing
+/// non-regular file such as `/dev/null` or a FIFO is written in place instead). Returns "" or an error
 /// message (lowercase, e.g. "cannot create `out/x.stl.tmp`: No such file or directory").
 std::string write_file_atomically(const std::string& path, std::string_view content);
 

@@ -12,6 +12,7 @@ import argparse
 import json
 import os
 import re
+import stat
 import struct
 import subprocess
 import sys
@@ -98,6 +99,16 @@ def case_outputs(nomec, _admesh, _corpus):
         check(code == 0 and os.path.getsize(old) == 84 + 50 * 96, "successful compile replaces the output")
         leftovers = [n for n in os.listdir(tmp) if ".tmp." in n]
         check(not leftovers, f"no temporary files left behind: {leftovers}")
+        # An existing FIFO (like /dev/null) is written in place, not replaced by a file.
+        fifo = os.path.join(tmp, "pipe.stl")
+        os.mkfifo(fifo)
+        proc = subprocess.Popen([nomec, "--emit", "stl", "-o", fifo, src("examples/funnel_cube.nome")],
+                                stderr=subprocess.PIPE)
+        with open(fifo, "rb") as f:
+            data = f.read()
+        proc.wait(timeout=60)
+        check(proc.returncode == 0 and len(data) == 84 + 50 * 96, "STL written through a FIFO")
+        check(stat.S_ISFIFO(os.stat(fifo).st_mode), "the FIFO is still a FIFO")
         # Write errors are reported, exit 1.
         code, _, err = run(nomec, ["--emit", "stl", "-o", os.path.join(tmp, "no", "such", "x.stl"),
                                    src("examples/funnel_cube.nome")])
