@@ -580,6 +580,20 @@ class Evaluator {
       } else {
         return std::nullopt;  // the generator's error was reported
       }
+    } else if (tn.kind == ir::NodeKind::Polyline) {
+      // A vertex of a polyline instance (`_l1_v4`): one of the points it lists.
+      if (const ir::Field* pts = find_field(tn, "points")) {
+        for (const ir::VertexRef& r : pts->vertices) {
+          bool named = r.text == ref.vertex ||
+                       (r.point.is_valid() && short_name(m_.node(r.point).name) == ref.vertex);
+          if (named && &r != &ref && ref_depth_ < 16) {
+            ++ref_depth_;
+            p = ref_position(r, inst_path);
+            --ref_depth_;
+            if (p) break;
+          }
+        }
+      }
     } else if (tn.kind == ir::NodeKind::Mesh) {
       for (ir::NodeId k : kids_[target.index]) {
         const ir::Node& kn = m_.node(k);
