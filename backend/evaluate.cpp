@@ -14,6 +14,7 @@
 #include <set>
 
 #include "backend/generators/generators.h"
+#include "kernel/edit.h"
 #include "kernel/merge.h"
 #include "kernel/offset.h"
 #include "kernel/topology.h"
@@ -252,6 +253,29 @@ class Evaluator {
       }
     }
     if (!any) return;
+    // Prefer the kernel's deletion on the built mesh: it removes unused edges and vertices
+    // and splits vertices left pinched between two fans. If the full mesh cannot be built
+    // (e.g. the deleted face is what made it non-manifold), drop the faces from the soup.
+    if (auto full = kernel::build_mesh(c.soup)) {
+      std::vector<kernel::FaceId> ids;
+      for (int32_t f = 0; f < c.soup.face_count(); ++f) {
+        if (drop[f]) ids.push_back(kernel::FaceId(f));
+      }
+      if (auto del = kernel::delete_faces(*full, ids)) {
+        Collected k;
+        k.soup = kernel::to_soup(del->mesh);
+        k.curve_count = c.curve_count;
+        if (k.soup.face_colors.size() != static_cast<size_t>(k.soup.face_count())) {
+          k.soup.face_colors.assign(k.soup.face_count(), kDefaultColor);
+        }
+        for (kernel::FaceId parent : del->face_parents) {
+          k.has_color.push_back(c.has_color[parent.index]);
+          k.face_paths.push_back(c.face_paths[parent.index]);
+        }
+        c = std::move(k);
+        return;
+      }
+    }
     Collected k;
     k.soup.positions = c.soup.positions;
     k.soup.names = c.soup.names;
