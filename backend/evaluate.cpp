@@ -985,6 +985,14 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
   auto t0 = Clock::now();
   Evaluator ev(module, diags);
   std::vector<OutputMesh> out;
+  // Edits the backend cannot apply yet must not vanish silently.
+  for (const ir::Node& n : module.nodes) {
+    if (n.kind == ir::NodeKind::Edit && n.keyword == "zipper") {
+      diags.emit(DiagKind::GeometryFailed, n.range,
+                 fmt::format("zipper `{}` cannot be applied yet: automatic zippering is not "
+                             "implemented in the backend", n.name));
+    }
+  }
   std::vector<ir::NodeId> entries = module.scene;
   // NOME 2016 saved work: `consolidate` / `savedworkingmesh` meshes are part of the scene
   // unless something instances them.
