@@ -162,6 +162,9 @@ class Evaluator {
       instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
     } else if (n.kind == ir::NodeKind::Pipeline) {
       pipeline(id, glm::dmat4(1.0), std::nullopt, short_name(n.name), c, 0);
+    } else if (n.kind == ir::NodeKind::Group) {
+      // A SLIDE world group (see evaluate_scene).
+      target(id, glm::dmat4(1.0), std::nullopt, short_name(n.name), ir::NodeId::None(), c, 0);
     } else if (n.kind == ir::NodeKind::Mesh) {
       // A saved consolidated mesh that nothing instances (its vertices are world positions).
       Collected m;
@@ -302,8 +305,15 @@ class Evaluator {
     if (i >= f.exprs.size()) return fallback;
     ir::EvalResult r = ir::evaluate(m_, f.exprs[i]);
     if (!r.ok) {
+      // An empty problem means an expression the checker could not type (it reported why,
+      // e.g. a value only Tcl code defines); the geometry cannot be built without it.
       diags_.emit(DiagKind::GeometryFailed, r.where.is_valid() ? r.where : f.range,
-                  fmt::format("cannot evaluate `{}`: {}", f.name, r.problem));
+                  r.problem.empty()
+                      ? fmt::format("cannot evaluate `{}`: the value is not known to nomec (see "
+                                    "the front end's diagnostics for it), so the geometry "
+                                    "cannot be built",
+                                    f.name)
+                      : fmt::format("cannot evaluate `{}`: {}", f.name, r.problem));
       return fallback;
     }
     return r.value;
@@ -1005,6 +1015,18 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
     if (n.kind == ir::NodeKind::Mesh && (n.keyword == "consolidate" || n.keyword == "savedworkingmesh") &&
         !instanced.contains(static_cast<int32_t>(i))) {
       entries.push_back(ir::NodeId{static_cast<int32_t>(i)});
+    }
+  }
+  // SLIDE has no top-level instances: `render VIEWPORT CAMERA WORLD` draws a group. The IR
+  // does not keep the render's words, so the top-level groups that nothing instances stand
+  // for the world (groups holding only cameras and lights produce nothing and are dropped).
+  if (entries.empty() && module.dialect == "slide") {
+    for (size_t i = 0; i < module.nodes.size(); ++i) {
+      const ir::Node& n = module.nodes[i];
+      if (n.kind == ir::NodeKind::Group && !n.parent.is_valid() &&
+          !instanced.contains(static_cast<int32_t>(i))) {
+        entries.push_back(ir::NodeId{static_cast<int32_t>(i)});
+      }
     }
   }
   for (ir::NodeId id : entries) {
