@@ -666,7 +666,6 @@ class Evaluator {
             ir::NodeId inst, Collected& out) {
     const ir::Node& mn = m_.node(mesh_id);
     std::map<std::string, int32_t> index;  // vertex key -> soup index
-    std::vector<std::string> names;
     Collected local_c;
     kernel::PolygonSoup& soup = local_c.soup;
     auto vertex_index = [&](const ir::VertexRef& ref) -> std::optional<int32_t> {
