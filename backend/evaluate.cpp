@@ -14,6 +14,7 @@
 #include <set>
 
 #include "backend/generators/generators.h"
+#include "backend/generators/names.h"
 #include "kernel/edit.h"
 #include "kernel/merge.h"
 #include "kernel/offset.h"
@@ -605,8 +606,10 @@ class Evaluator {
     std::optional<glm::dvec3> p;
     if (tn.kind == ir::NodeKind::Generator || tn.kind == ir::NodeKind::Curve) {
       if (const Generated* g = generated(target, inst_path)) {
+        // NOME3 aliases (`fun.v1_3`) name the same vertices as the 2016 names (`hc3`).
+        const std::string wanted = canonical_vertex_name(tn.keyword, ref.vertex);
         for (size_t v = 0; v < g->soup.names.size(); ++v) {
-          if (g->soup.names[v] == ref.vertex) {
+          if (g->soup.names[v] == wanted) {
             p = g->soup.positions[v];
             break;
           }
