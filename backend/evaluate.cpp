@@ -405,6 +405,8 @@ class Evaluator {
         args.numbers[f.name] = scalar(f, 0, 0);
       } else if (f.kind == ir::FieldKind::Text) {
         args.texts[f.name] = f.text;
+      } else if (f.kind == ir::FieldKind::Flag) {
+        args.texts[f.name] = "";  // a bare flag such as `closed` is present with no text
       } else if (f.kind == ir::FieldKind::Ref && f.name == "path" && !f.refs.empty() &&
                  f.refs[0].is_valid()) {
         path_points(f.refs[0], args, inst_path);
