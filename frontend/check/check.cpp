@@ -80,6 +80,7 @@ enum class Shape : uint8_t {
   Surface,       // `surface S`
   Ref,           // a shape name: `point P`, `cameraID cam1`
   Names,         // `(n1 n2 …)`
+  Vertices,      // `(a.hc0 a.hc1)`: vertex references, as in faces
   Symbol,        // `sd_type NOME_SD_CC_sharp`, or a value in SLIDE
   Raw,           // `funcX [ … ]`
   Any,           // one item of any kind (display options of SLIDE/NOME3 we accept and ignore)
@@ -126,7 +127,7 @@ const std::vector<OptSpec>& options_for(BlockKind kind) {
       {"minimizetorsion", Shape::Scalar}, {"azimuth", Shape::Scalar}, {"twist", Shape::Scalar}};
   static const std::vector<OptSpec> controlpoint = {{"point", Shape::Ref},
       {"scale", Shape::Vec3}, {"rotate", Shape::Rotate}, {"translate", Shape::Vec3}};
-  static const std::vector<OptSpec> zipper = {{"border", Shape::Names}, {"penalty", Shape::Scalar}};
+  static const std::vector<OptSpec> zipper = {{"border", Shape::Vertices}, {"penalty", Shape::Scalar}};
   static const std::vector<OptSpec> merge = {{"tolerance", Shape::Scalar}};
   static const std::vector<OptSpec> subdivision = {{"sd_type", Shape::Symbol},
       {"sd_level", Shape::Scalar}, {"type", Shape::Symbol}, {"subdivisions", Shape::Scalar},
@@ -1361,6 +1362,16 @@ class Checker {
         ++pos;
         Ns ns = spec.name == "pointlist" || spec.name == "controlpointlist" ? Ns::Point : Ns::Count;
         add_names_field(a, id, f.name, *n, ns);
+        return;
+      }
+      case Shape::Vertices: {
+        const ast::Item* n = next();
+        if (n == nullptr || n->kind != ItemKind::List) {
+          missing("a list of vertices `(v1 v2 …)`");
+          return;
+        }
+        ++pos;
+        add_vertices_field(a, id, f.name, *n, ir::NodeId::None());
         return;
       }
       case Shape::Symbol: {
