@@ -2,6 +2,7 @@
 #include "backend/generators/common.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace nomec::backend::detail {
@@ -10,13 +11,11 @@ void fail(std::string_view argument, std::string message) {
   throw Failure{GeneratorError{std::string(argument), std::move(message)}};
 }
 
-namespace {
 std::string fmt_number(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
-}  // namespace
 
 bool ArgReader::has(std::string_view name) const { return args_.numbers.find(name) != args_.numbers.end(); }
 

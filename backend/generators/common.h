@@ -24,6 +24,9 @@ struct Failure {
 inline constexpr double kPi = std::numbers::pi;
 inline double radians(double degrees) { return degrees * kPi / 180.0; }
 
+/// A number as it appears in an error message (`%g`: `0.5`, `1e+06`).
+std::string fmt_number(double v);
+
 /// Largest count accepted per dimension, and largest number of generated vertices.
 inline constexpr int kMaxSegments = 100000;
 inline constexpr long long kMaxVertices = 4000000;

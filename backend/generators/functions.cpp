@@ -13,11 +13,6 @@
 namespace nomec::backend::detail {
 namespace {
 
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 Expression parse_func(const ArgReader& a, std::string_view name, const std::vector<std::string>& vars) {
   std::string error;
@@ -126,7 +121,7 @@ Generated make_genparametricsurf(const ArgReader& a) {
     const char* bad = !std::isfinite(p.x) ? "funcX" : !std::isfinite(p.y) ? "funcY"
                     : !std::isfinite(p.z) ? "funcZ" : nullptr;
     if (bad != nullptr) {
-      fail(bad, "`" + std::string(bad) + "` is not finite at u=" + num(uv[0]) + ", v=" + num(uv[1]));
+      fail(bad, "`" + std::string(bad) + "` is not finite at u=" + fmt_number(uv[0]) + ", v=" + fmt_number(uv[1]));
     }
     return p;
   });
@@ -146,7 +141,7 @@ Generated make_gencartesiansurf(const ArgReader& a) {
     const std::vector<double> xy = {x.lo + (x.hi - x.lo) * i / xs, y.lo + (y.hi - y.lo) * j / ys};
     const double z = f.evaluate(xy);
     if (!std::isfinite(z)) {
-      fail("func", "`func` is not finite at x=" + num(xy[0]) + ", y=" + num(xy[1]));
+      fail("func", "`func` is not finite at x=" + fmt_number(xy[0]) + ", y=" + fmt_number(xy[1]));
     }
     return glm::dvec3(xy[0], xy[1], z);
   });
@@ -177,7 +172,7 @@ Generated make_genimplicitsurf(const ArgReader& a) {
         const glm::dvec3 p = gp(i, j, k);
         double v = f.evaluate({p.x, p.y, p.z});
         if (!std::isfinite(v)) {
-          fail("func", "`func` is not finite at x=" + num(p.x) + ", y=" + num(p.y) + ", z=" + num(p.z));
+          fail("func", "`func` is not finite at x=" + fmt_number(p.x) + ", y=" + fmt_number(p.y) + ", z=" + fmt_number(p.z));
         }
         if (v == 0.0) v = 1e-300;
         val[vid(i, j, k)] = v;

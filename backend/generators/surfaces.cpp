@@ -11,11 +11,6 @@
 namespace nomec::backend::detail {
 namespace {
 
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 /// Segment count along a direction: >= 3 when it wraps around, else >= 1.
 int segs_for(const ArgReader& a, std::string_view name, bool wraps) {
@@ -31,10 +26,10 @@ Generated spheroid(const ArgReader& a, double ra, double rb) {
   const double phi_min = a.number({"phi_min"}).value;
   const double phi_max = a.number({"phi_max"}).value;
   if (phi_min < -90.0 - 1e-9 || phi_min > 90.0) {
-    fail("phi_min", "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + num(phi_min));
+    fail("phi_min", "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_min));
   }
   if (phi_max > 90.0 + 1e-9 || phi_max < -90.0) {
-    fail("phi_max", "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + num(phi_max));
+    fail("phi_max", "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_max));
   }
   if (!(phi_max > phi_min)) {
     fail("phi_max", "`phi_max` must be greater than `phi_min`");
@@ -175,7 +170,7 @@ Generated make_torusknot(const ArgReader& a) {
   auto whole_nonzero = [&](std::string_view name) {
     const Arg v = a.number({name});
     if (std::abs(v.value - std::round(v.value)) > 1e-9 || std::lround(v.value) == 0) {
-      fail(name, "`" + std::string(name) + "` must be a non-zero whole number, got " + num(v.value));
+      fail(name, "`" + std::string(name) + "` must be a non-zero whole number, got " + fmt_number(v.value));
     }
     if (std::abs(v.value) > 1000) {
       fail(name, "`" + std::string(name) + "` must be at most 1000 in absolute value");
