@@ -19,6 +19,7 @@
 #include "kernel/merge.h"
 #include "kernel/offset.h"
 #include "kernel/topology.h"
+#include "kernel/zipper.h"
 
 namespace nomec::backend {
 namespace {
@@ -972,6 +973,202 @@ class Evaluator {
   }
 
  public:
+  // A `zipper` statement: resolves its two `border` vertex lists to chains of world
+  // positions on the border loops of the instances they name, fills the strip between
+  // them (kernel::zipper) and returns the faces as an output mesh of their own, so a merge
+  // welds them to the instances' borders (the positions coincide).
+  bool zipper(ir::NodeId zid, OutputMesh& out) {
+    const ir::Node& n = m_.node(zid);
+    const std::string zname = short_name(n.name);
+    std::vector<const ir::Field*> borders;
+    for (const ir::Field& f : n.fields) {
+      if (f.name == "border" && f.kind == ir::FieldKind::Vertices) borders.push_back(&f);
+    }
+    if (borders.size() != 2) return false;  // the checker reported it
+    kernel::ZipperChain chain[2];
+    bool is_backward[2] = {false, false};
+    for (int k = 0; k < 2; ++k) {
+      auto c = border_chain(n, zname, *borders[k], is_backward[k]);
+      if (!c) return false;
+      chain[k] = std::move(*c);
+    }
+    // Chain A must run the way its own faces traverse the border (see kernel/zipper.h);
+    // reversing both open chains keeps their end vertices paired.
+    if (!chain[0].is_closed && is_backward[0]) {
+      std::reverse(chain[0].points.begin(), chain[0].points.end());
+      std::reverse(chain[1].points.begin(), chain[1].points.end());
+    }
+    kernel::ZipperOptions o;
+    if (const ir::Field* pf = find_field(n, "penalty")) o.penalty = scalar(*pf, 0, 1.3);
+    auto r = kernel::zipper(chain[0], chain[1], o);
+    if (!r) {
+      diags_.emit(DiagKind::GeometryFailed, n.range,
+                  fmt::format("zipper `{}`: {}", zname, r.error().message));
+      return false;
+    }
+    out.name = zname;
+    out.scene_node = zid;
+    out.soup = std::move(r->soup);
+    out.soup.face_sources.assign(out.soup.face_count(), kernel::FaceSource{zid.index, -1});
+    auto built = kernel::build_mesh(out.soup);
+    if (!built) {
+      report(built.error(), out.soup, n.range, zname);
+      return false;
+    }
+    out.mesh = std::move(*built);
+    return true;
+  }
+
+ private:
+  // The world-space geometry of one instance (by its chain of instance nodes) with its
+  // border loops as vertex sequences, each running the way its faces traverse it.
+  struct InstanceBorders {
+    std::string path;
+    std::string keyword;  // of the instance's target, for NOME3 vertex aliases
+    kernel::PolygonSoup soup;
+    std::optional<kernel::Mesh> mesh;
+    std::vector<std::vector<int32_t>> loops;
+  };
+
+  const InstanceBorders* instance_borders(const ir::VertexRef& ref) {
+    std::string key;
+    for (ir::NodeId i : ref.instances) key += fmt::format("{}.", i.index);
+    if (auto it = borders_cache_.find(key); it != borders_cache_.end()) return &it->second;
+    InstanceBorders b;
+    glm::dmat4 t = world_of(ref.instances[0]);
+    b.path = short_name(m_.node(ref.instances[0]).name);
+    for (size_t i = 1; i < ref.instances.size(); ++i) {
+      t = t * local(m_.node(ref.instances[i]));
+      b.path += "." + short_name(m_.node(ref.instances[i]).name);
+    }
+    const ir::Node& last = m_.node(ref.instances.back());
+    if (last.target.is_valid()) {
+      b.keyword = m_.node(last.target).keyword;
+      Collected c;
+      target(last.target, t, std::nullopt, b.path, ref.instances.back(), c, 0);
+      b.soup = finish(c);
+      if (b.soup.face_count() > 0) {
+        if (auto built = kernel::build_mesh(b.soup)) b.mesh = std::move(*built);
+      }
+    }
+    if (b.mesh) {
+      const kernel::Mesh& mesh = *b.mesh;
+      for (int32_t l = 0; l < static_cast<int32_t>(mesh.border_loops().size()); ++l) {
+        std::vector<kernel::EdgeId> es = mesh.border_loop_edges(l);
+        const size_t k = es.size();
+        if (k < 3) continue;
+        std::vector<int32_t> seq;
+        for (size_t i = 0; i < k; ++i) {
+          kernel::EdgeId e = es[i], f = es[(i + 1) % k];
+          kernel::VertexId e0 = mesh.edge_vertex(e, 0), e1 = mesh.edge_vertex(e, 1);
+          kernel::VertexId f0 = mesh.edge_vertex(f, 0), f1 = mesh.edge_vertex(f, 1);
+          seq.push_back((e0 == f0 || e0 == f1) ? e0.index : e1.index);
+        }
+        // Edge es[0] is traversed by its face from end 0 to end 1; make the loop agree.
+        const int32_t u0 = mesh.edge_vertex(es[0], 0).index, u1 = mesh.edge_vertex(es[0], 1).index;
+        auto p0 = std::find(seq.begin(), seq.end(), u0);
+        if (p0 != seq.end() && seq[(p0 - seq.begin() + 1) % k] != u1) std::reverse(seq.begin(), seq.end());
+        b.loops.push_back(std::move(seq));
+      }
+    }
+    auto [it, _] = borders_cache_.emplace(key, std::move(b));
+    return &it->second;
+  }
+
+  // One `border (A0 [A1 [Am]])` list as a chain; `is_backward` says an open path runs
+  // against the direction its faces traverse the border.
+  std::optional<kernel::ZipperChain> border_chain(const ir::Node& zn, const std::string& zname,
+                                                  const ir::Field& f, bool& is_backward) {
+    const auto& refs = f.vertices;
+    if (refs.empty() || refs.size() > 3) return std::nullopt;  // the checker reported it
+    const InstanceBorders* ib = nullptr;
+    std::vector<std::pair<size_t, size_t>> where;  // (loop, position) per reference
+    for (const ir::VertexRef& r : refs) {
+      if (r.instances.empty() || std::any_of(r.instances.begin(), r.instances.end(),
+                                             [](ir::NodeId i) { return !i.is_valid(); })) {
+        diags_.emit(DiagKind::GeometryFailed, zn.range,
+                    fmt::format("zipper `{}`: `{}` is not a vertex of an instance; zipper borders "
+                                "name instance vertices such as `inst.v`",
+                                zname, r.text));
+        return std::nullopt;
+      }
+      const InstanceBorders* b = instance_borders(r);
+      if (ib != nullptr && b != ib) {
+        diags_.emit(DiagKind::GeometryFailed, zn.range,
+                    fmt::format("zipper `{}`: `{}` and `{}` belong to different instances; the "
+                                "vertices of one `border` must lie on one border loop",
+                                zname, refs[0].text, r.text));
+        return std::nullopt;
+      }
+      ib = b;
+      const std::string wanted = canonical_vertex_name(b->keyword, r.vertex);
+      int32_t v = -1;
+      for (size_t i = 0; i < b->soup.names.size(); ++i) {
+        if (b->soup.names[i] == wanted || b->soup.names[i] == r.vertex) {
+          v = static_cast<int32_t>(i);
+          break;
+        }
+      }
+      if (v < 0) {
+        diags_.emit(DiagKind::GeometryFailed, zn.range,
+                    fmt::format("zipper `{}`: `{}` names no vertex of instance `{}`", zname, r.text,
+                                b->path));
+        return std::nullopt;
+      }
+      bool found = false;
+      for (size_t l = 0; l < b->loops.size() && !found; ++l) {
+        auto p = std::find(b->loops[l].begin(), b->loops[l].end(), v);
+        if (p != b->loops[l].end()) {
+          where.emplace_back(l, static_cast<size_t>(p - b->loops[l].begin()));
+          found = true;
+        }
+      }
+      if (!found) {
+        diags_.emit(DiagKind::GeometryFailed, zn.range,
+                    fmt::format("zipper `{}`: vertex `{}` is not on a border of instance `{}`",
+                                zname, r.text, b->path));
+        return std::nullopt;
+      }
+    }
+    for (size_t i = 1; i < where.size(); ++i) {
+      if (where[i].first != where[0].first) {
+        diags_.emit(DiagKind::GeometryFailed, zn.range,
+                    fmt::format("zipper `{}`: `{}` and `{}` are on different border loops of "
+                                "instance `{}`",
+                                zname, refs[0].text, refs[i].text, ib->path));
+        return std::nullopt;
+      }
+    }
+    const std::vector<int32_t>& loop = ib->loops[where[0].first];
+    const size_t k = loop.size();
+    kernel::ZipperChain c;
+    is_backward = false;
+    const size_t s = where[0].second;
+    if (refs.size() == 1 || where[1].second == s) {
+      c.is_closed = true;
+      for (size_t i = 0; i < k; ++i) c.points.push_back(ib->soup.positions[loop[(s + i) % k]]);
+      return c;
+    }
+    const size_t e = where[1].second;
+    const size_t forward_len = (e + k - s) % k;   // edges walking along the loop
+    const size_t backward_len = (s + k - e) % k;  // edges walking against it
+    bool forward = forward_len <= backward_len;
+    if (refs.size() == 3) {
+      const size_t mid = where[2].second;
+      forward = (mid + k - s) % k <= forward_len;
+    }
+    const size_t len = forward ? forward_len : backward_len;
+    for (size_t i = 0; i <= len; ++i) {
+      size_t at = forward ? (s + i) % k : (s + k - i % k) % k;
+      c.points.push_back(ib->soup.positions[loop[at]]);
+    }
+    is_backward = !forward;
+    return c;
+  }
+
+  std::map<std::string, InstanceBorders> borders_cache_;
+
+ public:
   static kernel::Result<kernel::MergeResult> merge_mesh(const kernel::Mesh& mesh, double tol) {
     if (tol < 0) {
       kernel::BoundingBox b = kernel::bounding_box(mesh);
@@ -999,14 +1196,6 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
   auto t0 = Clock::now();
   Evaluator ev(module, diags);
   std::vector<OutputMesh> out;
-  // Edits the backend cannot apply yet must not vanish silently.
-  for (const ir::Node& n : module.nodes) {
-    if (n.kind == ir::NodeKind::Edit && n.keyword == "zipper") {
-      diags.emit(DiagKind::GeometryFailed, n.range,
-                 fmt::format("zipper `{}` cannot be applied yet: automatic zippering is not "
-                             "implemented in the backend", n.name));
-    }
-  }
   std::vector<ir::NodeId> entries = module.scene;
   // NOME 2016 saved work: `consolidate` / `savedworkingmesh` meshes are part of the scene
   // unless something instances them.
@@ -1036,6 +1225,13 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
   for (ir::NodeId id : entries) {
     OutputMesh m;
     if (ev.scene_entry(id, m)) out.push_back(std::move(m));
+  }
+  // Zipper faces: one output mesh per `zipper` statement, after the scene entries.
+  for (size_t i = 0; i < module.nodes.size(); ++i) {
+    const ir::Node& n = module.nodes[i];
+    if (n.kind != ir::NodeKind::Edit || n.keyword != "zipper") continue;
+    OutputMesh m;
+    if (ev.zipper(ir::NodeId{static_cast<int32_t>(i)}, m)) out.push_back(std::move(m));
   }
   if (timings) timings->evaluate_ms += ms_since(t0);
   return out;
