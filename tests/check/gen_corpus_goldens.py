@@ -65,7 +65,7 @@ def main():
         if name.endswith(".nome") and name not in wanted:
             os.remove(os.path.join(out_dir, name))
             print(f"removed stale {name}")
-    r = subprocess.run([args.runner, "--update", out_dir], cwd=ROOT)
+    r = subprocess.run([args.runner, "--nomec", args.nomec, "--update", out_dir], cwd=ROOT)
     print(f"corpus: {summary['pass']} files pass, {summary['fail']} fail")
     return r.returncode
 
