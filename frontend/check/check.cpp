@@ -1921,10 +1921,22 @@ class Checker {
     return "";
   }
 
-  ir::ExprId to_ir_rec(const ast::Ast& a, ast::ExprId id, bool constant) {
+  // Expressions deeper than this (e.g. `1+1+…+1` with thousands of terms) are refused, so
+  // evaluation, printing and the backend never recurse without bound.
+  static constexpr int kMaxExprDepth = 1000;
+
+  ir::ExprId to_ir_rec(const ast::Ast& a, ast::ExprId id, bool constant, int depth = 0) {
     const ast::Expr& x = a.expr(id);
     ir::Expr e;
     e.range = x.range;
+    if (depth > kMaxExprDepth) {
+      if (!reported_deep_expr_) {
+        reported_deep_expr_ = true;
+        diags_.emit(DiagKind::NestingTooDeep, x.range,
+                    fmt::format("expression nests more than {} operations deep; split it into sliders or points", kMaxExprDepth));
+      }
+      return error_ir(x.range);
+    }
     switch (x.kind) {
       case ast::ExprKind::Number:
         e.kind = ir::ExprKind::Const;
@@ -2011,13 +2023,13 @@ class Checker {
       case ast::ExprKind::Unary: {
         e.kind = ir::ExprKind::Unary;
         e.op = x.op;
-        e.lhs = to_ir_rec(a, x.lhs, constant);
+        e.lhs = to_ir_rec(a, x.lhs, constant, depth + 1);
         const ast::Expr& operand = a.expr(x.lhs);
         if (dialect_ == Dialect::Nome3 && x.op == '-' && operand.kind == ast::ExprKind::Binary && operand.op == '^') {
           ir::EvalResult v = ir::evaluate(m_, e.lhs);
           if (v.ok) {
-            ir::ExprId base_e = to_ir_rec(a, a.expr(x.lhs).lhs, constant);
-            ir::ExprId exp_e = to_ir_rec(a, a.expr(x.lhs).rhs, constant);
+            ir::ExprId base_e = to_ir_rec(a, a.expr(x.lhs).lhs, constant, depth + 1);
+            ir::ExprId exp_e = to_ir_rec(a, a.expr(x.lhs).rhs, constant, depth + 1);
             ir::EvalResult b = ir::evaluate(m_, base_e), p = ir::evaluate(m_, exp_e);
             double nome3 = b.ok && p.ok ? std::pow(-b.value, p.value) : 0;
             diags_.emit(DiagKind::UnaryMinusPower, x.range,
@@ -2030,13 +2042,13 @@ class Checker {
       case ast::ExprKind::Binary:
         e.kind = ir::ExprKind::Binary;
         e.op = x.op;
-        e.lhs = to_ir_rec(a, x.lhs, constant);
-        e.rhs = to_ir_rec(a, x.rhs, constant);
+        e.lhs = to_ir_rec(a, x.lhs, constant, depth + 1);
+        e.rhs = to_ir_rec(a, x.rhs, constant, depth + 1);
         return m_.add_expr(e);
       case ast::ExprKind::Call: {
         std::optional<ir::Func> f = ir::func_by_name(x.text);
         std::vector<ir::ExprId> args;
-        for (ast::ExprId arg : x.args) args.push_back(to_ir_rec(a, arg, constant));
+        for (ast::ExprId arg : x.args) args.push_back(to_ir_rec(a, arg, constant, depth + 1));
         if (!f) {
           static const std::vector<std::string> names = {"sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "abs", "exp", "log", "ln", "log10", "pow", "min", "max", "floor", "ceil", "round", "sign", "mod"};
           std::string hint = closest_match(x.text, names);
@@ -2150,6 +2162,7 @@ class Checker {
   std::set<std::string> tcl_vars_;
   std::set<std::string> tcl_suffixes_;
   std::set<std::string> tcl_reported_;
+  bool reported_deep_expr_ = false;
   std::vector<PendingList> pending_list_;
   bool has_tcl_ = false;
   int order_ = 0;

@@ -77,6 +77,50 @@ std::u32string decode_utf8(std::string_view text, Offsets& offsets) {
   return out;
 }
 
+// Nested `(* … *)` comments are removed before ANTLR sees the text: each comment character
+// (except newlines) becomes a space, so offsets do not move. An iterative scan handles any
+// nesting depth (ANTLR's recursive comment rule does not) and finds an unclosed comment at
+// its opening. `#` line comments and `"…"` strings are skipped so a `(*` inside them stays.
+void blank_block_comments(std::u32string& text, const Offsets& offsets, FileId file,
+                          DiagnosticEngine& diags) {
+  size_t depth = 0;
+  size_t outer_open = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    char32_t c = text[i];
+    char32_t next = i + 1 < text.size() ? text[i + 1] : 0;
+    if (depth == 0) {
+      if (c == '#') {
+        while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+      } else if (c == '"') {
+        while (i + 1 < text.size() && text[i + 1] != '"' && text[i + 1] != '\n') ++i;
+        ++i;
+      } else if (c == '(' && next == '*') {
+        depth = 1;
+        outer_open = i;
+        text[i] = text[i + 1] = ' ';
+        ++i;
+      }
+      continue;
+    }
+    if (c == '(' && next == '*') {
+      ++depth;
+      text[i] = text[i + 1] = ' ';
+      ++i;
+    } else if (c == '*' && next == ')') {
+      --depth;
+      text[i] = text[i + 1] = ' ';
+      ++i;
+    } else if (c != '\n') {
+      text[i] = ' ';
+    }
+  }
+  if (depth > 0) {
+    uint32_t at = offsets.byte_of(outer_open);
+    diags.emit(DiagKind::UnclosedBlockComment, SourceRange{file, at, at + 2},
+               "block comment `(*` is never closed by a matching `*)`");
+  }
+}
+
 class DecodedInput : public antlr4::ANTLRInputStream {
  public:
   explicit DecodedInput(std::u32string data) {
@@ -284,6 +328,10 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
   std::vector<std::unique_ptr<antlr4::Token>> out;
   out.reserve(tokens.size());
   int brace_depth = 0;
+  constexpr int kMaxNesting = 200;
+  int nesting = 0;
+  int sign_run = 0;
+  int caret_run = 0;
   auto range = [&](const antlr4::Token& t) {
     return SourceRange{file, offsets.byte_of(t.getStartIndex()),
                        offsets.byte_of(t.getStopIndex() + 1)};
@@ -296,10 +344,26 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
       break;
     }
     size_t start = offsets.byte_of(tok->getStartIndex());
-    if (type == NomeLexer::LPAREN && start + 1 < text.size() && text[start + 1] == '*') {
-      diags.emit(DiagKind::UnclosedBlockComment, SourceRange{file, (uint32_t)start, (uint32_t)start + 2},
-                 "block comment `(*` is never closed by a matching `*)`");
-      // Everything after an unclosed comment is comment text.
+    // The parser is recursive: bound how deep brackets, signs and `^` chains nest, and stop
+    // reading the file where a limit is crossed (one error, no stack overflow).
+    if (type == NomeLexer::LPAREN || type == NomeLexer::LBRACE) {
+      ++nesting;
+    } else if ((type == NomeLexer::RPAREN || type == NomeLexer::RBRACE) && nesting > 0) {
+      --nesting;
+    }
+    bool is_sign = type == NomeLexer::PLUS || type == NomeLexer::MINUS;
+    sign_run = is_sign ? sign_run + 1 : 0;
+    if (type == NomeLexer::CARET) {
+      ++caret_run;
+    } else if (type != NomeLexer::NUMBER && type != NomeLexer::IDENT &&
+               type != NomeLexer::DOLLAR_REF && !is_sign) {
+      caret_run = 0;
+    }
+    if (nesting > kMaxNesting || sign_run > kMaxNesting || caret_run > kMaxNesting) {
+      diags.emit(DiagKind::NestingTooDeep, range(*tok),
+                 fmt::format("brackets, signs or `^` nest more than {} levels deep here; nomec "
+                             "stops reading the file at this point",
+                             kMaxNesting));
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;
       }
@@ -694,7 +758,9 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
 
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
-  DecodedInput input(decode_utf8(text, offsets));
+  std::u32string decoded = decode_utf8(text, offsets);
+  blank_block_comments(decoded, offsets, file, diags);
+  DecodedInput input(std::move(decoded));
   NomeLexer lexer(&input);
   lexer.removeErrorListeners();
   SilentListener silent;
