@@ -56,7 +56,8 @@ struct StageTimings {
 };
 
 /// Evaluates every entry of `module.scene`. Returns one mesh per scene entry (entries that
-/// produce neither faces nor curves are dropped). On failure, emits diagnostics and
+/// produce neither faces nor curves are dropped), followed by one mesh per `zipper`
+/// statement. On failure, emits diagnostics and
 /// returns what it could; callers check `diags.error_count()`.
 std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
                                        StageTimings* timings = nullptr);
