@@ -142,22 +142,6 @@ GeneratorArgs implicit(std::string func, double lo, double hi, int res) {
   return a;
 }
 
-double enclosed_volume(const kernel::PolygonSoup& s) {
-  double vol = 0;
-  size_t off = 0;
-  for (int32_t n : s.face_sizes) {
-    const glm::dvec3 a = s.positions[s.face_vertices[off]];
-    for (int32_t k = 1; k + 1 < n; ++k) {
-      const glm::dvec3 b = s.positions[s.face_vertices[off + k]];
-      const glm::dvec3 c = s.positions[s.face_vertices[off + k + 1]];
-      vol += (a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
-              a.z * (b.x * c.y - b.y * c.x)) / 6.0;
-    }
-    off += n;
-  }
-  return vol;
-}
-
 TEST(GenImplicitSurf, SphereIsClosedAndOutward) {
   Generated g = run("genimplicitsurf", implicit("x^2 + y^2 + z^2 - 1", -1.5, 1.5, 12));
   kernel::TopologyReport r = topo(g.soup);
@@ -166,7 +150,7 @@ TEST(GenImplicitSurf, SphereIsClosedAndOutward) {
   EXPECT_TRUE(r.is_closed);
   EXPECT_TRUE(r.is_orientable);
   EXPECT_EQ(r.components[0].mobius_edge_count, 0);
-  EXPECT_NEAR(enclosed_volume(g.soup), 4.0 / 3.0 * M_PI, 0.3);
+  EXPECT_NEAR(signed_volume(g.soup), 4.0 / 3.0 * M_PI, 0.3);
   for (const glm::dvec3& p : g.soup.positions) {
     EXPECT_NEAR(std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), 1.0, 0.1);
   }

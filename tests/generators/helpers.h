@@ -59,4 +59,21 @@ inline void expect_near(const glm::dvec3& a, const glm::dvec3& b, double eps = 1
   EXPECT_NEAR(a.z, b.z, eps);
 }
 
+// Signed volume enclosed by the soup's faces (fan-triangulated); > 0 for outward faces.
+inline double signed_volume(const kernel::PolygonSoup& s) {
+  double vol = 0;
+  size_t off = 0;
+  for (int32_t n : s.face_sizes) {
+    const glm::dvec3 a = s.positions[s.face_vertices[off]];
+    for (int32_t k = 1; k + 1 < n; ++k) {
+      const glm::dvec3 b = s.positions[s.face_vertices[off + k]];
+      const glm::dvec3 c = s.positions[s.face_vertices[off + k + 1]];
+      vol += (a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
+              a.z * (b.x * c.y - b.y * c.x)) / 6.0;
+    }
+    off += n;
+  }
+  return vol;
+}
+
 }  // namespace nomec::backend::testing

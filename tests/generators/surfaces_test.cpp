@@ -8,23 +8,6 @@
 namespace nomec::backend::testing {
 namespace {
 
-// Signed volume enclosed by the soup's faces (fan-triangulated); > 0 for outward faces.
-double signed_volume(const kernel::PolygonSoup& s) {
-  double vol = 0;
-  size_t off = 0;
-  for (int32_t n : s.face_sizes) {
-    const glm::dvec3 a = s.positions[s.face_vertices[off]];
-    for (int32_t k = 1; k + 1 < n; ++k) {
-      const glm::dvec3 b = s.positions[s.face_vertices[off + k]];
-      const glm::dvec3 c = s.positions[s.face_vertices[off + k + 1]];
-      vol += (a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
-              a.z * (b.x * c.y - b.y * c.x)) / 6.0;
-    }
-    off += n;
-  }
-  return vol;
-}
-
 GeneratorArgs torus_args(double theta_max, double phi_min, double phi_max, int ts, int ps) {
   return numbers({{"major_radius", 5}, {"minor_radius", 1}, {"theta_max", theta_max},
                   {"phi_min", phi_min}, {"phi_max", phi_max}, {"theta_segs", double(ts)},
