@@ -592,6 +592,23 @@ class Evaluator {
   }
 
   // Local position of a vertex reference of a face in a mesh.
+  // The position of the first vertex in `refs` that `ref` names (by its text or by the name
+  // of the point it resolves to), resolving it in turn; recursion is bounded by ref_depth_.
+  std::optional<glm::dvec3> position_among(const std::vector<ir::VertexRef>& refs,
+                                           const ir::VertexRef& ref, std::string_view inst_path) {
+    for (const ir::VertexRef& r : refs) {
+      bool named = r.text == ref.vertex ||
+                   (r.point.is_valid() && short_name(m_.node(r.point).name) == ref.vertex);
+      if (named && &r != &ref && ref_depth_ < 16) {
+        ++ref_depth_;
+        std::optional<glm::dvec3> p = ref_position(r, inst_path);
+        --ref_depth_;
+        if (p) return p;
+      }
+    }
+    return std::nullopt;
+  }
+
   std::optional<glm::dvec3> ref_position(const ir::VertexRef& ref, std::string_view inst_path) {
     if (ref.point.is_valid()) {
       if (const ir::Field* pos = find_field(m_.node(ref.point), "position")) return vec3(*pos);
@@ -623,16 +640,7 @@ class Evaluator {
     } else if (tn.kind == ir::NodeKind::Polyline) {
       // A vertex of a polyline instance (`_l1_v4`): one of the points it lists.
       if (const ir::Field* pts = find_field(tn, "points")) {
-        for (const ir::VertexRef& r : pts->vertices) {
-          bool named = r.text == ref.vertex ||
-                       (r.point.is_valid() && short_name(m_.node(r.point).name) == ref.vertex);
-          if (named && &r != &ref && ref_depth_ < 16) {
-            ++ref_depth_;
-            p = ref_position(r, inst_path);
-            --ref_depth_;
-            if (p) break;
-          }
-        }
+        p = position_among(pts->vertices, ref, inst_path);
       }
     } else if (tn.kind == ir::NodeKind::Mesh) {
       for (ir::NodeId k : kids_[target.index]) {
@@ -646,16 +654,7 @@ class Evaluator {
         if (p) break;
         const ir::Field* vf = find_field(m_.node(k), "vertices");
         if (vf == nullptr) continue;
-        for (const ir::VertexRef& r : vf->vertices) {
-          bool named = r.text == ref.vertex ||
-                       (r.point.is_valid() && short_name(m_.node(r.point).name) == ref.vertex);
-          if (named && &r != &ref && ref_depth_ < 16) {
-            ++ref_depth_;
-            p = ref_position(r, inst_path);
-            --ref_depth_;
-            if (p) break;
-          }
-        }
+        p = position_among(vf->vertices, ref, inst_path);
       }
     }
     if (!p) {
