@@ -54,18 +54,26 @@ glm::dvec3 de_boor(const std::vector<glm::dvec3>& p, const std::vector<double>& 
 
 }  // namespace
 
+// A curve winding `turns` times around the z axis while rising to `h`, sampled at `segs` + 1
+// points; `radius(s)` gives the distance from the axis at progress s in [0, 1].
+template <typename RadiusFn>
+Generated winding_curve(double turns, double h, int segs, RadiusFn radius) {
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i <= segs; ++i) {
+    const double s = static_cast<double>(i) / segs;
+    const double th = 2.0 * kPi * turns * s;
+    const double r = radius(s);
+    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
+  }
+  return polyline(pts, false);
+}
+
 Generated make_helix(const ArgReader& a) {
   const double r = a.positive({"radius"});
   const double h = a.number({"height"}).value;
   const double turns = nonzero(a, "turns");
   const int segs = a.count({"segs"}, 1);
-  std::vector<glm::dvec3> pts;
-  for (int i = 0; i <= segs; ++i) {
-    const double s = static_cast<double>(i) / segs;
-    const double th = 2.0 * kPi * turns * s;
-    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
-  }
-  return polyline(pts, false);
+  return winding_curve(turns, h, segs, [r](double) { return r; });
 }
 
 Generated make_spiral(const ArgReader& a) {
@@ -73,14 +81,8 @@ Generated make_spiral(const ArgReader& a) {
   const double h = a.number({"height"}).value;
   const double turns = nonzero(a, "turns");
   const int segs = a.count({"segs"}, 1);
-  std::vector<glm::dvec3> pts;
-  for (int i = 0; i <= segs; ++i) {
-    const double s = static_cast<double>(i) / segs;
-    const double th = 2.0 * kPi * turns * s;
-    const double r = growth * std::abs(turns) * s;  // grows by `growth` per turn
-    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
-  }
-  return polyline(pts, false);
+  // The radius grows by `growth` per turn.
+  return winding_curve(turns, h, segs, [&](double s) { return growth * std::abs(turns) * s; });
 }
 
 Generated make_beziercurve(const ArgReader& a) {
