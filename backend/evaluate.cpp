@@ -427,9 +427,10 @@ class Evaluator {
       if (!r.error.argument.empty()) {
         if (const ir::Field* f = find_field(g, r.error.argument)) at = f->range.is_valid() ? f->range : at;
       }
-      diags_.emit(DiagKind::GeometryFailed, at,
-                  fmt::format("`{}` `{}`: {}{}", g.keyword, short_name(g.name), r.error.message,
-                              inst_path.empty() ? "" : fmt::format(" (in instance `{}`)", inst_path)));
+      auto d = diags_.emit(DiagKind::GeometryFailed, at,
+                           fmt::format("`{}` `{}`: {}{}", g.keyword, short_name(g.name), r.error.message,
+                                       inst_path.empty() ? "" : fmt::format(" (in instance `{}`)", inst_path)));
+      if (!r.error.hint.empty()) d.note(SourceRange{}, r.error.hint);
       generated_.emplace(gen_id.index, std::nullopt);
       return nullptr;
     }

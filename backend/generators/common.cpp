@@ -8,7 +8,7 @@
 namespace nomec::backend::detail {
 
 void fail(std::string_view argument, std::string message) {
-  throw Failure{GeneratorError{std::string(argument), std::move(message)}};
+  throw Failure{GeneratorError{std::string(argument), std::move(message), ""}};
 }
 
 std::string fmt_number(double v) {
@@ -45,13 +45,12 @@ Arg ArgReader::number_or(std::initializer_list<std::string_view> names, double f
 int as_count(const Arg& arg, int min) {
   const double v = arg.value;
   const std::string n(arg.name);
-  if (std::abs(v - std::round(v)) > 1e-9) {
-    fail(n, "`" + n + "` must be a whole number, got " + fmt_number(v));
-  }
-  if (v < min) {
+  // Counts are rounded to the nearest whole number (the checker's `NonIntegerCount`
+  // warning says so).
+  if (std::round(v) < min) {
     fail(n, "`" + n + "` must be at least " + std::to_string(min) + ", got " + fmt_number(v));
   }
-  if (v > kMaxSegments) {
+  if (std::round(v) > kMaxSegments) {
     fail(n, "`" + n + "` must be at most " + std::to_string(kMaxSegments) + ", got " +
                 fmt_number(v));
   }

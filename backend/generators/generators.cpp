@@ -7,6 +7,7 @@
 #include <new>
 #include <utility>
 
+#include "backend/generators/domain.h"
 #include "backend/generators/impl.h"
 
 namespace nomec::backend {
@@ -59,7 +60,12 @@ GeneratorResult generate(std::string_view keyword, const GeneratorArgs& args) {
   GeneratorResult result;
   const Entry* e = find(keyword);
   if (e == nullptr) {
-    result.error = GeneratorError{"", "unknown generator `" + std::string(keyword) + "`"};
+    result.error = GeneratorError{"", "unknown generator `" + std::string(keyword) + "`", ""};
+    return result;
+  }
+  // The domain rules first, with the same messages `--check` gives for known values.
+  if (auto problem = check_generator_arguments(keyword, args.dialect, args.numbers)) {
+    result.error = GeneratorError{problem->argument, problem->message, problem->hint};
     return result;
   }
   try {
@@ -68,7 +74,7 @@ GeneratorResult generate(std::string_view keyword, const GeneratorArgs& args) {
   } catch (const detail::Failure& f) {
     result.error = f.error;
   } catch (const std::bad_alloc&) {
-    result.error = GeneratorError{"", "out of memory generating `" + std::string(keyword) + "`"};
+    result.error = GeneratorError{"", "out of memory generating `" + std::string(keyword) + "`", ""};
   }
   return result;
 }

@@ -42,6 +42,7 @@ struct GeneratorArgs {
 struct GeneratorError {
   std::string argument;  // "" when it concerns the whole generator
   std::string message;   // lowercase, no trailing period
+  std::string hint;      // what would be accepted, or "" (domain rules give one)
 };
 
 struct GeneratorResult {

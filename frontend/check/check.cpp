@@ -16,6 +16,7 @@
 #include <regex>
 #include <set>
 
+#include "backend/generators/domain.h"
 #include "frontend/parse/parse.h"
 
 namespace nomec {
@@ -1127,10 +1128,11 @@ class Checker {
     }
     const GenSignature* sig = signature_for(s.kind, dialect_);
     bool took_args = false;
+    bool arity_ok = true;
     auto on_positional = [&](const ast::Item& it) -> bool {
       if (it.kind == ItemKind::List && sig != nullptr && !took_args) {
         took_args = true;
-        check_gen_args(a, s, id, *sig, it);
+        arity_ok = check_gen_args(a, s, id, *sig, it);
         return true;
       }
       if (it.kind == ItemKind::List && (s.kind == BlockKind::Beziercurve || s.kind == BlockKind::Bspline)) {
@@ -1144,10 +1146,33 @@ class Checker {
       diags_.emit(DiagKind::MissingArgument, name ? s.items[0].range : s.open_kw,
                   fmt::format("`{}` needs its arguments `({})`", ast::open_keyword(s.kind), fmt::join(sig->args, " ")));
     }
+    if (arity_ok) check_generator_domain(s, id);
     return id;
   }
 
-  void check_gen_args(const ast::Ast& a, const ast::Stmt& s, ir::NodeId id, const GenSignature& sig, const ast::Item& list_item) {
+  // The generator's own argument-domain rules (backend/generators/domain.h) on the values
+  // known now, so that `--check` rejects what `--emit` would, with the same message.
+  void check_generator_domain(const ast::Stmt& s, ir::NodeId id) {
+    backend::KnownArguments known;
+    for (const ir::Field& f : m_.node(id).fields) {
+      if (f.kind != ir::FieldKind::Scalar || f.exprs.size() != 1) continue;
+      ir::EvalResult v = ir::evaluate(m_, f.exprs[0]);
+      if (v.ok) known[f.name] = v.value;
+    }
+    auto problem = backend::check_generator_arguments(ast::open_keyword(s.kind), dialect_name(dialect_), known);
+    if (!problem) return;
+    SourceRange at = s.open_kw;
+    for (const ir::Field& f : m_.node(id).fields) {
+      if (f.name == problem->argument && f.range.is_valid()) at = f.range;
+    }
+    diags_.emit(DiagKind::GeometryFailed, at,
+                fmt::format("`{}` `{}`: {}", ast::open_keyword(s.kind),
+                            m_.node(id).name.substr(m_.node(id).name.rfind('.') + 1), problem->message))
+        .note(SourceRange{}, problem->hint);
+  }
+
+  // Returns false when the list has the wrong number of arguments.
+  bool check_gen_args(const ast::Ast& a, const ast::Stmt& s, ir::NodeId id, const GenSignature& sig, const ast::Item& list_item) {
     const ast::ParenList& list = a.list(list_item.list);
     check_commas(a, list_item.list);
     size_t n = list.elems.size();
@@ -1175,6 +1200,7 @@ class Checker {
       }
       add_field(id, std::move(f));
     }
+    return n == want || n == want + sig.optional.size();
   }
 
   void check_count(ir::ExprId e, SourceRange r, std::string_view what) {

@@ -1,0 +1,74 @@
+// Tests of the generators' argument-domain rules (backend/generators/domain.h): the same
+// problem from the partial map the checker has and from `generate`, rules with unknown
+// arguments skipped, dialect-dependent argument order, and hints present.
+#include <gtest/gtest.h>
+
+#include "backend/generators/domain.h"
+#include "tests/generators/helpers.h"
+
+namespace nomec::backend::testing {
+namespace {
+
+TEST(Domain, CircleSegmentsAtLeastThree) {
+  auto p = check_generator_arguments("circle", "nome3", {{"radius", 20}, {"segs", 1}});
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->argument, "segs");
+  EXPECT_EQ(p->message, "`segs` must be at least 3, got 1");
+  EXPECT_FALSE(p->hint.empty());
+  // `generate` reports exactly the same problem.
+  GeneratorError e = run_error("circle", numbers({{"radius", 20}, {"segs", 1}}, "nome3"));
+  EXPECT_EQ(e.argument, p->argument);
+  EXPECT_EQ(e.message, p->message);
+  EXPECT_EQ(e.hint, p->hint);
+}
+
+TEST(Domain, UnknownArgumentsSkipTheirRules) {
+  // `segs` depends on something the checker cannot evaluate: the radius rule still runs.
+  EXPECT_FALSE(check_generator_arguments("circle", "nome", {{"radius", 2}}).has_value());
+  auto p = check_generator_arguments("circle", "nome", {{"radius", -2}});
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->argument, "radius");
+  // The torus' phi range needs both ends.
+  EXPECT_FALSE(check_generator_arguments("torus", "nome3", {{"phi_max", 0}}).has_value());
+  EXPECT_FALSE(check_generator_arguments("torus", "nome3", {}).has_value());
+}
+
+TEST(Domain, FirstProblemInTheDialectsArgumentOrder) {
+  // NOME 2016 funnel (n ro ratio h) vs NOME3 (radius ratio height n).
+  KnownArguments both_bad{{"n", 2}, {"ro", -1}, {"radius", -1}, {"ratio", 0}};
+  EXPECT_EQ(check_generator_arguments("funnel", "nome", both_bad)->argument, "n");
+  EXPECT_EQ(check_generator_arguments("funnel", "nome3", both_bad)->argument, "radius");
+}
+
+TEST(Domain, WrapDependentMinimums) {
+  // A full-turn torus needs 3 segments around; a half-turn one needs 1.
+  KnownArguments full{{"major_radius", 2}, {"minor_radius", 1}, {"theta_max", 360}, {"phi_min", 0},
+                      {"phi_max", 360}, {"theta_segs", 2}, {"phi_segs", 8}};
+  EXPECT_EQ(check_generator_arguments("torus", "nome3", full)->argument, "theta_segs");
+  full["theta_max"] = 180;
+  EXPECT_FALSE(check_generator_arguments("torus", "nome3", full).has_value());
+  // A sphere from pole to pole needs 2 latitude bands.
+  KnownArguments sphere{{"radius", 1}, {"theta_max", 360}, {"phi_min", -90}, {"phi_max", 90},
+                        {"theta_segs", 8}, {"phi_segs", 1}};
+  EXPECT_EQ(check_generator_arguments("sphere", "nome3", sphere)->argument, "phi_segs");
+  sphere["phi_min"] = 0;
+  EXPECT_FALSE(check_generator_arguments("sphere", "nome3", sphere).has_value());
+}
+
+TEST(Domain, CountsAreRoundedBeforeTheMinimum) {
+  EXPECT_FALSE(check_generator_arguments("circle", "nome", {{"radius", 1}, {"segs", 2.6}}).has_value());
+  EXPECT_TRUE(check_generator_arguments("circle", "nome", {{"radius", 1}, {"segs", 2.4}}).has_value());
+}
+
+TEST(Domain, OtherRules) {
+  EXPECT_EQ(check_generator_arguments("dupin", "nome3", {{"a", 1}, {"b", 1}, {"c", 2}})->argument, "c");
+  EXPECT_EQ(check_generator_arguments("torusknot", "nome3", {{"symm", 0}})->argument, "symm");
+  EXPECT_EQ(check_generator_arguments("helix", "nome3", {{"radius", 1}, {"turns", 0}})->argument, "turns");
+  EXPECT_EQ(check_generator_arguments("genimplicitsurf", "nome3", {{"resolution", 300}})->argument, "resolution");
+  EXPECT_EQ(check_generator_arguments("gencartesiansurf", "nome3", {{"x_min", 1}, {"x_max", 1}})->argument, "x_max");
+  EXPECT_EQ(check_generator_arguments("tunnel", "nome", {{"dri_low", -2}})->argument, "dri_low");
+  EXPECT_FALSE(check_generator_arguments("nosuchgenerator", "nome", {{"segs", 0}}).has_value());
+}
+
+}  // namespace
+}  // namespace nomec::backend::testing
