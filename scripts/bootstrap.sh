@@ -51,5 +51,14 @@ else
   echo "bootstrap: all ${#packages[@]} packages already installed; skipping apt"
 fi
 
+# Optional: Node.js and npm for editors/vscode's tests (CMake registers them only when node
+# and npm are found). A node already on PATH, from any source, is kept as it is.
+if ! command -v node >/dev/null 2>&1; then
+  echo "bootstrap: installing nodejs npm (editors/vscode tests)"
+  node_sudo=(); ((EUID == 0)) || node_sudo=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends nodejs npm \
+    || { "${node_sudo[@]}" apt-get update && DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends nodejs npm; }
+fi
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)"
