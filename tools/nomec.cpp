@@ -19,6 +19,7 @@
 #include "frontend/check/check.h"
 #include "ir/ir.h"
 #include "kernel/topology.h"
+#include "tools/fmt_command.h"
 
 namespace {
 
@@ -116,7 +117,15 @@ int main(int argc, char** argv) {
   std::string color = "auto";
   double time = 0;
   double frame = 0;
-  app.add_option("files", files, "Input files (.nome, .nom, .slf, .anom)")->required();
+  app.add_option("files", files, "Input files (.nome, .nom, .slf, .anom)");
+  nomec::tools::FmtCommand fmt_command;
+  CLI::App* fmt_app = app.add_subcommand("fmt", "Format files: print (one file), --check or -i");
+  fmt_app->add_option("files", fmt_command.files, "Files to format (`-` = standard input)")->required();
+  fmt_app->add_flag("-i,--in-place", fmt_command.in_place, "Rewrite changed files in place (atomically)");
+  fmt_app->add_flag("--check", fmt_command.check, "List files that would change; exit 1 if any");
+  fmt_app->add_option("--indent", fmt_command.indent_width, "Spaces per indentation level (default 4)")
+      ->check(CLI::Range(0, 16));
+  fmt_app->add_flag("--tabs", fmt_command.use_tabs, "Indent with tabs");
   app.add_flag("--check", check_only, "Check the files and report diagnostics (default)");
   app.add_option("--emit", emit,
                  "Emit `ir` (readable typed IR), `deps` (DOT graph), a mesh (`stl`, `obj`, `ply`) "
@@ -162,6 +171,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     int code = app.exit(e);
     return e.get_exit_code() == 0 ? code : 2;
+  }
+  if (fmt_app->parsed()) {
+    return nomec::tools::run_fmt(fmt_command);
+  }
+  if (files.empty()) {
+    std::cerr << "nomec: no input files (see nomec --help)\n";
+    return 2;
   }
   pipeline.rule = rule == "derose" ? nomec::kernel::VertexRule::DeRose : nomec::kernel::VertexRule::CatmullClark;
   const bool emit_mesh = emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary";

@@ -811,3 +811,75 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
 }
 
 }  // namespace nomec
+
+// ---- Token stream for text tools (the formatter): the parse layer's lexer, comments kept.
+namespace nomec {
+
+std::vector<LexToken> lex_file(std::string_view text) {
+  Offsets offsets;
+  offsets.text_size = static_cast<uint32_t>(text.size());
+  std::u32string original = decode_utf8(text, offsets);
+  std::u32string blanked = original;
+  DiagnosticEngine ignored;
+  blank_block_comments(blanked, offsets, FileId{}, ignored);
+  DecodedInput input(std::move(blanked));
+  NomeLexer lexer(&input);
+  lexer.removeErrorListeners();
+  SilentListener silent;
+  lexer.addErrorListener(&silent);
+  std::vector<LexToken> out;
+  auto push = [&](LexKind kind, size_t first_cp, size_t end_cp) {
+    out.push_back(LexToken{kind, offsets.byte_of(first_cp), offsets.byte_of(end_cp)});
+  };
+  for (const auto& tok : lexer.getAllTokens()) {
+    size_t begin = tok->getStartIndex();
+    size_t end = tok->getStopIndex() + 1;
+    switch (tok->getType()) {
+      case NomeLexer::WS:
+        // Blanked block comments are whitespace here: find them in the original text.
+        for (size_t i = begin; i < end; ++i) {
+          if (original[i] != '(' || i + 1 >= end || original[i + 1] != '*') continue;
+          size_t depth = 0;
+          size_t j = i;
+          for (; j < end; ++j) {
+            if (original[j] == '(' && j + 1 < end && original[j + 1] == '*') {
+              ++depth;
+              ++j;
+            } else if (original[j] == '*' && j + 1 < end && original[j + 1] == ')') {
+              ++j;
+              if (--depth == 0) break;
+            }
+          }
+          size_t stop = std::min(j + 1, end);
+          push(LexKind::BlockComment, i, stop);
+          i = stop - 1;
+        }
+        continue;
+      case NomeLexer::LINE_COMMENT: push(LexKind::LineComment, begin, end); continue;
+      case NomeLexer::TCLINIT: push(LexKind::TclInit, begin, end); continue;
+      case NomeLexer::NUMBER: push(LexKind::Number, begin, end); continue;
+      case NomeLexer::DOLLAR_REF:
+      case NomeLexer::TCL_ARRAY_REF: push(LexKind::DollarRef, begin, end); continue;
+      case NomeLexer::STRING: push(LexKind::String, begin, end); continue;
+      case NomeLexer::BRACKET_RAW:
+      case NomeLexer::PCT_RAW: push(LexKind::Raw, begin, end); continue;
+      case NomeLexer::LPAREN: push(LexKind::LParen, begin, end); continue;
+      case NomeLexer::RPAREN: push(LexKind::RParen, begin, end); continue;
+      case NomeLexer::LBRACE: push(LexKind::LBrace, begin, end); continue;
+      case NomeLexer::RBRACE: push(LexKind::RBrace, begin, end); continue;
+      case NomeLexer::COMMA: push(LexKind::Comma, begin, end); continue;
+      case NomeLexer::PLUS:
+      case NomeLexer::MINUS:
+      case NomeLexer::STAR:
+      case NomeLexer::SLASH:
+      case NomeLexer::DSLASH:
+      case NomeLexer::PERCENT:
+      case NomeLexer::CARET: push(LexKind::Operator, begin, end); continue;
+      case NomeLexer::UNEXPECTED_CHAR: push(LexKind::Other, begin, end); continue;
+      default: push(LexKind::Word, begin, end); continue;  // IDENT and every keyword
+    }
+  }
+  return out;
+}
+
+}  // namespace nomec

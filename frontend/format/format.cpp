@@ -1,0 +1,434 @@
+// Formatter implementation. The text is parsed (files with syntax errors are refused), lexed
+// with comments kept (parse layer `lex_file`), and re-emitted unit by unit: a unit is a token,
+// or a verbatim range taken whole from the AST (`tclinit { … }`, raw Tcl braces, `[raw]`,
+// `%{ }%`). Only whitespace between units changes: indentation from the AST's block nesting
+// (plus open brackets for continuation lines), line breaks kept (blank-line runs collapsed
+// to one) or added before statements, and canonical spacing inside lists and `{expr …}`.
+// The result is parsed again and its AST compared with the original's; if they differ the
+// formatter refuses rather than change the meaning.
+#include "frontend/format/format.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <memory>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "frontend/diagnostics/diagnostic.h"
+#include "frontend/parse/parse.h"
+
+namespace nomec {
+
+namespace {
+
+// What the AST says about a token, keyed by its byte offset.
+enum class Role : uint8_t { None, Binary, Unary, CallParen };
+
+struct Structure {
+  std::unordered_set<uint32_t> opens;        // opening keyword of a block
+  std::unordered_set<uint32_t> closes;       // closing keyword of a block
+  std::unordered_set<uint32_t> line_starts;  // a unit that must begin a line
+  std::unordered_map<uint32_t, Role> roles;  // operators and call parentheses
+  std::vector<std::pair<uint32_t, uint32_t>> verbatim;  // copied byte for byte
+  std::vector<std::pair<uint32_t, uint32_t>> binary_gaps;  // operator lies in [first, second)
+  std::vector<uint32_t> call_names_end;  // the call's `(` is the first `(` from here
+};
+
+class StructureBuilder {
+ public:
+  StructureBuilder(const ast::Ast& tree, std::string_view text, Structure& out)
+      : ast_(tree), text_(text), out_(out) {}
+
+  void build() {
+    for (const ast::Item& item : ast_.top) {
+      out_.line_starts.insert(item.range.begin);
+      this->item(item);
+    }
+  }
+
+ private:
+  bool spans_lines(uint32_t begin, uint32_t end) const {
+    return text_.substr(begin, end - begin).find('\n') != std::string_view::npos;
+  }
+
+  void item(const ast::Item& it) {
+    switch (it.kind) {
+      case ast::ItemKind::Word:
+      case ast::ItemKind::Include:
+        return;
+      case ast::ItemKind::Tcl:
+        out_.verbatim.emplace_back(it.range.begin, it.range.end);
+        return;
+      case ast::ItemKind::Value:
+        expr(it.expr);
+        return;
+      case ast::ItemKind::List:
+        for (ast::ExprId e : ast_.list(it.list).elems) expr(e);
+        return;
+      case ast::ItemKind::Block:
+        stmt(ast_.stmt(it.block));
+        return;
+    }
+  }
+
+  void stmt(const ast::Stmt& s) {
+    out_.opens.insert(s.open_kw.begin);
+    bool multi_line = false;
+    if (s.close_kw.is_valid() && s.close_kw.end > s.close_kw.begin) {
+      out_.closes.insert(s.close_kw.begin);
+      multi_line = spans_lines(s.open_kw.begin, s.close_kw.begin);
+      if (multi_line) out_.line_starts.insert(s.close_kw.begin);
+    }
+    for (const ast::Item& it : s.items) {
+      if (multi_line && it.kind == ast::ItemKind::Block) out_.line_starts.insert(it.range.begin);
+      item(it);
+    }
+  }
+
+  void expr(ast::ExprId id) {
+    // Binary chains are left-nested: walk the left spine iteratively.
+    while (id.is_valid()) {
+      const ast::Expr& e = ast_.expr(id);
+      switch (e.kind) {
+        case ast::ExprKind::Raw:
+          out_.verbatim.emplace_back(e.range.begin, e.range.end);
+          return;
+        case ast::ExprKind::Binary:
+          out_.binary_gaps.emplace_back(ast_.expr(e.lhs).range.end, ast_.expr(e.rhs).range.begin);
+          expr(e.rhs);
+          id = e.lhs;
+          continue;
+        case ast::ExprKind::Unary:
+          out_.roles[e.range.begin] = Role::Unary;
+          id = e.lhs;
+          continue;
+        case ast::ExprKind::Call:
+          out_.call_names_end.push_back(e.range.begin + static_cast<uint32_t>(e.text.size()));
+          for (ast::ExprId a : e.args) expr(a);
+          return;
+        default:
+          return;
+      }
+    }
+  }
+
+  const ast::Ast& ast_;
+  std::string_view text_;
+  Structure& out_;
+};
+
+// A structural fingerprint of an AST: everything that carries meaning, no positions.
+class Fingerprint {
+ public:
+  explicit Fingerprint(const ast::Ast& tree) : ast_(tree) {}
+
+  std::string of_file() {
+    for (const ast::Item& it : ast_.top) item(it);
+    return std::move(out_);
+  }
+
+ private:
+  void text(std::string_view t) {
+    for (char c : t) {
+      if (c != '\r') out_ += c;
+    }
+    out_ += '\x1f';
+  }
+  void item(const ast::Item& it) {
+    out_ += fmt::format("i{}:", static_cast<int>(it.kind));
+    switch (it.kind) {
+      case ast::ItemKind::Word:
+      case ast::ItemKind::Tcl:
+      case ast::ItemKind::Include:
+        text(it.text);
+        return;
+      case ast::ItemKind::Value:
+        expr(it.expr);
+        return;
+      case ast::ItemKind::List: {
+        const ast::ParenList& l = ast_.list(it.list);
+        out_ += fmt::format("({},{}:", l.elems.size(), l.commas.size());
+        for (ast::ExprId e : l.elems) expr(e);
+        out_ += ')';
+        return;
+      }
+      case ast::ItemKind::Block: {
+        const ast::Stmt& s = ast_.stmt(it.block);
+        out_ += fmt::format("B{}:", static_cast<int>(s.kind));
+        text(s.close_text);
+        for (const ast::Item& sub : s.items) item(sub);
+        out_ += 'E';
+        return;
+      }
+    }
+  }
+  void expr(ast::ExprId id) {
+    if (!id.is_valid()) {
+      out_ += '-';
+      return;
+    }
+    const ast::Expr& e = ast_.expr(id);
+    out_ += fmt::format("e{}{}{}:", static_cast<int>(e.kind), e.op == 0 ? '_' : e.op,
+                        e.in_braces ? 'b' : 'n');
+    text(e.text);
+    if (e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Unary) {
+      expr(e.lhs);
+      expr(e.rhs);
+    }
+    for (ast::ExprId a : e.args) expr(a);
+    out_ += ';';
+  }
+
+  const ast::Ast& ast_;
+  std::string out_;
+};
+
+struct Parsed {
+  std::unique_ptr<SourceManager> sources;  // owns the text the AST's views point into
+  ast::Ast tree;
+  std::string error;  // empty when the text parses without errors
+};
+
+Parsed parse_text(std::string_view text) {
+  Parsed p;
+  p.sources = std::make_unique<SourceManager>();
+  SourceManager& sources = *p.sources;
+  FileId file = sources.add_file("<format>", std::string(text));
+  DiagnosticEngine diags;
+  p.tree = parse_file(sources, file, diags);
+  diags.sort_and_dedupe();
+  for (const Diagnostic& d : diags.diagnostics()) {
+    if (d.severity == Severity::Error) {
+      LineCol lc = sources.line_col(file, d.range.begin);
+      p.error = fmt::format("{}:{}: {}", lc.line, lc.column, d.message);
+      break;
+    }
+  }
+  return p;
+}
+
+// One piece of output: a token, or a verbatim range.
+struct Unit {
+  LexKind kind;
+  uint32_t begin;
+  uint32_t end;
+  bool verbatim;
+};
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+
+class Printer {
+ public:
+  Printer(std::string_view text, const Structure& structure, const FormatOptions& options)
+      : text_(text), s_(structure), options_(options) {}
+
+  std::string print(const std::vector<Unit>& units) {
+    for (size_t i = 0; i < units.size(); ++i) {
+      const Unit& u = units[i];
+      if (!u.verbatim && u.kind == LexKind::Word && s_.closes.contains(u.begin) && depth_ > 0) {
+        --depth_;
+      }
+      if (i == 0) {
+        indent(u);
+      } else {
+        const Unit& p = units[i - 1];
+        std::string_view gap = text_.substr(p.end, u.begin - p.end);
+        size_t newlines = static_cast<size_t>(std::count(gap.begin(), gap.end(), '\n'));
+        bool forced = line_has_code_ && s_.line_starts.contains(u.begin);
+        if (newlines > 0 || forced) {
+          out_ += newlines >= 2 ? "\n\n" : "\n";
+          line_has_code_ = false;
+          indent(u);
+        } else if (space(p, u, !gap.empty())) {
+          out_ += ' ';
+        }
+      }
+      std::string_view body = text_.substr(u.begin, u.end - u.begin);
+      if (u.kind == LexKind::LineComment) {
+        while (!body.empty() && is_space(body.back())) body.remove_suffix(1);
+      }
+      out_ += body;
+      if (u.kind != LexKind::LineComment && u.kind != LexKind::BlockComment) {
+        line_has_code_ = true;
+      }
+      if (u.verbatim) continue;
+      if (u.kind == LexKind::Word && s_.opens.contains(u.begin)) ++depth_;
+      if (u.kind == LexKind::LParen || u.kind == LexKind::LBrace) {
+        ++brackets_;
+        if (u.kind == LexKind::LBrace) ++braces_;
+      } else if (u.kind == LexKind::RParen || u.kind == LexKind::RBrace) {
+        if (brackets_ > 0) --brackets_;
+        if (u.kind == LexKind::RBrace && braces_ > 0) --braces_;
+      }
+    }
+    if (!out_.empty()) out_ += '\n';
+    return std::move(out_);
+  }
+
+ private:
+  void indent(const Unit& first) {
+    int level = depth_ + brackets_;
+    if (!first.verbatim && (first.kind == LexKind::RParen || first.kind == LexKind::RBrace)) {
+      --level;
+    }
+    level = std::max(level, 0);
+    if (options_.insert_spaces) {
+      out_.append(static_cast<size_t>(level) * static_cast<size_t>(std::max(options_.indent_width, 0)), ' ');
+    } else {
+      out_.append(static_cast<size_t>(level), '\t');
+    }
+  }
+
+  Role role(const Unit& u) const {
+    if (u.verbatim) return Role::None;
+    auto it = s_.roles.find(u.begin);
+    return it == s_.roles.end() ? Role::None : it->second;
+  }
+
+  bool op_has_space_around(const Unit& op) const {
+    bool before = op.begin > 0 && is_space(text_[op.begin - 1]);
+    bool after = op.end < text_.size() && is_space(text_[op.end]);
+    return before || after;
+  }
+
+  // Whether one space separates `p` and `u` on the same line. `ws`: the input had some.
+  bool space(const Unit& p, const Unit& u, bool ws) const {
+    auto plain = [](const Unit& x, LexKind k) { return !x.verbatim && x.kind == k; };
+    if (plain(u, LexKind::LineComment)) return true;
+    if (plain(u, LexKind::BlockComment) || plain(p, LexKind::BlockComment)) return ws;
+    if (plain(p, LexKind::LParen)) {
+      // `( *` must not become the comment opener `(*`.
+      return plain(u, LexKind::Operator) && text_[u.begin] == '*';
+    }
+    if (plain(u, LexKind::RParen)) return false;
+    if (plain(p, LexKind::LBrace) || plain(u, LexKind::RBrace)) return false;
+    if (plain(u, LexKind::Comma)) return false;
+    if (plain(p, LexKind::Comma)) return true;
+    if (plain(u, LexKind::LParen) && role(u) == Role::CallParen) return false;
+    if (plain(p, LexKind::Operator) && role(p) == Role::Unary) return false;
+    for (const Unit* op : {&p, &u}) {
+      if (plain(*op, LexKind::Operator) && role(*op) == Role::Binary) {
+        return braces_ > 0 || op_has_space_around(*op);
+      }
+    }
+    return ws;
+  }
+
+  std::string_view text_;
+  const Structure& s_;
+  const FormatOptions& options_;
+  std::string out_;
+  int depth_ = 0;
+  int brackets_ = 0;
+  int braces_ = 0;
+  bool line_has_code_ = false;
+};
+
+// Tokens -> units: tokens inside a verbatim range become that one range.
+std::vector<Unit> make_units(const std::vector<LexToken>& tokens,
+                             std::vector<std::pair<uint32_t, uint32_t>> verbatim) {
+  std::sort(verbatim.begin(), verbatim.end());
+  std::vector<Unit> units;
+  units.reserve(tokens.size());
+  size_t v = 0;
+  for (const LexToken& t : tokens) {
+    while (v < verbatim.size() && verbatim[v].second <= t.begin) ++v;
+    if (v < verbatim.size() && verbatim[v].first <= t.begin && t.end <= verbatim[v].second) {
+      if (units.empty() || !units.back().verbatim || units.back().begin != verbatim[v].first) {
+        units.push_back(Unit{LexKind::Raw, verbatim[v].first, verbatim[v].second, true});
+      }
+      continue;
+    }
+    bool whole = t.kind == LexKind::TclInit || t.kind == LexKind::String || t.kind == LexKind::Raw;
+    units.push_back(Unit{t.kind, t.begin, t.end, whole});
+  }
+  return units;
+}
+
+// Resolves operator roles that the AST gives as positions between operands.
+void resolve_roles(const std::vector<LexToken>& tokens, Structure& s) {
+  auto first_at = [&](uint32_t offset) {
+    return std::lower_bound(tokens.begin(), tokens.end(), offset,
+                            [](const LexToken& t, uint32_t o) { return t.begin < o; });
+  };
+  for (auto [lo, hi] : s.binary_gaps) {
+    for (auto it = first_at(lo); it != tokens.end() && it->begin < hi; ++it) {
+      if (it->kind == LexKind::Operator) {
+        s.roles[it->begin] = Role::Binary;
+        break;
+      }
+    }
+  }
+  for (uint32_t name_end : s.call_names_end) {
+    for (auto it = first_at(name_end); it != tokens.end(); ++it) {
+      if (it->kind == LexKind::LParen) {
+        s.roles[it->begin] = Role::CallParen;
+        break;
+      }
+      if (it->kind != LexKind::LineComment && it->kind != LexKind::BlockComment) break;
+    }
+  }
+}
+
+std::vector<std::string> comments_of(std::string_view text) {
+  std::vector<std::string> out;
+  for (const LexToken& t : lex_file(text)) {
+    if (t.kind == LexKind::LineComment || t.kind == LexKind::BlockComment) {
+      std::string_view c = text.substr(t.begin, t.end - t.begin);
+      while (!c.empty() && is_space(c.back())) c.remove_suffix(1);
+      out.emplace_back(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+FormatResult format_source(std::string_view input, const FormatOptions& options) {
+  FormatResult result;
+  // Line endings: work on LF; write CRLF back if the file's first line ends with CRLF.
+  size_t first_nl = input.find('\n');
+  bool crlf = first_nl != std::string_view::npos && first_nl > 0 && input[first_nl - 1] == '\r';
+  std::string text;
+  text.reserve(input.size());
+  for (size_t i = 0; i < input.size(); ++i) {
+    if (input[i] == '\r' && i + 1 < input.size() && input[i + 1] == '\n') continue;
+    text += input[i];
+  }
+
+  Parsed original = parse_text(text);
+  if (!original.error.empty()) {
+    result.error = original.error;
+    return result;
+  }
+  Structure structure;
+  StructureBuilder(original.tree, text, structure).build();
+  std::vector<LexToken> tokens = lex_file(text);
+  resolve_roles(tokens, structure);
+  std::vector<Unit> units = make_units(tokens, structure.verbatim);
+  std::string formatted = Printer(text, structure, options).print(units);
+
+  // Never change the meaning: the result must parse to the same AST, with the same comments.
+  Parsed again = parse_text(formatted);
+  if (!again.error.empty() || Fingerprint(original.tree).of_file() != Fingerprint(again.tree).of_file() ||
+      comments_of(text) != comments_of(formatted)) {
+    result.error = "1:1: the formatter would change this file's meaning; it was left unchanged "
+                   "(please report this file)";
+    return result;
+  }
+  if (crlf) {
+    std::string with_cr;
+    with_cr.reserve(formatted.size() + formatted.size() / 16);
+    for (char c : formatted) {
+      if (c == '\n') with_cr += '\r';
+      with_cr += c;
+    }
+    formatted = std::move(with_cr);
+  }
+  result.ok = true;
+  result.text = std::move(formatted);
+  return result;
+}
+
+}  // namespace nomec

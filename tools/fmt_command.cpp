@@ -1,0 +1,118 @@
+// `nomec fmt` implementation: reads each file (or stdin), calls format_source, and prints,
+// checks or rewrites in place (write to a temporary file next to it, then rename).
+#include "tools/fmt_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <unistd.h>
+
+#include "frontend/format/format.h"
+
+namespace nomec::tools {
+
+namespace {
+
+std::optional<std::string> read_input(const std::string& path) {
+  if (path == "-") {
+    return std::string(std::istreambuf_iterator<char>(std::cin), {});
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Replaces `path` by `text` atomically: a temporary file in the same folder is renamed over it.
+bool write_atomically(const std::string& path, const std::string& text, std::string& error) {
+  namespace fs = std::filesystem;
+  fs::path target(path);
+  fs::path temp = target;
+  temp += fmt::format(".nomec-fmt-{}.tmp", static_cast<long>(getpid()));
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      error = fmt::format("cannot write `{}`", temp.string());
+      std::error_code ignored;
+      fs::remove(temp, ignored);
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::permissions(temp, fs::status(target, ec).permissions(), ec);
+  fs::rename(temp, target, ec);
+  if (ec) {
+    error = fmt::format("cannot replace `{}`: {}", path, ec.message());
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int run_fmt(const FmtCommand& command) {
+  if (command.in_place && command.check) {
+    std::cerr << "nomec fmt: --in-place and --check cannot be used together\n";
+    return 2;
+  }
+  if (!command.in_place && !command.check && command.files.size() != 1) {
+    std::cerr << "nomec fmt: give one file to print, or use --in-place or --check\n";
+    return 2;
+  }
+  for (const std::string& f : command.files) {
+    if (f == "-" && (command.in_place || command.files.size() != 1)) {
+      std::cerr << "nomec fmt: `-` (standard input) must be the only file and cannot be "
+                   "rewritten in place\n";
+      return 2;
+    }
+  }
+  FormatOptions options;
+  options.indent_width = command.indent_width;
+  options.insert_spaces = !command.use_tabs;
+  int status = 0;
+  for (const std::string& path : command.files) {
+    std::optional<std::string> text = read_input(path);
+    if (!text) {
+      std::cerr << fmt::format("nomec fmt: cannot read `{}`\n", path);
+      return 2;
+    }
+    FormatResult result = format_source(*text, options);
+    std::string shown = path == "-" ? "<stdin>" : path;
+    if (!result.ok) {
+      // result.error is "line:col: message".
+      size_t colon = result.error.find(": ");
+      std::string where = colon == std::string::npos ? "1:1" : result.error.substr(0, colon);
+      std::string message = colon == std::string::npos ? result.error : result.error.substr(colon + 2);
+      std::cerr << fmt::format("{}:{}: error: {} (file not formatted)\n", shown, where, message);
+      status = std::max(status, 1);
+      continue;
+    }
+    if (command.check) {
+      if (result.text != *text) {
+        std::cout << shown << "\n";
+        status = std::max(status, 1);
+      }
+    } else if (command.in_place) {
+      std::string error;
+      if (result.text != *text && !write_atomically(path, result.text, error)) {
+        std::cerr << "nomec fmt: " << error << "\n";
+        return 2;
+      }
+    } else {
+      std::cout << result.text;
+    }
+  }
+  return status;
+}
+
+}  // namespace nomec::tools
