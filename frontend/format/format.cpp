@@ -78,7 +78,11 @@ class StructureBuilder {
     if (s.close_kw.is_valid() && s.close_kw.end > s.close_kw.begin) {
       out_.closes.insert(s.close_kw.begin);
       multi_line = spans_lines(s.open_kw.begin, s.close_kw.begin);
-      if (multi_line) out_.line_starts.insert(s.close_kw.begin);
+      // A container (its body ends with a nested block) closes on a line of its own; a
+      // simple block keeps `endface` after its last list: `face f (a b\n  c d) endface`.
+      if (multi_line && !s.items.empty() && s.items.back().kind == ast::ItemKind::Block) {
+        out_.line_starts.insert(s.close_kw.begin);
+      }
     }
     for (const ast::Item& it : s.items) {
       if (multi_line && it.kind == ast::ItemKind::Block) out_.line_starts.insert(it.range.begin);
@@ -255,10 +259,10 @@ class Printer {
       if (u.verbatim) continue;
       if (u.kind == LexKind::Word && s_.opens.contains(u.begin)) ++depth_;
       if (u.kind == LexKind::LParen || u.kind == LexKind::LBrace) {
-        ++brackets_;
+        bracket_levels_.push_back(line_level_);
         if (u.kind == LexKind::LBrace) ++braces_;
       } else if (u.kind == LexKind::RParen || u.kind == LexKind::RBrace) {
-        if (brackets_ > 0) --brackets_;
+        if (!bracket_levels_.empty()) bracket_levels_.pop_back();
         if (u.kind == LexKind::RBrace && braces_ > 0) --braces_;
       }
     }
@@ -267,12 +271,16 @@ class Printer {
   }
 
  private:
+  // Indents a new line: one level per enclosing block; inside brackets, one level more than
+  // the line that opened the innermost bracket (its closer goes back to that line's level).
   void indent(const Unit& first) {
-    int level = depth_ + brackets_;
-    if (!first.verbatim && (first.kind == LexKind::RParen || first.kind == LexKind::RBrace)) {
-      --level;
+    int level = depth_;
+    if (!bracket_levels_.empty()) {
+      bool closer = !first.verbatim && (first.kind == LexKind::RParen || first.kind == LexKind::RBrace);
+      level = bracket_levels_.back() + (closer ? 0 : 1);
     }
     level = std::max(level, 0);
+    line_level_ = level;
     if (options_.insert_spaces) {
       out_.append(static_cast<size_t>(level) * static_cast<size_t>(std::max(options_.indent_width, 0)), ' ');
     } else {
@@ -320,7 +328,8 @@ class Printer {
   const FormatOptions& options_;
   std::string out_;
   int depth_ = 0;
-  int brackets_ = 0;
+  int line_level_ = 0;                // indentation level of the current line
+  std::vector<int> bracket_levels_;   // per open bracket: the level of the line opening it
   int braces_ = 0;
   bool line_has_code_ = false;
 };

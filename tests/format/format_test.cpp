@@ -1,0 +1,175 @@
+// Formatter tests: golden before/after pairs (golden/NAME.in.EXT -> NAME.out.EXT; rewrite
+// with NOMEC_UPDATE_GOLDEN=1), and properties over every corpus file, example and test
+// input: idempotence, the same IR (locations stripped), the same comments in the same
+// order; files with syntax errors are refused with `line:col`.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "frontend/check/check.h"
+#include "frontend/format/format.h"
+#include "frontend/parse/parse.h"
+#include "ir/ir.h"
+
+namespace fs = std::filesystem;
+using nomec::format_source;
+using nomec::FormatOptions;
+
+namespace {
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool is_nome_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  return ext == ".nome" || ext == ".nom" || ext == ".slf" || ext == ".anom";
+}
+
+// Every corpus file, example and test input (including this folder's goldens).
+std::vector<fs::path> all_inputs() {
+  std::vector<fs::path> out;
+  for (fs::path root : {fs::path(NOMEC_CORPUS_DIR), fs::path(NOMEC_SOURCE_DIR) / "examples",
+                        fs::path(NOMEC_SOURCE_DIR) / "tests"}) {
+    if (!fs::exists(root)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(root)) {
+      if (e.is_regular_file() && is_nome_file(e.path())) out.push_back(e.path());
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// `--emit ir` without source locations (the `  # line:col` suffixes).
+std::string ir_without_locations(const std::string& path, const std::string& text) {
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  nomec::CheckResult r = nomec::check_source(sources, path, text, nomec::CheckOptions{}, diags);
+  static const std::regex location("  # [0-9]+:[0-9]+");
+  return std::regex_replace(nomec::ir::dump_ir(r.module, sources), location, "");
+}
+
+std::vector<std::string> comments(std::string_view text) {
+  std::vector<std::string> out;
+  for (const nomec::LexToken& t : nomec::lex_file(text)) {
+    if (t.kind == nomec::LexKind::LineComment || t.kind == nomec::LexKind::BlockComment) {
+      std::string c(text.substr(t.begin, t.end - t.begin));
+      while (!c.empty() && std::isspace(static_cast<unsigned char>(c.back()))) c.pop_back();
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+TEST(FormatGolden, EveryPairMatches) {
+  fs::path dir = fs::path(NOMEC_SOURCE_DIR) / "tests/format/golden";
+  bool update = std::getenv("NOMEC_UPDATE_GOLDEN") != nullptr;
+  int pairs = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string name = e.path().filename().string();
+    size_t at = name.find(".in.");
+    if (at == std::string::npos) continue;
+    ++pairs;
+    fs::path expected_path = dir / (name.substr(0, at) + ".out." + name.substr(at + 4));
+    nomec::FormatResult r = format_source(read(e.path()));
+    ASSERT_TRUE(r.ok) << name << ": " << r.error;
+    if (update) {
+      std::ofstream(expected_path, std::ios::binary) << r.text;
+      continue;
+    }
+    EXPECT_EQ(r.text, read(expected_path)) << name;
+    nomec::FormatResult again = format_source(r.text);
+    ASSERT_TRUE(again.ok) << name;
+    EXPECT_EQ(again.text, r.text) << name << " is not idempotent";
+  }
+  EXPECT_GE(pairs, 12);
+}
+
+// Idempotence, meaning and comments over every real file we have.
+TEST(FormatProperties, CorpusExamplesAndTestInputs) {
+  std::vector<fs::path> files = all_inputs();
+  ASSERT_GT(files.size(), 100u);
+  int formatted = 0;
+  int refused = 0;
+  for (const fs::path& p : files) {
+    std::string text = read(p);
+    nomec::FormatResult r = format_source(text);
+    if (!r.ok) {
+      ++refused;
+      EXPECT_TRUE(std::regex_search(r.error, std::regex("^[0-9]+:[0-9]+: "))) << p << ": " << r.error;
+      EXPECT_EQ(r.error.find("meaning"), std::string::npos) << p << ": " << r.error;
+      continue;
+    }
+    ++formatted;
+    nomec::FormatResult again = format_source(r.text);
+    ASSERT_TRUE(again.ok) << p << ": " << again.error;
+    EXPECT_EQ(again.text, r.text) << p << " is not idempotent";
+    EXPECT_EQ(ir_without_locations(p.string(), r.text), ir_without_locations(p.string(), text))
+        << p << ": the IR changed";
+    EXPECT_EQ(comments(r.text), comments(text)) << p << ": comments changed";
+  }
+  // Most files parse; the refused ones are the syntax-error test inputs.
+  EXPECT_GT(formatted, 100);
+  EXPECT_GT(refused, 10);
+}
+
+TEST(FormatRefuses, SyntaxErrorsWithTheirLocation) {
+  struct Case {
+    const char* text;
+    const char* where;
+  };
+  for (Case c : {Case{"point p (0 0 0 endpoint\n", "1:"},
+                 Case{"mesh m\n  face f (a b c) endface\n", "1:1:"},
+                 Case{"point p (0 0 0) endpoint\n(* never closed\n", "2:1:"},
+                 Case{"point p (0 0 0) endpoint\nendmesh\n", "2:1:"}}) {
+    nomec::FormatResult r = format_source(c.text);
+    EXPECT_FALSE(r.ok) << c.text;
+    EXPECT_TRUE(r.text.empty());
+    EXPECT_EQ(r.error.rfind(c.where, 0), 0u) << c.text << " -> " << r.error;
+  }
+}
+
+TEST(FormatOptions, IndentWidthAndTabs) {
+  std::string text = "group g\ninstance i m endinstance\nendgroup\n";
+  FormatOptions two;
+  two.indent_width = 2;
+  EXPECT_EQ(format_source(text, two).text, "group g\n  instance i m endinstance\nendgroup\n");
+  FormatOptions tabs;
+  tabs.insert_spaces = false;
+  EXPECT_EQ(format_source(text, tabs).text, "group g\n\tinstance i m endinstance\nendgroup\n");
+}
+
+TEST(FormatLineEndings, CrlfInputKeepsCrlf) {
+  std::string text = "group g\r\ninstance i m endinstance  # note\r\n\r\n\r\nendgroup\r\n";
+  nomec::FormatResult r = format_source(text);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.text, "group g\r\n    instance i m endinstance # note\r\n\r\nendgroup\r\n");
+  EXPECT_EQ(format_source(r.text).text, r.text);
+}
+
+TEST(FormatEdges, EmptyAndCommentOnlyFiles) {
+  EXPECT_TRUE(format_source("").ok);
+  EXPECT_EQ(format_source("").text, "");
+  EXPECT_EQ(format_source("\n\n  \n").text, "");
+  EXPECT_EQ(format_source("  # only a comment   \n\n\n").text, "# only a comment\n");
+  // No final newline in the input: one in the output.
+  EXPECT_EQ(format_source("point p (0 0 0) endpoint").text, "point p (0 0 0) endpoint\n");
+}
+
+TEST(FormatEdges, SignRuleIsKept) {
+  // `(1 -2)` has two elements, `(1 - 2)` and `(1-2)` one: the formatter keeps each.
+  nomec::FormatResult r = format_source("point a (1 -2) endpoint\npoint b (1 - 2) endpoint\n"
+                                        "point c (1-2) endpoint\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.text, "point a (1 -2) endpoint\npoint b (1 - 2) endpoint\npoint c (1-2) endpoint\n");
+}
+
+}  // namespace
