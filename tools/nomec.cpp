@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
   app.add_flag("--time-report", time_report, "Print the time of each stage to stderr");
   app.add_option("--dialect", dialect, "Force the dialect instead of detecting it")
       ->check(CLI::IsMember({"nome", "nome3", "slide"}));
-  app.add_option("-D", defines, "Override a slider: -D bank.param=value (repeatable)");
+  app.add_option("-D", defines, "Override a slider: -D bank.param=value (repeatable)")
+      ->allow_extra_args(false);  // one value per -D: the files that follow stay files
   app.add_flag("--werror", werror, "Treat warnings as errors");
   app.add_flag("--allow-out-of-range", allow_out_of_range,
                "Accept -D values outside the slider range");
