@@ -17,6 +17,7 @@
 #include <set>
 
 #include "backend/generators/domain.h"
+#include "frontend/check/signatures.h"
 #include "frontend/parse/parse.h"
 
 namespace nomec {
@@ -214,52 +215,6 @@ const std::vector<OptSpec>& options_for(BlockKind kind) {
   return none;
 }
 #undef SLIDE_DISPLAY
-
-// Positional argument signatures of generators (docs/generators.md records them).
-struct GenSignature {
-  std::vector<std::string_view> args;      // names, in order
-  std::vector<std::string_view> optional;  // extra trailing args that may follow
-  std::vector<std::string_view> counts;    // names that are whole-number counts
-};
-
-const GenSignature* signature_for(BlockKind kind, Dialect dialect) {
-  static const GenSignature funnel_nome{{"n", "ro", "ratio", "h"}, {}, {"n"}};
-  static const GenSignature funnel_nome3{{"radius", "ratio", "height", "n"}, {}, {"n"}};
-  static const GenSignature tunnel{{"n", "ro", "ratio", "h"}, {"dri_low", "hgt_low"}, {"n"}};
-  static const GenSignature circle{{"radius", "segs"}, {}, {"segs"}};
-  static const GenSignature sphere{{"radius", "theta_max", "phi_min", "phi_max", "theta_segs", "phi_segs"}, {}, {"theta_segs", "phi_segs"}};
-  static const GenSignature ellipsoid{{"a", "b", "theta_max", "phi_min", "phi_max", "theta_segs", "phi_segs"}, {}, {"theta_segs", "phi_segs"}};
-  static const GenSignature cylinder{{"radius", "height", "theta_max", "theta_segs", "height_segs"}, {}, {"theta_segs", "height_segs"}};
-  static const GenSignature hyperboloid{{"a", "b", "c", "height", "theta_segs", "height_segs"}, {}, {"theta_segs", "height_segs"}};
-  static const GenSignature dupin{{"a", "b", "c", "d", "u_segs", "v_segs"}, {}, {"u_segs", "v_segs"}};
-  static const GenSignature mobius{{"radius", "num_twists", "num_cuts", "n"}, {}, {"num_twists", "num_cuts", "n"}};
-  static const GenSignature helix{{"radius", "height", "turns", "segs"}, {}, {"segs"}};
-  static const GenSignature spiral{{"growth", "height", "turns", "segs"}, {}, {"segs"}};
-  static const GenSignature torus{{"major_radius", "minor_radius", "theta_max", "phi_min", "phi_max", "theta_segs", "phi_segs"}, {}, {"theta_segs", "phi_segs"}};
-  static const GenSignature torusknot{{"symm", "turns", "major_radius", "minor_radius", "tube_radius", "circ_segs", "sweep_segs"}, {}, {"symm", "turns", "circ_segs", "sweep_segs"}};
-  static const GenSignature param_surf{{"u_min", "u_max", "v_min", "v_max", "u_segs", "v_segs"}, {}, {"u_segs", "v_segs"}};
-  static const GenSignature cart_surf{{"x_min", "x_max", "y_min", "y_max", "x_segs", "y_segs"}, {}, {"x_segs", "y_segs"}};
-  static const GenSignature impl_surf{{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "resolution"}, {}, {"resolution"}};
-  switch (kind) {
-    case BlockKind::Funnel: return dialect == Dialect::Nome3 ? &funnel_nome3 : &funnel_nome;
-    case BlockKind::Tunnel: return &tunnel;
-    case BlockKind::Circle: return &circle;
-    case BlockKind::Sphere: return &sphere;
-    case BlockKind::Ellipsoid: return &ellipsoid;
-    case BlockKind::Cylinder: return dialect == Dialect::Slide ? nullptr : &cylinder;
-    case BlockKind::Hyperboloid: return &hyperboloid;
-    case BlockKind::Dupin: return &dupin;
-    case BlockKind::Mobiusstrip: return &mobius;
-    case BlockKind::Helix: return &helix;
-    case BlockKind::Spiral: return &spiral;
-    case BlockKind::Torus: return &torus;
-    case BlockKind::Torusknot: return &torusknot;
-    case BlockKind::Genparametricsurf: return &param_surf;
-    case BlockKind::Gencartesiansurf: return &cart_surf;
-    case BlockKind::Genimplicitsurf: return &impl_surf;
-    default: return nullptr;
-  }
-}
 
 // Vertex naming of generators whose vertices faces may reference (`fun3.hc3`, `fun3_hc3`).
 // Returns the ring/loop prefixes and the count argument that bounds the index.
@@ -1590,6 +1545,7 @@ class Checker {
     auto& table = scopes_[static_cast<int>(ns)];
     auto it = table.find(name);
     if (it == table.end()) return ir::NodeId::None();
+    if (name_uses_ != nullptr) name_uses_->push_back({use, it->second.node});
     if (report_order && dialect_ != Dialect::Slide && it->second.order > order_ && order_ < (1 << 20)) {
       diags_.emit(DiagKind::UseBeforeDefinition, use,
                   fmt::format("`{}` is used before its definition; NOME requires definitions above their uses", name))
@@ -2169,6 +2125,7 @@ class Checker {
 
   bool is_saved_work_ = false;
   bool base_loaded_ = false;
+  std::vector<NameUse>* name_uses_ = nullptr;  // CheckOptions::record_names
   std::vector<std::unique_ptr<ast::Ast>> owned_asts_;
 
  private:
@@ -2222,12 +2179,21 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
 
 }  // namespace
 
+std::vector<std::string_view> option_words(ast::BlockKind kind) {
+  std::vector<std::string_view> out;
+  for (const OptSpec& o : options_for(kind)) {
+    if (!o.name.empty()) out.push_back(o.name);
+  }
+  return out;
+}
+
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
                          const CheckOptions& options, DiagnosticEngine& diags) {
   CheckResult result;
   result.module.time = options.time;
   result.module.frame = options.frame;
   Checker checker(sources, diags, options, result.module);
+  if (options.record_names) checker.name_uses_ = &result.name_uses;
   FileId file = sources.add_file(path, std::move(text));
   ast::Ast main_ast = parse_file(sources, file, diags);
 
@@ -2275,6 +2241,11 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   checker.declare(main_ast, 0);
   checker.process(main_ast, 0);
   checker.finish();
+  if (options.record_names) {
+    result.asts.push_back(std::make_shared<ast::Ast>(std::move(main_ast)));
+    if (base_ast) result.asts.push_back(std::move(base_ast));
+    for (auto& inc : checker.owned_asts_) result.asts.push_back(std::move(inc));
+  }
   return result;
 }
 

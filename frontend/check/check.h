@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -31,6 +32,13 @@ struct CheckOptions {
   double time = 0;                                         // --time: value of `$time`
   double frame = 0;                                        // --frame: value of `$frame`
   FileReader read_file;                                    // may be empty: no includes
+  bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
+};
+
+/// A resolved name: the word at `use` refers to the IR node `def` (recorded for the index).
+struct NameUse {
+  SourceRange use;
+  ir::NodeId def;
 };
 
 struct CheckResult {
@@ -38,7 +46,15 @@ struct CheckResult {
   Dialect dialect = Dialect::Nome;
   std::string dialect_reason;  // why this dialect was chosen (for --verbose)
   std::string base_file;       // `.anom`: the base scene used, if any
+  // Only with CheckOptions::record_names: every name the checker resolved to a definition,
+  // and the syntax trees of every file read (main file first, then base scene, includes).
+  std::vector<NameUse> name_uses;
+  std::vector<std::shared_ptr<const ast::Ast>> asts;
 };
+
+/// The option words a block kind accepts, e.g. `translate`, `rotate`, `surface` for
+/// `instance` (for completion and highlighting in frontend/index).
+std::vector<std::string_view> option_words(ast::BlockKind kind);
 
 /// Parses and checks the file `path` whose text is `text`. Never throws.
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,

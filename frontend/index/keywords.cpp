@@ -1,0 +1,215 @@
+// Keyword descriptions and classification for the index (see keywords.h). Block keywords
+// come from frontend/ast/block_kinds.def and option words from the checker's option tables,
+// so this file only adds the human descriptions.
+#include "frontend/index/keywords.h"
+
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "frontend/check/check.h"
+#include "ir/ir.h"
+
+namespace nomec::index {
+
+using ast::BlockKind;
+
+namespace {
+
+struct KwDoc {
+  std::string_view word, doc;
+};
+
+const KwDoc kDocs[] = {
+    {"bank", "a bank of sliders: `bank NAME set n 8 3 10 1 … endbank`; use them as `$NAME.n`"},
+    {"set", "a slider in a bank: `set NAME value min max step`"},
+    {"list", "which sliders of the bank a UI shows, in order: `list (n ro)`"},
+    {"surface", "a named colour: `surface S color (r g b) endsurface`; as an option, colours a face or instance"},
+    {"point", "a named point: `point p (x y z) endpoint`"},
+    {"polyline", "a polyline through points: `polyline l (p1 p2 …) [closed] endpolyline`"},
+    {"face", "a polygon: `face f (v1 v2 v3 …) endface`; the vertex order gives its orientation"},
+    {"facet", "a SLIDE face of a mesh: `facet f (v1 v2 v3 …) endfacet`"},
+    {"vertex", "a SLIDE mesh point `vertex p (x y z) endvertex`, or a saved-work vertex reference"},
+    {"object", "a mesh built from top-level faces: `object o (f1 f2 …) endobject`"},
+    {"mesh", "a mesh built from the points and faces inside it: `mesh m … endmesh`"},
+    {"group", "a group of instances that can itself be instanced: `group g … endgroup`"},
+    {"instance", "places a mesh, group, generator or block in the scene: `instance NAME TARGET [transforms] endinstance`"},
+    {"sweep", "a surface swept along a path: `sweep s crosssection … path … endsweep`"},
+    {"crosssection", "the profile curve of a sweep"},
+    {"path", "the curve a sweep follows"},
+    {"controlpoint", "a control point with its own scale and rotation, for sweeps"},
+    {"transform", "a transform block (`translate`, `rotate`, `scale`)"},
+    {"lookat", "camera target (viewing; accepted and ignored)"},
+    {"delete", "deletes faces of instances: `delete face inst_f endface enddelete`"},
+    {"sharp", "crease sharpness on edges of a mesh: `sharp 9 (v1 v2 …) endsharp`"},
+    {"zipper", "zips two border segments together with new faces: `zipper z border (a b) border (c d) endzipper`"},
+    {"merge", "merges coinciding border vertices of its instances into one mesh"},
+    {"subdivision", "Catmull-Clark subdivision of its merged instances: `sd_type`, `sd_level`"},
+    {"offset", "thickens its merged instances into a closed solid: `height`, `width`, `offset_type`"},
+    {"handle", "adds a handle (tunnel) between two faces"},
+    {"rind", "makes a hollow shell with punched or peeled faces"},
+    {"sierpinski", "Sierpinski-style recursive face subdivision"},
+    {"menger", "Menger-sponge style recursive hole punching"},
+    {"mirror", "mirrors its instances (SLIDE); as an instance option, `mirror (a b c d)` reflects in the plane ax+by+cz=d"},
+    {"savedparameter", "NOME 2016 saved slider values: `savedparameter fp_n 8 … endsavedparameter`"},
+    {"consolidate", "NOME 2016 saved work: defines the mesh `consolidatemesh` from instance vertices"},
+    {"consolidateface", "a face of `consolidatemesh`, from instance vertices"},
+    {"savedworkingmesh", "NOME 2016 saved working mesh"},
+    {"camera", "a camera (viewing; accepted and ignored)"},
+    {"light", "a light (viewing; accepted and ignored)"},
+    {"window", "a window (viewing; accepted and ignored)"},
+    {"viewport", "a viewport (viewing; accepted and ignored)"},
+    {"render", "render settings (viewing; accepted and ignored)"},
+    {"funnel", "generator: a funnel of n quads between a base ring and a wider top ring"},
+    {"tunnel", "generator: two funnels sharing their base ring"},
+    {"rimribbon", "generator: a ribbon along a polyline (`path`, `width`, `azimuth`, `twist`)"},
+    {"circle", "generator: a circle (line loop) of `segs` vertices"},
+    {"sphere", "generator: a sphere (or part of one)"},
+    {"ellipsoid", "generator: an ellipsoid"},
+    {"cylinder", "generator: an open cylinder (tube)"},
+    {"hyperboloid", "generator: a hyperboloid of one sheet"},
+    {"dupin", "generator: a Dupin cyclide"},
+    {"mobiusstrip", "generator: a Möbius strip"},
+    {"helix", "generator: a helix curve"},
+    {"spiral", "generator: a spiral curve"},
+    {"torus", "generator: a torus (or part of one)"},
+    {"torusknot", "generator: a tube along a torus knot"},
+    {"beziercurve", "a Bézier curve through control points"},
+    {"bspline", "a B-spline curve (NOME3)"},
+    {"bsplinecurve", "a B-spline curve (SLIDE)"},
+    {"gencartesiansurf", "generator: a surface z = func(x, y)"},
+    {"genparametricsurf", "generator: a parametric surface (funcX, funcY, funcZ of u, v)"},
+    {"genimplicitsurf", "generator: an implicit surface func(x, y, z) = 0"},
+    {"include", "reads another file: `include \"file.slf\"`"},
+    {"expr", "an expression value: `{expr $fp.n * 2}`"},
+    {"tclinit", "SLIDE Tcl code run at start-up (kept, not evaluated)"},
+    {"translate", "moves the instance: `translate (x y z)`"},
+    {"rotate", "rotates the instance: `rotate (ax ay az) (degrees)` about an axis through the origin"},
+    {"scale", "scales the instance: `scale (x y z)`"},
+    {"hidden", "keeps the instance out of the output; its vertices can still be referenced"},
+    {"color", "an RGB colour with components in [0, 1]: `color (1 0.5 0)`"},
+    {"closed", "closes the polyline or curve into a loop"},
+    {"isloop", "NOME 2016: closes the polyline into a loop"},
+    {"sd_type", "subdivision rule: `NOME_SD_CC_sharp` (default), `NOME_SD_CatmullClark`, `NOME_SD_DeRose`"},
+    {"sd_level", "number of subdivision steps"},
+    {"subdivisions", "SLIDE: number of subdivision steps"},
+    {"offset_type", "offset style: plain thickening, or `NOME_OFFSET_GRID` for a lattice"},
+    {"height", "offset distance along the vertex normals"},
+    {"width", "lattice bar width (grid offset) or ribbon width"},
+    {"tolerance", "distance within which border vertices are merged"},
+    {"border", "a border segment by its end vertices: `border (a b [m])`"},
+    {"penalty", "extra cost per triangle when zipping (default 1.3)"},
+    {"id", "SLIDE: the instance's name: `id NAME`"},
+    {"azimuth", "start direction of a sweep or ribbon, in degrees"},
+    {"twist", "total twist along a sweep, ribbon or handle, in degrees"},
+    {"mintorsion", "minimise the torsion of the sweep's frame"},
+    {"level", "recursion depth"},
+    {"thickness", "thickness of the shell"},
+    {"segments", "segments along the handle"},
+    {"pointlist", "SLIDE: the points of a polyline"},
+    {"controlpointlist", "the control points of a curve"},
+    {"funcX", "x as a function of u and v: `funcX [u*cos(v)]`"},
+    {"funcY", "y as a function of u and v"},
+    {"funcZ", "z as a function of u and v"},
+    {"func", "the function of the surface: `func [x*x - y*y]`"},
+};
+
+const std::unordered_map<std::string_view, std::string_view>& doc_map() {
+  static const std::unordered_map<std::string_view, std::string_view> m = [] {
+    std::unordered_map<std::string_view, std::string_view> out;
+    for (const KwDoc& d : kDocs) out.emplace(d.word, d.doc);
+    return out;
+  }();
+  return m;
+}
+
+struct Tables {
+  std::unordered_map<std::string_view, BlockKind> open, close;
+  std::unordered_set<std::string_view> keywords;
+  std::unordered_map<std::string_view, std::string> end_docs;
+};
+
+const Tables& tables() {
+  static const Tables t = [] {
+    Tables out;
+    for (int k = 0; k < ast::kBlockKindCount; ++k) {
+      auto kind = static_cast<BlockKind>(k);
+      out.open.emplace(ast::open_keyword(kind), kind);
+      out.close.emplace(ast::close_keyword(kind), kind);
+      out.keywords.insert(ast::open_keyword(kind));
+      out.keywords.insert(ast::close_keyword(kind));
+      out.end_docs.emplace(ast::close_keyword(kind), "closes `" + std::string(ast::open_keyword(kind)) + "`");
+      for (std::string_view w : option_words(kind)) out.keywords.insert(w);
+    }
+    for (std::string_view w : {"set", "list", "include", "expr", "tclinit"}) out.keywords.insert(w);
+    return out;
+  }();
+  return t;
+}
+
+}  // namespace
+
+std::string_view keyword_doc(std::string_view word) {
+  const auto& m = doc_map();
+  if (auto it = m.find(word); it != m.end()) return it->second;
+  const Tables& t = tables();
+  if (auto it = t.end_docs.find(word); it != t.end_docs.end()) return it->second;
+  if (t.keywords.contains(word)) return "an option word of a statement";
+  return {};
+}
+
+bool is_keyword(std::string_view word) { return tables().keywords.contains(word); }
+
+bool block_by_open(std::string_view word, BlockKind* kind) {
+  const auto& m = tables().open;
+  auto it = m.find(word);
+  if (it == m.end()) return false;
+  *kind = it->second;
+  return true;
+}
+
+bool block_by_close(std::string_view word, BlockKind* kind) {
+  const auto& m = tables().close;
+  auto it = m.find(word);
+  if (it == m.end()) return false;
+  *kind = it->second;
+  return true;
+}
+
+std::vector<BlockKind> child_blocks(BlockKind parent) {
+  switch (parent) {
+    case BlockKind::Mesh: return {BlockKind::Point, BlockKind::Face, BlockKind::Sharp, BlockKind::Vertex, BlockKind::Facet};
+    case BlockKind::Group: return {BlockKind::Instance};
+    case BlockKind::Instance: return {BlockKind::Transform};
+    case BlockKind::Sweep: return {BlockKind::Crosssection, BlockKind::Path, BlockKind::Controlpoint};
+    case BlockKind::Delete: return {BlockKind::Face};
+    case BlockKind::Consolidate: return {BlockKind::Consolidateface};
+    case BlockKind::Consolidateface: return {BlockKind::Vertex};
+    case BlockKind::Savedworkingmesh: return {BlockKind::Face};
+    case BlockKind::Merge: case BlockKind::Subdivision: case BlockKind::Offset: case BlockKind::Handle:
+    case BlockKind::Rind: case BlockKind::Sierpinski: case BlockKind::Menger: case BlockKind::Mirror:
+      return {BlockKind::Instance, BlockKind::Merge, BlockKind::Subdivision, BlockKind::Offset};
+    default: return {};
+  }
+}
+
+const std::vector<FunctionDoc>& functions() {
+  static const std::vector<FunctionDoc> f = {
+      {"sin", "sin(x)", "sine of x (radians)"},       {"cos", "cos(x)", "cosine of x (radians)"},
+      {"tan", "tan(x)", "tangent of x (radians)"},    {"asin", "asin(x)", "arc sine, in radians"},
+      {"acos", "acos(x)", "arc cosine, in radians"},  {"atan", "atan(x)", "arc tangent, in radians"},
+      {"atan2", "atan2(y, x)", "angle of the point (x, y), in radians"},
+      {"sinh", "sinh(x)", "hyperbolic sine"},         {"cosh", "cosh(x)", "hyperbolic cosine"},
+      {"tanh", "tanh(x)", "hyperbolic tangent"},      {"sqrt", "sqrt(x)", "square root"},
+      {"abs", "abs(x)", "absolute value"},            {"exp", "exp(x)", "e to the power x"},
+      {"log", "log(x)", "natural logarithm"},         {"ln", "ln(x)", "natural logarithm"},
+      {"log10", "log10(x)", "base-10 logarithm"},     {"pow", "pow(x, y)", "x to the power y"},
+      {"min", "min(a, …)", "smallest argument"},      {"max", "max(a, …)", "largest argument"},
+      {"floor", "floor(x)", "round down"},            {"ceil", "ceil(x)", "round up"},
+      {"round", "round(x)", "round to the nearest whole number"},
+      {"sign", "sign(x)", "−1, 0 or 1"},              {"mod", "mod(x, y)", "remainder of x / y"},
+  };
+  return f;
+}
+
+}  // namespace nomec::index

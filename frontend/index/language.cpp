@@ -1,0 +1,521 @@
+// Completion, signature help and hover. Completion and signature help read the text before
+// the cursor with the forgiving scanner (lex.h) and a stack of open statements, so they work
+// while a statement is still being typed; names come from the index's symbols. Hover text
+// for parameters shows value, range, bank and the instances the slider controls (from the
+// IR dependency graph); for generators, the arguments with their values and meanings.
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "frontend/check/signatures.h"
+#include "frontend/index/index.h"
+#include "frontend/index/keywords.h"
+#include "frontend/index/lex.h"
+
+namespace nomec::index {
+
+using ast::BlockKind;
+
+namespace {
+
+// What surrounds the cursor, from the text alone.
+struct Context {
+  std::string_view prefix;          // the word being typed (may start with `$`)
+  uint32_t prefix_begin = 0;
+  bool in_comment_or_string = false;
+  bool have_stmt = false;            // inside some statement
+  BlockKind stmt = BlockKind::Bank;
+  BlockKind outer = BlockKind::Bank;  // the statement enclosing `stmt`, if any
+  bool have_outer = false;
+  std::vector<Token> items;          // tokens of the statement after its keyword, before the prefix
+  int paren_depth = 0;               // unclosed `(` of this statement before the cursor
+  size_t paren_open = 0;             // index in `items` of the innermost unclosed `(`
+  int lists_before = 0;              // complete `( … )` lists at depth 0 before the cursor
+  std::string_view prev_word;        // last word token at depth 0 before the prefix
+};
+
+Context context_at(std::string_view text, uint32_t offset) {
+  Context c;
+  offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text.size()));
+  uint32_t b = offset;
+  while (b > 0 && is_id_part(text[b - 1])) --b;
+  if (b > 0 && text[b - 1] == '$') --b;
+  c.prefix = text.substr(b, offset - b);
+  c.prefix_begin = b;
+  std::vector<Token> toks = lex(text.substr(0, b));
+  struct Open {
+    BlockKind kind;
+    size_t tok;
+  };
+  std::vector<Open> stack;
+  for (size_t i = 0; i < toks.size(); ++i) {
+    const Token& t = toks[i];
+    if (t.kind != Tok::Word) continue;
+    std::string_view w = text.substr(t.begin, t.end - t.begin);
+    BlockKind k;
+    if (block_by_close(w, &k)) {
+      for (size_t j = stack.size(); j-- > 0;) {
+        if (stack[j].kind == k || (k == BlockKind::Funnel && stack[j].kind == BlockKind::Tunnel)) {
+          stack.resize(j);
+          break;
+        }
+      }
+      continue;
+    }
+    if (block_by_open(w, &k)) {
+      // Option words that are also block keywords (`surface S`, `point p`, `polyline L`)
+      // stay options inside a statement that accepts them.
+      if (!stack.empty()) {
+        auto opts = option_words(stack.back().kind);
+        if (std::find(opts.begin(), opts.end(), w) != opts.end()) continue;
+      }
+      stack.push_back({k, i});
+    }
+  }
+  // Unclosed comment or string at the cursor?
+  if (!toks.empty()) {
+    const Token& last = toks.back();
+    if ((last.kind == Tok::Comment || last.kind == Tok::String) && last.end >= b) {
+      std::string_view t = text.substr(last.begin, last.end - last.begin);
+      bool closed = (t.starts_with("(*") && t.ends_with("*)") && t.size() >= 4) ||
+                    (t.starts_with("\"") && t.size() >= 2 && t.ends_with("\"")) ||
+                    (t.starts_with("[") && t.ends_with("]")) || (t.starts_with("{") && t.ends_with("}"));
+      if (t.starts_with("#") || !closed) c.in_comment_or_string = true;
+    }
+  }
+  if (stack.empty()) return c;
+  c.have_stmt = true;
+  c.stmt = stack.back().kind;
+  if (stack.size() >= 2) {
+    c.have_outer = true;
+    c.outer = stack[stack.size() - 2].kind;
+  }
+  std::vector<size_t> opens;
+  for (size_t i = stack.back().tok + 1; i < toks.size(); ++i) {
+    const Token& t = toks[i];
+    if (t.kind == Tok::Comment) continue;
+    c.items.push_back(t);
+    if (t.kind == Tok::Open) opens.push_back(c.items.size() - 1);
+    if (t.kind == Tok::Close && !opens.empty()) {
+      opens.pop_back();
+      if (opens.empty()) ++c.lists_before;
+    }
+    if (t.kind == Tok::Word && opens.empty()) c.prev_word = text.substr(t.begin, t.end - t.begin);
+    if (t.kind != Tok::Word && t.kind != Tok::Close && opens.empty()) c.prev_word = {};
+  }
+  c.paren_depth = static_cast<int>(opens.size());
+  if (!opens.empty()) c.paren_open = opens.back();
+  return c;
+}
+
+bool starts_with(std::string_view s, std::string_view p) { return s.substr(0, p.size()) == p; }
+
+std::string fmt_num(double v) { return fmt::format("{}", v); }
+
+}  // namespace
+
+std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const {
+  std::vector<CompletionItem> out;
+  if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return out;
+  std::string_view text = sources_->text(file);
+  Context c = context_at(text, offset);
+  if (c.in_comment_or_string) return out;
+  const Dialect dialect = check_->dialect;
+  auto add = [&](std::string label, SymbolKind kind, bool kw, std::string detail) {
+    if (!starts_with(label, c.prefix)) return;
+    CompletionItem it;
+    it.insert_text = label;
+    it.label = std::move(label);
+    it.kind = kind;
+    it.is_keyword = kw;
+    it.detail = std::move(detail);
+    out.push_back(std::move(it));
+  };
+  auto add_params = [&](bool dollar) {
+    for (const Symbol& s : symbols_) {
+      if (s.kind != SymbolKind::Parameter || s.parent < 0) continue;
+      const std::string& bank = symbols_[s.parent].name;
+      std::string name = dialect == Dialect::Nome ? bank + "_" + s.name : bank + "." + s.name;
+      add((dollar ? "$" : "") + name, SymbolKind::Parameter, false, s.detail);
+    }
+    if (dollar) {
+      add("$time", SymbolKind::Parameter, false, "built-in: the animation time (--time)");
+      add("$frame", SymbolKind::Parameter, false, "built-in: the animation frame (--frame)");
+    }
+  };
+  auto add_symbols = [&](std::initializer_list<SymbolKind> kinds, bool top_only) {
+    for (const Symbol& s : symbols_) {
+      if (top_only && s.parent >= 0) continue;
+      if (std::find(kinds.begin(), kinds.end(), s.kind) == kinds.end()) continue;
+      add(s.name, s.kind, false, s.detail);
+    }
+  };
+  auto add_keyword = [&](std::string_view kw) { add(std::string(kw), SymbolKind::Other, true, std::string(keyword_doc(kw))); };
+
+  if (starts_with(c.prefix, "$")) {
+    add_params(true);
+    return out;
+  }
+  if (!c.have_stmt) {
+    for (int k = 0; k < ast::kBlockKindCount; ++k) {
+      auto kind = static_cast<BlockKind>(k);
+      if (ast::category(kind) == ast::BlockCategory::Sub) continue;
+      add_keyword(ast::open_keyword(kind));
+    }
+    add_keyword("include");
+    add_keyword("tclinit");
+    return out;
+  }
+  const bool vertex_list = c.stmt == BlockKind::Face || c.stmt == BlockKind::Facet || c.stmt == BlockKind::Polyline ||
+                           c.stmt == BlockKind::Sharp || c.stmt == BlockKind::Zipper ||
+                           c.stmt == BlockKind::Consolidateface;
+  if (c.paren_depth > 0) {
+    if (c.stmt == BlockKind::Object) {
+      add_symbols({SymbolKind::Face}, true);
+      return out;
+    }
+    if (vertex_list) {
+      // A path through instances: complete the part after the last `.`.
+      if (auto dot = c.prefix.rfind('.'); dot != std::string_view::npos) {
+        std::string_view path = c.prefix.substr(0, dot);
+        if (starts_with(path, ".")) path.remove_prefix(1);
+        SymbolId cur = -1;
+        size_t at = 0;
+        while (true) {
+          size_t d = path.find('.', at);
+          std::string_view part = path.substr(at, d == std::string_view::npos ? std::string_view::npos : d - at);
+          SymbolId next = -1;
+          for (const Symbol& s : symbols_) {
+            if (s.kind != SymbolKind::Instance || s.name != part) continue;
+            if (cur < 0 ? s.parent < 0 : s.parent == cur) {
+              next = s.id;
+              break;
+            }
+          }
+          if (next < 0) return out;
+          // Continue inside the instance's target.
+          const ir::Node& n = check_->module.node(symbols_[next].node);
+          cur = symbol_of(n.target);
+          if (cur < 0 || d == std::string_view::npos) break;
+          at = d + 1;
+        }
+        if (cur < 0) return out;
+        std::string base(c.prefix.substr(0, dot + 1));
+        for (const Symbol& s : symbols_) {
+          if (s.parent != cur || (s.kind != SymbolKind::Instance && s.kind != SymbolKind::Point)) continue;
+          add(base + s.name, s.kind, false, s.detail);
+        }
+        return out;
+      }
+      add_symbols({SymbolKind::Point}, true);
+      add_symbols({SymbolKind::Instance}, true);
+      // Points of the mesh being written.
+      for (const Symbol& s : symbols_) {
+        if (s.kind == SymbolKind::Point && s.parent >= 0 && s.full_range.file == file &&
+            symbols_[s.parent].full_range.begin <= offset && offset <= symbols_[s.parent].full_range.end) {
+          add(s.name, s.kind, false, s.detail);
+        }
+      }
+      return out;
+    }
+    // A value list: sliders, functions, constants.
+    add_params(true);
+    for (const FunctionDoc& f : functions()) add(std::string(f.name), SymbolKind::Other, false, std::string(f.signature));
+    add("pi", SymbolKind::Other, false, "3.14159…");
+    return out;
+  }
+  // Typing the name right after the keyword: a new name, nothing to offer — except where
+  // that word refers to something (SLIDE instance targets, sweep paths).
+  const bool after_keyword = c.items.empty();
+  if (after_keyword) {
+    if (c.stmt == BlockKind::Instance && dialect == Dialect::Slide) {
+      add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block}, true);
+    } else if (c.stmt == BlockKind::Path || (c.stmt == BlockKind::Crosssection && c.have_outer)) {
+      add_symbols({SymbolKind::Generator, SymbolKind::Polyline, SymbolKind::Other}, true);
+    }
+    return out;
+  }
+  if (c.stmt == BlockKind::Instance && dialect != Dialect::Slide && c.items.size() == 1 && c.items[0].kind == Tok::Word) {
+    add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block,
+                 SymbolKind::Polyline},
+                true);
+    return out;
+  }
+  if (c.prev_word == "surface") {
+    add_symbols({SymbolKind::Surface}, true);
+    return out;
+  }
+  if (c.prev_word == "point" || c.prev_word == "polyline" || c.prev_word == "path" ||
+      c.prev_word == "bsplinecurve" || c.prev_word == "beziercurve") {
+    add_symbols({SymbolKind::Point, SymbolKind::Polyline, SymbolKind::Generator}, true);
+    return out;
+  }
+  if (c.stmt == BlockKind::Bank) {
+    add_keyword("set");
+    add_keyword("list");
+  }
+  for (std::string_view w : option_words(c.stmt)) add_keyword(w);
+  for (BlockKind k : child_blocks(c.stmt)) add_keyword(ast::open_keyword(k));
+  add_keyword(ast::close_keyword(c.stmt));
+  // A value after an option: sliders too.
+  add_params(true);
+  return out;
+}
+
+std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset) const {
+  if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return std::nullopt;
+  std::string_view text = sources_->text(file);
+  Context c = context_at(text, offset);
+  if (!c.have_stmt || c.paren_depth == 0 || c.in_comment_or_string) return std::nullopt;
+  SignatureHelp h;
+  std::vector<std::pair<std::string, std::string>> params;  // name, doc
+  std::string head;
+  // Which list: the word before the `(` (an option), or the statement's positional list.
+  std::string_view option;
+  if (c.paren_open > 0 && c.items[c.paren_open - 1].kind == Tok::Word) {
+    const Token& w = c.items[c.paren_open - 1];
+    option = text.substr(w.begin, w.end - w.begin);
+  }
+  // `rotate (x y z) (deg)`: the second list is the angle.
+  bool rotate_angle = c.paren_open >= 2 && c.items[c.paren_open - 1].kind == Tok::Close;
+  if (rotate_angle) {
+    int depth = 0;
+    for (size_t i = c.paren_open - 1; i-- > 0;) {
+      if (c.items[i].kind == Tok::Close) ++depth;
+      if (c.items[i].kind == Tok::Open && depth-- == 0) {
+        rotate_angle = i > 0 && c.items[i - 1].kind == Tok::Word &&
+                       text.substr(c.items[i - 1].begin, c.items[i - 1].end - c.items[i - 1].begin) == "rotate";
+        break;
+      }
+    }
+  }
+  const GenSignature* sig = signature_for(c.stmt, check_->dialect);
+  if (rotate_angle) {
+    head = "rotate (ax ay az) ";
+    params = {{"degrees", "rotation angle in degrees"}};
+  } else if (option == "translate" || option == "scale") {
+    head = std::string(option) + " ";
+    params = {{"x", "along x"}, {"y", "along y"}, {"z", "along z"}};
+  } else if (option == "rotate") {
+    head = "rotate ";
+    params = {{"ax", "axis x"}, {"ay", "axis y"}, {"az", "axis z"}};
+  } else if (option == "mirror") {
+    head = "mirror ";
+    params = {{"a", "plane normal x"}, {"b", "plane normal y"}, {"c", "plane normal z"}, {"d", "plane offset: ax+by+cz=d"}};
+  } else if (option == "color") {
+    head = "color ";
+    params = {{"r", "red in [0, 1]"}, {"g", "green in [0, 1]"}, {"b", "blue in [0, 1]"}};
+  } else if ((c.stmt == BlockKind::Point || c.stmt == BlockKind::Vertex) && c.lists_before == 0) {
+    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    params = {{"x", "x coordinate"}, {"y", "y coordinate"}, {"z", "z coordinate"}};
+  } else if (sig != nullptr && c.lists_before == 0 && option.empty()) {
+    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    for (std::string_view a : sig->args) params.push_back({std::string(a), std::string(argument_doc(c.stmt, a))});
+    for (std::string_view a : sig->optional) params.push_back({std::string(a), "optional: " + std::string(argument_doc(c.stmt, a))});
+  } else if (sig != nullptr && c.lists_before == 0 && (c.items.size() >= 1)) {
+    // `funnel f (` where the name happens to be an option word.
+    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    for (std::string_view a : sig->args) params.push_back({std::string(a), std::string(argument_doc(c.stmt, a))});
+  } else {
+    return std::nullopt;
+  }
+  h.label = head + "(";
+  for (size_t i = 0; i < params.size(); ++i) {
+    if (i > 0) h.label += ' ';
+    uint32_t b = static_cast<uint32_t>(h.label.size());
+    h.label += params[i].first;
+    h.parameters.push_back({b, static_cast<uint32_t>(h.label.size())});
+    std::string doc = params[i].second;
+    if (sig != nullptr && std::find(sig->counts.begin(), sig->counts.end(), params[i].first) != sig->counts.end() &&
+        doc.find("count") == std::string::npos) {
+      doc += doc.empty() ? "a whole-number count" : " (count)";
+    }
+    h.parameter_docs.push_back(std::move(doc));
+  }
+  h.label += ")";
+  // Active element: count elements of the list before the cursor (the sign rule: `1 -2` is
+  // two elements, `1 - 2` and `1-2` one).
+  int elem = 0;
+  bool have_operand = false;  // the current element has a complete operand
+  int depth = 0;
+  for (size_t i = c.paren_open + 1; i < c.items.size(); ++i) {
+    const Token& t = c.items[i];
+    bool opens = t.kind == Tok::Open || t.kind == Tok::LBrace;
+    bool closes = t.kind == Tok::Close || t.kind == Tok::RBrace;
+    if (depth > 0) {
+      if (opens) ++depth;
+      if (closes && --depth == 0) have_operand = true;
+      continue;
+    }
+    if (t.kind == Tok::Op) {
+      char op = text[t.begin];
+      bool space_before = t.begin > 0 && (text[t.begin - 1] == ' ' || text[t.begin - 1] == '\t' || text[t.begin - 1] == '\n');
+      bool space_after = t.end < text.size() && (text[t.end] == ' ' || text[t.end] == '\t' || text[t.end] == '\n');
+      if ((op == '+' || op == '-') && have_operand && space_before && !space_after) {
+        ++elem;
+      }
+      have_operand = false;
+      continue;
+    }
+    if (opens || t.kind == Tok::Number || t.kind == Tok::Word || t.kind == Tok::Dollar || t.kind == Tok::String) {
+      if (have_operand) ++elem;
+      if (opens) {
+        depth = 1;
+        have_operand = false;
+      } else {
+        have_operand = true;
+      }
+    }
+  }
+  // After a complete element and a space, the cursor starts the next one.
+  uint32_t b = c.prefix_begin;
+  if (c.prefix.empty() && have_operand && b > 0 && (text[b - 1] == ' ' || text[b - 1] == '\t')) ++elem;
+  h.active_parameter = std::min<int>(elem, static_cast<int>(params.size()) - 1);
+  return h;
+}
+
+// ---------------- hover ----------------
+
+std::string Index::hover_symbol(const Symbol& s) const {
+  const ir::Module& m = check_->module;
+  std::string md;
+  const ir::Node* n = s.node.is_valid() ? &m.node(s.node) : nullptr;
+  auto value_of = [&](ir::ExprId e) {
+    ir::EvalResult r = ir::evaluate(m, e);
+    std::string t = ir::expr_text(m, e);
+    if (!r.ok) return t;
+    std::string v = fmt_num(r.value);
+    return t == v ? t : fmt::format("{} = {}", t, v);
+  };
+  switch (s.kind) {
+    case SymbolKind::Parameter: {
+      if (n == nullptr) break;
+      md = fmt::format("**slider `{}`** in bank `{}`\n\n", s.name, n->bank);
+      md += "| value | min | max | step |\n|---|---|---|---|\n";
+      md += fmt::format("| {} | {} | {} | {} |\n", fmt_num(n->value), fmt_num(n->min), fmt_num(n->max), fmt_num(n->step));
+      std::vector<std::string> insts;
+      size_t total = 0;
+      for (ir::NodeId d : m.deps.affected_by(s.node)) {
+        const ir::Node& dn = m.node(d);
+        if (dn.kind != ir::NodeKind::Instance) continue;
+        ++total;
+        if (insts.size() < 12) insts.push_back(fmt::format("`{}`", dn.name.empty() ? dn.keyword : dn.name));
+      }
+      if (total == 0) {
+        md += "\nControls no instance.";
+      } else {
+        md += fmt::format("\nControls {} instance{}: {}{}", total, total == 1 ? "" : "s", fmt::join(insts, ", "),
+                          total > insts.size() ? fmt::format(" and {} more", total - insts.size()) : "");
+      }
+      size_t uses = 0;
+      for (uint32_t i = ref_begin_[s.id]; i < ref_begin_[s.id + 1]; ++i) uses += !occurrences_[ref_items_[i]].is_definition;
+      md += fmt::format("\n\nUsed {} time{}. Write it as `${}.{}` or `${}_{}`.", uses, uses == 1 ? "" : "s", n->bank, s.name, n->bank, s.name);
+      return md;
+    }
+    case SymbolKind::Bank: {
+      md = fmt::format("**bank `{}`**\n\n", s.name);
+      md += "| slider | value | min | max | step |\n|---|---|---|---|---|\n";
+      for (const Symbol& p : symbols_) {
+        if (p.parent != s.id || p.kind != SymbolKind::Parameter || !p.node.is_valid()) continue;
+        const ir::Node& pn = m.node(p.node);
+        md += fmt::format("| `{}` | {} | {} | {} | {} |\n", p.name, fmt_num(pn.value), fmt_num(pn.min), fmt_num(pn.max), fmt_num(pn.step));
+      }
+      return md;
+    }
+    default: break;
+  }
+  if (n == nullptr) return fmt::format("**{} `{}`**", symbol_kind_name(s.kind), s.name);
+  md = fmt::format("**{} `{}`**", n->keyword, s.name);
+  if (n->kind == ir::NodeKind::Instance) {
+    if (n->target.is_valid()) {
+      const ir::Node& t = m.node(n->target);
+      md += fmt::format(" — instance of {} `{}`", t.keyword, t.name);
+    }
+    md += "\n";
+    for (const ir::Field& f : n->fields) {
+      if (f.kind == ir::FieldKind::Flag) {
+        md += fmt::format("\n- `{}`", f.name);
+      } else if (!f.exprs.empty()) {
+        std::vector<std::string> vals;
+        for (ir::ExprId e : f.exprs) vals.push_back(value_of(e));
+        md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vals, " | "));
+      } else if (!f.refs.empty() && f.refs[0].is_valid()) {
+        md += fmt::format("\n- `{}` `{}`", f.name, m.node(f.refs[0]).name);
+      }
+    }
+    if (n->target.is_valid()) {
+      SymbolId ts = symbol_of(n->target);
+      if (ts >= 0 && symbols_[ts].kind == SymbolKind::Generator) md += "\n\n" + hover_symbol(symbols_[ts]);
+    }
+    return md;
+  }
+  BlockKind kind;
+  bool has_kind = block_by_open(n->keyword, &kind);
+  if (has_kind) {
+    if (std::string_view d = keyword_doc(n->keyword); !d.empty()) md += fmt::format(" — {}", d);
+  }
+  md += "\n";
+  const GenSignature* sig = has_kind ? signature_for(kind, check_->dialect) : nullptr;
+  if (sig != nullptr) {
+    md += "\n| argument | value | meaning |\n|---|---|---|\n";
+    for (const ir::Field& f : n->fields) {
+      if (f.exprs.empty()) continue;
+      md += fmt::format("| `{}` | {} | {} |\n", f.name, value_of(f.exprs[0]), argument_doc(kind, f.name));
+    }
+    return md;
+  }
+  int points = 0, faces = 0, instances = 0;
+  for (ir::NodeId c : n->children) {
+    switch (m.node(c).kind) {
+      case ir::NodeKind::Point: ++points; break;
+      case ir::NodeKind::Face: ++faces; break;
+      case ir::NodeKind::Instance: ++instances; break;
+      default: break;
+    }
+  }
+  for (const Symbol& o : symbols_) instances += o.parent == s.id && o.kind == SymbolKind::Instance && !o.node.is_valid();
+  if (points + faces > 0) md += fmt::format("\n{} point{}, {} face{} written here", points, points == 1 ? "" : "s", faces, faces == 1 ? "" : "s");
+  if (instances > 0) md += fmt::format("\n{} instance{}", instances, instances == 1 ? "" : "s");
+  for (const ir::Field& f : n->fields) {
+    if (!f.exprs.empty()) {
+      std::vector<std::string> vals;
+      for (ir::ExprId e : f.exprs) vals.push_back(value_of(e));
+      md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vals, " | "));
+    } else if (f.kind == ir::FieldKind::Vertices) {
+      std::vector<std::string> vs;
+      for (const ir::VertexRef& v : f.vertices) vs.push_back(v.text);
+      md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vs, " "));
+    } else if (f.kind == ir::FieldKind::Text && !f.text.empty()) {
+      md += fmt::format("\n- `{}` {}", f.name, f.text);
+    }
+  }
+  return md;
+}
+
+std::optional<Hover> Index::hover(FileId file, uint32_t offset) const {
+  if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return std::nullopt;
+  if (std::optional<Occurrence> o = occurrence_at(file, offset)) {
+    return Hover{hover_symbol(symbols_[o->symbol]), o->range, o->symbol};
+  }
+  std::string_view text = sources_->text(file);
+  if (offset > text.size()) return std::nullopt;
+  uint32_t b = offset, e = offset;
+  while (b > 0 && (is_id_part(text[b - 1]) || text[b - 1] == '$')) --b;
+  while (e < text.size() && is_id_part(text[e])) ++e;
+  if (b > 0 && text[b - 1] == '$') --b;
+  if (b == e) return std::nullopt;
+  // Inside a comment or string: nothing.
+  for (const Token& t : lex(text.substr(0, e))) {
+    if ((t.kind == Tok::Comment || t.kind == Tok::String) && t.begin <= b && b < t.end) return std::nullopt;
+  }
+  std::string_view w = text.substr(b, e - b);
+  SourceRange r{file, b, e};
+  if (w == "$time") return Hover{"**`$time`** — built-in: the animation time (`--time`, default 0)", r, -1};
+  if (w == "$frame") return Hover{"**`$frame`** — built-in: the animation frame (`--frame`, default 0)", r, -1};
+  for (const FunctionDoc& f : functions()) {
+    if (f.name == w) return Hover{fmt::format("**`{}`** — {}", f.signature, f.doc), r, -1};
+  }
+  if (std::string_view d = keyword_doc(w); !d.empty()) return Hover{fmt::format("**`{}`** — {}", w, d), r, -1};
+  return std::nullopt;
+}
+
+}  // namespace nomec::index
