@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "backend/evaluate.h"
+#include "backend/save.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
 #include "ir/ir.h"
@@ -129,8 +130,9 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check_only, "Check the files and report diagnostics (default)");
   app.add_option("--emit", emit,
                  "Emit `ir` (readable typed IR), `deps` (DOT graph), a mesh (`stl`, `obj`, `ply`) "
-                 "or `summary` (JSON topology per output mesh)")
-      ->check(CLI::IsMember({"ir", "deps", "stl", "obj", "ply", "summary"}));
+                 "`summary` (JSON topology per output mesh) or `nome` (the scene saved with its "
+                 "current slider values)")
+      ->check(CLI::IsMember({"ir", "deps", "stl", "obj", "ply", "summary", "nome"}));
   std::string output;
   bool stl_ascii = false;
   bool time_report = false;
@@ -182,7 +184,7 @@ int main(int argc, char** argv) {
   }
   pipeline.rule = rule == "derose" ? nomec::kernel::VertexRule::DeRose : nomec::kernel::VertexRule::CatmullClark;
   const bool emit_mesh = emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary";
-  if (!emit_mesh && (pipeline.any() || !output.empty() || stl_ascii || time_report)) {
+  if (!emit_mesh && (pipeline.any() || (!output.empty() && emit != "nome") || stl_ascii || time_report)) {
     std::cerr << "nomec: -o, --stl-ascii, --time-report, --merge, --subdivide, --offset and "
                  "--subdivide-after need --emit stl|obj|ply|summary\n";
     return 2;
@@ -350,6 +352,18 @@ int main(int argc, char** argv) {
       std::cout << nomec::ir::dump_ir(result.module, sources);
     } else if (emit == "deps") {
       std::cout << nomec::ir::dump_deps_dot(result.module);
+    } else if (emit == "nome" && file_errors == 0) {
+      // The seed's "save": default target `scene.saved.nome` next to the working directory.
+      std::filesystem::path p(path);
+      std::string ext = p.extension() == ".anom" ? ".nome" : p.extension().string();
+      std::string target = output.empty() ? p.stem().string() + ".saved" + ext : output;
+      std::string content = nomec::backend::to_nome(result.module, sources, path);
+      if (target == "-") {
+        std::cout << content << std::flush;
+      } else if (std::string err = nomec::backend::write_file_atomically(target, content); !err.empty()) {
+        std::cerr << fmt::format("nomec: {}\n", err);
+        errors += 1;
+      }
     } else if (emit_mesh && file_errors == 0) {
       errors += emit_meshes(path, sources, result.module, check_ms);
     }

@@ -7,10 +7,17 @@
   admesh   offset outputs (the corpus Klein bottle, the Klein bottle example, a Möbius
            band) written as binary STL is checked by Debian's `admesh`: no
            edges needed fixing, no facets were added, no holes were filled
+  save     --emit nome round trip on every example and every corpus nome1/nome3 file that
+           --check accepts (and with -D overrides): the saved file checks without errors and
+           its --emit summary equals the original's
+  progress the progress line: never on a piped stderr; on a terminal (a pty) it is written
+           and erased in place, leaving nothing but the diagnostics
 """
 import argparse
 import json
 import os
+import pty
+import select
 import re
 import stat
 import struct
@@ -176,14 +183,114 @@ def case_admesh(nomec, admesh, corpus):
             check(stat("Total disconnected facets") == 0, f"{rel}: no disconnected facets")
 
 
+def corpus_files(corpus):
+    for folder in ("nome1", "nome3"):
+        for dirpath, dirnames, filenames in os.walk(os.path.join(corpus, folder)):
+            dirnames.sort()
+            for name in sorted(filenames):
+                if not name.endswith(".sif"):
+                    yield os.path.join(dirpath, name)
+
+
+def meshes_without_file(out):
+    return json.loads(out)["meshes"]
+
+
+def case_save(nomec, _admesh, corpus):
+    examples = sorted(os.path.join("examples", f) for f in os.listdir(src("examples")) if f.endswith(".nome"))
+    # (input, extra flags): every example and accepted corpus file as is, plus overrides.
+    inputs = [(src(e), []) for e in examples] + [(f, []) for f in corpus_files(corpus)]
+    inputs += [
+        (src("examples/funnel_cube.nome"), ["-D", "fp.n=5", "-D", "fp.z=-1"]),
+        (os.path.join(corpus, "nome1/kleinbottle/s1.anom"), ["-D", "tp2.h=0.5"]),
+        (os.path.join(corpus, "nome3/bank_sphere.nom"), ["-D", "funnel_slider.num_sides=7"]),
+    ]
+    tried = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for path, flags in inputs:
+            code, _, _ = run(nomec, ["--check"] + flags + [path])
+            if code != 0:
+                continue
+            tried += 1
+            ext = os.path.splitext(path)[1]
+            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext == '.anom' else ext}")
+            code, _, err = run(nomec, ["--emit", "nome", "-o", saved] + flags + [path])
+            check(code == 0 and os.path.isfile(saved), f"{path} {flags}: --emit nome ({err})")
+            if code != 0:
+                continue
+            code, _, err = run(nomec, ["--check", saved])
+            check(code == 0, f"{path} {flags}: the saved file checks clean ({err})")
+            code_a, out_a, _ = run(nomec, ["--emit", "summary", "-o", "-"] + flags + [path])
+            code_b, out_b, err = run(nomec, ["--emit", "summary", "-o", "-", saved])
+            check(code_a == code_b, f"{path} {flags}: saved file emits like the original ({err})")
+            if code_a == 0 and code_b == 0:
+                check(meshes_without_file(out_a) == meshes_without_file(out_b),
+                      f"{path} {flags}: the saved file's summary equals the original's")
+        # The override is really in the saved text (not only in a trailing block).
+        saved = os.path.join(tmp, "fc.nome")
+        run(nomec, ["--emit", "nome", "-o", saved, "-D", "fp.n=5", src("examples/funnel_cube.nome")])
+        text = open(saved).read()
+        check(re.search(r"^\s*set\s+n\s+5\s", text, re.M) is not None, "-D fp.n=5 rewrites the `set n` line")
+        check(text.count("endsavedparameter") == 1, "one savedparameter block for a 2016 file")
+        # Default name: <stem>.saved<ext> in the working directory.
+        code, _, _ = run(nomec, ["--emit", "nome", os.path.join(corpus, "nome3/torusknot.nom")], cwd=tmp)
+        check(code == 0 and os.path.isfile(os.path.join(tmp, "torusknot.saved.nom")), "default saved name")
+        check("savedparameter" not in open(os.path.join(tmp, "torusknot.saved.nom")).read(),
+              "NOME3 saves carry no 2016 savedparameter block")
+    check(tried >= 40, f"round trip covered {tried} files")
+
+
+def read_pty(fd, proc):
+    out = b""
+    while True:
+        r, _, _ = select.select([fd], [], [], 0.2)
+        if r:
+            try:
+                chunk = os.read(fd, 65536)
+            except OSError:
+                break
+            if not chunk:
+                break
+            out += chunk
+        elif proc.poll() is not None:
+            break
+    return out.decode("utf-8", "replace")
+
+
+def case_progress(nomec, _admesh, _corpus):
+    args = ["--emit", "summary", "-o", os.devnull, "--merge", "--subdivide", "1", "--offset", "0.05",
+            src("examples/klein_bottle.nome")]
+    # Piped stderr: diagnostics only, no progress text or terminal control sequences.
+    code, _, err = run(nomec, args)
+    check(code == 0, "klein bottle pipeline exits 0")
+    check("\r" not in err and "\x1b" not in err and "…" not in err, "no progress text on a piped stderr")
+    # A terminal: stages are announced on one line, overwritten in place and cleared.
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([nomec, "--color", "never"] + args, stdin=subprocess.DEVNULL,
+                            stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    tty = read_pty(master, proc)
+    proc.wait()
+    os.close(master)
+    check(proc.returncode == 0, "klein bottle pipeline on a terminal exits 0")
+    for stage in ("evaluate", "merge", "subdivide", "offset"):
+        check(f"{stage}…" in tty, f"progress names the {stage} stage on a terminal")
+    check(tty.rstrip("\r\n").endswith("\r\x1b[K") or tty.endswith("\x1b[K"),
+          "the progress line is erased at the end")
+    # What remains visible once the line is erased: the same diagnostics as when piped.
+    visible = re.sub(r"\r\x1b\[K[^\r\n]*(?=\r\x1b\[K)", "", tty).replace("\r\x1b[K", "").replace("\r\n", "\n")
+    check(visible == err, "apart from the erased progress line, the terminal shows what the pipe shows")
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["outputs", "admesh"])
+    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress"])
     ap.add_argument("--nomec", required=True)
     ap.add_argument("--admesh", default="admesh")
     ap.add_argument("--corpus", default=os.path.join(ROOT, "..", "shared", "corpus"))
     a = ap.parse_args()
-    {"outputs": case_outputs, "admesh": case_admesh}[a.case](a.nomec, a.admesh, a.corpus)
+    cases = {"outputs": case_outputs, "admesh": case_admesh, "save": case_save, "progress": case_progress}
+    cases[a.case](a.nomec, a.admesh, a.corpus)
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")
         return 1

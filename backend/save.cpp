@@ -1,0 +1,88 @@
+// The NOME writer of `--emit nome` (see save.h): source text with slider values replaced.
+#include "backend/save.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <fmt/format.h>
+#include <map>
+#include <vector>
+
+namespace nomec::backend {
+namespace {
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+/// The number a value token spells, if it is a plain number (`8`, `-0.5`, `7.45e-009`).
+std::optional<double> plain_number(std::string_view t) {
+  double v = 0;
+  auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec != std::errc() || p != t.data() + t.size()) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+std::string to_nome(const ir::Module& module, const SourceManager& sources, std::string_view main_file) {
+  // Replacements per file: byte range of a `set` value token -> the current value.
+  struct Edit {
+    uint32_t begin, end;
+    std::string text;
+  };
+  std::map<int32_t, std::vector<Edit>> edits;
+  std::vector<ir::NodeId> params = module.params();
+  for (ir::NodeId id : params) {
+    const ir::Node& p = module.node(id);
+    if (!p.range.is_valid()) continue;
+    std::string_view text = sources.text(p.range.file);
+    // `set NAME value min max step`: the value is the token after the name.
+    uint32_t b = p.range.end;
+    while (b < text.size() && is_space(text[b])) ++b;
+    uint32_t e = b;
+    while (e < text.size() && !is_space(text[e])) ++e;
+    std::optional<double> written = plain_number(text.substr(b, e - b));
+    if (written && *written == p.value) continue;  // unchanged: keep the text as written
+    edits[p.range.file.index].push_back(Edit{b, e, fmt::format("{}", p.value)});
+  }
+  // Files in order: the base scene(s) first, the compiled file last.
+  std::vector<FileId> files;
+  FileId main;
+  for (size_t i = 0; i < sources.file_count(); ++i) {
+    FileId f{static_cast<int32_t>(i)};
+    if (sources.name(f) == main_file) {
+      main = f;
+    } else {
+      files.push_back(f);
+    }
+  }
+  if (main.is_valid()) files.push_back(main);
+
+  std::string out = fmt::format("# Saved by nomec --emit nome from `{}`{}: sliders at their current values.\n",
+                                main_file, files.size() > 1 ? " and its base scene" : "");
+  for (FileId f : files) {
+    std::string_view text = sources.text(f);
+    std::vector<Edit>& es = edits[f.index];
+    std::sort(es.begin(), es.end(), [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    if (files.size() > 1) out += fmt::format("\n# ---- from `{}` ----\n", sources.name(f));
+    uint32_t at = 0;
+    for (const Edit& e : es) {
+      out.append(text.substr(at, e.begin - at));
+      out += e.text;
+      at = e.end;
+    }
+    out.append(text.substr(at));
+    if (!out.empty() && out.back() != '\n') out += '\n';
+  }
+  // NOME 2016 saved work may set sliders in `savedparameter` blocks, which win over the
+  // banks; a final block with every current value wins over those in turn.
+  if (module.dialect == "nome" && !params.empty()) {
+    out += "\n# Current slider values (they override any earlier savedparameter block).\nsavedparameter\n";
+    for (ir::NodeId id : params) {
+      out += fmt::format("    {} {}\n", module.node(id).name, module.node(id).value);
+    }
+    out += "endsavedparameter\n";
+  }
+  return out;
+}
+
+}  // namespace nomec::backend
