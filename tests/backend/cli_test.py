@@ -149,11 +149,34 @@ def case_outputs(nomec, _admesh, _corpus):
     check(code == 2, "--subdivide 13 is a usage error")
 
 
+# The flags that make each example a closed solid; every file in examples/ must be listed.
+EXAMPLE_OFFSET = {
+    "funnel_cube.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "funnel_cube_consolidated.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "klein_bottle.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "klein_bottle_zipped.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "mobius_band.nome": ["--merge", "--subdivide", "2", "--offset", "0.08"],
+    "perry_tetra_single_sided.nome": ["--merge", "--subdivide", "2", "--offset", "0.08"],
+    "zero.nome": ["--merge", "--subdivide", "2", "--offset", "0.03"],
+}
+# Examples whose surface is single-sided before the offset.
+NON_ORIENTABLE = ("mobius_band.nome", "perry_tetra_single_sided.nome", "klein_bottle_zipped.nome")
+
+
 def case_admesh(nomec, admesh, corpus):
-    inputs = [
+    examples = sorted(f for f in os.listdir(src("examples")) if f.endswith(".nome"))
+    check(examples == sorted(EXAMPLE_OFFSET), f"every example has offset flags ({examples})")
+    for name in NON_ORIENTABLE:
+        flags = ["--merge"] if name == "klein_bottle_zipped.nome" else []
+        meshes = summary(nomec, flags + [src("examples/" + name)])
+        check(meshes and not any(m["orientable"] for m in meshes), f"{name} is non-orientable before offset")
+    for name, flags in EXAMPLE_OFFSET.items():
+        meshes = summary(nomec, flags + [src("examples/" + name)])
+        check(meshes and all(m["closed"] and m["orientable"] and m["border_loops"] == 0 for m in meshes),
+              f"{name}: offset output is closed and orientable by our checker")
+    inputs = [(os.path.join("examples", name), flags) for name, flags in EXAMPLE_OFFSET.items()] + [
         (os.path.join(corpus, "nome1/kleinbottle/savetemp1.anom"),
          ["--merge", "--subdivide", "1", "--offset", "0.05", "--subdivide-after", "1"]),
-        ("examples/klein_bottle.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
         ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
         # Closed sweeps straight to STL: faces must already point outwards (none reversed).
         ("tests/mesh/testdata/sweep_capped.nome", []),
