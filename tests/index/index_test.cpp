@@ -128,5 +128,277 @@ TEST(Index, Outline) {
   EXPECT_EQ(d->ix().symbols()[top[1]].node.is_valid(), true);
 }
 
+
+std::vector<std::string> labels(const std::vector<CompletionItem>& items) {
+  std::vector<std::string> out;
+  for (const auto& i : items) out.push_back(i.label);
+  return out;
+}
+bool has(const std::vector<std::string>& v, std::string_view s) { return std::find(v.begin(), v.end(), s) != v.end(); }
+
+TEST(Index, CompletionOnIncompleteText) {
+  // The last statement is still being typed: no `endinstance`, no target yet.
+  std::string text = std::string(kFunnels) + "instance z ";
+  auto d = open(text);
+  auto at_end = static_cast<uint32_t>(text.size());
+  auto targets = labels(d->ix().complete(d->a.file, at_end));
+  EXPECT_TRUE(has(targets, "fun"));
+  EXPECT_TRUE(has(targets, "cf"));
+  EXPECT_TRUE(has(targets, "m"));
+  EXPECT_FALSE(has(targets, "p1"));    // a point cannot be instanced
+  EXPECT_FALSE(has(targets, "fun1"));  // nor an instance
+  // With a prefix.
+  auto d2 = open(std::string(kFunnels) + "instance z f");
+  auto f = labels(d2->ix().complete(d2->a.file, static_cast<uint32_t>(d2->text.size())));
+  EXPECT_EQ(f, (std::vector<std::string>{"fun"}));
+  // Sliders after `$`, in the 2016 form for a NOME file.
+  auto d3 = open(std::string(kFunnels) + "funnel g ({expr $fp");
+  auto p = labels(d3->ix().complete(d3->a.file, static_cast<uint32_t>(d3->text.size())));
+  EXPECT_EQ(p, (std::vector<std::string>{"$fp_n", "$fp_ro"}));
+  // Options and the end keyword inside an instance.
+  auto d4 = open(std::string(kFunnels) + "instance z fun tr");
+  auto o = labels(d4->ix().complete(d4->a.file, static_cast<uint32_t>(d4->text.size())));
+  EXPECT_EQ(o, (std::vector<std::string>{"translate", "transform"}));
+  auto d5 = open(std::string(kFunnels) + "instance z fun ");
+  auto o5 = d5->ix().complete(d5->a.file, static_cast<uint32_t>(d5->text.size()));
+  EXPECT_TRUE(has(labels(o5), "endinstance"));
+  EXPECT_TRUE(has(labels(o5), "rotate"));
+  // Statement keywords at the top level.
+  auto d6 = open(std::string(kFunnels) + "me");
+  auto k = d6->ix().complete(d6->a.file, static_cast<uint32_t>(d6->text.size()));
+  EXPECT_TRUE(has(labels(k), "mesh"));
+  EXPECT_TRUE(has(labels(k), "merge"));
+  EXPECT_TRUE(std::all_of(k.begin(), k.end(), [](const CompletionItem& i) { return i.is_keyword && !i.detail.empty(); }));
+  // Vertex paths in a face: instances, then the instance's children after `.`.
+  auto d7 = open(std::string(kFunnels) + "face q (cube.");
+  auto v = labels(d7->ix().complete(d7->a.file, static_cast<uint32_t>(d7->text.size())));
+  EXPECT_EQ(v, (std::vector<std::string>{"cube.fun1", "cube.fun2"}));
+  auto d8 = open(std::string(kFunnels) + "face q (mi.");
+  auto v8 = labels(d8->ix().complete(d8->a.file, static_cast<uint32_t>(d8->text.size())));
+  EXPECT_EQ(v8, (std::vector<std::string>{"mi.p1", "mi.p2", "mi.p3"}));
+  // Nothing inside a comment, nothing while naming a new definition.
+  auto d9 = open(std::string(kFunnels) + "# instance z f");
+  EXPECT_TRUE(d9->ix().complete(d9->a.file, static_cast<uint32_t>(d9->text.size())).empty());
+  auto d10 = open(std::string(kFunnels) + "mesh ne");
+  EXPECT_TRUE(d10->ix().complete(d10->a.file, static_cast<uint32_t>(d10->text.size())).empty());
+}
+
+TEST(Index, CompletionDottedSlidersInNome3) {
+  auto d = open("bank b\n  set w 2 1 3 1\nendbank\ntorus t ($", "t.nom");
+  auto p = labels(d->ix().complete(d->a.file, static_cast<uint32_t>(d->text.size())));
+  EXPECT_TRUE(has(p, "$b.w"));
+  EXPECT_TRUE(has(p, "$time"));
+}
+
+TEST(Index, SignatureHelp) {
+  auto d = open(std::string(kFunnels) + "funnel g (4 1.5 ");
+  auto h = d->ix().signature_help(d->a.file, static_cast<uint32_t>(d->text.size()));
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->label, "funnel NAME (n ro ratio h)");
+  ASSERT_EQ(h->parameters.size(), 4u);
+  EXPECT_EQ(h->label.substr(h->parameters[1].first, h->parameters[1].second - h->parameters[1].first), "ro");
+  EXPECT_EQ(h->active_parameter, 2);
+  EXPECT_NE(h->parameter_docs[0].find("count"), std::string::npos);
+  // The sign rule: `1 -2` is two elements, `1 - 2` one.
+  auto d2 = open(std::string(kFunnels) + "funnel g (4 1 -2");
+  EXPECT_EQ(d2->ix().signature_help(d2->a.file, static_cast<uint32_t>(d2->text.size()))->active_parameter, 2);
+  auto d3 = open(std::string(kFunnels) + "funnel g (4 1 - 2");
+  EXPECT_EQ(d3->ix().signature_help(d3->a.file, static_cast<uint32_t>(d3->text.size()))->active_parameter, 1);
+  // Nested braces count as one element.
+  auto d4 = open(std::string(kFunnels) + "funnel g ({expr $fp_n * (2 + 1)} ");
+  EXPECT_EQ(d4->ix().signature_help(d4->a.file, static_cast<uint32_t>(d4->text.size()))->active_parameter, 1);
+  // Transform lists and the rotate angle.
+  auto d5 = open(std::string(kFunnels) + "instance z fun rotate (0 0 1) (");
+  auto h5 = d5->ix().signature_help(d5->a.file, static_cast<uint32_t>(d5->text.size()));
+  ASSERT_TRUE(h5);
+  EXPECT_EQ(h5->label, "rotate (ax ay az) (degrees)");
+  auto d6 = open(std::string(kFunnels) + "instance z fun translate (1 ");
+  auto h6 = d6->ix().signature_help(d6->a.file, static_cast<uint32_t>(d6->text.size()));
+  ASSERT_TRUE(h6);
+  EXPECT_EQ(h6->label, "translate (x y z)");
+  EXPECT_EQ(h6->active_parameter, 1);
+  // Outside any list: none.
+  EXPECT_FALSE(d->ix().signature_help(d->a.file, d->at("group cf")));
+}
+
+TEST(Index, SemanticTokens) {
+  auto d = open(std::string("(* a\n comment *)\n") + kFunnels);
+  auto toks = d->ix().semantic_tokens(d->a.file);
+  ASSERT_FALSE(toks.empty());
+  for (size_t i = 1; i < toks.size(); ++i) EXPECT_LE(toks[i - 1].range.end, toks[i].range.begin);
+  auto type_at = [&](uint32_t off) -> std::optional<SemanticToken> {
+    for (const auto& t : toks) {
+      if (t.range.begin <= off && off < t.range.end) return t;
+    }
+    return std::nullopt;
+  };
+  EXPECT_EQ(type_at(0)->type, TokenType::Comment);
+  EXPECT_EQ(type_at(d->at("bank"))->type, TokenType::Keyword);
+  EXPECT_EQ(type_at(d->at("endbank"))->type, TokenType::Keyword);
+  EXPECT_EQ(type_at(d->at("translate"))->type, TokenType::Keyword);
+  EXPECT_EQ(type_at(d->at("0.5"))->type, TokenType::Number);
+  auto n = type_at(d->at("$fp_n", 0, 4));
+  EXPECT_EQ(n->type, TokenType::Parameter);
+  EXPECT_FALSE(n->is_definition);
+  EXPECT_EQ(d->str(n->range), "n");
+  auto def = type_at(d->at("fun ("));
+  EXPECT_EQ(def->type, TokenType::Name);
+  EXPECT_TRUE(def->is_definition);
+  EXPECT_TRUE(type_at(d->at("n 4 3"))->is_definition);
+}
+
+TEST(Index, FunctionTokensAndHover) {
+  auto d = open("point p ({expr sin(pi/2)} 0 0) endpoint\n");
+  auto toks = d->ix().semantic_tokens(d->a.file);
+  bool found = false;
+  for (const auto& t : toks) {
+    if (d->str(t.range) == "sin") {
+      EXPECT_EQ(t.type, TokenType::Function);
+      found = true;
+    }
+  }
+  EXPECT_TRUE(found);
+  auto h = d->ix().hover(d->a.file, d->at("sin"));
+  ASSERT_TRUE(h);
+  EXPECT_NE(h->markdown.find("sine"), std::string::npos);
+}
+
+TEST(Index, FoldingRanges) {
+  auto d = open(std::string("(* one\n two *)\n# line\n") + kFunnels);
+  auto f = d->ix().folding_ranges(d->a.file);
+  std::vector<std::string> firsts;
+  for (const auto& r : f) firsts.push_back(std::string(d->str(r.range).substr(0, 5)));
+  // The block comment, the bank, the group, the mesh; one-line statements do not fold.
+  EXPECT_EQ(firsts, (std::vector<std::string>{"(* on", "bank ", "group", "mesh "}));
+  EXPECT_TRUE(f[0].is_comment);
+  EXPECT_FALSE(f[1].is_comment);
+}
+
+TEST(Index, RenameSlider) {
+  auto d = open(kFunnels);
+  auto pr = d->ix().prepare_rename(d->a.file, d->at("$fp_n", 0, 4));
+  ASSERT_TRUE(pr);
+  EXPECT_EQ(d->str(*pr), "n");
+  auto r = d->ix().rename(d->a.file, d->at("$fp_n", 0, 4), "sides");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(r)) << std::get<std::string>(r);
+  auto edits = std::get<std::vector<TextEdit>>(r);
+  ASSERT_EQ(edits.size(), 2u);
+  EXPECT_EQ(d->str(edits[0].range), "n");
+  EXPECT_EQ(edits[0].range.begin, d->at("n 4 3"));
+  EXPECT_EQ(edits[1].range.begin, d->at("$fp_n", 0, 4));
+  // The bank: every `$fp_…` changes its bank part.
+  auto rb = d->ix().rename(d->a.file, d->at("$fp_ro", 0, 1), "fq");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(rb)) << std::get<std::string>(rb);
+  EXPECT_EQ(std::get<std::vector<TextEdit>>(rb).size(), 3u);
+}
+
+TEST(Index, RenameRefusals) {
+  auto d = open(kFunnels);
+  auto fun = d->at("fun (");
+  auto bad = [&](uint32_t off, std::string_view name) {
+    auto r = d->ix().rename(d->a.file, off, name);
+    EXPECT_TRUE(std::holds_alternative<std::string>(r)) << name;
+    return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : std::string();
+  };
+  EXPECT_NE(bad(fun, "mesh").find("keyword"), std::string::npos);
+  EXPECT_NE(bad(fun, "endfunnel").find("keyword"), std::string::npos);
+  EXPECT_NE(bad(fun, "2x").find("not a valid name"), std::string::npos);
+  EXPECT_NE(bad(fun, "a.b").find("not a valid name"), std::string::npos);
+  EXPECT_NE(bad(fun, "").find("not a valid name"), std::string::npos);
+  EXPECT_NE(bad(fun, "translate").find("option"), std::string::npos);
+  EXPECT_NE(bad(fun, "cf").find("already defined"), std::string::npos);
+  EXPECT_NE(bad(d->at("n 4 3"), "ro").find("already defined"), std::string::npos);
+  // `fun1` appears in the 2016 name `cube_fun1_hc0`: a new name with `_` is refused …
+  EXPECT_NE(bad(d->at("fun1 fun"), "f_1").find("_"), std::string::npos);
+  // … and one without is fine, and renames the part inside the joined name.
+  auto ok = d->ix().rename(d->a.file, d->at("fun1 fun"), "top");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(ok)) << std::get<std::string>(ok);
+  auto edits = std::get<std::vector<TextEdit>>(ok);
+  ASSERT_EQ(edits.size(), 2u);
+  EXPECT_EQ(edits[1].range.begin, d->at("cube_fun1_hc0", 0, 5));
+  // Nothing to rename on a keyword.
+  EXPECT_FALSE(d->ix().prepare_rename(d->a.file, d->at("endmesh")));
+  EXPECT_TRUE(std::holds_alternative<std::string>(d->ix().rename(d->a.file, d->at("endmesh"), "x")));
+}
+
+TEST(Index, RenameRecheckCatchesCapture) {
+  // Renaming `fun2` to `fun` would make `cube_fun2_hc1` read as … `cube_fun_…`? No: a new
+  // name that makes a 2016 joined name resolve differently must be refused. Here `cf` has
+  // instances `ab` and `ab_c`; renaming `x` to `ab` is harmless, but renaming `ab_c`'s
+  // sibling so that `g_ab_c_hc0` becomes ambiguous is caught by the re-check.
+  auto d = open(R"(funnel fun (4 1 0.5 1) endfunnel
+group cf
+  instance ab fun endinstance
+  instance xy fun endinstance
+endgroup
+instance g cf endinstance
+face q (g_ab_hc0 g_ab_hc1 g_xy_hc0) endface
+)");
+  ASSERT_EQ(d->diags.error_count(), 0);
+  auto r = d->ix().rename(d->a.file, d->at("xy fun"), "ab");
+  ASSERT_TRUE(std::holds_alternative<std::string>(r));
+  EXPECT_NE(std::get<std::string>(r).find("already defined"), std::string::npos);
+}
+
+TEST(Index, HoverSlider) {
+  auto d = open(kFunnels);
+  auto h = d->ix().hover(d->a.file, d->at("$fp_n", 0, 4));
+  ASSERT_TRUE(h);
+  EXPECT_EQ(d->str(h->range), "n");
+  EXPECT_EQ(h->symbol, d->sym("n 4 3"));
+  const std::string& md = h->markdown;
+  EXPECT_NE(md.find("bank `fp`"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 4 | 3 | 10 | 1 |"), std::string::npos) << md;
+  // The slider changes the funnel, so every instance of it and the group instance above.
+  EXPECT_NE(md.find("`cf.fun1`"), std::string::npos) << md;
+  EXPECT_NE(md.find("`cf.fun2`"), std::string::npos) << md;
+  EXPECT_NE(md.find("`cube`"), std::string::npos) << md;
+  EXPECT_EQ(md.find("`mi`"), std::string::npos) << md;
+  // Hover on the `set` line itself.
+  auto hs = d->ix().hover(d->a.file, d->at("n 4 3"));
+  ASSERT_TRUE(hs);
+  EXPECT_EQ(hs->markdown, md);
+}
+
+TEST(Index, HoverGeneratorInstanceKeyword) {
+  auto d = open(kFunnels);
+  auto g = d->ix().hover(d->a.file, d->at("fun ("));
+  ASSERT_TRUE(g);
+  EXPECT_NE(g->markdown.find("**funnel `fun`**"), std::string::npos) << g->markdown;
+  EXPECT_NE(g->markdown.find("| `ro` | $fp.ro = 1 | radius of the base ring"), std::string::npos) << g->markdown;
+  auto i = d->ix().hover(d->a.file, d->at("fun1 fun"));
+  ASSERT_TRUE(i);
+  EXPECT_NE(i->markdown.find("instance of funnel `fun`"), std::string::npos) << i->markdown;
+  EXPECT_NE(i->markdown.find("`translate` (0 | 0 | 1)"), std::string::npos) << i->markdown;
+  EXPECT_TRUE(d->ix().symbols()[i->symbol].node.is_valid());
+  auto m = d->ix().hover(d->a.file, d->at("m\n"));
+  ASSERT_TRUE(m);
+  EXPECT_NE(m->markdown.find("3 points, 1 face"), std::string::npos) << m->markdown;
+  auto k = d->ix().hover(d->a.file, d->at("endgroup"));
+  ASSERT_TRUE(k);
+  EXPECT_EQ(k->markdown, "**`endgroup`** — closes `group`");
+  auto k2 = d->ix().hover(d->a.file, d->at("instance cube") + 2);
+  ASSERT_TRUE(k2);
+  EXPECT_NE(k2->markdown.find("places a mesh"), std::string::npos);
+  EXPECT_FALSE(d->ix().hover(d->a.file, d->at("(0 0 0)") + 1));
+}
+
+TEST(Index, IncludedFileSymbols) {
+  CheckOptions opts;
+  opts.read_file = [](const std::string& path) -> std::optional<std::string> {
+    if (path.ends_with("shapes.slf")) return std::string("surface red color (1 0 0) endsurface\n");
+    return std::nullopt;
+  };
+  auto d = open("include \"shapes.slf\"\npoint a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint c (0 1 0) endpoint\n"
+                "face f (a b c) surface red endface\n",
+                "main.slf", opts);
+  SymbolId red = d->sym("red");
+  ASSERT_GE(red, 0);
+  const Symbol& s = d->ix().symbols()[red];
+  EXPECT_NE(s.name_range.file, d->a.file);
+  EXPECT_EQ(d->a.sources->text(s.name_range), "red");
+  EXPECT_EQ(d->ix().outline(s.name_range.file).size(), 1u);
+}
+
 }  // namespace
 }  // namespace nomec::index
