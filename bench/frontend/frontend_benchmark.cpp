@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "frontend/check/check.h"
+#include "frontend/index/index.h"
 #include "frontend/parse/parse.h"
 
 namespace {
@@ -162,6 +163,49 @@ void BM_ParseCheckCorpus(benchmark::State& state) {
   state.counters["corpus_bytes"] = static_cast<double>(bytes);
 }
 
+// The language index (frontend/index): building it from a check result recorded with
+// `record_names` (what the LSP adds per keystroke on top of parse + check), and the
+// per-request features on the same file.
+void BM_IndexBuild(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  auto sources = std::make_shared<nomec::SourceManager>();
+  nomec::DiagnosticEngine diags;
+  nomec::CheckOptions options;
+  options.record_names = true;
+  auto check = std::make_shared<const nomec::CheckResult>(nomec::check_source(*sources, "bench.nome", text, options, diags));
+  size_t symbols = 0;
+  for (auto _ : state) {
+    auto ix = nomec::index::build(sources, check);
+    symbols = ix->symbols().size();
+    benchmark::DoNotOptimize(symbols);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(text.size()));
+  state.counters["file_bytes"] = static_cast<double>(text.size());
+  state.counters["symbols"] = static_cast<double>(symbols);
+}
+
+void BM_IndexFeatures(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  nomec::DiagnosticEngine diags;
+  nomec::index::Analysis a = nomec::index::analyze("bench.nome", text, nomec::CheckOptions{}, diags);
+  const nomec::index::Index& ix = *a.index;
+  auto mid = static_cast<uint32_t>(text.find("$b", text.size() / 2) + 2);
+  auto end = static_cast<uint32_t>(text.size());
+  for (auto _ : state) {
+    switch (state.range(1)) {
+      case 0: benchmark::DoNotOptimize(ix.hover(a.file, mid)); break;
+      case 1: benchmark::DoNotOptimize(ix.semantic_tokens(a.file).size()); break;
+      case 2: benchmark::DoNotOptimize(ix.complete(a.file, end).size()); break;
+      case 3: benchmark::DoNotOptimize(ix.folding_ranges(a.file).size()); break;
+      default: benchmark::DoNotOptimize(ix.references(ix.occurrence_at(a.file, mid)->symbol, true).size()); break;
+    }
+  }
+  static const char* names[] = {"hover", "semantic_tokens", "complete", "folding_ranges", "references"};
+  state.SetLabel(names[state.range(1)]);
+}
+
+BENCHMARK(BM_IndexBuild)->Arg(64 << 10)->Arg(512 << 10)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IndexFeatures)->ArgsProduct({{512 << 10}, {0, 1, 2, 3, 4}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheckCorpus)->Unit(benchmark::kMillisecond);

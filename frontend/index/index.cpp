@@ -40,13 +40,21 @@ namespace {
 struct RangeKey {
   int32_t file;
   uint32_t begin, end;
-  friend bool operator==(const RangeKey&, const RangeKey&) = default;
+  friend auto operator<=>(const RangeKey&, const RangeKey&) = default;
 };
-struct RangeKeyHash {
-  size_t operator()(const RangeKey& k) const {
-    uint64_t h = (static_cast<uint64_t>(static_cast<uint32_t>(k.file)) << 48) ^
-                 (static_cast<uint64_t>(k.begin) << 20) ^ k.end;
-    return std::hash<uint64_t>{}(h * 0x9E3779B97F4A7C15ull);
+struct NodeAt {
+  RangeKey key;
+  ir::NodeId node;
+};
+// (parent symbol, name) → symbol, without building a string per lookup.
+struct MemberKey {
+  SymbolId parent;
+  std::string_view name;
+  friend bool operator==(const MemberKey&, const MemberKey&) = default;
+};
+struct MemberKeyHash {
+  size_t operator()(const MemberKey& k) const {
+    return std::hash<std::string_view>{}(k.name) ^ (static_cast<size_t>(k.parent) * 0x9E3779B97F4A7C15ull);
   }
 };
 RangeKey key_of(SourceRange r) { return {r.file.index, r.begin, r.end}; }
@@ -85,11 +93,17 @@ class Builder {
 
   void run() {
     ix_.node_symbol_.assign(m_.nodes.size(), -1);
+    node_by_range_.reserve(m_.nodes.size());
+    ix_.symbols_.reserve(m_.nodes.size() / 2 + 16);
+    occ_.reserve(cr_.name_uses.size() + m_.nodes.size() + m_.exprs.size() / 4);
     for (size_t i = 0; i < m_.nodes.size(); ++i) {
       const ir::Node& n = m_.nodes[i];
       if (n.kind == ir::NodeKind::Value || !n.range.is_valid()) continue;
-      node_by_range_.emplace(key_of(n.range), ir::NodeId{static_cast<int32_t>(i)});
+      node_by_range_.push_back({key_of(n.range), ir::NodeId{static_cast<int32_t>(i)}});
     }
+    // Stable: the first node made for a range (the declared one) wins.
+    std::stable_sort(node_by_range_.begin(), node_by_range_.end(),
+                     [](const NodeAt& a, const NodeAt& b) { return a.key < b.key; });
     for (const auto& a : cr_.asts) {
       ast_ = a.get();
       for (const ast::Item& it : a->top) {
@@ -118,8 +132,10 @@ class Builder {
   }
 
   ir::NodeId node_at(SourceRange r) const {
-    auto it = node_by_range_.find(key_of(r));
-    return it == node_by_range_.end() ? ir::NodeId::None() : it->second;
+    RangeKey k = key_of(r);
+    auto it = std::lower_bound(node_by_range_.begin(), node_by_range_.end(), k,
+                               [](const NodeAt& a, const RangeKey& key) { return a.key < key; });
+    return it != node_by_range_.end() && it->key == k ? it->node : ir::NodeId::None();
   }
 
   // Does this statement define the word after its keyword?
@@ -225,12 +241,8 @@ class Builder {
     }
   }
 
-  static std::string member_key(SymbolId parent, std::string_view name) {
-    std::string k = std::to_string(parent);
-    k.push_back('\0');
-    k.append(name);
-    return k;
-  }
+  // Names view the source text (or the IR's strings), which outlive the builder.
+  static MemberKey member_key(SymbolId parent, std::string_view name) { return {parent, name}; }
 
   SymbolId sym(ir::NodeId n) const {
     return n.is_valid() && n.index < static_cast<int32_t>(ix_.node_symbol_.size()) ? ix_.node_symbol_[n.index] : -1;
@@ -374,10 +386,10 @@ class Builder {
   const CheckResult& cr_;
   const ir::Module& m_;
   const ast::Ast* ast_ = nullptr;
-  std::unordered_map<RangeKey, ir::NodeId, RangeKeyHash> node_by_range_;
+  std::vector<NodeAt> node_by_range_;  // sorted by range
   std::unordered_map<std::string, SymbolId> bank_symbol_;
-  std::unordered_map<std::string, SymbolId> member_params_;
-  std::unordered_map<std::string, SymbolId> member_points_;
+  std::unordered_map<MemberKey, SymbolId, MemberKeyHash> member_params_;
+  std::unordered_map<MemberKey, SymbolId, MemberKeyHash> member_points_;
   std::vector<ListUse> lists_;
   std::vector<SavedUse> saved_;
   std::vector<Occurrence> occ_;
