@@ -27,6 +27,7 @@ enum class Role : uint8_t { None, Binary, Unary, CallParen };
 
 struct Structure {
   std::unordered_set<uint32_t> opens;        // opening keyword of a block
+  std::unordered_set<uint32_t> bank_opens;   // ... of a `bank` (its `set` rows are aligned)
   std::unordered_set<uint32_t> closes;       // closing keyword of a block
   std::unordered_set<uint32_t> line_starts;  // a unit that must begin a line
   std::unordered_map<uint32_t, Role> roles;  // operators and call parentheses
@@ -74,6 +75,7 @@ class StructureBuilder {
 
   void stmt(const ast::Stmt& s) {
     out_.opens.insert(s.open_kw.begin);
+    if (s.kind == ast::BlockKind::Bank) out_.bank_opens.insert(s.open_kw.begin);
     bool multi_line = false;
     if (s.close_kw.is_valid() && s.close_kw.end > s.close_kw.begin) {
       out_.closes.insert(s.close_kw.begin);
@@ -222,6 +224,101 @@ struct Unit {
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
 
+bool is_number_cell(std::string_view cell) {
+  if (!cell.empty() && (cell[0] == '-' || cell[0] == '+')) cell.remove_prefix(1);
+  if (cell.empty()) return false;
+  return std::all_of(cell.begin(), cell.end(), [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '-' || c == '+';
+  }) && (cell[0] >= '0' && cell[0] <= '9' || cell[0] == '.');
+}
+
+// Aligns runs of consecutive bank rows (`set name value min max step`) into columns: words
+// left-aligned, numbers right-aligned, a trailing comment after the widest row. Only the
+// spaces between cells change, and every cell keeps at least one space before it.
+std::string align_tables(std::string text, const std::vector<int>& rows) {
+  if (rows.empty()) return text;
+  std::vector<std::string> lines;
+  for (size_t start = 0; start < text.size();) {
+    size_t nl = text.find('\n', start);
+    if (nl == std::string::npos) nl = text.size();
+    lines.push_back(text.substr(start, nl - start));
+    start = nl + 1;
+  }
+  auto align_group = [&](size_t first, size_t last) {  // rows[first..last]
+    struct Row {
+      std::string indent;
+      std::vector<std::string> cells;
+      std::string comment;
+    };
+    std::vector<Row> parsed;
+    std::vector<size_t> width;
+    for (size_t r = first; r <= last; ++r) {
+      const std::string& line = lines[static_cast<size_t>(rows[r])];
+      Row row;
+      size_t at = line.find_first_not_of(" \t");
+      row.indent = line.substr(0, at);
+      size_t hash = line.find('#', at);
+      std::string code = line.substr(at, hash == std::string::npos ? std::string::npos : hash - at);
+      if (hash != std::string::npos) row.comment = line.substr(hash);
+      for (size_t p = 0; p < code.size();) {
+        size_t sp = code.find(' ', p);
+        if (sp == std::string::npos) sp = code.size();
+        if (sp > p) row.cells.push_back(code.substr(p, sp - p));
+        p = sp + 1;
+      }
+      for (size_t c = 0; c < row.cells.size(); ++c) {
+        if (width.size() <= c) width.push_back(0);
+        width[c] = std::max(width[c], row.cells[c].size());
+      }
+      parsed.push_back(std::move(row));
+    }
+    size_t code_width = 0;
+    std::vector<std::string> built;
+    for (const Row& row : parsed) {
+      std::string out = row.indent;
+      for (size_t c = 0; c < row.cells.size(); ++c) {
+        if (c > 0) out += ' ';
+        const std::string& cell = row.cells[c];
+        std::string pad(width[c] - cell.size(), ' ');
+        bool last = c + 1 == row.cells.size();
+        if (is_number_cell(cell)) {
+          out += pad + cell;
+        } else {
+          out += cell;
+          if (!last || !row.comment.empty()) out += pad;
+        }
+      }
+      code_width = std::max(code_width, out.size());
+      built.push_back(std::move(out));
+    }
+    for (size_t r = first; r <= last; ++r) {
+      std::string& out = built[r - first];
+      const Row& row = parsed[r - first];
+      if (!row.comment.empty()) {
+        out.append(code_width - out.size(), ' ');
+        out += ' ';
+        out += row.comment;
+      }
+      while (!out.empty() && out.back() == ' ') out.pop_back();
+      lines[static_cast<size_t>(rows[r])] = std::move(out);
+    }
+  };
+  for (size_t i = 0; i < rows.size();) {
+    size_t j = i;
+    while (j + 1 < rows.size() && rows[j + 1] == rows[j] + 1) ++j;
+    if (j > i) align_group(i, j);
+    i = j + 1;
+  }
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < lines.size(); ++i) {
+    out += lines[i];
+    out += '\n';
+  }
+  if (!text.empty() && text.back() != '\n') out.pop_back();
+  return out;
+}
+
 class Printer {
  public:
   Printer(std::string_view text, const Structure& structure, const FormatOptions& options)
@@ -232,9 +329,10 @@ class Printer {
       const Unit& u = units[i];
       if (!u.verbatim && u.kind == LexKind::Word && s_.closes.contains(u.begin) && depth_ > 0) {
         --depth_;
+        if (!in_bank_.empty()) in_bank_.pop_back();
       }
       if (i == 0) {
-        indent(u);
+        start_line(u, 0);
       } else {
         const Unit& p = units[i - 1];
         std::string_view gap = text_.substr(p.end, u.begin - p.end);
@@ -243,7 +341,7 @@ class Printer {
         if (newlines > 0 || forced) {
           out_ += newlines >= 2 ? "\n\n" : "\n";
           line_has_code_ = false;
-          indent(u);
+          start_line(u, newlines >= 2 ? 2 : 1);
         } else if (space(p, u, !gap.empty())) {
           out_ += ' ';
         }
@@ -253,11 +351,18 @@ class Printer {
         while (!body.empty() && is_space(body.back())) body.remove_suffix(1);
       }
       out_ += body;
+      bool table_cell = !u.verbatim && (u.kind == LexKind::Word || u.kind == LexKind::Number ||
+                                        u.kind == LexKind::DollarRef || u.kind == LexKind::Operator ||
+                                        u.kind == LexKind::LineComment);
+      if (!table_cell) row_ok_ = false;
       if (u.kind != LexKind::LineComment && u.kind != LexKind::BlockComment) {
         line_has_code_ = true;
       }
       if (u.verbatim) continue;
-      if (u.kind == LexKind::Word && s_.opens.contains(u.begin)) ++depth_;
+      if (u.kind == LexKind::Word && s_.opens.contains(u.begin)) {
+        ++depth_;
+        in_bank_.push_back(s_.bank_opens.contains(u.begin));
+      }
       if (u.kind == LexKind::LParen || u.kind == LexKind::LBrace) {
         bracket_levels_.push_back(line_level_);
         if (u.kind == LexKind::LBrace) ++braces_;
@@ -267,10 +372,26 @@ class Printer {
       }
     }
     if (!out_.empty()) out_ += '\n';
-    return std::move(out_);
+    finish_row();
+    return align_tables(std::move(out_), table_rows_);
   }
 
  private:
+  // A new output line starts with `first`, `newlines` after the previous one. Lines of a
+  // bank that start with `set` and hold only words, numbers and signs are table rows.
+  void start_line(const Unit& first, int newlines) {
+    finish_row();
+    line_no_ += newlines;
+    indent(first);
+    row_ok_ = !first.verbatim && first.kind == LexKind::Word && !in_bank_.empty() &&
+              in_bank_.back() && bracket_levels_.empty() &&
+              text_.substr(first.begin, first.end - first.begin) == "set";
+  }
+  void finish_row() {
+    if (row_ok_) table_rows_.push_back(line_no_);
+    row_ok_ = false;
+  }
+
   // Indents a new line: one level per enclosing block; inside brackets, one level more than
   // the line that opened the innermost bracket (its closer goes back to that line's level).
   void indent(const Unit& first) {
@@ -332,6 +453,10 @@ class Printer {
   std::vector<int> bracket_levels_;   // per open bracket: the level of the line opening it
   int braces_ = 0;
   bool line_has_code_ = false;
+  std::vector<bool> in_bank_;     // per open block: is it a bank
+  int line_no_ = 0;               // output line of the current line (0-based)
+  bool row_ok_ = false;           // the current line is still a table row
+  std::vector<int> table_rows_;   // output lines that are bank table rows
 };
 
 // Tokens -> units: tokens inside a verbatim range become that one range.

@@ -173,3 +173,49 @@ TEST(FormatEdges, SignRuleIsKept) {
 }
 
 }  // namespace
+
+namespace {
+
+// The language server formats whatever is in the editor: damaged text must never crash the
+// formatter, and whatever it accepts must be a fixed point of it.
+TEST(FormatRobustness, MutatedAndTruncatedFilesNeverCrash) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(fs::path(NOMEC_SOURCE_DIR) / "tests/format/golden")) {
+    if (e.path().filename().string().find(".in.") != std::string::npos) files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  ASSERT_FALSE(files.empty());
+  uint32_t seed = 12345;
+  auto next = [&seed] {
+    seed = seed * 1664525u + 1013904223u;
+    return seed >> 8;
+  };
+  const std::string alphabet = "(){}[]*#-+ \n\t\"$%^,01a\xc3\xa9\r";
+  int accepted = 0;
+  for (const fs::path& p : files) {
+    std::string text = read(p);
+    for (int k = 0; k < 40; ++k) {
+      std::string t = text;
+      if (k % 4 == 0) {
+        t.resize(next() % (t.size() + 1));
+      } else {
+        for (int m = 0; m < 1 + k % 3; ++m) {
+          t[next() % t.size()] = alphabet[next() % alphabet.size()];
+        }
+      }
+      nomec::FormatResult r = format_source(t);
+      if (!r.ok) {
+        EXPECT_TRUE(std::regex_search(r.error, std::regex("^[0-9]+:[0-9]+: "))) << r.error;
+        EXPECT_EQ(r.error.find("meaning"), std::string::npos) << p << " mutation " << k << ":\n" << t;
+        continue;
+      }
+      ++accepted;
+      nomec::FormatResult again = format_source(r.text);
+      ASSERT_TRUE(again.ok) << p << " mutation " << k;
+      EXPECT_EQ(again.text, r.text) << p << " mutation " << k << " is not idempotent:\n" << t;
+    }
+  }
+  EXPECT_GT(accepted, 50);
+}
+
+}  // namespace
