@@ -50,7 +50,8 @@ class StructureBuilder {
 
  private:
   bool spans_lines(uint32_t begin, uint32_t end) const {
-    return text_.substr(begin, end - begin).find('\n') != std::string_view::npos;
+    // A lone `\r` counts: the printer turns it into a line break.
+    return text_.substr(begin, end - begin).find_first_of("\n\r") != std::string_view::npos;
   }
 
   void item(const ast::Item& it) {
@@ -229,7 +230,8 @@ bool is_number_cell(std::string_view cell) {
   if (cell.empty()) return false;
   return std::all_of(cell.begin(), cell.end(), [](char c) {
     return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '-' || c == '+';
-  }) && (cell[0] >= '0' && cell[0] <= '9' || cell[0] == '.');
+  }) && ((cell[0] >= '0' && cell[0] <= '9') || cell[0] == '.') &&
+         ((cell.back() >= '0' && cell.back() <= '9') || cell.back() == '.');
 }
 
 // Aligns runs of consecutive bank rows (`set name value min max step`) into columns: words
@@ -256,6 +258,9 @@ std::string align_tables(std::string text, const std::vector<int>& rows) {
       const std::string& line = lines[static_cast<size_t>(rows[r])];
       Row row;
       size_t at = line.find_first_not_of(" \t");
+      if (at == std::string::npos || line.compare(at, 4, "set ") != 0) return;  // not a row
+      size_t hash_at = line.find('#', at);
+      if (hash_at != std::string::npos && line[hash_at - 1] != ' ') return;  // `+#`: keep glued
       row.indent = line.substr(0, at);
       size_t hash = line.find('#', at);
       std::string code = line.substr(at, hash == std::string::npos ? std::string::npos : hash - at);
@@ -336,13 +341,15 @@ class Printer {
       } else {
         const Unit& p = units[i - 1];
         std::string_view gap = text_.substr(p.end, u.begin - p.end);
-        size_t newlines = static_cast<size_t>(std::count(gap.begin(), gap.end(), '\n'));
+        // A lone `\r` (CRLF was already folded) ends a `#` comment too: it is a line break.
+        size_t newlines = static_cast<size_t>(
+            std::count_if(gap.begin(), gap.end(), [](char c) { return c == '\n' || c == '\r'; }));
         bool forced = line_has_code_ && s_.line_starts.contains(u.begin);
         if (newlines > 0 || forced) {
           out_ += newlines >= 2 ? "\n\n" : "\n";
           line_has_code_ = false;
           start_line(u, newlines >= 2 ? 2 : 1);
-        } else if (space(p, u, !gap.empty())) {
+        } else if (space(units, i, !gap.empty())) {
           out_ += ' ';
         }
       }
@@ -351,6 +358,8 @@ class Printer {
         while (!body.empty() && is_space(body.back())) body.remove_suffix(1);
       }
       out_ += body;
+      // Multi-line comments and verbatim text move the output line count on too.
+      line_no_ += static_cast<int>(std::count(body.begin(), body.end(), '\n'));
       bool table_cell = !u.verbatim && (u.kind == LexKind::Word || u.kind == LexKind::Number ||
                                         u.kind == LexKind::DollarRef || u.kind == LexKind::Operator ||
                                         u.kind == LexKind::LineComment);
@@ -415,16 +424,27 @@ class Printer {
     return it == s_.roles.end() ? Role::None : it->second;
   }
 
-  bool op_has_space_around(const Unit& op) const {
-    bool before = op.begin > 0 && is_space(text_[op.begin - 1]);
-    bool after = op.end < text_.size() && is_space(text_[op.end]);
+  // Whether the input separates operator `units[k]` from an operand by spaces on either
+  // side. A side where a comment or a line break follows is not counted (the formatter
+  // decides that spacing), so the answer is the same for the output.
+  bool op_has_space_around(const std::vector<Unit>& units, size_t k) const {
+    auto spaced = [&](const Unit& a, const Unit& b, const Unit& other) {
+      std::string_view gap = text_.substr(a.end, b.begin - a.end);
+      bool comment = !other.verbatim && (other.kind == LexKind::LineComment || other.kind == LexKind::BlockComment);
+      return !comment && !gap.empty() && gap.find_first_of("\n\r") == std::string_view::npos;
+    };
+    bool before = k > 0 && spaced(units[k - 1], units[k], units[k - 1]);
+    bool after = k + 1 < units.size() && spaced(units[k], units[k + 1], units[k + 1]);
     return before || after;
   }
 
   // Whether one space separates `p` and `u` on the same line. `ws`: the input had some.
-  bool space(const Unit& p, const Unit& u, bool ws) const {
+  bool space(const std::vector<Unit>& units, size_t i, bool ws) const {
+    const Unit& p = units[i - 1];
+    const Unit& u = units[i];
     auto plain = [](const Unit& x, LexKind k) { return !x.verbatim && x.kind == k; };
-    if (plain(u, LexKind::LineComment)) return true;
+    // `+#` / `-(*`: a sign glued to a comment stays glued (a space would make it binary).
+    if (plain(u, LexKind::LineComment)) return ws || !plain(p, LexKind::Operator);
     if (plain(u, LexKind::BlockComment) || plain(p, LexKind::BlockComment)) return ws;
     if (plain(p, LexKind::LParen)) {
       // `( *` must not become the comment opener `(*`.
@@ -436,9 +456,9 @@ class Printer {
     if (plain(p, LexKind::Comma)) return true;
     if (plain(u, LexKind::LParen) && role(u) == Role::CallParen) return false;
     if (plain(p, LexKind::Operator) && role(p) == Role::Unary) return false;
-    for (const Unit* op : {&p, &u}) {
-      if (plain(*op, LexKind::Operator) && role(*op) == Role::Binary) {
-        return braces_ > 0 || op_has_space_around(*op);
+    for (size_t k : {i - 1, i}) {
+      if (plain(units[k], LexKind::Operator) && role(units[k]) == Role::Binary) {
+        return braces_ > 0 || op_has_space_around(units, k);
       }
     }
     return ws;

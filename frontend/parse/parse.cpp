@@ -856,6 +856,8 @@ std::vector<LexToken> lex_file(std::string_view text) {
         }
         continue;
       case NomeLexer::LINE_COMMENT: push(LexKind::LineComment, begin, end); continue;
+      // Not blanked when it follows a `#` comment ended by a lone `\r`; ANTLR lexes it whole.
+      case NomeLexer::BLOCK_COMMENT: push(LexKind::BlockComment, begin, end); continue;
       case NomeLexer::TCLINIT: push(LexKind::TclInit, begin, end); continue;
       case NomeLexer::NUMBER: push(LexKind::Number, begin, end); continue;
       case NomeLexer::DOLLAR_REF:

@@ -194,7 +194,10 @@ TEST(FormatRobustness, MutatedAndTruncatedFilesNeverCrash) {
   int accepted = 0;
   for (const fs::path& p : files) {
     std::string text = read(p);
-    for (int k = 0; k < 40; ++k) {
+    // NOMEC_FORMAT_FUZZ_ROUNDS raises the number of mutations per file for a longer local run.
+    const char* rounds_env = std::getenv("NOMEC_FORMAT_FUZZ_ROUNDS");
+    const int rounds = rounds_env != nullptr ? std::atoi(rounds_env) : 40;
+    for (int k = 0; k < rounds; ++k) {
       std::string t = text;
       if (k % 4 == 0) {
         t.resize(next() % (t.size() + 1));
@@ -216,6 +219,36 @@ TEST(FormatRobustness, MutatedAndTruncatedFilesNeverCrash) {
     }
   }
   EXPECT_GT(accepted, 50);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(FormatEdges, LoneCarriageReturnEndsALineComment) {
+  // The lexer ends `# note` at the `\r`; `is` after it is code and must stay out of the comment.
+  nomec::FormatResult r = format_source("point p (0 0 0) endpoint # note\ris\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.text, "point p (0 0 0) endpoint # note\nis\n");
+}
+
+}  // namespace
+
+namespace {
+
+TEST(FormatEdges, SignGluedToACommentStaysGlued) {
+  // `+#` is a sign (followed by a non-space): `+ #` would make it a binary `+`.
+  const char* text = "bank b\nset n 8 3 10 1 +# note\nset m 8 3 10 1\nendbank\n";
+  nomec::FormatResult r = format_source(text);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_NE(r.text.find("+# note"), std::string::npos) << r.text;
+  EXPECT_EQ(format_source(r.text).text, r.text);
+}
+
+TEST(FormatEdges, BlockCommentAfterALoneCarriageReturn) {
+  nomec::FormatResult r = format_source("point p (0 0 0) endpoint # a\r(* b *)\npoint q (1 0 0) endpoint\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.text, "point p (0 0 0) endpoint # a\n(* b *)\npoint q (1 0 0) endpoint\n");
 }
 
 }  // namespace
