@@ -21,6 +21,9 @@
 #include "ir/ir.h"
 #include "kernel/topology.h"
 #include "tools/fmt_command.h"
+#ifdef NOMEC_HAVE_LSP
+#include "lsp/server.h"
+#endif
 
 namespace {
 
@@ -103,6 +106,23 @@ nlohmann::json summary_json(const std::string& path, const std::vector<nomec::ba
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2 && std::string_view(argv[1]) == "--lsp") {
+#ifdef NOMEC_HAVE_LSP
+    // The language server on stdin/stdout (lsp/). Editors' clients may append `--stdio`
+    // and `--clientProcessId=N` (vscode-languageclient does); both are accepted.
+    for (int i = 2; i < argc; ++i) {
+      std::string_view a = argv[i];
+      if (a != "--stdio" && a.rfind("--clientProcessId", 0) != 0) {
+        std::cerr << "nomec: --lsp takes no other arguments (got `" << a << "`)\n";
+        return 2;
+      }
+    }
+    return nomec::lsp::run_stdio();
+#else
+    std::cerr << "nomec: built without the language server (NOMEC_BUILD_LSP=OFF)\n";
+    return 2;
+#endif
+  }
   CLI::App app{"nomec: compiler for NOME, NOME3 and SLIDE scene files"};
   app.set_version_flag("--version", std::string("nomec ") + NOMEC_VERSION);
   std::vector<std::string> files;

@@ -1,0 +1,235 @@
+// Checking one document version for the language server (the same `check_source` as
+// `nomec --check`), turning its diagnostics into LSP form, and the background scene
+// evaluation that yields geometry diagnostics and per-node geometry facts for hover.
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+#include "backend/evaluate.h"
+#include "lsp/server_impl.h"
+
+namespace nomec::lsp {
+
+namespace {
+
+std::optional<std::string> read_disk_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int hex_value(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+int lsp_severity(Severity s) {
+  switch (s) {
+    case Severity::Error: return 1;
+    case Severity::Warning: return 2;
+    case Severity::Note: return 3;
+  }
+  return 3;
+}
+
+}  // namespace
+
+std::string path_to_uri(std::string_view path) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out = "file://";
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
+std::optional<std::string> uri_to_path(std::string_view uri) {
+  constexpr std::string_view kScheme = "file://";
+  if (uri.substr(0, kScheme.size()) != kScheme) return std::nullopt;
+  std::string_view rest = uri.substr(kScheme.size());
+  size_t slash = rest.find('/');  // skip an authority (`file://host/path`)
+  if (slash == std::string_view::npos) return std::nullopt;
+  rest = rest.substr(slash);
+  std::string out;
+  for (size_t i = 0; i < rest.size(); ++i) {
+    if (rest[i] == '%' && i + 2 < rest.size() + 0 && hex_value(rest[i + 1]) >= 0 && hex_value(rest[i + 2]) >= 0) {
+      out += static_cast<char>(hex_value(rest[i + 1]) * 16 + hex_value(rest[i + 2]));
+      i += 2;
+    } else {
+      out += rest[i];
+    }
+  }
+  return out;
+}
+
+json Analysis::position_json(uint32_t offset) const {
+  Position p = lines.position(offset);
+  return {{"line", p.line}, {"character", p.character}};
+}
+
+json Analysis::range_json(SourceRange r) const {
+  if (!r.is_valid() || r.file == file) {
+    return {{"start", position_json(r.begin)}, {"end", position_json(std::max(r.begin, r.end))}};
+  }
+  LineIndex other(sources.text(r.file));
+  Position b = other.position(r.begin);
+  Position e = other.position(std::max(r.begin, r.end));
+  return {{"start", {{"line", b.line}, {"character", b.character}}},
+          {"end", {{"line", e.line}, {"character", e.character}}}};
+}
+
+std::string Analysis::uri_of(FileId f) const {
+  if (f == file || !f.is_valid()) return uri;
+  return path_to_uri(sources.name(f));
+}
+
+json Analysis::location_json(SourceRange r) const { return {{"uri", uri_of(r.file)}, {"range", range_json(r)}}; }
+
+json diagnostic_json(const Analysis& a, const Diagnostic& d) {
+  // A diagnostic in an included or base file is shown at the start of this document.
+  SourceRange range = d.range.is_valid() && d.range.file == a.file ? d.range : SourceRange{a.file, 0, 0};
+  std::string message = d.message;
+  if (d.range.is_valid() && d.range.file != a.file) {
+    LineCol lc = a.sources.line_col(d.range.file, d.range.begin);
+    message = std::string(a.sources.name(d.range.file)) + ":" + std::to_string(lc.line) + ":" +
+              std::to_string(lc.column) + ": " + message;
+  }
+  json j = {{"range", a.range_json(range)},
+            {"severity", lsp_severity(d.severity)},
+            {"code", std::string(diag_kind_name(d.kind))},
+            {"source", "nomec"},
+            {"message", message}};
+  json related = json::array();
+  for (const DiagNote& n : d.notes) {
+    if (!n.range.is_valid()) {
+      j["message"] = j["message"].get<std::string>() + "\nnote: " + n.message;
+      continue;
+    }
+    related.push_back({{"location", a.location_json(n.range)}, {"message", n.message}});
+  }
+  if (!related.empty()) j["relatedInformation"] = std::move(related);
+  return j;
+}
+
+std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text) const {
+  auto a = std::make_shared<Analysis>();
+  a->uri = uri;
+  a->version = version;
+  std::optional<std::string> path = uri_to_path(uri);
+  DiagnosticEngine diags;
+  if (text.size() > options_.max_document_bytes) {
+    a->too_large = true;
+    a->file = a->sources.add_file(path.value_or(uri), std::move(text));
+  } else {
+    CheckOptions options;
+    if (path) options.read_file = read_disk_file;
+    a->file = FileId{static_cast<int32_t>(a->sources.file_count())};
+    a->result = check_source(a->sources, path.value_or(uri), std::move(text), options, diags);
+  }
+  diags.sort_and_dedupe();
+  a->diagnostics = diags.diagnostics();
+  a->lines = LineIndex(a->sources.text(a->file));
+  for (const Diagnostic& d : a->diagnostics) a->diagnostics_json.push_back(diagnostic_json(*a, d));
+  return a;
+}
+
+std::shared_ptr<Geometry> ServerImpl::evaluate_geometry(const Analysis& a) {
+  auto g = std::make_shared<Geometry>();
+  g->version = a.version;
+  DiagnosticEngine diags;
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<backend::OutputMesh> meshes = backend::evaluate_scene(a.result.module, diags);
+  g->evaluate_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  diags.sort_and_dedupe();
+  g->diagnostics = diags.diagnostics();
+  for (const Diagnostic& d : g->diagnostics) g->diagnostics_json.push_back(diagnostic_json(a, d));
+
+  // Facts per scene entry, per innermost instance and per defining generator/mesh.
+  const ir::Module& module = a.result.module;
+  auto extend = [](GeometryFacts& f, const glm::dvec3& p) {
+    for (int k = 0; k < 3; ++k) {
+      if (f.vertices == 0 && f.faces == 0) {
+        f.min[k] = f.max[k] = p[k];
+      } else {
+        f.min[k] = std::min(f.min[k], p[k]);
+        f.max[k] = std::max(f.max[k], p[k]);
+      }
+    }
+  };
+  for (const backend::OutputMesh& m : meshes) {
+    const kernel::PolygonSoup& s = m.soup;
+    if (m.scene_node.is_valid()) {
+      GeometryFacts& f = g->facts[m.scene_node.index];
+      GeometryFacts local;
+      for (const glm::dvec3& p : s.positions) {
+        extend(local, p);
+        ++local.vertices;
+      }
+      local.faces = static_cast<int64_t>(s.face_sizes.size());
+      local.placements = 1;
+      f = local;
+    }
+    // Per face: the innermost instance that placed it and the statement that made it.
+    std::map<int32_t, std::vector<int32_t>> seen;  // node -> vertices (deduplicated below)
+    size_t at = 0;
+    for (size_t fi = 0; fi < s.face_sizes.size(); ++fi) {
+      const int32_t n = s.face_sizes[fi];
+      int32_t nodes[2] = {-1, -1};
+      if (fi < s.face_sources.size()) {
+        nodes[0] = s.face_sources[fi].instance;
+        int32_t src = s.face_sources[fi].source_face;
+        if (src >= 0 && static_cast<size_t>(src) < module.nodes.size()) {
+          const ir::Node& sn = module.nodes[src];
+          nodes[1] = sn.kind == ir::NodeKind::Face && sn.parent.is_valid() ? sn.parent.index : src;
+        }
+      }
+      for (int32_t node : nodes) {
+        if (node < 0 || static_cast<size_t>(node) >= module.nodes.size() || node == m.scene_node.index) continue;
+        GeometryFacts& f = g->facts[node];
+        std::vector<int32_t>& verts = seen[node];
+        for (int32_t k = 0; k < n && at + k < s.face_vertices.size(); ++k) {
+          int32_t v = s.face_vertices[at + k];
+          if (v < 0 || static_cast<size_t>(v) >= s.positions.size()) continue;
+          if (f.vertices == 0 && f.faces == 0 && verts.empty()) f.min[0] = f.min[1] = f.min[2] = 0;
+          verts.push_back(v);
+        }
+        ++f.faces;
+      }
+      at += static_cast<size_t>(std::max(n, 0));
+    }
+    for (auto& [node, verts] : seen) {
+      std::sort(verts.begin(), verts.end());
+      verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+      GeometryFacts& f = g->facts[node];
+      GeometryFacts box;
+      for (int32_t v : verts) {
+        extend(box, s.positions[v]);
+        ++box.vertices;
+      }
+      if (f.vertices == 0) {
+        std::copy(box.min, box.min + 3, f.min);
+        std::copy(box.max, box.max + 3, f.max);
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          f.min[k] = std::min(f.min[k], box.min[k]);
+          f.max[k] = std::max(f.max[k], box.max[k]);
+        }
+      }
+      f.vertices += box.vertices;
+      ++f.placements;
+    }
+  }
+  return g;
+}
+
+}  // namespace nomec::lsp

@@ -1,0 +1,144 @@
+// What a feature handler sees: the `Registry` it registers its methods and capabilities
+// in, the `Context` of one request (parameters, cancellation, the analysed document), and
+// `Analysis`, one checked version of a document with its IR, index and position mapping.
+// Every feature lives in its own `handle_*.cpp` listed once in handlers.def.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "frontend/check/check.h"
+#include "frontend/diagnostics/diagnostic.h"
+#include "frontend/source/source_manager.h"
+#include "lsp/text.h"
+
+namespace nomec::lsp {
+
+using json = nlohmann::json;
+
+/// JSON-RPC error codes used by the server.
+namespace error_code {
+inline constexpr int ParseError = -32700;
+inline constexpr int InvalidRequest = -32600;
+inline constexpr int MethodNotFound = -32601;
+inline constexpr int InvalidParams = -32602;
+inline constexpr int InternalError = -32603;
+inline constexpr int ServerNotInitialized = -32002;
+inline constexpr int RequestCancelled = -32800;
+inline constexpr int ContentModified = -32801;
+}  // namespace error_code
+
+/// Thrown by handlers to answer a request with a JSON-RPC error.
+struct LspError : std::runtime_error {
+  LspError(int code, const std::string& message) : std::runtime_error(message), code(code) {}
+  int code;
+};
+
+/// One checked version of an open document. Immutable once published.
+struct Analysis {
+  std::string uri;
+  int64_t version = 0;
+  SourceManager sources;
+  FileId file;  // the document itself (includes and `.anom` bases are other files)
+  CheckResult result;
+  /// Front-end diagnostics, sorted; the LSP form of each is in `diagnostics_json`.
+  std::vector<Diagnostic> diagnostics;
+  json diagnostics_json = json::array();
+  bool too_large = false;  // not analysed: over ServerOptions::max_document_bytes
+  LineIndex lines;         // over sources.text(file)
+
+  std::string_view text() const { return sources.text(file); }
+  uint32_t offset(const Position& p) const { return lines.offset(p); }
+  json position_json(uint32_t offset) const;
+  /// An LSP range for a source range in this document (ranges in other files are mapped
+  /// with their own line tables).
+  json range_json(SourceRange r) const;
+  /// An LSP Location, with the URI of the file that holds the range.
+  json location_json(SourceRange r) const;
+  std::string uri_of(FileId f) const;
+};
+
+/// Geometry facts of one IR node from the latest background evaluation, e.g. an instance
+/// of a funnel: its faces and vertices in the scene and its world-space bounding box.
+struct GeometryFacts {
+  int64_t vertices = 0;
+  int64_t faces = 0;
+  int32_t placements = 0;  // definitions: how many placed copies contributed
+  double min[3] = {0, 0, 0};
+  double max[3] = {0, 0, 0};
+};
+
+/// The result of one background evaluation of one document version.
+struct Geometry {
+  int64_t version = 0;
+  std::vector<Diagnostic> diagnostics;
+  json diagnostics_json = json::array();
+  std::map<int32_t, GeometryFacts> facts;  // by IR node index
+  double evaluate_ms = 0;
+};
+
+class ServerImpl;
+
+/// One request being handled.
+class Context {
+ public:
+  Context(ServerImpl& server, const json& params, const json& id) : server_(server), params(params), id(id) {}
+  ServerImpl& server_;
+  const json& params;
+  const json& id;
+
+  /// True once the client cancelled this request (or the server is stopping). Long loops
+  /// check it; `analysis` and `geometry` throw RequestCancelled themselves.
+  bool cancelled() const;
+  void check_cancelled() const;
+  /// The analysis of `params.textDocument.uri` at its current version, waiting for the
+  /// check to finish if needed. Throws LspError for unknown documents or cancellation.
+  std::shared_ptr<const Analysis> analysis();
+  std::shared_ptr<const Analysis> analysis(const std::string& uri);
+  /// The latest finished background evaluation of the document, if it matches `version`.
+  std::shared_ptr<const Geometry> geometry(const std::string& uri, int64_t version) const;
+  /// The byte offset of `params.position` in `a`.
+  uint32_t position_offset(const Analysis& a) const;
+  /// Sends a notification to the client.
+  void notify(const std::string& method, json params);
+};
+
+using RequestHandler = std::function<json(Context&)>;
+
+class Registry {
+ public:
+  /// Registers a request method, e.g. `r.request("textDocument/hover", hover)`.
+  void request(const std::string& method, RequestHandler handler) { requests_[method] = std::move(handler); }
+  /// The `capabilities` object answered to `initialize`; handlers add their entry.
+  json& capabilities() { return capabilities_; }
+
+  const RequestHandler* find(const std::string& method) const {
+    auto it = requests_.find(method);
+    return it == requests_.end() ? nullptr : &it->second;
+  }
+
+ private:
+  std::map<std::string, RequestHandler> requests_;
+  json capabilities_ = json::object();
+};
+
+/// Converts a file path to a `file://` URI and back (percent-encoding as VS Code does).
+std::string path_to_uri(std::string_view path);
+std::optional<std::string> uri_to_path(std::string_view uri);
+
+/// The LSP form of a diagnostic of `a` (range, severity, code, message, related notes).
+json diagnostic_json(const Analysis& a, const Diagnostic& d);
+
+// Each feature file defines `void register_<name>(Registry&)`, listed in handlers.def.
+#define NOMEC_LSP_HANDLER(name) void register_##name(Registry& registry);
+#include "lsp/handlers.def"
+#undef NOMEC_LSP_HANDLER
+
+}  // namespace nomec::lsp

@@ -1,0 +1,549 @@
+// The language server core: JSON-RPC validation and lifecycle (initialize, shutdown,
+// exit), the request thread and cancellation, open documents with incremental sync, the
+// debounced analysis thread that publishes diagnostics, and the background geometry
+// thread whose results are merged into them. Features are in handle_*.cpp.
+#include "lsp/server_impl.h"
+
+#include <algorithm>
+
+namespace nomec::lsp {
+
+namespace {
+
+// A request id is an integer or a string; anything else is not a valid request.
+bool valid_id(const json& id) { return id.is_number_integer() || id.is_string(); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Context
+
+bool Context::cancelled() const { return server_.is_cancelled(id); }
+
+void Context::check_cancelled() const {
+  if (cancelled()) throw LspError(error_code::RequestCancelled, "request cancelled");
+}
+
+std::shared_ptr<const Analysis> Context::analysis() {
+  return analysis(params.at("textDocument").at("uri").get<std::string>());
+}
+
+std::shared_ptr<const Analysis> Context::analysis(const std::string& uri) {
+  return server_.current_analysis(uri, id);
+}
+
+std::shared_ptr<const Geometry> Context::geometry(const std::string& uri, int64_t version) const {
+  return server_.geometry_of(uri, version);
+}
+
+uint32_t Context::position_offset(const Analysis& a) const {
+  const json& p = params.at("position");
+  int64_t line = p.at("line").get<int64_t>();
+  int64_t character = p.at("character").get<int64_t>();
+  if (line < 0 || character < 0) throw LspError(error_code::InvalidParams, "negative position");
+  return a.offset(Position{static_cast<uint32_t>(std::min<int64_t>(line, UINT32_MAX)),
+                           static_cast<uint32_t>(std::min<int64_t>(character, UINT32_MAX))});
+}
+
+void Context::notify(const std::string& method, json params) { server_.send_notification(method, std::move(params)); }
+
+// ---------------------------------------------------------------------------------------
+// ServerImpl
+
+ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
+    : sink_(std::move(sink)), options_(options) {
+  json& caps = registry_.capabilities();
+  caps["positionEncoding"] = "utf-16";
+  caps["textDocumentSync"] = {{"openClose", true}, {"change", 2}};
+#define NOMEC_LSP_HANDLER(name) register_##name(registry_);
+#include "lsp/handlers.def"
+#undef NOMEC_LSP_HANDLER
+  request_thread_ = std::thread([this] { request_loop(); });
+  analysis_thread_ = std::thread([this] { analysis_loop(); });
+  geometry_thread_ = std::thread([this] { geometry_loop(); });
+}
+
+ServerImpl::~ServerImpl() {
+  {
+    std::lock_guard lock(mu_);
+    stopping_ = true;
+  }
+  // Taking each lock once guarantees no thread is between its stop check and its wait.
+  { std::lock_guard lock(docs_mu_); }
+  { std::lock_guard lock(geo_mu_); }
+  queue_cv_.notify_all();
+  docs_cv_.notify_all();
+  geo_cv_.notify_all();
+  request_thread_.join();
+  analysis_thread_.join();
+  geometry_thread_.join();
+}
+
+void ServerImpl::send(const json& message) {
+  std::string text = message.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::lock_guard lock(out_mu_);
+  sink_(std::move(text));
+}
+
+void ServerImpl::send_result(const json& id, json result) {
+  send(json{{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(result)}});
+}
+
+void ServerImpl::send_error(const json& id, int code, const std::string& message) {
+  send(json{{"jsonrpc", "2.0"}, {"id", id}, {"error", {{"code", code}, {"message", message}}}});
+}
+
+void ServerImpl::send_notification(const std::string& method, json params) {
+  send(json{{"jsonrpc", "2.0"}, {"method", method}, {"params", std::move(params)}});
+}
+
+void ServerImpl::handle(std::string_view text) {
+  json message = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (message.is_discarded()) {
+    send_error(nullptr, error_code::ParseError, "malformed JSON");
+    return;
+  }
+  if (!message.is_object()) {
+    send_error(nullptr, error_code::InvalidRequest, "a message must be a JSON object");
+    return;
+  }
+  auto method = message.find("method");
+  auto id = message.find("id");
+  if (method == message.end()) {
+    // A response to a server->client request; the server sends none that need answers.
+    if (id == message.end() || (message.find("result") == message.end() && message.find("error") == message.end())) {
+      send_error(id != message.end() && valid_id(*id) ? *id : json(nullptr), error_code::InvalidRequest,
+                 "a message needs a `method`");
+    }
+    return;
+  }
+  if (!method->is_string() || (id != message.end() && !valid_id(*id))) {
+    if (id != message.end()) {
+      send_error(valid_id(*id) ? *id : json(nullptr), error_code::InvalidRequest,
+                 "`method` must be a string and `id` an integer or a string");
+    }
+    return;
+  }
+  auto params = message.find("params");
+  if (params != message.end() && !params->is_object() && !params->is_array()) {
+    if (id != message.end()) send_error(*id, error_code::InvalidRequest, "`params` must be an object or an array");
+    return;
+  }
+  const std::string& name = method->get_ref<const std::string&>();
+  if (name == "$/cancelRequest") {
+    if (params != message.end() && params->is_object()) {
+      auto cid = params->find("id");
+      if (cid != params->end() && valid_id(*cid)) cancel(*cid);
+    }
+    return;
+  }
+  {
+    std::lock_guard lock(mu_);
+    if (id != message.end()) pending_[id->dump()] = false;
+    if (name == "exit") exit_seen_ = true;
+    queue_.push_back(std::move(message));
+    ++queued_total_;
+  }
+  queue_cv_.notify_one();
+}
+
+void ServerImpl::cancel(const json& id) {
+  {
+    std::lock_guard lock(mu_);
+    auto it = pending_.find(id.dump());
+    if (it == pending_.end()) return;
+    it->second = true;
+  }
+  docs_cv_.notify_all();  // a request waiting for an analysis wakes up and stops
+}
+
+bool ServerImpl::is_cancelled(const json& id) const {
+  std::lock_guard lock(mu_);
+  if (stopping_) return true;
+  if (id.is_null()) return false;
+  auto it = pending_.find(id.dump());
+  return it != pending_.end() && it->second;
+}
+
+void ServerImpl::wait_idle() {
+  std::unique_lock lock(mu_);
+  uint64_t target = queued_total_;
+  idle_cv_.wait(lock, [&] { return handled_total_ >= target || stopping_; });
+}
+
+void ServerImpl::request_loop() {
+  for (;;) {
+    json message;
+    {
+      std::unique_lock lock(mu_);
+      queue_cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      message = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    dispatch(message);
+    {
+      std::lock_guard lock(mu_);
+      if (auto id = message.find("id"); id != message.end()) pending_.erase(id->dump());
+      ++handled_total_;
+    }
+    idle_cv_.notify_all();
+  }
+}
+
+void ServerImpl::dispatch(const json& message) {
+  const std::string& method = message["method"].get_ref<const std::string&>();
+  auto id_it = message.find("id");
+  const bool is_request = id_it != message.end();
+  const json id = is_request ? *id_it : json(nullptr);
+  static const json kNoParams = json::object();
+  auto params_it = message.find("params");
+  const json& params = params_it != message.end() ? *params_it : kNoParams;
+
+  if (method == "exit") {
+    std::lock_guard lock(mu_);
+    exit_code_ = shutdown_ ? 0 : 1;
+    exited_ = true;
+    return;
+  }
+  bool shut_down;
+  {
+    std::lock_guard lock(mu_);
+    shut_down = shutdown_ || exited_;
+  }
+  if (!initialized_) {
+    if (method == "initialize" && is_request) {
+      initialize(id, params);
+    } else if (is_request) {
+      send_error(id, error_code::ServerNotInitialized, "the server is not initialized yet");
+    }
+    return;
+  }
+  if (shut_down) {
+    if (is_request) send_error(id, error_code::InvalidRequest, "the server is shut down");
+    return;
+  }
+  try {
+    if (!is_request) {
+      if (method == "textDocument/didOpen") {
+        did_open(params);
+      } else if (method == "textDocument/didChange") {
+        did_change(params);
+      } else if (method == "textDocument/didClose") {
+        did_close(params);
+      }
+      // Other notifications (initialized, didSave, $/setTrace, …) need no action.
+      return;
+    }
+    if (method == "initialize") {
+      send_error(id, error_code::InvalidRequest, "initialize was already received");
+      return;
+    }
+    if (method == "shutdown") {
+      {
+        std::lock_guard lock(mu_);
+        shutdown_ = true;
+      }
+      send_result(id, nullptr);
+      return;
+    }
+    const RequestHandler* handler = registry_.find(method);
+    if (handler == nullptr) {
+      send_error(id, error_code::MethodNotFound, "unknown method `" + method + "`");
+      return;
+    }
+    if (is_cancelled(id)) {
+      send_error(id, error_code::RequestCancelled, "request cancelled");
+      return;
+    }
+    Context ctx(*this, params, id);
+    json result = (*handler)(ctx);
+    if (is_cancelled(id)) {
+      send_error(id, error_code::RequestCancelled, "request cancelled");
+      return;
+    }
+    send_result(id, std::move(result));
+  } catch (const LspError& e) {
+    if (is_request) send_error(id, e.code, e.what());
+  } catch (const json::exception& e) {
+    if (is_request) send_error(id, error_code::InvalidParams, std::string("invalid params: ") + e.what());
+  } catch (const std::exception& e) {
+    if (is_request) send_error(id, error_code::InternalError, e.what());
+  }
+}
+
+void ServerImpl::initialize(const json& id, const json& params) {
+  if (params.is_object()) {
+    auto opts = params.find("initializationOptions");
+    if (opts != params.end() && opts->is_object()) {
+      if (auto d = opts->find("debounceMs"); d != opts->end() && d->is_number_integer()) {
+        options_.debounce_ms = std::clamp(d->get<int>(), 0, 10000);
+      }
+      if (auto g = opts->find("geometry"); g != opts->end() && g->is_boolean()) {
+        options_.geometry = g->get<bool>();
+      }
+    }
+  }
+  initialized_ = true;
+  send_result(id, {{"capabilities", registry_.capabilities()},
+                   {"serverInfo", {{"name", "nomec"}, {"version", NOMEC_LSP_VERSION}}}});
+}
+
+// ---------------------------------------------------------------------------------------
+// Documents
+
+void ServerImpl::did_open(const json& params) {
+  const json& doc = params.at("textDocument");
+  std::string uri = doc.at("uri").get<std::string>();
+  std::string text = doc.at("text").get<std::string>();
+  int64_t version = doc.contains("version") && doc["version"].is_number_integer() ? doc["version"].get<int64_t>() : 0;
+  {
+    std::lock_guard lock(docs_mu_);
+    Document& d = docs_[uri];
+    d = Document{};
+    d.uri = uri;
+    d.text = std::move(text);
+    d.version = version;
+    d.generation = ++generation_;
+    schedule_locked(d, /*now=*/true);
+  }
+  docs_cv_.notify_all();
+}
+
+void ServerImpl::did_change(const json& params) {
+  std::string uri = params.at("textDocument").at("uri").get<std::string>();
+  const json& version_json = params.at("textDocument").at("version");
+  const json& changes = params.at("contentChanges");
+  if (!changes.is_array()) throw LspError(error_code::InvalidParams, "contentChanges must be an array");
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return;  // not open: nothing to apply the edits to
+  Document& d = it->second;
+  int64_t version = version_json.is_number_integer() ? version_json.get<int64_t>() : d.version + 1;
+  // Stale or out-of-order: the edits were made against a text we no longer have.
+  if (version <= d.version) return;
+  // Apply to a copy first so that a malformed change leaves the document as it was.
+  std::string text = d.text;
+  for (const json& c : changes) {
+    if (!c.is_object()) throw LspError(error_code::InvalidParams, "a content change must be an object");
+    const std::string& new_text = c.at("text").get_ref<const std::string&>();
+    auto range = c.find("range");
+    if (range == c.end() || range->is_null()) {
+      text = new_text;
+      continue;
+    }
+    auto pos = [](const json& p) {
+      int64_t line = p.at("line").get<int64_t>();
+      int64_t ch = p.at("character").get<int64_t>();
+      if (line < 0 || ch < 0) throw LspError(error_code::InvalidParams, "negative position");
+      return Position{static_cast<uint32_t>(std::min<int64_t>(line, UINT32_MAX)),
+                      static_cast<uint32_t>(std::min<int64_t>(ch, UINT32_MAX))};
+    };
+    apply_edit(text, pos(range->at("start")), pos(range->at("end")), new_text);
+  }
+  d.text = std::move(text);
+  d.version = version;
+  d.geometry.reset();
+  schedule_locked(d, /*now=*/options_.debounce_ms == 0);
+  docs_cv_.notify_all();
+  geo_cv_.notify_all();
+}
+
+void ServerImpl::did_close(const json& params) {
+  std::string uri = params.at("textDocument").at("uri").get<std::string>();
+  {
+    std::lock_guard lock(docs_mu_);
+    if (docs_.erase(uri) == 0) return;
+    published_.erase(uri);
+  }
+  docs_cv_.notify_all();
+  send_notification("textDocument/publishDiagnostics", {{"uri", uri}, {"diagnostics", json::array()}});
+}
+
+void ServerImpl::schedule_locked(Document& d, bool now) {
+  d.dirty = true;
+  d.due = std::chrono::steady_clock::now() + std::chrono::milliseconds(now ? 0 : options_.debounce_ms);
+}
+
+std::shared_ptr<const Analysis> ServerImpl::current_analysis(const std::string& uri, const json& request_id) {
+  std::unique_lock lock(docs_mu_);
+  for (;;) {
+    if (is_cancelled(request_id)) throw LspError(error_code::RequestCancelled, "request cancelled");
+    auto it = docs_.find(uri);
+    if (it == docs_.end()) throw LspError(error_code::InvalidParams, "document `" + uri + "` is not open");
+    Document& d = it->second;
+    if (d.analysis && d.analysis->version == d.version) return d.analysis;
+    // Someone is waiting: skip the rest of the debounce.
+    if (d.dirty) d.due = std::chrono::steady_clock::now();
+    docs_cv_.notify_all();
+    docs_cv_.wait_for(lock, std::chrono::milliseconds(50));
+  }
+}
+
+std::shared_ptr<const Geometry> ServerImpl::geometry_of(const std::string& uri, int64_t version) const {
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(uri);
+  if (it == docs_.end() || !it->second.geometry || it->second.geometry->version != version) return nullptr;
+  return it->second.geometry;
+}
+
+std::optional<std::string> ServerImpl::document_text(std::string_view uri) const {
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(std::string(uri));
+  if (it == docs_.end()) return std::nullopt;
+  return it->second.text;
+}
+
+// ---------------------------------------------------------------------------------------
+// Analysis thread
+
+void ServerImpl::analysis_loop() {
+  std::unique_lock lock(docs_mu_);
+  for (;;) {
+    if (stopped()) return;
+    // The dirty document due first.
+    Document* next = nullptr;
+    for (auto& [uri, d] : docs_) {
+      if (d.dirty && (next == nullptr || d.due < next->due)) next = &d;
+    }
+    if (next == nullptr) {
+      docs_cv_.wait_for(lock, std::chrono::milliseconds(200));
+      continue;
+    }
+    auto now = std::chrono::steady_clock::now();
+    if (next->due > now) {
+      docs_cv_.wait_until(lock, next->due);
+      continue;
+    }
+    next->dirty = false;
+    std::string uri = next->uri;
+    std::string text = next->text;
+    int64_t version = next->version;
+    uint64_t generation = next->generation;
+    analysing_ = true;
+    lock.unlock();
+    std::shared_ptr<Analysis> a = analyse(uri, version, std::move(text));
+    lock.lock();
+    analysing_ = false;
+    auto it = docs_.find(uri);
+    if (it == docs_.end() || it->second.generation != generation) continue;  // closed or reopened
+    Document& d = it->second;
+    if (!d.analysis || d.analysis->version <= version) d.analysis = a;
+    docs_cv_.notify_all();
+    if (d.version != version) continue;  // edited meanwhile: the next analysis publishes
+    json diagnostics = a->diagnostics_json;
+    lock.unlock();
+    if (a->too_large) {
+      send_notification("window/showMessage",
+                        {{"type", 2},
+                         {"message", uri + " is too large for the editor's checks (" + std::to_string(a->text().size()) +
+                                         " bytes); run `nomec --check` on it instead"}});
+    }
+    // Geometry runs only on scenes without front-end errors, as `nomec --emit` does.
+    const bool evaluate = options_.geometry && !a->too_large && !a->result.module.scene.empty() &&
+                          std::none_of(a->diagnostics.begin(), a->diagnostics.end(),
+                                       [](const Diagnostic& x) { return x.severity == Severity::Error; });
+    publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);
+    if (evaluate) {
+      {
+        std::lock_guard glock(geo_mu_);
+        geo_job_ = a;
+      }
+      geo_cv_.notify_all();
+    }
+    lock.lock();
+  }
+}
+
+void ServerImpl::publish(const std::string& uri, int64_t version, json diagnostics, bool complete) {
+  send_notification("textDocument/publishDiagnostics",
+                    {{"uri", uri}, {"version", version}, {"diagnostics", std::move(diagnostics)}});
+  {
+    std::lock_guard lock(docs_mu_);
+    auto it = docs_.find(uri);
+    if (it != docs_.end()) {
+      Published& p = published_[uri];
+      p.version = version;
+      p.complete = complete;
+    }
+  }
+  published_cv_.notify_all();
+}
+
+bool ServerImpl::wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
+                                      bool with_geometry) {
+  std::unique_lock lock(docs_mu_);
+  return published_cv_.wait_for(lock, timeout, [&] {
+    auto it = published_.find(std::string(uri));
+    return it != published_.end() &&
+           (it->second.version > version || (it->second.version == version && (!with_geometry || it->second.complete)));
+  });
+}
+
+// ---------------------------------------------------------------------------------------
+// Geometry thread
+
+void ServerImpl::geometry_loop() {
+  for (;;) {
+    std::shared_ptr<const Analysis> job;
+    {
+      std::unique_lock lock(geo_mu_);
+      geo_cv_.wait(lock, [&] { return stopped() || geo_job_ != nullptr; });
+      if (stopped()) return;
+      job = std::move(geo_job_);
+      geo_job_.reset();
+      geo_busy_ = true;
+    }
+    // Discard the job if the text changed while it waited.
+    if (document_version(job->uri) == job->version) {
+      std::shared_ptr<Geometry> g = evaluate_geometry(*job);
+      std::unique_lock lock(docs_mu_);
+      auto it = docs_.find(job->uri);
+      if (it != docs_.end() && it->second.version == job->version && it->second.analysis &&
+          it->second.analysis->version == job->version) {
+        it->second.geometry = g;
+        json diagnostics = job->diagnostics_json;
+        for (const json& d : g->diagnostics_json) diagnostics.push_back(d);
+        lock.unlock();
+        publish(job->uri, job->version, std::move(diagnostics), true);
+      }
+    }
+    std::lock_guard lock(geo_mu_);
+    geo_busy_ = false;
+  }
+}
+
+int64_t ServerImpl::document_version(const std::string& uri) const {
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(uri);
+  return it == docs_.end() ? -1 : it->second.version;
+}
+
+bool ServerImpl::stopped() const {
+  std::lock_guard lock(mu_);
+  return stopping_;
+}
+
+bool ServerImpl::background_busy() const {
+  if (analysing_) return true;
+  std::lock_guard lock(geo_mu_);
+  return geo_busy_;
+}
+
+// ---------------------------------------------------------------------------------------
+// Server
+
+Server::Server(Sink sink, ServerOptions options) : impl_(std::make_unique<ServerImpl>(std::move(sink), options)) {}
+Server::~Server() = default;
+void Server::handle(std::string_view message) { impl_->handle(message); }
+void Server::wait_idle() { impl_->wait_idle(); }
+bool Server::wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
+                                  bool with_geometry) {
+  return impl_->wait_for_diagnostics(uri, version, timeout, with_geometry);
+}
+bool Server::exit_requested() const { return impl_->exit_requested(); }
+int Server::exit_code() const { return impl_->exit_code(); }
+bool Server::background_busy() const { return impl_->background_busy(); }
+std::optional<std::string> Server::document_text(std::string_view uri) const { return impl_->document_text(uri); }
+
+}  // namespace nomec::lsp

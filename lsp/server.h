@@ -1,0 +1,71 @@
+// The nomec language server (LSP 3.17): an in-process `Server` that takes one JSON-RPC
+// message at a time and writes its replies and notifications to a sink, and `run_stdio`,
+// which frames it over stdin/stdout with Content-Length headers (`nomec --lsp`).
+// Tests and benchmarks drive `Server` directly; see lsp/README.md for the threads.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace nomec::lsp {
+
+struct ServerOptions {
+  /// Quiet time after an edit before the document is re-checked (the client may override
+  /// it with `initializationOptions.debounceMs`). 0 checks at once (tests, benchmarks).
+  int debounce_ms = 30;
+  /// Evaluate the scene in the background for geometry diagnostics and hover facts
+  /// (`initializationOptions.geometry`).
+  bool geometry = true;
+  /// Documents larger than this are kept but not analysed (a diagnostic says so).
+  size_t max_document_bytes = 32u << 20;
+};
+
+class ServerImpl;
+
+class Server {
+ public:
+  /// `sink` receives every outgoing message as one JSON text (no framing); it is called
+  /// from the server's threads, one message at a time.
+  using Sink = std::function<void(std::string message)>;
+  explicit Server(Sink sink, ServerOptions options = {});
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Takes one JSON-RPC message (request, notification or response). Returns at once:
+  /// malformed messages are answered here, `$/cancelRequest` takes effect here, everything
+  /// else is queued and handled in order on the server's request thread.
+  void handle(std::string_view message);
+
+  /// Blocks until every message handed to `handle` so far has been handled.
+  void wait_idle();
+  /// Blocks until diagnostics for `uri` at `version` or later were published (including
+  /// the background geometry diagnostics when `with_geometry`), or the timeout expires.
+  bool wait_for_diagnostics(std::string_view uri, int64_t version,
+                            std::chrono::milliseconds timeout = std::chrono::seconds(10),
+                            bool with_geometry = false);
+
+  /// The current text of an open document (after the messages handled so far), for tests.
+  std::optional<std::string> document_text(std::string_view uri) const;
+
+  /// True once the `exit` notification was handled; `exit_code` is then 0 if `shutdown`
+  /// came first and 1 otherwise (LSP 3.17).
+  bool exit_requested() const;
+  int exit_code() const;
+  /// True while a check or a background scene evaluation is running (neither can be
+  /// interrupted; `run_stdio` does not wait for them when the client says `exit`).
+  bool background_busy() const;
+
+ private:
+  std::unique_ptr<ServerImpl> impl_;
+};
+
+/// Serves LSP over stdin/stdout until `exit` or end of input; returns the exit code.
+int run_stdio(ServerOptions options = {});
+
+}  // namespace nomec::lsp

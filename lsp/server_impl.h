@@ -1,0 +1,132 @@
+// Internal state of the language server shared by server.cpp (protocol, documents,
+// threads) and analysis.cpp (checking a document version, evaluating its geometry).
+// Not part of the public API: tests and tools use lsp/server.h.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "lsp/handler.h"
+#include "lsp/server.h"
+
+#ifndef NOMEC_LSP_VERSION
+#define NOMEC_LSP_VERSION "0"
+#endif
+
+namespace nomec::lsp {
+
+/// One open document: its latest text and version, the latest finished analysis and
+/// geometry, and whether (and when) it must be re-checked.
+struct Document {
+  std::string uri;
+  std::string text;
+  int64_t version = 0;
+  uint64_t generation = 0;  // distinguishes a reopened document from the closed one
+  bool dirty = false;
+  std::chrono::steady_clock::time_point due;
+  std::shared_ptr<const Analysis> analysis;
+  std::shared_ptr<const Geometry> geometry;
+};
+
+class ServerImpl {
+ public:
+  ServerImpl(Server::Sink sink, ServerOptions options);
+  ~ServerImpl();
+
+  void handle(std::string_view text);
+  void wait_idle();
+  bool wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
+                            bool with_geometry);
+  bool exit_requested() const {
+    std::lock_guard lock(mu_);
+    return exit_seen_;
+  }
+  int exit_code() const {
+    std::lock_guard lock(mu_);
+    return exit_code_;
+  }
+  bool background_busy() const;
+  std::optional<std::string> document_text(std::string_view uri) const;
+
+  // For handlers (through Context).
+  bool is_cancelled(const json& id) const;
+  std::shared_ptr<const Analysis> current_analysis(const std::string& uri, const json& request_id);
+  std::shared_ptr<const Geometry> geometry_of(const std::string& uri, int64_t version) const;
+  void send_notification(const std::string& method, json params);
+  const ServerOptions& options() const { return options_; }
+
+  /// Checks one version of a document (analysis.cpp).
+  std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text) const;
+  /// Evaluates the scene of an analysis (analysis.cpp).
+  static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
+
+ private:
+  void send(const json& message);
+  void send_result(const json& id, json result);
+  void send_error(const json& id, int code, const std::string& message);
+  void cancel(const json& id);
+  void request_loop();
+  void dispatch(const json& message);
+  void initialize(const json& id, const json& params);
+  void did_open(const json& params);
+  void did_change(const json& params);
+  void did_close(const json& params);
+  void schedule_locked(Document& d, bool now);
+  void analysis_loop();
+  void geometry_loop();
+  void publish(const std::string& uri, int64_t version, json diagnostics, bool complete);
+  int64_t document_version(const std::string& uri) const;
+  bool stopped() const;
+
+  Server::Sink sink_;
+  ServerOptions options_;
+  Registry registry_;
+  std::mutex out_mu_;
+
+  // Message queue and lifecycle (mu_). Lock order: docs_mu_ / geo_mu_ before mu_.
+  mutable std::mutex mu_;
+  std::condition_variable queue_cv_;
+  std::condition_variable idle_cv_;
+  std::deque<json> queue_;
+  std::map<std::string, bool> pending_;  // request id (as JSON text) -> cancelled
+  uint64_t queued_total_ = 0;
+  uint64_t handled_total_ = 0;
+  bool stopping_ = false;
+  bool exit_seen_ = false;
+  bool exited_ = false;
+  bool shutdown_ = false;
+  int exit_code_ = 1;
+  bool initialized_ = false;  // request thread only
+
+  // Documents (docs_mu_).
+  struct Published {
+    int64_t version = -1;
+    bool complete = false;
+  };
+  mutable std::mutex docs_mu_;
+  std::condition_variable docs_cv_;
+  std::condition_variable published_cv_;
+  std::map<std::string, Document> docs_;
+  std::map<std::string, Published> published_;
+  uint64_t generation_ = 0;
+
+  // Geometry (geo_mu_): at most one job waiting; a newer one replaces it.
+  mutable std::mutex geo_mu_;
+  std::condition_variable geo_cv_;
+  std::shared_ptr<const Analysis> geo_job_;
+  bool geo_busy_ = false;
+  std::atomic<bool> analysing_{false};
+
+  std::thread request_thread_;
+  std::thread analysis_thread_;
+  std::thread geometry_thread_;
+};
+
+}  // namespace nomec::lsp

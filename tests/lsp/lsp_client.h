@@ -1,0 +1,146 @@
+// Test helper: an in-process LSP client around nomec::lsp::Server. It records every
+// message the server sends, and offers request/notify calls that wait for the answer, so
+// tests read as JSON-RPC transcripts.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lsp/server.h"
+
+namespace nomec::lsp::test {
+
+using json = nlohmann::json;
+
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline json pos(int line, int character) { return {{"line", line}, {"character", character}}; }
+inline json range(int l0, int c0, int l1, int c1) { return {{"start", pos(l0, c0)}, {"end", pos(l1, c1)}}; }
+
+class Client {
+ public:
+  explicit Client(nomec::lsp::ServerOptions options = test_options())
+      : server_([this](std::string m) { receive(std::move(m)); }, options) {}
+
+  static nomec::lsp::ServerOptions test_options() {
+    nomec::lsp::ServerOptions o;
+    o.debounce_ms = 0;
+    o.geometry = false;
+    return o;
+  }
+
+  nomec::lsp::Server& server() { return server_; }
+
+  void send(const json& message) { server_.handle(message.dump()); }
+  void send_raw(std::string_view text) { server_.handle(text); }
+
+  /// Sends a request and returns the whole response message (with `result` or `error`).
+  json request(const std::string& method, json params = json::object()) {
+    int id = next_id_++;
+    send({{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", std::move(params)}});
+    return wait_response(id);
+  }
+  int send_request(const std::string& method, json params = json::object()) {
+    int id = next_id_++;
+    send({{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", std::move(params)}});
+    return id;
+  }
+  json wait_response(const json& id, std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
+    std::unique_lock lock(mu_);
+    json found;
+    cv_.wait_for(lock, timeout, [&] {
+      for (const json& m : messages_) {
+        if (m.contains("id") && m["id"] == id && !m.contains("method")) {
+          found = m;
+          return true;
+        }
+      }
+      return false;
+    });
+    return found;
+  }
+  void notify(const std::string& method, json params = json::object()) {
+    send({{"jsonrpc", "2.0"}, {"method", method}, {"params", std::move(params)}});
+  }
+
+  json initialize(json init_options = json::object()) {
+    json r = request("initialize", {{"processId", nullptr}, {"rootUri", nullptr}, {"capabilities", json::object()},
+                                    {"initializationOptions", init_options}});
+    notify("initialized");
+    return r;
+  }
+
+  void open(const std::string& uri, const std::string& text, int version = 1) {
+    notify("textDocument/didOpen",
+           {{"textDocument", {{"uri", uri}, {"languageId", "nome"}, {"version", version}, {"text", text}}}});
+  }
+  void change(const std::string& uri, int version, json changes) {
+    notify("textDocument/didChange",
+           {{"textDocument", {{"uri", uri}, {"version", version}}}, {"contentChanges", std::move(changes)}});
+  }
+  /// The diagnostics published for `uri` at `version` (waits for them).
+  json diagnostics(const std::string& uri, int version, bool with_geometry = false) {
+    server_.wait_idle();
+    EXPECT_TRUE(server_.wait_for_diagnostics(uri, version, std::chrono::seconds(20), with_geometry))
+        << "no diagnostics for " << uri << " v" << version;
+    std::lock_guard lock(mu_);
+    for (auto it = messages_.rbegin(); it != messages_.rend(); ++it) {
+      if (it->value("method", "") == "textDocument/publishDiagnostics" && (*it)["params"]["uri"] == uri) {
+        return (*it)["params"];
+      }
+    }
+    return json();
+  }
+  std::vector<json> messages() {
+    std::lock_guard lock(mu_);
+    return messages_;
+  }
+  /// Messages without a method and with the given error code.
+  size_t count_errors(int code) {
+    std::lock_guard lock(mu_);
+    size_t n = 0;
+    for (const json& m : messages_) {
+      if (m.contains("error") && m["error"]["code"] == code) ++n;
+    }
+    return n;
+  }
+  void clear() {
+    std::lock_guard lock(mu_);
+    messages_.clear();
+  }
+
+ private:
+  void receive(std::string m) {
+    json j = json::parse(m);  // the server must only ever send valid JSON
+    {
+      std::lock_guard lock(mu_);
+      messages_.push_back(std::move(j));
+      // Long sessions: keep the recent history only.
+      if (messages_.size() > 20000) messages_.erase(messages_.begin(), messages_.begin() + 10000);
+    }
+    cv_.notify_all();
+  }
+
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<json> messages_;
+  int next_id_ = 1;
+  nomec::lsp::Server server_;  // last: destroyed first, while the members above still exist
+};
+
+inline std::string funnel_cube() { return read_text(std::string(NOMEC_SOURCE_DIR) + "/examples/funnel_cube.nome"); }
+
+}  // namespace nomec::lsp::test
