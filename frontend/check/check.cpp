@@ -689,14 +689,20 @@ class Checker {
           diags_.emit(DiagKind::MissingArgument, it.range, "`list` needs a parenthesised list of slider names, e.g. `list (n ro)`");
         }
       } else {
-        std::string what = it.kind == ItemKind::Word ? fmt::format("`{}`", it.text) : "a value";
+        std::string what = it.kind == ItemKind::Word ? fmt::format("`{}`", it.text)
+                                                     : fmt::format("value `{}`", clip(sources_.text(it.range)));
         auto d = diags_.emit(DiagKind::UnknownArgument, it.range,
                              fmt::format("unexpected {} in bank `{}`; a bank holds `set NAME value min max step` lines and an optional `list (…)`", what, *name));
         if (it.kind == ItemKind::Word) {
           std::string hint = closest_match(it.text, {"set", "list"});
           if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
         }
+        // One error per stray run: `sett n 1 0 2 1` is one mistake, not six.
         ++pos;
+        while (pos < s.items.size() &&
+               !(s.items[pos].kind == ItemKind::Word && (s.items[pos].text == "set" || s.items[pos].text == "list"))) {
+          ++pos;
+        }
       }
     }
   }
@@ -706,6 +712,7 @@ class Checker {
     if (pos >= bank.items.size() || bank.items[pos].kind != ItemKind::Word ||
         bank.items[pos].text == "set" || bank.items[pos].text == "list") {
       diags_.emit(DiagKind::MissingName, set_kw.range, "`set` needs a slider name: `set NAME value min max step`");
+      while (pos < bank.items.size() && bank.items[pos].kind != ItemKind::Word) ++pos;  // its values
       return;
     }
     const ast::Item& name_item = bank.items[pos++];
