@@ -249,7 +249,14 @@ std::variant<std::vector<TextEdit>, std::string> Index::rename(FileId file, uint
   uint32_t new_def = static_cast<uint32_t>(static_cast<int64_t>(def.begin) + def_shift);
   std::optional<Occurrence> o = ix.occurrence_at(new_def_file, new_def);
   bool same = o && o->is_definition && ix.references(o->symbol, true).size() == occs.size();
-  if (diags.error_count() > error_count_ || !same) {
+  int errors_before = error_count_;
+  if (errors_before < 0) {
+    // Built without the original diagnostics: count them by checking the original text.
+    DiagnosticEngine original;
+    analyze(main_path_, std::string(sources_->text(main)), *options_, original);
+    errors_before = original.error_count();
+  }
+  if (diags.error_count() > errors_before || !same) {
     return fmt::format("renaming `{}` to `{}` would change what some names refer to; rename it by hand", s.name, new_name);
   }
   return edits;

@@ -396,10 +396,14 @@ class Builder {
 };
 
 std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager> sources,
-                                   std::shared_ptr<const CheckResult> check) {
+                                   std::shared_ptr<const CheckResult> check, std::optional<CheckOptions> recheck) {
   auto ix = std::make_shared<Index>();
   ix->sources_ = std::move(sources);
   ix->check_ = std::move(check);
+  if (recheck && !ix->check_->asts.empty()) {
+    ix->options_ = std::move(recheck);
+    ix->main_path_ = std::string(ix->sources_->name(ix->check_->asts.front()->file));
+  }
   Builder(*ix).run();
   return ix;
 }

@@ -123,7 +123,8 @@ class Index {
  private:
   friend class Builder;
   friend Analysis analyze(const std::string&, std::string, CheckOptions, DiagnosticEngine&);
-  friend std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager>, std::shared_ptr<const CheckResult>);
+  friend std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager>, std::shared_ptr<const CheckResult>,
+                                            std::optional<CheckOptions>);
   SymbolId symbol_at(FileId file, uint32_t offset, SourceRange* range) const;
   std::string hover_symbol(const Symbol& s) const;
   std::string rename_problem(const Symbol& s, std::string_view new_name) const;
@@ -132,7 +133,7 @@ class Index {
   std::shared_ptr<const CheckResult> check_;
   std::optional<CheckOptions> options_;  // set by `analyze`: lets rename re-check its edits
   std::string main_path_;
-  int error_count_ = 0;                  // errors of the check (for rename's re-check)
+  int error_count_ = -1;                 // errors of the check, -1 if unknown (rename's re-check)
   std::vector<Symbol> symbols_;
   std::vector<Occurrence> occurrences_;  // sorted by (file, begin), non-overlapping
   std::vector<uint32_t> ref_begin_;      // CSR: occurrences of symbol s are
@@ -141,9 +142,13 @@ class Index {
 };
 
 /// Builds the index of a checked scene. `check` must come from `check_source` with
-/// `CheckOptions::record_names` set (otherwise only definitions are known).
+/// `CheckOptions::record_names` set (otherwise only definitions are known). Pass the options
+/// the scene was checked with as `recheck` to let `rename` verify its edits by re-checking.
+/// The index keeps both pointers alive; an owner holding both by value can hand out
+/// aliasing pointers, e.g. `std::shared_ptr<const SourceManager>(owner, &owner->sources)`.
 std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager> sources,
-                                   std::shared_ptr<const CheckResult> check);
+                                   std::shared_ptr<const CheckResult> check,
+                                   std::optional<CheckOptions> recheck = std::nullopt);
 
 /// One analysis of a document: its own SourceManager (the file and everything it includes),
 /// the check result, and the index over both. Everything is immutable and can be shared

@@ -26,6 +26,7 @@ struct Context {
   BlockKind stmt = BlockKind::Bank;
   BlockKind outer = BlockKind::Bank;  // the statement enclosing `stmt`, if any
   bool have_outer = false;
+  uint32_t outer_begin = 0;          // offset of the enclosing statement's keyword
   std::vector<Token> items;          // tokens of the statement after its keyword, before the prefix
   int paren_depth = 0;               // unclosed `(` of this statement before the cursor
   size_t paren_open = 0;             // index in `items` of the innermost unclosed `(`
@@ -33,7 +34,33 @@ struct Context {
   std::string_view prev_word;        // last word token at depth 0 before the prefix
 };
 
-Context context_at(std::string_view text, uint32_t offset) {
+// Where scanning may start for a cursor at `offset`: the keyword of the last top-level
+// statement that starts before it (always outside comments and blocks), so completion costs
+// the size of one statement, not of the file.
+uint32_t scan_start(const CheckResult& check, FileId file, uint32_t offset) {
+  for (const auto& a : check.asts) {
+    if (a->file != file) continue;
+    auto it = std::upper_bound(a->top.begin(), a->top.end(), offset,
+                               [](uint32_t off, const ast::Item& item) { return off < item.range.begin; });
+    // Only a statement's own keyword is sure to be at the top level (stray words after an
+    // unfinished statement are not).
+    // A statement the parser had to close itself (no end keyword) may textually enclose the
+    // ones after it, so start at the earliest of such a chain.
+    uint32_t start = 0;
+    bool found = false;
+    while (it != a->top.begin()) {
+      --it;
+      if (it->kind != ast::ItemKind::Block) continue;
+      if (found && a->stmt(it->block).close_kw.is_valid()) break;
+      start = it->range.begin;
+      found = true;
+    }
+    return start;
+  }
+  return 0;
+}
+
+Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   Context c;
   offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text.size()));
   uint32_t b = offset;
@@ -41,7 +68,12 @@ Context context_at(std::string_view text, uint32_t offset) {
   if (b > 0 && text[b - 1] == '$') --b;
   c.prefix = text.substr(b, offset - b);
   c.prefix_begin = b;
-  std::vector<Token> toks = lex(text.substr(0, b));
+  start = std::min(start, b);
+  std::vector<Token> toks = lex(text.substr(start, b - start));
+  for (Token& t : toks) {
+    t.begin += start;
+    t.end += start;
+  }
   struct Open {
     BlockKind kind;
     size_t tok;
@@ -88,6 +120,7 @@ Context context_at(std::string_view text, uint32_t offset) {
   if (stack.size() >= 2) {
     c.have_outer = true;
     c.outer = stack[stack.size() - 2].kind;
+    c.outer_begin = toks[stack[stack.size() - 2].tok].begin;
   }
   std::vector<size_t> opens;
   for (size_t i = stack.back().tok + 1; i < toks.size(); ++i) {
@@ -117,7 +150,7 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
   std::vector<CompletionItem> out;
   if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return out;
   std::string_view text = sources_->text(file);
-  Context c = context_at(text, offset);
+  Context c = context_at(text, offset, scan_start(*check_, file, offset));
   if (c.in_comment_or_string) return out;
   const Dialect dialect = check_->dialect;
   auto add = [&](std::string label, SymbolKind kind, bool kw, std::string detail) {
@@ -208,11 +241,26 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
       }
       add_symbols({SymbolKind::Point}, true);
       add_symbols({SymbolKind::Instance}, true);
-      // Points of the mesh being written.
-      for (const Symbol& s : symbols_) {
-        if (s.kind == SymbolKind::Point && s.parent >= 0 && s.full_range.file == file &&
-            symbols_[s.parent].full_range.begin <= offset && offset <= symbols_[s.parent].full_range.end) {
-          add(s.name, s.kind, false, s.detail);
+      // Points of the mesh being written (found by where its keyword is: the mesh may be
+      // unfinished, so its parsed range can end before the cursor).
+      if (c.have_outer && c.outer == BlockKind::Mesh) {
+        size_t before = out.size();
+        for (const Symbol& s : symbols_) {
+          if (s.kind == SymbolKind::Point && s.parent >= 0 && s.full_range.file == file &&
+              symbols_[s.parent].full_range.begin == c.outer_begin) {
+            add(s.name, s.kind, false, s.detail);
+          }
+        }
+        if (out.size() == before) {
+          // The parser could not keep this unfinished mesh's points: read them from the text.
+          std::vector<Token> toks = lex(text.substr(c.outer_begin, c.prefix_begin - c.outer_begin));
+          for (size_t i = 0; i + 1 < toks.size(); ++i) {
+            std::string_view w = text.substr(c.outer_begin + toks[i].begin, toks[i].end - toks[i].begin);
+            if (toks[i].kind == Tok::Word && toks[i + 1].kind == Tok::Word && (w == "point" || w == "vertex")) {
+              const Token& n = toks[i + 1];
+              add(std::string(text.substr(c.outer_begin + n.begin, n.end - n.begin)), SymbolKind::Point, false, "point");
+            }
+          }
         }
       }
       return out;
@@ -264,7 +312,7 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
 std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset) const {
   if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return std::nullopt;
   std::string_view text = sources_->text(file);
-  Context c = context_at(text, offset);
+  Context c = context_at(text, offset, scan_start(*check_, file, offset));
   if (!c.have_stmt || c.paren_depth == 0 || c.in_comment_or_string) return std::nullopt;
   SignatureHelp h;
   std::vector<std::pair<std::string, std::string>> params;  // name, doc

@@ -400,5 +400,78 @@ TEST(Index, IncludedFileSymbols) {
   EXPECT_EQ(d->ix().outline(s.name_range.file).size(), 1u);
 }
 
+TEST(Index, SlideLateBindingAndInstanceIds) {
+  auto d = open(R"(group scene
+  instance box id b1 endinstance
+  instance box endinstance
+endgroup
+object box (f1) endobject
+point p (0 0 0) endpoint
+point q (1 0 0) endpoint
+point r (0 1 0) endpoint
+face f1 (p q r) endface
+instance scene endinstance
+)", "late.slf");
+  ASSERT_EQ(d->diags.error_count(), 0);
+  // `box` and `f1` are used above their definitions: SLIDE binds late.
+  SymbolId box = d->sym("box (f1)");
+  ASSERT_GE(box, 0);
+  EXPECT_EQ(d->ix().symbols()[box].kind, SymbolKind::Object);
+  EXPECT_EQ(d->sym("box id"), box);
+  EXPECT_EQ(d->sym("box endinstance"), box);
+  EXPECT_EQ(d->sym("f1) endobject"), d->sym("f1 (p"));
+  EXPECT_EQ(d->ix().references(box, false).size(), 2u);
+  // `id b1` names the first instance; the second is named by its target and has no
+  // definition of its own, so it cannot be renamed.
+  SymbolId b1 = d->sym("b1");
+  ASSERT_GE(b1, 0);
+  EXPECT_EQ(d->ix().symbols()[b1].kind, SymbolKind::Instance);
+  EXPECT_TRUE(d->ix().references(b1, true)[0].is_definition);
+  EXPECT_EQ(d->sym("scene endinstance"), d->sym("scene\n"));
+  auto r = d->ix().rename(d->a.file, d->at("box (f1)"), "cube");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(r)) << std::get<std::string>(r);
+  EXPECT_EQ(std::get<std::vector<TextEdit>>(r).size(), 3u);
+}
+
+TEST(Index, BuildFromOwnCheck) {
+  // The language server's way: its own SourceManager and CheckResult, then `build`.
+  auto sources = std::make_shared<SourceManager>();
+  DiagnosticEngine diags;
+  CheckOptions opts;
+  opts.record_names = true;
+  std::string text = kFunnels;
+  auto check = std::make_shared<const CheckResult>(check_source(*sources, "t.nome", text, opts, diags));
+  auto ix = build(sources, check, opts);
+  FileId f = check->asts.front()->file;
+  auto o = ix->occurrence_at(f, static_cast<uint32_t>(text.find("fun translate")));
+  ASSERT_TRUE(o);
+  EXPECT_EQ(ix->symbols()[o->symbol].name, "fun");
+  // Rename re-checks with the given options: a clash made by the new name is refused.
+  auto ok = ix->rename(f, o->range.begin, "cone");
+  ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(ok)) << std::get<std::string>(ok);
+  EXPECT_EQ(std::get<std::vector<TextEdit>>(ok).size(), 3u);
+  // Without `record_names`, only definitions are known.
+  auto sources2 = std::make_shared<SourceManager>();
+  auto check2 = std::make_shared<const CheckResult>(check_source(*sources2, "t.nome", text, CheckOptions{}, diags));
+  EXPECT_TRUE(check2->asts.empty());
+  EXPECT_TRUE(check2->name_uses.empty());
+}
+
+TEST(Index, CompletionInsideMeshUsesItsPoints) {
+  std::string text = "mesh m\n  point a (0 0 0) endpoint\n  point b (1 0 0) endpoint\n  face f (a ";
+  auto d = open(text);
+  auto v = labels(d->ix().complete(d->a.file, static_cast<uint32_t>(text.size())));
+  EXPECT_TRUE(has(v, "a"));
+  EXPECT_TRUE(has(v, "b"));
+  // In the mesh body: its statements and its end keyword.
+  std::string t2 = "mesh m\n  point a (0 0 0) endpoint\n  ";
+  auto d2 = open(t2);
+  auto k = labels(d2->ix().complete(d2->a.file, static_cast<uint32_t>(t2.size())));
+  EXPECT_TRUE(has(k, "point"));
+  EXPECT_TRUE(has(k, "face"));
+  EXPECT_TRUE(has(k, "endmesh"));
+  EXPECT_FALSE(has(k, "endgroup"));
+}
+
 }  // namespace
 }  // namespace nomec::index
