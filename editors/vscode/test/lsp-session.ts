@@ -202,10 +202,13 @@ export function locate(text: string, lineNeedle: string, token: string, occurren
   return Range.create(line, character, line, character + token.length);
 }
 
-// Every range of `token` as a whole word (not part of a longer name) in `text`.
+// Every range of `token` as a whole word (not part of a longer name) in `text`, outside
+// `#` comments (enough for the scenes these tests use, which have no `#` in strings).
 export function allRanges(text: string, token: string): Range[] {
   const out: Range[] = [];
-  text.split("\n").forEach((l, line) => {
+  text.split("\n").forEach((full, line) => {
+    const hash = full.indexOf("#");
+    const l = hash < 0 ? full : full.slice(0, hash);
     let at = l.indexOf(token);
     while (at >= 0) {
       const before = at > 0 ? l[at - 1] : " ";
