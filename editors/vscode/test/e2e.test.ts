@@ -9,6 +9,7 @@
 // Every feature is its own subtest, so the report names each one that fails.
 import { test } from "node:test";
 import * as assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
 import * as fs from "node:fs";
 import * as os from "node:os";
 import * as path from "node:path";
@@ -296,6 +297,9 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
         if (/^\s*instance fun\d/.test(l)) assert.match(l, /^ +instance fun\d fun translate/, `an instance inside the group is indented: ${JSON.stringify(l)}`);
         if (/^\s*(bank|endbank|group|endgroup|funnel)\b/.test(l)) assert.match(l, /^\S/, `top level is not indented: ${JSON.stringify(l)}`);
       }
+      // One formatter for the CLI and the server: `nomec fmt` gives the same text.
+      const cli = execFileSync(nomec!, ["fmt", "--indent", "4", "-"], { input: messy, encoding: "utf8" });
+      assert.equal(formatted, cli, "the server formats exactly like `nomec fmt`");
       const setIndents = new Set(lines.filter((l) => /^\s*set\b/.test(l)).map((l) => l.length - l.trimStart().length));
       assert.equal(setIndents.size, 1, "every set line has the same indentation");
 
