@@ -169,6 +169,8 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
 
     await t.test("hover on a parameter shows value, min and max", async () => {
       ready();
+      // VS Code only sends the request when the server advertises it.
+      assert.ok(capabilities!.hoverProvider, "initialize advertises hoverProvider");
       const at = locate(text, "instance fun1 fun", "$fp_z");
       const hover = await session.request<Hover | null>("textDocument/hover", {
         textDocument: { uri },
@@ -222,6 +224,8 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
 
     await t.test("definition of a mesh name and of a parameter", async () => {
       ready();
+      // VS Code only sends the request when the server advertises it.
+      assert.ok(capabilities!.definitionProvider, "initialize advertises definitionProvider");
       const use = locate(text, "instance fun4 fun", "fun", 1);
       const defs = asLocations(
         await session.request<Location | Location[] | LocationLink[] | null>("textDocument/definition", {
@@ -249,6 +253,8 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
 
     await t.test("references of a mesh name and of a parameter", async () => {
       ready();
+      // VS Code only sends the request when the server advertises it.
+      assert.ok(capabilities!.referencesProvider, "initialize advertises referencesProvider");
       const decl = locate(text, "funnel fun (", "fun", 1);
       const uses = allRanges(text, "fun").filter((r) => r.start.line !== decl.start.line);
       assert.equal(uses.length, 6, "test setup: six instances of fun");
@@ -273,6 +279,8 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
 
     await t.test("formatting: layout fixed, tokens and comments kept, idempotent", async () => {
       ready();
+      // VS Code only sends the request when the server advertises it.
+      assert.ok(capabilities!.documentFormattingProvider, "initialize advertises documentFormattingProvider");
       // Mess up the layout: no indentation in the bank, tabs and extra spaces in the group,
       // trailing blanks. A full-text change (allowed under incremental sync).
       const messy = text
