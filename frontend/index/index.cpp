@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unordered_map>
 
 #include "frontend/ast/ast.h"
+#include "frontend/check/signatures.h"
 
 namespace nomec::index {
 
@@ -170,7 +172,11 @@ class Builder {
       visit_instance(s, parent, node, me);
     } else if (named && defines_name(s, parent_kind, top)) {
       me = add_symbol(std::string(s.items[0].text), kind_of(s.kind), s.items[0].range, s.range, parent, node);
-      ix_.symbols_[me].detail = std::string(ast::open_keyword(s.kind));
+      if (const GenSignature* sig = signature_for(s.kind, cr_.dialect)) {
+        ix_.symbols_[me].detail = fmt::format("{} ({})", ast::open_keyword(s.kind), fmt::join(sig->args, " "));
+      } else {
+        ix_.symbols_[me].detail = std::string(ast::open_keyword(s.kind));
+      }
       if (s.kind == BlockKind::Point || s.kind == BlockKind::Vertex) {
         if (parent >= 0) member_points_.emplace(member_key(parent, s.items[0].text), me);
       }

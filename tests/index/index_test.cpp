@@ -63,6 +63,9 @@ TEST(Index, DefinitionsAndUses) {
   ASSERT_GE(fun, 0);
   EXPECT_EQ(d->ix().symbols()[fun].name, "fun");
   EXPECT_EQ(d->ix().symbols()[fun].kind, SymbolKind::Generator);
+  EXPECT_EQ(d->ix().symbols()[fun].detail, "funnel (n ro ratio h)");
+  EXPECT_EQ(d->ix().symbols()[d->sym("fun1 fun")].detail, "instance of funnel `fun`");
+  EXPECT_EQ(d->ix().symbols()[d->sym("n 4 3")].detail, "fp.n = 4 in [3, 10] step 1");
   // `instance fun1 fun`: the target is a use of the generator.
   EXPECT_EQ(d->sym("fun translate"), fun);
   auto refs = d->ix().references(fun, true);
