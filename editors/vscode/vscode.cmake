@@ -14,15 +14,21 @@ find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
 add_test(NAME vscode_setup COMMAND bash "${_vscode_dir}/scripts/ci.sh" setup)
 add_test(NAME vscode_grammar COMMAND "${NOMEC_NODE}" "${_vscode_dir}/out/test/grammar.test.js")
+add_test(NAME vscode_e2e COMMAND "${NOMEC_NODE}" "${_vscode_dir}/out/test/e2e.test.js" "$<TARGET_FILE:nomec>")
 add_test(NAME vscode_package COMMAND bash "${_vscode_dir}/scripts/ci.sh" package)
 
 set_tests_properties(vscode_setup PROPERTIES FIXTURES_SETUP vscode_node_modules TIMEOUT 900)
-set_tests_properties(vscode_grammar vscode_package PROPERTIES
+set_tests_properties(vscode_grammar vscode_e2e vscode_package PROPERTIES
   FIXTURES_REQUIRED vscode_node_modules TIMEOUT 300)
 if(IS_DIRECTORY "${NOMEC_CORPUS_DIR}")
   # The grammar's file-wide checks also run over every corpus file, read in place.
   set_tests_properties(vscode_grammar PROPERTIES ENVIRONMENT "NOME_GRAMMAR_EXTRA_DIRS=${NOMEC_CORPUS_DIR}")
 endif()
 # `npm run package` recompiles out/, which the other tests read: never at the same time.
-set_tests_properties(vscode_setup vscode_grammar vscode_package PROPERTIES
+set_tests_properties(vscode_setup vscode_grammar vscode_e2e vscode_package PROPERTIES
   RESOURCE_LOCK vscode_out LABELS vscode)
+# FIXME(issue 5): enable once `nomec --lsp` answers hover, definition, references and
+# formatting. Today the server passes initialize, diagnostics on open (ranges, codes, UTF-16
+# columns), incremental edits and shutdown/exit, and the test fails on those four features
+# (run it by hand: node editors/vscode/out/test/e2e.test.js build/tools/nomec).
+set_tests_properties(vscode_e2e PROPERTIES DISABLED TRUE)
