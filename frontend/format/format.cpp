@@ -9,6 +9,7 @@
 #include "frontend/format/format.h"
 
 #include <algorithm>
+#include <cctype>
 #include <fmt/format.h>
 #include <memory>
 #include <unordered_map>
@@ -455,7 +456,13 @@ class Printer {
     if (plain(u, LexKind::Comma)) return false;
     if (plain(p, LexKind::Comma)) return true;
     if (plain(u, LexKind::LParen) && role(u) == Role::CallParen) return false;
-    if (plain(p, LexKind::Operator) && role(p) == Role::Unary) return false;
+    if (plain(p, LexKind::Operator) && role(p) == Role::Unary) {
+      // Glue `- 2` to `-2`, except after a word glued to the sign: `1e- 1` must not become
+      // the number `1e-1`.
+      bool glued_to_word = i >= 2 && units[i - 2].end == p.begin &&
+                           std::isalnum(static_cast<unsigned char>(text_[p.begin - 1])) != 0;
+      return glued_to_word && ws;
+    }
     for (size_t k : {i - 1, i}) {
       if (plain(units[k], LexKind::Operator) && role(units[k]) == Role::Binary) {
         return braces_ > 0 || op_has_space_around(units, k);
@@ -525,9 +532,9 @@ void resolve_roles(const std::vector<LexToken>& tokens, Structure& s) {
   }
 }
 
-std::vector<std::string> comments_of(std::string_view text) {
+std::vector<std::string> comments_of(std::string_view text, const std::vector<LexToken>& tokens) {
   std::vector<std::string> out;
-  for (const LexToken& t : lex_file(text)) {
+  for (const LexToken& t : tokens) {
     if (t.kind == LexKind::LineComment || t.kind == LexKind::BlockComment) {
       std::string_view c = text.substr(t.begin, t.end - t.begin);
       while (!c.empty() && is_space(c.back())) c.remove_suffix(1);
@@ -566,7 +573,7 @@ FormatResult format_source(std::string_view input, const FormatOptions& options)
   // Never change the meaning: the result must parse to the same AST, with the same comments.
   Parsed again = parse_text(formatted);
   if (!again.error.empty() || Fingerprint(original.tree).of_file() != Fingerprint(again.tree).of_file() ||
-      comments_of(text) != comments_of(formatted)) {
+      comments_of(text, tokens) != comments_of(formatted, lex_file(formatted))) {
     result.error = "1:1: the formatter would change this file's meaning; it was left unchanged "
                    "(please report this file)";
     return result;

@@ -252,3 +252,15 @@ TEST(FormatEdges, BlockCommentAfterALoneCarriageReturn) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FormatEdges, NeverGluesTokensIntoANewOne) {
+  // `1e- 1` is the number 1, the word `e` and `-1`; `1e-1` would be one number.
+  nomec::FormatResult r = format_source("point p (0 0 0) endpoint\nbank b\nset z 1 0 1e- 1\nendbank\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_NE(r.text.find("1e- 1"), std::string::npos) << r.text;
+  EXPECT_EQ(format_source(r.text).text, r.text);
+}
+
+}  // namespace
