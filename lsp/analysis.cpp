@@ -81,7 +81,7 @@ json Analysis::range_json(SourceRange r) const {
   if (!r.is_valid() || r.file == file) {
     return {{"start", position_json(r.begin)}, {"end", position_json(std::max(r.begin, r.end))}};
   }
-  LineIndex other(sources.text(r.file));
+  LineIndex other(sources().text(r.file));
   Position b = other.position(r.begin);
   Position e = other.position(std::max(r.begin, r.end));
   return {{"start", {{"line", b.line}, {"character", b.character}}},
@@ -90,7 +90,7 @@ json Analysis::range_json(SourceRange r) const {
 
 std::string Analysis::uri_of(FileId f) const {
   if (f == file || !f.is_valid()) return uri;
-  return path_to_uri(sources.name(f));
+  return path_to_uri(sources().name(f));
 }
 
 json Analysis::location_json(SourceRange r) const { return {{"uri", uri_of(r.file)}, {"range", range_json(r)}}; }
@@ -100,8 +100,8 @@ json diagnostic_json(const Analysis& a, const Diagnostic& d) {
   SourceRange range = d.range.is_valid() && d.range.file == a.file ? d.range : SourceRange{a.file, 0, 0};
   std::string message = d.message;
   if (d.range.is_valid() && d.range.file != a.file) {
-    LineCol lc = a.sources.line_col(d.range.file, d.range.begin);
-    message = std::string(a.sources.name(d.range.file)) + ":" + std::to_string(lc.line) + ":" +
+    LineCol lc = a.sources().line_col(d.range.file, d.range.begin);
+    message = std::string(a.sources().name(d.range.file)) + ":" + std::to_string(lc.line) + ":" +
               std::to_string(lc.column) + ": " + message;
   }
   json j = {{"range", a.range_json(range)},
@@ -129,16 +129,22 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   DiagnosticEngine diags;
   if (text.size() > options_.max_document_bytes) {
     a->too_large = true;
-    a->file = a->sources.add_file(path.value_or(uri), std::move(text));
+    auto sources = std::make_shared<SourceManager>();
+    a->file = sources->add_file(path.value_or(uri), std::move(text));
+    a->sources_ptr = std::move(sources);
+    a->check = std::make_shared<CheckResult>();
   } else {
     CheckOptions options;
     if (path) options.read_file = read_disk_file;
-    a->file = FileId{static_cast<int32_t>(a->sources.file_count())};
-    a->result = check_source(a->sources, path.value_or(uri), std::move(text), options, diags);
+    index::Analysis ia = index::analyze(path.value_or(uri), std::move(text), options, diags);
+    a->sources_ptr = std::move(ia.sources);
+    a->file = ia.file;
+    a->check = std::move(ia.check);
+    a->index = std::move(ia.index);
   }
   diags.sort_and_dedupe();
   a->diagnostics = diags.diagnostics();
-  a->lines = LineIndex(a->sources.text(a->file));
+  a->lines = LineIndex(a->sources().text(a->file));
   for (const Diagnostic& d : a->diagnostics) a->diagnostics_json.push_back(diagnostic_json(*a, d));
   return a;
 }
@@ -148,14 +154,14 @@ std::shared_ptr<Geometry> ServerImpl::evaluate_geometry(const Analysis& a) {
   g->version = a.version;
   DiagnosticEngine diags;
   auto t0 = std::chrono::steady_clock::now();
-  std::vector<backend::OutputMesh> meshes = backend::evaluate_scene(a.result.module, diags);
+  std::vector<backend::OutputMesh> meshes = backend::evaluate_scene(a.module(), diags);
   g->evaluate_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   diags.sort_and_dedupe();
   g->diagnostics = diags.diagnostics();
   for (const Diagnostic& d : g->diagnostics) g->diagnostics_json.push_back(diagnostic_json(a, d));
 
   // Facts per scene entry, per innermost instance and per defining generator/mesh.
-  const ir::Module& module = a.result.module;
+  const ir::Module& module = a.module();
   auto extend = [](GeometryFacts& f, const glm::dvec3& p) {
     for (int k = 0; k < 3; ++k) {
       if (f.vertices == 0 && f.faces == 0) {

@@ -33,7 +33,7 @@ json code_action(Context& ctx) {
       if (!f.range.is_valid() || f.range.file != a->file) continue;
       json edit = {{"range", a->range_json(f.range)}, {"newText", f.replacement}};
       std::string title = !f.description.empty() ? f.description
-                          : f.replacement.empty() ? "delete `" + std::string(a->sources.text(f.range)) + "`"
+                          : f.replacement.empty() ? "delete `" + std::string(a->sources().text(f.range)) + "`"
                                                   : "replace with `" + f.replacement + "`";
       title[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(title[0])));
       actions.push_back({{"title", title},

@@ -16,6 +16,7 @@
 
 #include "frontend/check/check.h"
 #include "frontend/diagnostics/diagnostic.h"
+#include "frontend/index/index.h"
 #include "frontend/source/source_manager.h"
 #include "lsp/text.h"
 
@@ -45,16 +46,20 @@ struct LspError : std::runtime_error {
 struct Analysis {
   std::string uri;
   int64_t version = 0;
-  SourceManager sources;
+  std::shared_ptr<const SourceManager> sources_ptr;
   FileId file;  // the document itself (includes and `.anom` bases are other files)
-  CheckResult result;
+  std::shared_ptr<const CheckResult> check;
+  /// Symbols, occurrences and the answers of most features; null for a too-large file.
+  std::shared_ptr<const index::Index> index;
   /// Front-end diagnostics, sorted; the LSP form of each is in `diagnostics_json`.
   std::vector<Diagnostic> diagnostics;
   json diagnostics_json = json::array();
   bool too_large = false;  // not analysed: over ServerOptions::max_document_bytes
   LineIndex lines;         // over sources.text(file)
 
-  std::string_view text() const { return sources.text(file); }
+  const SourceManager& sources() const { return *sources_ptr; }
+  const ir::Module& module() const { return check->module; }
+  std::string_view text() const { return sources().text(file); }
   uint32_t offset(const Position& p) const { return lines.offset(p); }
   json position_json(uint32_t offset) const;
   /// An LSP range for a source range in this document (ranges in other files are mapped

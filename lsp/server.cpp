@@ -440,7 +440,7 @@ void ServerImpl::analysis_loop() {
                                          " bytes); run `nomec --check` on it instead"}});
     }
     // Geometry runs only on scenes without front-end errors, as `nomec --emit` does.
-    const bool evaluate = options_.geometry && !a->too_large && !a->result.module.scene.empty() &&
+    const bool evaluate = options_.geometry && !a->too_large && !a->module().scene.empty() &&
                           std::none_of(a->diagnostics.begin(), a->diagnostics.end(),
                                        [](const Diagnostic& x) { return x.severity == Severity::Error; });
     publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);

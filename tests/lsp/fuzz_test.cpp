@@ -167,6 +167,14 @@ TEST(LspFuzz, RandomEditsAndMalformedMessages) {
   json r = c.request("textDocument/codeAction",
                      {{"textDocument", {{"uri", uri}}}, {"range", range(0, 0, 0, 0)}, {"context", json::object()}});
   EXPECT_TRUE(r["result"].is_array()) << r.dump();
+  // Hover on a fresh, known line appended at the end answers with the bank.
+  uint32_t last = static_cast<uint32_t>(std::count(mirror.begin(), mirror.end(), u'\n')) + 5;
+  c.change(uri, ++version, json::array({{{"range", range(static_cast<int>(last), 0, static_cast<int>(last), 0)},
+                                         {"text", "\nbank zz\n  set q 1 0 2 1\nendbank\n"}}}));
+  json h = c.request("textDocument/hover", {{"textDocument", {{"uri", uri}}}, {"position", pos(static_cast<int>(last) + 100, 0)}});
+  EXPECT_TRUE(h.contains("result")) << h.dump();
+  std::string text = *c.server().document_text(uri);
+  EXPECT_TRUE(text.ends_with("\nbank zz\n  set q 1 0 2 1\nendbank\n")) << text;
   EXPECT_TRUE(c.request("shutdown")["result"].is_null());
   c.notify("exit");
   c.server().wait_idle();

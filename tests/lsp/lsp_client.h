@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -97,12 +98,8 @@ class Client {
     EXPECT_TRUE(server_.wait_for_diagnostics(uri, version, std::chrono::seconds(20), with_geometry))
         << "no diagnostics for " << uri << " v" << version;
     std::lock_guard lock(mu_);
-    for (auto it = messages_.rbegin(); it != messages_.rend(); ++it) {
-      if (it->value("method", "") == "textDocument/publishDiagnostics" && (*it)["params"]["uri"] == uri) {
-        return (*it)["params"];
-      }
-    }
-    return json();
+    auto it = last_diagnostics_.find(uri);
+    return it == last_diagnostics_.end() ? json() : it->second;
   }
   std::vector<json> messages() {
     std::lock_guard lock(mu_);
@@ -127,6 +124,9 @@ class Client {
     json j = json::parse(m);  // the server must only ever send valid JSON
     {
       std::lock_guard lock(mu_);
+      if (j.value("method", "") == "textDocument/publishDiagnostics") {
+        last_diagnostics_[j["params"]["uri"].get<std::string>()] = j["params"];
+      }
       messages_.push_back(std::move(j));
       // Long sessions: keep the recent history only.
       if (messages_.size() > 20000) messages_.erase(messages_.begin(), messages_.begin() + 10000);
@@ -137,6 +137,7 @@ class Client {
   std::mutex mu_;
   std::condition_variable cv_;
   std::vector<json> messages_;
+  std::map<std::string, json> last_diagnostics_;  // by URI: the latest publication
   int next_id_ = 1;
   nomec::lsp::Server server_;  // last: destroyed first, while the members above still exist
 };
