@@ -337,6 +337,7 @@ class Printer {
         --depth_;
         if (!in_bank_.empty()) in_bank_.pop_back();
       }
+      bool started_line = true;
       if (i == 0) {
         start_line(u, 0);
       } else {
@@ -350,10 +351,12 @@ class Printer {
           out_ += newlines >= 2 ? "\n\n" : "\n";
           line_has_code_ = false;
           start_line(u, newlines >= 2 ? 2 : 1);
-        } else if (space(units, i, !gap.empty())) {
-          out_ += ' ';
+        } else {
+          started_line = false;
+          if (space(units, i, !gap.empty())) out_ += ' ';
         }
       }
+      prev_started_line_ = started_line;
       std::string_view body = text_.substr(u.begin, u.end - u.begin);
       if (u.kind == LexKind::LineComment) {
         while (!body.empty() && is_space(body.back())) body.remove_suffix(1);
@@ -459,7 +462,7 @@ class Printer {
     if (plain(p, LexKind::Operator) && role(p) == Role::Unary) {
       // Glue `- 2` to `-2`, except after a word glued to the sign: `1e- 1` must not become
       // the number `1e-1`.
-      bool glued_to_word = i >= 2 && units[i - 2].end == p.begin &&
+      bool glued_to_word = !prev_started_line_ && i >= 2 && units[i - 2].end == p.begin &&
                            std::isalnum(static_cast<unsigned char>(text_[p.begin - 1])) != 0;
       return glued_to_word && ws;
     }
@@ -480,6 +483,7 @@ class Printer {
   std::vector<int> bracket_levels_;   // per open bracket: the level of the line opening it
   int braces_ = 0;
   bool line_has_code_ = false;
+  bool prev_started_line_ = false;  // the previous unit began its output line
   std::vector<bool> in_bank_;     // per open block: is it a bank
   int line_no_ = 0;               // output line of the current line (0-based)
   bool row_ok_ = false;           // the current line is still a table row

@@ -264,3 +264,14 @@ TEST(FormatEdges, NeverGluesTokensIntoANewOne) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FormatEdges, SignMovedToItsOwnLineIsIdempotent) {
+  // Two stray top-level items: `fac` and `- f(x)`; the second moves to its own line.
+  nomec::FormatResult r = format_source("fac- f (x)\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(format_source(r.text).text, r.text);
+}
+
+}  // namespace
