@@ -2196,13 +2196,20 @@ std::vector<std::string_view> option_words(ast::BlockKind kind) {
 
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
                          const CheckOptions& options, DiagnosticEngine& diags) {
+  return check_source(sources, path, std::move(text), options, diags, nullptr);
+}
+
+CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
+                         const CheckOptions& options, DiagnosticEngine& diags,
+                         ParseCache* cache) {
   CheckResult result;
   result.module.time = options.time;
   result.module.frame = options.frame;
   Checker checker(sources, diags, options, result.module);
   if (options.record_names) checker.name_uses_ = &result.name_uses;
   FileId file = sources.add_file(path, std::move(text));
-  ast::Ast main_ast = parse_file(sources, file, diags);
+  ast::Ast main_ast =
+      cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
 
   // Saved work (`.anom`) is checked on top of its base scene.
   std::unique_ptr<ast::Ast> base_ast;

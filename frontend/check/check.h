@@ -60,4 +60,14 @@ std::vector<std::string_view> option_words(ast::BlockKind kind);
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
                          const CheckOptions& options, DiagnosticEngine& diags);
 
+class ParseCache;  // frontend/parse/parse.h
+
+/// The same, for an editor that re-checks one document after every change: the main file
+/// is parsed through `cache` (one per document, kept between calls), so only the changed
+/// statements are re-parsed. The result and diagnostics equal the overload above; `cache`
+/// may be null.
+CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
+                         const CheckOptions& options, DiagnosticEngine& diags,
+                         ParseCache* cache);
+
 }  // namespace nomec

@@ -3,6 +3,7 @@
 // types (SPLUS/SMINUS, language.md §3); parse with SLL prediction, falling back to full
 // LL on error; then convert the parse tree into the ANTLR-free AST of frontend/ast.
 #include "frontend/parse/parse.h"
+#include "frontend/parse/piece.h"
 
 #include <algorithm>
 #include <cctype>
@@ -81,7 +82,7 @@ std::u32string decode_utf8(std::string_view text, Offsets& offsets) {
 // (except newlines) becomes a space, so offsets do not move. An iterative scan handles any
 // nesting depth (ANTLR's recursive comment rule does not) and finds an unclosed comment at
 // its opening. `#` line comments and `"…"` strings are skipped so a `(*` inside them stays.
-void blank_block_comments(std::u32string& text, const Offsets& offsets, FileId file,
+bool blank_block_comments(std::u32string& text, const Offsets& offsets, FileId file,
                           DiagnosticEngine& diags) {
   size_t depth = 0;
   size_t outer_open = 0;
@@ -119,13 +120,70 @@ void blank_block_comments(std::u32string& text, const Offsets& offsets, FileId f
     diags.emit(DiagKind::UnclosedBlockComment, SourceRange{file, at, at + 2},
                "block comment `(*` is never closed by a matching `*)`");
   }
+  return depth > 0;
 }
 
+// The decoded text as ANTLR's character stream. It also records the start of the earliest
+// token whose lexing looked at the end of the input: when a piece of a file is parsed on its
+// own (ParseCache), only its trailing whitespace may do that, or the lexer might have
+// produced different tokens with the rest of the file behind the piece.
 class DecodedInput : public antlr4::ANTLRInputStream {
  public:
   explicit DecodedInput(std::u32string data) {
     _data = std::move(data);
     p = 0;
+  }
+  size_t LA(ssize_t i) override {
+    size_t c = antlr4::ANTLRInputStream::LA(i);
+    if (c == antlr4::IntStream::EOF && i > 0 && lexer_ != nullptr) {
+      eof_touch_start_ = std::min(eof_touch_start_, lexer_->tokenStartCharIndex);
+    }
+    return c;
+  }
+  antlr4::Lexer* lexer_ = nullptr;
+  size_t eof_touch_start_ = static_cast<size_t>(-1);
+};
+
+// The parser's token stream. It records whether the parser looked at the end of the input
+// before it had consumed every token (inside a statement, or further ahead than the next
+// token): a piece parsed on its own is only equivalent to the same text inside the whole
+// file when the end was seen at the top level with nothing left to read.
+class WatchedTokenStream : public antlr4::CommonTokenStream {
+ public:
+  using antlr4::CommonTokenStream::CommonTokenStream;
+  antlr4::Token* LT(ssize_t k) override {
+    antlr4::Token* t = antlr4::CommonTokenStream::LT(k);
+    if (k > 0 && t != nullptr && t->getType() == antlr4::Token::EOF && parser_ != nullptr &&
+        !eof_seen_early_ &&
+        (!all_consumed() || parser_->getErrorHandler()->inErrorRecoveryMode(parser_))) {
+      eof_seen_early_ = true;
+    }
+    return t;
+  }
+  NomeParser* parser_ = nullptr;
+  antlr4::Token* last_real_ = nullptr;  // the last default-channel token before EOF
+  // Set when the end was seen too early, or at the top level while the error strategy was
+  // still recovering from an error (it would then stay quiet about an error that follows).
+  bool eof_seen_early_ = false;
+
+ private:
+  bool all_consumed() const {
+    antlr4::ParserRuleContext* ctx = parser_->getContext();
+    if (ctx == nullptr || ctx->getRuleIndex() != NomeParser::RuleFile) return false;
+    if (last_real_ == nullptr) return true;
+    if (ctx->children.empty()) return false;
+    antlr4::tree::ParseTree* child = ctx->children.back();
+    if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child);
+        term != nullptr && term->getSymbol()->getType() == antlr4::Token::EOF) {
+      return true;  // `file` matched EOF: nothing is left
+    }
+    if (auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child)) {
+      return rule->stop == last_real_;
+    }
+    if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
+      return term->getSymbol() == last_real_;
+    }
+    return false;
   }
 };
 
@@ -322,9 +380,10 @@ class SilentListener : public antlr4::BaseErrorListener {};
 
 // Token pass: diagnostics for stray characters and unclosed constructs, and the list-sign
 // rule. Returns the tokens the parser should see.
+// `stopped` is set when a limit made the pass stop reading the file.
 std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     std::vector<std::unique_ptr<antlr4::Token>> tokens, std::string_view text,
-    const Offsets& offsets, FileId file, DiagnosticEngine& diags) {
+    const Offsets& offsets, FileId file, DiagnosticEngine& diags, bool& stopped) {
   std::vector<std::unique_ptr<antlr4::Token>> out;
   out.reserve(tokens.size());
   int brace_depth = 0;
@@ -364,6 +423,7 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
                  fmt::format("brackets, signs or `^` nest more than {} levels deep here; nomec "
                              "stops reading the file at this point",
                              kMaxNesting));
+      stopped = true;
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;
       }
@@ -372,6 +432,7 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     if (type == NomeLexer::IDENT && tok->getText() == "tclinit") {
       diags.emit(DiagKind::UnclosedTclBlock, range(*tok),
                  "`tclinit` block is not enclosed in balanced braces `{ … }`");
+      stopped = true;
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;
       }
@@ -429,8 +490,9 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
 // Converts the parse tree into the AST.
 class AstBuilder {
  public:
-  AstBuilder(FileId file, std::string_view text, const Offsets& offsets, ast::Ast& out)
-      : file_(file), text_(text), offsets_(offsets), ast_(out) {}
+  AstBuilder(FileId file, std::string_view text, const Offsets& offsets, ast::Ast& out,
+             std::vector<int32_t>* unanchored)
+      : file_(file), text_(text), offsets_(offsets), ast_(out), unanchored_(unanchored) {}
 
   void build_file(NomeParser::FileContext* file) {
     for (auto* top : file->topStmt()) {
@@ -598,7 +660,9 @@ class AstBuilder {
     ast::Expr e;
     e.kind = ast::ExprKind::Error;
     e.range = ctx != nullptr ? ctx_range(ctx) : SourceRange{file_, 0, 0};
-    return add(e);
+    ast::ExprId id = add(e);
+    if (ctx == nullptr && unanchored_ != nullptr) unanchored_->push_back(id.index);
+    return id;
   }
 
   static char op_of(antlr4::Token* t) {
@@ -747,35 +811,53 @@ class AstBuilder {
   std::string_view text_;
   const Offsets& offsets_;
   ast::Ast& ast_;
+  std::vector<int32_t>* unanchored_;  // ids of error expressions placed at offset 0
 };
 
 }  // namespace
 
-ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
-  std::string_view text = sources.text(file);
+ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
+                     PieceInfo* info) {
   ast::Ast result;
   result.file = file;
 
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
   std::u32string decoded = decode_utf8(text, offsets);
-  blank_block_comments(decoded, offsets, file, diags);
+  bool comment_open = blank_block_comments(decoded, offsets, file, sinks.comments);
   DecodedInput input(std::move(decoded));
   NomeLexer lexer(&input);
+  input.lexer_ = &lexer;
   lexer.removeErrorListeners();
   SilentListener silent;
   lexer.addErrorListener(&silent);
   std::vector<std::unique_ptr<antlr4::Token>> raw = lexer.getAllTokens();
+  input.lexer_ = nullptr;
+  // Only the trailing whitespace may have looked at the end of the text (see DecodedInput).
+  bool lexer_contained = raw.empty() ? input.eof_touch_start_ == static_cast<size_t>(-1)
+                                     : raw.back()->getType() == NomeLexer::WS &&
+                                           input.eof_touch_start_ >= raw.back()->getStartIndex();
   // getAllTokens() stops before EOF; add it so the parser sees a proper end.
   raw.push_back(lexer.getTokenFactory()->create(
       {&lexer, &input}, antlr4::Token::EOF, "<EOF>", antlr4::Token::DEFAULT_CHANNEL,
       input.size(), input.size() - 1, 0, 0));
+  bool stopped = false;
   std::vector<std::unique_ptr<antlr4::Token>> tokens =
-      prepare_tokens(std::move(raw), text, offsets, file, diags);
+      prepare_tokens(std::move(raw), text, offsets, file, sinks.tokens, stopped);
+  antlr4::Token* last_real = nullptr;
+  size_t first_type = antlr4::Token::EOF;
+  for (const auto& t : tokens) {
+    if (t->getType() != antlr4::Token::EOF && t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) {
+      if (last_real == nullptr) first_type = t->getType();
+      last_real = t.get();
+    }
+  }
 
   antlr4::ListTokenSource source(std::move(tokens));
-  antlr4::CommonTokenStream stream(&source);
+  WatchedTokenStream stream(&source);
   NomeParser parser(&stream);
+  stream.parser_ = &parser;
+  stream.last_real_ = last_real;
   parser.removeErrorListeners();
 
   // Stage 1: fast SLL prediction that bails on the first error.
@@ -788,7 +870,7 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
   } catch (const antlr4::ParseCancellationException&) {
     tree = nullptr;
   }
-  SyntaxErrorListener listener(file, offsets, diags);
+  SyntaxErrorListener listener(file, offsets, sinks.syntax);
   if (tree == nullptr) {
     // Stage 2: full LL with error reporting and recovery.
     stream.seek(0);
@@ -801,13 +883,28 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
       tree = parser.file();
     } catch (const std::exception&) {
       tree = nullptr;  // recovery gave up; diagnostics were emitted
+      stream.eof_seen_early_ = true;
     }
   }
+  if (info != nullptr) {
+    // At the start of a file the parser enters `topStmt*`; inside a file it loops back to
+    // it. The two recover differently from a token that cannot start a statement.
+    const antlr4::atn::ATN& atn = parser.getATN();
+    info->starts_cleanly =
+        first_type == antlr4::Token::EOF ||
+        atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(first_type);
+    info->self_contained = !comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
+  }
   if (tree != nullptr) {
-    AstBuilder builder(file, text, offsets, result);
+    AstBuilder builder(file, text, offsets, result,
+                       info != nullptr ? &info->unanchored_exprs : nullptr);
     builder.build_file(tree);
   }
   return result;
+}
+
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
+  return parse_piece(sources.text(file), file, PieceSinks{diags, diags, diags}, nullptr);
 }
 
 }  // namespace nomec

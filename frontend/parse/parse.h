@@ -3,6 +3,9 @@
 // console print), and the parser recovers so one file reports all its problems.
 #pragma once
 
+#include <cstddef>
+#include <memory>
+
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
 
@@ -10,6 +13,42 @@ namespace nomec {
 
 /// Parses one file. Always returns an AST (possibly partial); problems go to `diags`.
 ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
+
+/// Incremental parsing for an editor: keeps the pieces of the previous versions of one
+/// document and re-parses with ANTLR only the pieces whose text changed. `parse` returns
+/// exactly what `parse_file` returns for the same text (the same AST, ids, ranges and
+/// diagnostics in the same order).
+///
+/// How: a cheap scan splits the text at newlines after a top-level block's end keyword
+/// (outside comments, strings and brackets). Each piece is parsed on its own, once per
+/// distinct text; unchanged pieces are reused wherever they moved. A piece is only used
+/// alone when its parse is provably independent of the text around it (see
+/// `parse_piece` in piece.h); otherwise it is parsed together with the following pieces,
+/// doubling the run until the run is independent or reaches the end of the file. Pieces
+/// not used by the last two versions are dropped, so memory stays proportional to the
+/// document.
+class ParseCache {
+ public:
+  ParseCache();
+  ~ParseCache();
+  ParseCache(ParseCache&&) noexcept;
+  ParseCache& operator=(ParseCache&&) noexcept;
+
+  /// Same contract as `parse_file`.
+  ast::Ast parse(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
+
+  /// What the last `parse` did, for benchmarks and tests.
+  struct Stats {
+    size_t pieces = 0;        // pieces (runs of statements) in the assembled result
+    size_t parsed = 0;        // pieces parsed by ANTLR in this call (the rest were reused)
+    size_t parsed_bytes = 0;  // bytes given to ANTLR in this call
+  };
+  const Stats& last_stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace nomec
 

@@ -1,0 +1,45 @@
+// Internal to frontend/parse: parsing one piece of a file on its own, shared by `parse_file`
+// (the piece is the whole file) and `ParseCache` (the piece is a run of top-level
+// statements). Not part of the public API.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "frontend/ast/ast.h"
+#include "frontend/diagnostics/diagnostic.h"
+
+namespace nomec {
+
+/// Where a piece's diagnostics go, by stage. A whole-file parse emits all comment
+/// diagnostics, then all token diagnostics, then all syntax errors; ParseCache keeps that
+/// order across pieces by collecting the stages apart.
+struct PieceSinks {
+  DiagnosticEngine& comments;
+  DiagnosticEngine& tokens;
+  DiagnosticEngine& syntax;
+};
+
+/// What ParseCache needs to know about a piece besides its AST.
+struct PieceInfo {
+  bool self_contained = false;
+  /// The first token can start a top-level statement (or there is none). A piece that does
+  /// not start cleanly can only be used at the start of the file.
+  bool starts_cleanly = false;
+  /// Error expressions the parser could not place (range `{file, 0, 0}` in any parse): they
+  /// keep offset 0 wherever the piece lands.
+  std::vector<int32_t> unanchored_exprs;
+};
+
+/// Parses `text` as if it were the whole of `file`: ranges are byte offsets into `text` and
+/// string views point into it. When `info` is given, `self_contained` says whether the
+/// result is provably what the same text gives inside a longer file when it starts where a
+/// top-level statement may start and ends with a newline: no comment is left open, no limit
+/// stopped the reading, the lexer looked past the end only for trailing whitespace, and the
+/// parser saw the end only at the top level with every token consumed and no error
+/// recovery under way (in both the SLL and the LL pass, whichever ran).
+ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
+                     PieceInfo* info);
+
+}  // namespace nomec
