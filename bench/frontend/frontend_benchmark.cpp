@@ -2,13 +2,19 @@
 // NOME 2016 scenes swept from 64 KiB to 4 MiB (banks, points with `{expr}` values, meshes
 // with faces, funnels, groups and instances; every reference resolves, so the checker does
 // its full work), plus the whole corpus as one realistic mix. Reports bytes/s.
-// Before timing anything, main() checks that the generated scene has no errors.
+// Keystroke benchmarks (issue 5): an editor's keystroke -> diagnostics through
+// `check_source` with a `ParseCache` kept per document, over a ≥ 0.5 MB generated scene and
+// over each corpus file: typing digits into a parameter value, typing inside a name, and
+// inserting then deleting a whole statement; p50/p90 per keystroke are reported as counters
+// (milliseconds). Before timing anything, main() checks that the generated scene has no errors.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <algorithm>
+#include <chrono>
 #include <map>
 #include <sstream>
 #include <string>
@@ -206,8 +212,197 @@ void BM_IndexFeatures(benchmark::State& state) {
 
 BENCHMARK(BM_IndexBuild)->Arg(64 << 10)->Arg(512 << 10)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_IndexFeatures)->ArgsProduct({{512 << 10}, {0, 1, 2, 3, 4}})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
+// ---------------------------------------------------------------------------------------
+// Keystrokes: a scripted editing session over one document. Each step is the document's
+// full text after one keystroke; the session types a digit into a parameter value, types
+// a name character by character, and inserts and deletes a whole statement (paste/undo).
+std::vector<std::string> keystrokes(const std::string& text) {
+  std::vector<std::string> steps;
+  std::string cur = text;
+  // 1. Typing into a number near the middle: append digits, then delete them again.
+  size_t mid = text.size() / 2;
+  size_t num = cur.find_first_of("0123456789", mid);
+  if (num == std::string::npos) num = cur.find_first_of("0123456789");
+  if (num != std::string::npos) {
+    size_t end = cur.find_first_not_of("0123456789.", num);
+    if (end == std::string::npos) end = cur.size();
+    for (char d : std::string("2571")) {
+      cur.insert(end++, 1, d);
+      steps.push_back(cur);
+    }
+    for (int k = 0; k < 4; ++k) {
+      cur.erase(--end, 1);
+      steps.push_back(cur);
+    }
+  }
+  // 2. Typing inside a name at a quarter of the file (the name becomes unknown, then known).
+  size_t at = cur.find(' ', cur.size() / 4);
+  if (at != std::string::npos) {
+    size_t name = cur.find_first_of("abcdefghijklmnopqrstuvwxyz", at);
+    if (name != std::string::npos) {
+      for (char c : std::string("xyz")) {
+        cur.insert(name + 1, 1, c);
+        steps.push_back(cur);
+        cur.erase(name + 1, 1);
+        steps.push_back(cur);
+      }
+    }
+  }
+  // 3. Pasting a statement at a line start at three quarters, then undoing it.
+  size_t line = cur.find('\n', cur.size() * 3 / 4);
+  if (line != std::string::npos) {
+    std::string stmt = "point pasted (1 2 3) endpoint\n";
+    cur.insert(line + 1, stmt);
+    steps.push_back(cur);
+    cur.erase(line + 1, stmt.size());
+    steps.push_back(cur);
+  }
+  return steps;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  size_t k = std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5));
+  return v[k];
+}
+
+nomec::CheckOptions corpus_options() {
+  nomec::CheckOptions options;
+  options.read_file = [](const std::string& p) -> std::optional<std::string> {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  return options;
+}
+
+// Times each keystroke of `steps` (check_source through one cache, as the server does) and
+// records every latency in `out` (milliseconds).
+void run_session(const std::string& path, const std::string& text,
+                 const std::vector<std::string>& steps, const nomec::CheckOptions& options,
+                 std::vector<double>& out) {
+  nomec::ParseCache cache;
+  {
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::check_source(sources, path, text, options, diags, &cache);  // didOpen
+  }
+  for (const std::string& step : steps) {
+    auto t0 = std::chrono::steady_clock::now();
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::CheckResult r = nomec::check_source(sources, path, step, options, diags, &cache);
+    diags.sort_and_dedupe();
+    benchmark::DoNotOptimize(r.module.nodes.size());
+    auto t1 = std::chrono::steady_clock::now();
+    out.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+  }
+}
+
+void report(benchmark::State& state, const std::vector<double>& ms) {
+  state.counters["p50_ms"] = percentile(ms, 0.5);
+  state.counters["p90_ms"] = percentile(ms, 0.9);
+  state.counters["max_ms"] = ms.empty() ? 0 : *std::max_element(ms.begin(), ms.end());
+  state.counters["keystrokes"] = static_cast<double>(ms.size());
+}
+
+// Keystroke -> diagnostics on the generated scene of range(0) bytes.
+void BM_Keystroke(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  std::vector<std::string> steps = keystrokes(text);
+  std::vector<double> ms;
+  for (auto _ : state) {
+    std::vector<double> session;
+    auto t0 = std::chrono::steady_clock::now();
+    run_session("bench.nome", text, steps, nomec::CheckOptions{}, session);
+    auto t1 = std::chrono::steady_clock::now();
+    state.SetIterationTime(std::chrono::duration<double>(t1 - t0).count() /
+                           static_cast<double>(steps.size()));
+    ms.insert(ms.end(), session.begin(), session.end());
+  }
+  report(state, ms);
+  state.counters["file_bytes"] = static_cast<double>(text.size());
+}
+
+struct CorpusFile {
+  std::string path, text;
+};
+
+const std::vector<CorpusFile>& corpus_files() {
+  static const std::vector<CorpusFile> files = [] {
+    std::vector<CorpusFile> v;
+    std::error_code ec;
+    for (const char* folder : {"nome1", "nome3", "slide"}) {
+      for (const auto& e : std::filesystem::recursive_directory_iterator(
+               std::filesystem::path(NOMEC_CORPUS_DIR) / folder, ec)) {
+        if (!e.is_regular_file() || e.path().extension() == ".sif") continue;
+        std::ifstream in(e.path(), std::ios::binary);
+        std::ostringstream ss;
+        ss << in.rdbuf();
+        v.push_back({e.path().string(), ss.str()});
+      }
+    }
+    std::sort(v.begin(), v.end(), [](const CorpusFile& a, const CorpusFile& b) { return a.path < b.path; });
+    return v;
+  }();
+  return files;
+}
+
+// Keystroke -> diagnostics over every corpus file (one session per file); the counters
+// pool every keystroke of every file.
+void BM_KeystrokeCorpus(benchmark::State& state) {
+  nomec::CheckOptions options = corpus_options();
+  std::vector<std::vector<std::string>> steps;
+  size_t total = 0;
+  for (const CorpusFile& f : corpus_files()) {
+    steps.push_back(keystrokes(f.text));
+    total += steps.back().size();
+  }
+  std::vector<double> ms;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (size_t k = 0; k < corpus_files().size(); ++k) {
+      run_session(corpus_files()[k].path, corpus_files()[k].text, steps[k], options, ms);
+    }
+    auto t1 = std::chrono::steady_clock::now();
+    state.SetIterationTime(std::chrono::duration<double>(t1 - t0).count() /
+                           static_cast<double>(std::max<size_t>(1, total)));
+  }
+  report(state, ms);
+  state.counters["files"] = static_cast<double>(corpus_files().size());
+}
+
+// The largest corpus file alone, for the worst real case.
+void BM_KeystrokeLargestCorpusFile(benchmark::State& state) {
+  const auto& files = corpus_files();
+  if (files.empty()) {
+    state.SkipWithError("no corpus files");
+    return;
+  }
+  const CorpusFile& f = *std::max_element(files.begin(), files.end(), [](const auto& a, const auto& b) {
+    return a.text.size() < b.text.size();
+  });
+  std::vector<std::string> steps = keystrokes(f.text);
+  std::vector<double> ms;
+  nomec::CheckOptions options = corpus_options();
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    run_session(f.path, f.text, steps, options, ms);
+    auto t1 = std::chrono::steady_clock::now();
+    state.SetIterationTime(std::chrono::duration<double>(t1 - t0).count() / static_cast<double>(steps.size()));
+  }
+  report(state, ms);
+  state.counters["file_bytes"] = static_cast<double>(f.text.size());
+}
+
+BENCHMARK(BM_Keystroke)->Arg(64 << 10)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KeystrokeCorpus)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KeystrokeLargestCorpusFile)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheckCorpus)->Unit(benchmark::kMillisecond);
 
 }  // namespace

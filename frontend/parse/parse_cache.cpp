@@ -216,7 +216,6 @@ class Assembler {
     e0_ = static_cast<int32_t>(out_.exprs.size());
     l0_ = static_cast<int32_t>(out_.lists.size());
     s0_ = static_cast<int32_t>(out_.stmts.size());
-    out_.exprs.reserve(out_.exprs.size() + piece.exprs.size());
     for (const ast::Expr& e : piece.exprs) {
       ast::Expr& c = out_.exprs.emplace_back(e);
       c.range = range(e.range);
@@ -327,6 +326,17 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
 
   ast::Ast out;
   out.file = file;
+  size_t exprs = 0, lists = 0, stmts = 0, top = 0;
+  for (const Use& u : uses) {
+    exprs += u.piece->ast.exprs.size();
+    lists += u.piece->ast.lists.size();
+    stmts += u.piece->ast.stmts.size();
+    top += u.piece->ast.top.size();
+  }
+  out.exprs.reserve(exprs);
+  out.lists.reserve(lists);
+  out.stmts.reserve(stmts);
+  out.top.reserve(top);
   Assembler assembler(out, text, file);
   for (const Use& u : uses) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
   for (const Use& u : uses) assembler.append_diags(u.piece->comments, u.key, u.at, diags);
