@@ -224,7 +224,7 @@ TEST(ParseCache, CorpusFilesUnderRandomEdits) {
   std::vector<Doc> docs = corpus_docs();
   ASSERT_FALSE(docs.empty()) << "no corpus files under " << NOMEC_CORPUS_DIR;
   uint32_t seed = 1;
-  for (const Doc& d : docs) differential(d.name, d.text, 16, seed++);
+  for (const Doc& d : docs) differential(d.name, d.text, 10, seed++);
 }
 
 TEST(ParseCache, GeneratedSceneUnderRandomEdits) {
