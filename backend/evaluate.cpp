@@ -12,6 +12,8 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <unordered_map>
+#include <variant>
 
 #include "backend/generators/generators.h"
 #include "backend/generators/names.h"
@@ -127,9 +129,190 @@ kernel::PolygonSoup finish(Collected& c) {
   return std::move(c.soup);
 }
 
+
+// One step applied to a merged mesh: Catmull-Clark levels, an offset slab or a lattice.
+struct Step {
+  enum class Kind : uint8_t { Subdivide, Offset, Lattice };
+  Kind kind = Kind::Subdivide;
+  kernel::SubdivisionOptions subdivision;
+  double height = 0;
+  double width = 0;
+  friend bool operator==(const Step& a, const Step& b) {
+    return a.kind == b.kind && a.height == b.height && a.width == b.width &&
+           a.subdivision.levels == b.subdivision.levels &&
+           a.subdivision.vertex_rule == b.subdivision.vertex_rule &&
+           a.subdivision.is_sharpness_honoured == b.subdivision.is_sharpness_honoured;
+  }
+};
+
+// A failed step: the kernel's error and which step it was.
+struct StepFailure {
+  kernel::KernelError error;
+  size_t step = 0;
+};
+
+// Runs `steps` in order on `mesh`; counts one kernel operation per step run.
+std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::vector<Step>& steps,
+                                                  int32_t& kernel_ops) {
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const Step& s = steps[i];
+    if (s.kind == Step::Kind::Subdivide) {
+      if (s.subdivision.levels <= 0) continue;
+      ++kernel_ops;
+      auto r = kernel::subdivide(mesh, s.subdivision);
+      if (!r) return StepFailure{r.error(), i};
+      if (!r->empty()) mesh = std::move(r->back().mesh);
+    } else {
+      ++kernel_ops;
+      auto r = s.kind == Step::Kind::Lattice
+                   ? kernel::lattice(mesh, kernel::LatticeOptions{s.width, s.height})
+                   : kernel::offset(mesh, kernel::OffsetOptions{s.height});
+      if (!r) return StepFailure{r.error(), i};
+      mesh = std::move(r->mesh);
+    }
+  }
+  return mesh;
+}
+
+bool same_soup(const kernel::PolygonSoup& a, const kernel::PolygonSoup& b) {
+  auto same_creases = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::equal(x.begin(), x.end(), y.begin(), [](const auto& c, const auto& d) {
+             return c.a == d.a && c.b == d.b && c.sharpness == d.sharpness;
+           });
+  };
+  auto same_corners = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::equal(x.begin(), x.end(), y.begin(), [](const auto& c, const auto& d) {
+             return c.vertex == d.vertex && c.sharpness == d.sharpness;
+           });
+  };
+  return a.positions == b.positions && a.face_sizes == b.face_sizes &&
+         a.face_vertices == b.face_vertices && a.face_sources == b.face_sources &&
+         a.face_colors == b.face_colors && a.names == b.names && same_creases(a.creases, b.creases) &&
+         same_corners(a.corners, b.corners);
+}
+
+uint64_t soup_hash(const kernel::PolygonSoup& s) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const void* data, size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  mix(s.positions.data(), s.positions.size() * sizeof(glm::dvec3));
+  mix(s.face_vertices.data(), s.face_vertices.size() * sizeof(int32_t));
+  mix(s.face_sizes.data(), s.face_sizes.size() * sizeof(int32_t));
+  return h;
+}
+
+// The results of running steps on the connected components of one block's merged mesh,
+// kept for the next evaluation of the block (docs/incremental.md).
+struct ComponentMemo {
+  struct Entry {
+    uint64_t hash = 0;
+    kernel::PolygonSoup input;
+    std::vector<Step> steps;
+    kernel::Mesh output;
+  };
+  std::vector<Entry> entries;
+};
+
+// Splits `mesh` into one soup per connected component (faces in their original order).
+std::vector<kernel::PolygonSoup> split_components(const kernel::Mesh& mesh) {
+  std::vector<int32_t> comp = kernel::face_components(mesh);
+  int32_t count = 0;
+  for (int32_t c : comp) count = std::max(count, c + 1);
+  kernel::PolygonSoup all = kernel::to_soup(mesh);
+  std::vector<kernel::PolygonSoup> parts(count);
+  std::vector<int32_t> local(all.vertex_count(), -1), owner(all.vertex_count(), -1);
+  size_t at = 0;
+  std::vector<int32_t> face;
+  for (int32_t f = 0; f < all.face_count(); ++f) {
+    kernel::PolygonSoup& p = parts[comp[f]];
+    face.clear();
+    for (int32_t i = 0; i < all.face_sizes[f]; ++i) {
+      int32_t v = all.face_vertices[at + i];
+      if (owner[v] != comp[f]) {
+        owner[v] = comp[f];
+        local[v] = p.add_vertex(all.positions[v], all.names.empty() ? std::string() : all.names[v]);
+      }
+      face.push_back(local[v]);
+    }
+    at += all.face_sizes[f];
+    p.add_face(face);
+    if (!all.face_sources.empty()) p.face_sources.push_back(all.face_sources[f]);
+    if (!all.face_colors.empty()) p.face_colors.push_back(all.face_colors[f]);
+  }
+  for (kernel::PolygonSoup& p : parts) {
+    if (all.names.empty()) p.names.clear();
+  }
+  for (const auto& c : all.creases) {
+    if (owner[c.a] >= 0 && owner[c.a] == owner[c.b]) {
+      parts[owner[c.a]].creases.push_back({local[c.a], local[c.b], c.sharpness});
+    }
+  }
+  for (const auto& c : all.corners) {
+    if (owner[c.vertex] >= 0) parts[owner[c.vertex]].corners.push_back({local[c.vertex], c.sharpness});
+  }
+  return parts;
+}
+
+// Runs `steps` on each connected component of `mesh` separately, reusing the result of a
+// component whose input soup and steps equal one of the previous call's (`memo`), and
+// concatenates the results in component order. Falls back to the whole mesh (so errors
+// are exactly those of a one-shot run) when a component fails or the mesh has vertices
+// no face uses.
+std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mesh& mesh,
+                                                               const std::vector<Step>& steps,
+                                                               ComponentMemo& memo,
+                                                               int32_t& kernel_ops) {
+  std::vector<kernel::PolygonSoup> parts = split_components(mesh);
+  size_t used_vertices = 0;
+  for (const auto& p : parts) used_vertices += p.positions.size();
+  if (used_vertices != static_cast<size_t>(mesh.vertex_count())) {
+    memo.entries.clear();
+    return run_steps(mesh, steps, kernel_ops);
+  }
+  ComponentMemo next;
+  for (kernel::PolygonSoup& p : parts) {
+    const uint64_t h = soup_hash(p);
+    ComponentMemo::Entry* hit = nullptr;
+    for (ComponentMemo::Entry& e : memo.entries) {
+      if (e.hash == h && e.steps == steps && same_soup(e.input, p)) {
+        hit = &e;
+        break;
+      }
+    }
+    if (hit != nullptr) {
+      next.entries.push_back(std::move(*hit));
+      hit->hash = ~h;  // moved from; never matches again
+      hit->input = {};
+      continue;
+    }
+    auto built = kernel::build_mesh(p);
+    if (!built) {
+      memo.entries.clear();
+      return run_steps(mesh, steps, kernel_ops);
+    }
+    auto r = run_steps(std::move(*built), steps, kernel_ops);
+    if (std::holds_alternative<StepFailure>(r)) {
+      memo.entries.clear();
+      return run_steps(mesh, steps, kernel_ops);
+    }
+    next.entries.push_back({h, std::move(p), steps, std::move(std::get<kernel::Mesh>(r))});
+  }
+  memo = std::move(next);
+  std::vector<const kernel::Mesh*> outs;
+  for (const auto& e : memo.entries) outs.push_back(&e.output);
+  if (outs.size() == 1) return memo.entries[0].output;
+  return kernel::concatenate(outs);
+}
+
+}  // namespace
+
+namespace detail {
+
 class Evaluator {
  public:
-  Evaluator(const ir::Module& m, DiagnosticEngine& diags) : m_(m), diags_(diags) {
+  Evaluator(const ir::Module& m, bool is_incremental) : m_(m), is_incremental_(is_incremental) {
     kids_.resize(m.nodes.size());
     for (size_t i = 0; i < m.nodes.size(); ++i) {
       ir::NodeId p = m.nodes[i].parent;
@@ -154,6 +337,118 @@ class Evaluator {
     }
   }
 
+  // ---- Memoization (docs/incremental.md) ----
+  // Every cached value carries the parameters it read (directly, or through the cached
+  // values it used) and whether its evaluation emitted a diagnostic. Values are computed
+  // inside a frame that collects those reads; a cache hit adds the stored reads to the
+  // enclosing frame, so a scene entry knows every parameter its meshes depend on.
+  struct Deps {
+    std::vector<int32_t> params;  // sorted parameter node indices
+    bool is_tainted = false;      // emitted a diagnostic: recompute next pass to re-report
+  };
+  template <typename T>
+  struct Memo {
+    T value;
+    Deps deps;
+  };
+
+  void begin_pass(DiagnosticEngine& diags) { diags_ = &diags; }
+
+  // Drops every cached value that read `param` (or any tainted value when `param` < 0).
+  void invalidate(int32_t param) {
+    auto stale = [param](const Deps& d) {
+      return d.is_tainted || std::binary_search(d.params.begin(), d.params.end(), param);
+    };
+    auto drop = [&](auto& map) { std::erase_if(map, [&](const auto& kv) { return stale(kv.second.deps); }); };
+    drop(expr_memo_);
+    drop(generated_);
+    drop(sweeps_);
+    drop(world_);
+    drop(placements_);
+    drop(pipeline_cache_);
+    drop(borders_cache_);
+    drop(entries_);
+    drop(zippers_);
+  }
+
+  EvalCounters counters;
+
+  // Scene entry `id` as an output mesh (null if it produced nothing), memoized when
+  // incremental.
+  std::shared_ptr<const OutputMesh> entry(ir::NodeId id) {
+    if (auto it = entries_.find(id.index); it != entries_.end()) {
+      return it->second.value;
+    }
+    open_frame();
+    context_ = id.index;
+    auto m = std::make_shared<OutputMesh>();
+    const bool ok = scene_entry(id, *m);
+    Deps d = close_frame();
+    std::shared_ptr<const OutputMesh> out = ok ? std::move(m) : nullptr;
+    counters.nodes.insert(id.index);
+    if (is_incremental_) entries_[id.index] = {out, std::move(d)};
+    return out;
+  }
+
+  // `zipper` statement `id` as an output mesh (null on failure), memoized when incremental.
+  std::shared_ptr<const OutputMesh> zipper_entry(ir::NodeId id) {
+    if (auto it = zippers_.find(id.index); it != zippers_.end()) return it->second.value;
+    open_frame();
+    auto m = std::make_shared<OutputMesh>();
+    const bool ok = zipper(id, *m);
+    Deps d = close_frame();
+    std::shared_ptr<const OutputMesh> out = ok ? std::move(m) : nullptr;
+    counters.nodes.insert(id.index);
+    if (is_incremental_) zippers_[id.index] = {out, std::move(d)};
+    return out;
+  }
+
+ private:
+  struct Frame {
+    std::vector<int32_t> params;
+    size_t diag_mark = 0;
+    bool is_tainted = false;
+  };
+  std::vector<Frame> frames_;
+
+  void open_frame() { frames_.push_back({{}, diags_->diagnostics().size(), false}); }
+  Deps close_frame() {
+    Frame f = std::move(frames_.back());
+    frames_.pop_back();
+    std::sort(f.params.begin(), f.params.end());
+    f.params.erase(std::unique(f.params.begin(), f.params.end()), f.params.end());
+    Deps d{std::move(f.params), f.is_tainted || diags_->diagnostics().size() != f.diag_mark};
+    note(d);
+    return d;
+  }
+  // Adds reads to the innermost open frame.
+  void note(const Deps& d) {
+    if (frames_.empty()) return;
+    Frame& f = frames_.back();
+    f.params.insert(f.params.end(), d.params.begin(), d.params.end());
+    f.is_tainted = f.is_tainted || d.is_tainted;
+  }
+  // The parameters an expression reads, computed once per expression.
+  const std::vector<int32_t>& expr_params(ir::ExprId id) {
+    if (auto it = expr_params_.find(id.index); it != expr_params_.end()) return it->second;
+    std::vector<int32_t> ps;
+    std::vector<ir::ExprId> todo{id};
+    while (!todo.empty() && todo.size() < 100000) {
+      ir::ExprId e = todo.back();
+      todo.pop_back();
+      if (!e.is_valid()) continue;
+      const ir::Expr& x = m_.expr(e);
+      if (x.kind == ir::ExprKind::Param && x.param.is_valid()) ps.push_back(x.param.index);
+      todo.push_back(x.lhs);
+      todo.push_back(x.rhs);
+      todo.insert(todo.end(), x.args.begin(), x.args.end());
+    }
+    std::sort(ps.begin(), ps.end());
+    ps.erase(std::unique(ps.begin(), ps.end()), ps.end());
+    return expr_params_.emplace(id.index, std::move(ps)).first->second;
+  }
+
+ public:
   std::map<int32_t, std::string> instance_paths;
 
   // Evaluates one scene entry into an output mesh (false if it produced nothing).
@@ -222,8 +517,8 @@ class Evaluator {
     SourceRange at = places.empty() ? fallback : places[0].first;
     std::string message = fmt::format("{}{}", e.message, where);
     auto d = kind == DiagKind::NonManifoldGeometry
-                 ? diags_.emit(DiagKind::NonManifoldGeometry, at, std::move(message))
-                 : diags_.emit(DiagKind::GeometryFailed, at, std::move(message));
+                 ? diags_->emit(DiagKind::NonManifoldGeometry, at, std::move(message))
+                 : diags_->emit(DiagKind::GeometryFailed, at, std::move(message));
     for (size_t i = 1; i < places.size(); ++i) {
       d.note(places[i].first, fmt::format("also involves {}", places[i].second));
     }
@@ -266,6 +561,7 @@ class Evaluator {
       for (int32_t f = 0; f < c.soup.face_count(); ++f) {
         if (drop[f]) ids.push_back(kernel::FaceId(f));
       }
+      ++counters.kernel_ops;
       if (auto del = kernel::delete_faces(*full, ids)) {
         Collected k;
         k.soup = kernel::to_soup(del->mesh);
@@ -305,11 +601,18 @@ class Evaluator {
 
   double scalar(const ir::Field& f, size_t i, double fallback) {
     if (i >= f.exprs.size()) return fallback;
-    ir::EvalResult r = ir::evaluate(m_, f.exprs[i]);
+    const ir::ExprId e = f.exprs[i];
+    auto memo = expr_memo_.find(e.index);
+    if (memo == expr_memo_.end()) {
+      memo = expr_memo_.emplace(e.index, Memo<ir::EvalResult>{ir::evaluate(m_, e), Deps{expr_params(e), false}}).first;
+      if (f.value_node.is_valid()) counters.nodes.insert(f.value_node.index);
+    }
+    note(memo->second.deps);
+    const ir::EvalResult& r = memo->second.value;
     if (!r.ok) {
       // An empty problem means an expression the checker could not type (it reported why,
       // e.g. a value only Tcl code defines); the geometry cannot be built without it.
-      diags_.emit(DiagKind::GeometryFailed, r.where.is_valid() ? r.where : f.range,
+      diags_->emit(DiagKind::GeometryFailed, r.where.is_valid() ? r.where : f.range,
                   r.problem.empty()
                       ? fmt::format("cannot evaluate `{}`: the value is not known to nomec (see "
                                     "the front end's diagnostics for it), so the geometry "
@@ -362,7 +665,11 @@ class Evaluator {
 
   // World transform of an instance as first placed in the scene (also for hidden ones).
   glm::dmat4 world_of(ir::NodeId inst, int depth = 0) {
-    if (auto it = world_.find(inst.index); it != world_.end()) return it->second;
+    if (auto it = world_.find(inst.index); it != world_.end()) {
+      note(it->second.deps);
+      return it->second.value;
+    }
+    open_frame();
     const ir::Node& n = m_.node(inst);
     glm::dmat4 parent(1.0);
     if (n.parent.is_valid() && depth < 64) {
@@ -379,7 +686,8 @@ class Evaluator {
       }
     }
     glm::dmat4 w = parent * local(n);
-    world_.emplace(inst.index, w);
+    Deps d = close_frame();
+    world_.emplace(inst.index, Memo<glm::dmat4>{w, std::move(d)});
     return w;
   }
 
@@ -396,8 +704,18 @@ class Evaluator {
   // Runs a generator once per node; errors are reported once.
   const Generated* generated(ir::NodeId gen_id, std::string_view inst_path) {
     if (auto it = generated_.find(gen_id.index); it != generated_.end()) {
-      return it->second ? &*it->second : nullptr;
+      note(it->second.deps);
+      return it->second.value ? &*it->second.value : nullptr;
     }
+    open_frame();
+    std::optional<Generated> made = generate_node(gen_id, inst_path);
+    Deps d = close_frame();
+    auto [it, _] = generated_.emplace(gen_id.index, Memo<std::optional<Generated>>{std::move(made), std::move(d)});
+    return it->second.value ? &*it->second.value : nullptr;
+  }
+
+  // Runs the generator of node `gen_id` (uncached; see `generated`).
+  std::optional<Generated> generate_node(ir::NodeId gen_id, std::string_view inst_path) {
     const ir::Node& g = m_.node(gen_id);
     GeneratorArgs args;
     args.dialect = m_.dialect;
@@ -422,20 +740,20 @@ class Evaluator {
       }
     }
     GeneratorResult r = generate(g.keyword, args);
+    ++counters.generators_run;
+    counters.nodes.insert(gen_id.index);
     if (!r.ok()) {
       SourceRange at = g.range;
       if (!r.error.argument.empty()) {
         if (const ir::Field* f = find_field(g, r.error.argument)) at = f->range.is_valid() ? f->range : at;
       }
-      auto d = diags_.emit(DiagKind::GeometryFailed, at,
-                           fmt::format("`{}` `{}`: {}{}", g.keyword, short_name(g.name), r.error.message,
-                                       inst_path.empty() ? "" : fmt::format(" (in instance `{}`)", inst_path)));
+      auto d = diags_->emit(DiagKind::GeometryFailed, at,
+                            fmt::format("`{}` `{}`: {}{}", g.keyword, short_name(g.name), r.error.message,
+                                        inst_path.empty() ? "" : fmt::format(" (in instance `{}`)", inst_path)));
       if (!r.error.hint.empty()) d.note(SourceRange{}, r.error.hint);
-      generated_.emplace(gen_id.index, std::nullopt);
-      return nullptr;
+      return std::nullopt;
     }
-    auto [it, _] = generated_.emplace(gen_id.index, std::move(r.value));
-    return &*it->second;
+    return std::move(r.value);
   }
 
   // The points of a path (`rimribbon r path P …`): a polyline's vertices, or the polyline
@@ -471,7 +789,24 @@ class Evaluator {
   // path the holonomy is spread evenly so the tube closes), turned by `azimuth` at the start
   // and by `twist` degrees in total along the path. Quads join consecutive rings; a closed
   // cross section on an open path gets `begincap` / `endcap` faces; `reverse` flips faces.
+  // The sweep of node `sweep_id`, memoized per node and instance path (its errors name the
+  // instance, as before memoization).
   std::optional<kernel::PolygonSoup> sweep(ir::NodeId sweep_id, std::string_view inst_path) {
+    std::string key = fmt::format("{}:{}", sweep_id.index, inst_path);
+    if (auto it = sweeps_.find(key); it != sweeps_.end()) {
+      note(it->second.deps);
+      return it->second.value;
+    }
+    open_frame();
+    std::optional<kernel::PolygonSoup> made = sweep_node(sweep_id, inst_path);
+    ++counters.generators_run;
+    counters.nodes.insert(sweep_id.index);
+    Deps d = close_frame();
+    sweeps_.emplace(std::move(key), Memo<std::optional<kernel::PolygonSoup>>{made, std::move(d)});
+    return made;
+  }
+
+  std::optional<kernel::PolygonSoup> sweep_node(ir::NodeId sweep_id, std::string_view inst_path) {
     const ir::Node& sn = m_.node(sweep_id);
     GeneratorArgs cs, pa;
     double azimuth = 0, twist = 0;
@@ -510,13 +845,13 @@ class Evaluator {
     const bool path_closed = pa.numbers.contains("closed");
     const size_t nc = cs.points.size(), np = pa.points.size();
     if (nc < 2 || (cs_closed && nc < 3)) {
-      diags_.emit(DiagKind::GeometryFailed, cs_range,
+      diags_->emit(DiagKind::GeometryFailed, cs_range,
                   fmt::format("sweep `{}` needs a cross section of at least {} points, got {} (instance `{}`)",
                               short_name(sn.name), cs_closed ? 3 : 2, nc, inst_path));
       return std::nullopt;
     }
     if (np < 2 || (path_closed && np < 3)) {
-      diags_.emit(DiagKind::GeometryFailed, path_range,
+      diags_->emit(DiagKind::GeometryFailed, path_range,
                   fmt::format("sweep `{}` needs a path of at least {} points, got {} (instance `{}`)",
                               short_name(sn.name), path_closed ? 3 : 2, np, inst_path));
       return std::nullopt;
@@ -528,7 +863,7 @@ class Evaluator {
       glm::dvec3 next = i + 1 < np ? P[i + 1] : (path_closed ? P[0] : P[i]);
       glm::dvec3 d = next - prev;
       if (glm::length(d) == 0) {
-        diags_.emit(DiagKind::GeometryFailed, path_range,
+        diags_->emit(DiagKind::GeometryFailed, path_range,
                     fmt::format("sweep `{}`: the path has repeated points (instance `{}`)",
                                 short_name(sn.name), inst_path));
         return std::nullopt;
@@ -659,7 +994,7 @@ class Evaluator {
       }
     }
     if (!p) {
-      diags_.emit(DiagKind::GeometryFailed, ref.range,
+      diags_->emit(DiagKind::GeometryFailed, ref.range,
                   fmt::format("`{}` names no vertex of the geometry of `{}`; it has no vertex `{}`",
                               ref.text, short_name(tn.name), ref.vertex));
       return std::nullopt;
@@ -743,7 +1078,7 @@ class Evaluator {
           if (!is_soup_edge(soup, vs[i], vs[i + 1])) {
             SourceRange r = refs[i]->range;
             r.end = refs[i + 1]->range.end;
-            diags_.emit(DiagKind::GeometryFailed, r,
+            diags_->emit(DiagKind::GeometryFailed, r,
                         fmt::format("`{}` and `{}` are not joined by an edge of mesh `{}`; `sharp` "
                                     "marks edges between consecutive vertices of a face (instance `{}`)",
                                     refs[i]->text, refs[i + 1]->text, short_name(mn.name), path));
@@ -768,18 +1103,94 @@ class Evaluator {
     const ir::Node& n = m_.node(inst);
     if (n.is_hidden || !n.target.is_valid()) return;
     if (depth > 64) {
-      diags_.emit(DiagKind::GeometryFailed, n.range, "instances nest more than 64 levels deep");
+      diags_->emit(DiagKind::GeometryFailed, n.range, "instances nest more than 64 levels deep");
       return;
     }
     std::string path = parent_path.empty() ? short_name(n.name) : parent_path + "." + short_name(n.name);
     instance_paths.emplace(inst.index, path);
     glm::dmat4 t = parent_t * local(n);
     if (auto c = surface_color(n)) color = c;
+    chain_.push_back(inst.index);
     target(n.target, t, color, path, inst, out, depth);
+    chain_.pop_back();
   }
 
   void target(ir::NodeId tid, const glm::dmat4& t, std::optional<glm::vec3> color,
               const std::string& path, ir::NodeId inst, Collected& out, int depth) {
+    const ir::Node& tn = m_.node(tid);
+    switch (tn.kind) {
+      case ir::NodeKind::Mesh:
+      case ir::NodeKind::Generator:
+      case ir::NodeKind::Curve:
+      case ir::NodeKind::Sweep:
+        place(tid, t, color, path, inst, out);
+        return;
+      case ir::NodeKind::Polyline:
+        out.curve_count += 1;
+        return;
+      case ir::NodeKind::Group: {
+        if (auto c = surface_color(tn)) color = c;
+        chain_.push_back(tid.index);
+        for (ir::NodeId k : kids_[tid.index]) {
+          if (m_.node(k).kind == ir::NodeKind::Instance) instance(k, t, color, path, out, depth + 1);
+        }
+        chain_.pop_back();
+        return;
+      }
+      case ir::NodeKind::Pipeline:
+        pipeline(tid, t, color, path, out, depth + 1);
+        return;
+      case ir::NodeKind::Edit:
+        if (tn.keyword == "light" || tn.keyword == "camera" || tn.keyword == "window" ||
+            tn.keyword == "viewport" || tn.keyword == "render" || tn.keyword == "lookat") {
+          return;  // viewing set-up: no geometry (the checker already noted it)
+        }
+        [[fallthrough]];
+      default:
+        diags_->emit(DiagKind::GeometryFailed, tn.range,
+                    fmt::format("`{}` `{}` produces no geometry the backend can place (instance `{}`)",
+                                tn.keyword, short_name(tn.name), path));
+        return;
+    }
+  }
+
+  // A placed leaf (mesh, generator, curve or sweep) in its entry's frame, as appended by
+  // `place`; reused while its transform, colour and the parameters it read are unchanged.
+  struct Placement {
+    glm::dmat4 t;
+    std::optional<glm::vec3> color;
+    Collected part;
+  };
+
+  void place(ir::NodeId tid, const glm::dmat4& t, const std::optional<glm::vec3>& color,
+             const std::string& path, ir::NodeId inst, Collected& out) {
+    auto recomputed = [&] {
+      ++counters.instances_placed;
+      counters.nodes.insert(chain_.begin(), chain_.end());
+    };
+    if (!is_incremental_) {
+      place_leaf(tid, t, color, path, inst, out);
+      recomputed();
+      return;
+    }
+    std::string key = fmt::format("{}/{}/{}", context_, inst.index, path);
+    auto it = placements_.find(key);
+    if (it != placements_.end() && it->second.value.t == t && it->second.value.color == color) {
+      note(it->second.deps);
+      transform_into(out, it->second.value.part, glm::dmat4(1.0));
+      return;
+    }
+    open_frame();
+    Collected part;
+    place_leaf(tid, t, color, path, inst, part);
+    Deps d = close_frame();
+    recomputed();
+    transform_into(out, part, glm::dmat4(1.0));
+    placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(part)}, std::move(d)});
+  }
+
+  void place_leaf(ir::NodeId tid, const glm::dmat4& t, const std::optional<glm::vec3>& color,
+                  const std::string& path, ir::NodeId inst, Collected& out) {
     const ir::Node& tn = m_.node(tid);
     switch (tn.kind) {
       case ir::NodeKind::Mesh: {
@@ -803,19 +1214,6 @@ class Evaluator {
         out.curve_count += static_cast<int32_t>(g->curves.size());
         return;
       }
-      case ir::NodeKind::Polyline:
-        out.curve_count += 1;
-        return;
-      case ir::NodeKind::Group: {
-        if (auto c = surface_color(tn)) color = c;
-        for (ir::NodeId k : kids_[tid.index]) {
-          if (m_.node(k).kind == ir::NodeKind::Instance) instance(k, t, color, path, out, depth + 1);
-        }
-        return;
-      }
-      case ir::NodeKind::Pipeline:
-        pipeline(tid, t, color, path, out, depth + 1);
-        return;
       case ir::NodeKind::Sweep: {
         std::optional<kernel::PolygonSoup> sw = sweep(tid, path);
         if (!sw) return;
@@ -827,23 +1225,14 @@ class Evaluator {
         }
         return;
       }
-      case ir::NodeKind::Edit:
-        if (tn.keyword == "light" || tn.keyword == "camera" || tn.keyword == "window" ||
-            tn.keyword == "viewport" || tn.keyword == "render" || tn.keyword == "lookat") {
-          return;  // viewing set-up: no geometry (the checker already noted it)
-        }
-        [[fallthrough]];
       default:
-        diags_.emit(DiagKind::GeometryFailed, tn.range,
-                    fmt::format("`{}` `{}` produces no geometry the backend can place (instance `{}`)",
-                                tn.keyword, short_name(tn.name), path));
-        return;
+        return;  // `target` sends only the kinds above
     }
   }
 
-  void transform_into(Collected& out, Collected& c, const glm::dmat4& t) {
+  void transform_into(Collected& out, const Collected& c, const glm::dmat4& t) {
     const int32_t face_base = out.soup.face_count();
-    kernel::PolygonSoup s = c.soup;
+    const kernel::PolygonSoup& s = c.soup;
     append_soup(out, s, t, std::nullopt, true);
     for (int32_t f = 0; f < s.face_count(); ++f) {
       out.has_color[face_base + f] = c.has_color[f];
@@ -858,12 +1247,24 @@ class Evaluator {
                 const std::string& path, Collected& out, int depth) {
     const ir::Node& p = m_.node(pid);
     if (depth > 64) return;
-    if (auto it = pipeline_cache_.find(pid.index); it == pipeline_cache_.end()) {
+    auto it = pipeline_cache_.find(pid.index);
+    if (it == pipeline_cache_.end()) {
       // Paths inside a block start at the block's name (`openbox.b.top.f1`), wherever
       // it is instanced, so one evaluation serves every instance.
-      pipeline_cache_.emplace(pid.index, run_block(pid, short_name(p.name), depth));
+      open_frame();
+      const int32_t saved_context = context_;
+      context_ = pid.index;
+      chain_.push_back(pid.index);
+      std::optional<Collected> made = run_block(pid, short_name(p.name), depth);
+      chain_.pop_back();
+      context_ = saved_context;
+      counters.nodes.insert(pid.index);
+      Deps d = close_frame();
+      it = pipeline_cache_.emplace(pid.index, Memo<std::optional<Collected>>{std::move(made), std::move(d)}).first;
+    } else {
+      note(it->second.deps);
     }
-    const std::optional<Collected>& res = pipeline_cache_.at(pid.index);
+    const std::optional<Collected>& res = it->second.value;
     if (!res) return;
     Collected c = *res;
     if (color) {
@@ -899,12 +1300,12 @@ class Evaluator {
     }
     kernel::PolygonSoup soup = finish(in);
     if (kw != "merge" && kw != "subdivision" && kw != "offset") {
-      diags_.emit(DiagKind::GeometryFailed, p.range,
+      diags_->emit(DiagKind::GeometryFailed, p.range,
                   fmt::format("`{}` blocks are not implemented in the backend yet", kw));
       return std::nullopt;
     }
     if (soup.face_count() == 0) {
-      diags_.emit(DiagKind::GeometryFailed, p.range,
+      diags_->emit(DiagKind::GeometryFailed, p.range,
                   fmt::format("`{}` `{}` has no faces to work on", kw, short_name(p.name)));
       return std::nullopt;
     }
@@ -916,49 +1317,51 @@ class Evaluator {
     double tol = -1;
     if (const ir::Field* f = find_field(p, "tolerance")) tol = scalar(*f, 0, -1);
     auto merged = merge_mesh(*built, tol);
+    ++counters.kernel_ops;
     if (!merged) {
       report(merged.error(), soup, p.range, short_name(p.name));
       return std::nullopt;
     }
-    kernel::Mesh result = std::move(merged->mesh);
+    std::vector<Step> steps;
+    SourceRange step_range = p.range;
     if (kw == "subdivision") {
-      kernel::SubdivisionOptions o;
-      o.has_parent_maps = false;
+      Step st;
+      st.subdivision.has_parent_maps = false;
       const ir::Field* lf = find_field(p, "sd_level");
       if (lf == nullptr) lf = find_field(p, "subdivisions");
       double lv = lf ? scalar(*lf, 0, 1) : 1;
-      o.levels = static_cast<int32_t>(std::lround(lv));
+      st.subdivision.levels = static_cast<int32_t>(std::lround(lv));
       std::string type;
       if (const ir::Field* tf = find_field(p, "sd_type")) type = tf->text;
       if (const ir::Field* tf = find_field(p, "type"); tf && type.empty()) type = tf->text;
       if (type == "NOME_SD_CatmullClark" || type == "NOME_SD_CC" ||
           type == "SLF_SUBDIVISION_CATMULL_CLARK") {
-        o.is_sharpness_honoured = false;
+        st.subdivision.is_sharpness_honoured = false;
       } else if (type == "NOME_SD_DeRose") {
-        o.vertex_rule = kernel::VertexRule::DeRose;
+        st.subdivision.vertex_rule = kernel::VertexRule::DeRose;
       }
-      auto levels = kernel::subdivide(result, o);
-      if (!levels) {
-        report(levels.error(), soup, lf ? lf->range : p.range, short_name(p.name));
-        return std::nullopt;
-      }
-      if (!levels->empty()) result = std::move(levels->back().mesh);
+      steps.push_back(st);
+      if (lf) step_range = lf->range;
     } else if (kw == "offset") {
       const ir::Field* hf = find_field(p, "height");
       const ir::Field* wf = find_field(p, "width");
       const ir::Field* tf = find_field(p, "offset_type");
-      double h = hf ? scalar(*hf, 0, 0.1) : 0.1;
-      double w = wf ? scalar(*wf, 0, 0) : 0;
+      Step st;
+      st.height = hf ? scalar(*hf, 0, 0.1) : 0.1;
+      st.width = wf ? scalar(*wf, 0, 0) : 0;
       bool grid = tf && tf->text == "NOME_OFFSET_GRID";
-      kernel::Result<kernel::OffsetResult> r =
-          grid && w > 0 ? kernel::lattice(result, kernel::LatticeOptions{w, h})
-                        : kernel::offset(result, kernel::OffsetOptions{h});
-      if (!r) {
-        report(r.error(), soup, hf ? hf->range : p.range, short_name(p.name));
-        return std::nullopt;
-      }
-      result = std::move(r->mesh);
+      st.kind = grid && st.width > 0 ? Step::Kind::Lattice : Step::Kind::Offset;
+      steps.push_back(st);
+      if (hf) step_range = hf->range;
     }
+    auto ran = is_incremental_ ? run_steps_by_component(merged->mesh, steps, components_[pid.index],
+                                                        counters.kernel_ops)
+                               : run_steps(std::move(merged->mesh), steps, counters.kernel_ops);
+    if (auto* failed = std::get_if<StepFailure>(&ran)) {
+      report(failed->error, soup, step_range, short_name(p.name));
+      return std::nullopt;
+    }
+    kernel::Mesh result = std::move(std::get<kernel::Mesh>(ran));
     Collected c;
     c.soup = kernel::to_soup(result);
     c.curve_count = curves;
@@ -1001,8 +1404,9 @@ class Evaluator {
     kernel::ZipperOptions o;
     if (const ir::Field* pf = find_field(n, "penalty")) o.penalty = scalar(*pf, 0, 1.3);
     auto r = kernel::zipper(chain[0], chain[1], o);
+    ++counters.kernel_ops;
     if (!r) {
-      diags_.emit(DiagKind::GeometryFailed, n.range,
+      diags_->emit(DiagKind::GeometryFailed, n.range,
                   fmt::format("zipper `{}`: {}", zname, r.error().message));
       return false;
     }
@@ -1033,7 +1437,21 @@ class Evaluator {
   const InstanceBorders* instance_borders(const ir::VertexRef& ref) {
     std::string key;
     for (ir::NodeId i : ref.instances) key += fmt::format("{}.", i.index);
-    if (auto it = borders_cache_.find(key); it != borders_cache_.end()) return &it->second;
+    if (auto it = borders_cache_.find(key); it != borders_cache_.end()) {
+      note(it->second.deps);
+      return &it->second.value;
+    }
+    open_frame();
+    const int32_t saved_context = context_;
+    context_ = -2;  // placements made for border lookups
+    InstanceBorders b = borders_of(ref);
+    context_ = saved_context;
+    Deps d = close_frame();
+    auto [it, _] = borders_cache_.emplace(key, Memo<InstanceBorders>{std::move(b), std::move(d)});
+    return &it->second.value;
+  }
+
+  InstanceBorders borders_of(const ir::VertexRef& ref) {
     InstanceBorders b;
     glm::dmat4 t = world_of(ref.instances[0]);
     b.path = short_name(m_.node(ref.instances[0]).name);
@@ -1071,8 +1489,7 @@ class Evaluator {
         b.loops.push_back(std::move(seq));
       }
     }
-    auto [it, _] = borders_cache_.emplace(key, std::move(b));
-    return &it->second;
+    return b;
   }
 
   // One `border (A0 [A1 [Am]])` list as a chain; `is_backward` says an open path runs
@@ -1086,7 +1503,7 @@ class Evaluator {
     for (const ir::VertexRef& r : refs) {
       if (r.instances.empty() || std::any_of(r.instances.begin(), r.instances.end(),
                                              [](ir::NodeId i) { return !i.is_valid(); })) {
-        diags_.emit(DiagKind::GeometryFailed, zn.range,
+        diags_->emit(DiagKind::GeometryFailed, zn.range,
                     fmt::format("zipper `{}`: `{}` is not a vertex of an instance; zipper borders "
                                 "name instance vertices such as `inst.v`",
                                 zname, r.text));
@@ -1094,7 +1511,7 @@ class Evaluator {
       }
       const InstanceBorders* b = instance_borders(r);
       if (ib != nullptr && b != ib) {
-        diags_.emit(DiagKind::GeometryFailed, zn.range,
+        diags_->emit(DiagKind::GeometryFailed, zn.range,
                     fmt::format("zipper `{}`: `{}` and `{}` belong to different instances; the "
                                 "vertices of one `border` must lie on one border loop",
                                 zname, refs[0].text, r.text));
@@ -1110,7 +1527,7 @@ class Evaluator {
         }
       }
       if (v < 0) {
-        diags_.emit(DiagKind::GeometryFailed, zn.range,
+        diags_->emit(DiagKind::GeometryFailed, zn.range,
                     fmt::format("zipper `{}`: `{}` names no vertex of instance `{}`", zname, r.text,
                                 b->path));
         return std::nullopt;
@@ -1124,7 +1541,7 @@ class Evaluator {
         }
       }
       if (!found) {
-        diags_.emit(DiagKind::GeometryFailed, zn.range,
+        diags_->emit(DiagKind::GeometryFailed, zn.range,
                     fmt::format("zipper `{}`: vertex `{}` is not on a border of instance `{}`",
                                 zname, r.text, b->path));
         return std::nullopt;
@@ -1132,7 +1549,7 @@ class Evaluator {
     }
     for (size_t i = 1; i < where.size(); ++i) {
       if (where[i].first != where[0].first) {
-        diags_.emit(DiagKind::GeometryFailed, zn.range,
+        diags_->emit(DiagKind::GeometryFailed, zn.range,
                     fmt::format("zipper `{}`: `{}` and `{}` are on different border loops of "
                                 "instance `{}`",
                                 zname, refs[0].text, refs[i].text, ib->path));
@@ -1166,7 +1583,7 @@ class Evaluator {
     return c;
   }
 
-  std::map<std::string, InstanceBorders> borders_cache_;
+  std::map<std::string, Memo<InstanceBorders>> borders_cache_;
 
  public:
   static kernel::Result<kernel::MergeResult> merge_mesh(const kernel::Mesh& mesh, double tol) {
@@ -1180,22 +1597,33 @@ class Evaluator {
 
  private:
   const ir::Module& m_;
-  DiagnosticEngine& diags_;
+  DiagnosticEngine* diags_ = nullptr;
   std::vector<std::vector<ir::NodeId>> kids_;
   std::vector<std::string> deleted_;
-  std::map<int32_t, glm::dmat4> world_;
+  const bool is_incremental_;
   int ref_depth_ = 0;
-  std::map<int32_t, std::optional<Generated>> generated_;
-  std::map<int32_t, std::optional<Collected>> pipeline_cache_;
+  int32_t context_ = -1;        // the scene entry or block being evaluated (placement keys)
+  std::vector<int32_t> chain_;  // instances, groups and blocks on the way to the current leaf
+  // Memoized values (see "Memoization" above).
+  std::unordered_map<int32_t, std::vector<int32_t>> expr_params_;
+  std::unordered_map<int32_t, Memo<ir::EvalResult>> expr_memo_;
+  std::map<int32_t, Memo<glm::dmat4>> world_;
+  std::map<int32_t, Memo<std::optional<Generated>>> generated_;
+  std::map<std::string, Memo<std::optional<kernel::PolygonSoup>>> sweeps_;
+  std::unordered_map<std::string, Memo<Placement>> placements_;
+  std::map<int32_t, Memo<std::optional<Collected>>> pipeline_cache_;
+  std::map<int32_t, ComponentMemo> components_;
+  std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> entries_;
+  std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> zippers_;
 };
 
-}  // namespace
+}  // namespace detail
 
-std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
-                                       StageTimings* timings) {
-  auto t0 = Clock::now();
-  Evaluator ev(module, diags);
-  std::vector<OutputMesh> out;
+namespace {
+
+// The scene entries of a module: its top-level instances and blocks, then NOME 2016 saved
+// work, or for SLIDE the world groups.
+std::vector<ir::NodeId> scene_entries(const ir::Module& module) {
   std::vector<ir::NodeId> entries = module.scene;
   // NOME 2016 saved work: `consolidate` / `savedworkingmesh` meshes are part of the scene
   // unless something instances them.
@@ -1222,26 +1650,21 @@ std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngin
       }
     }
   }
-  for (ir::NodeId id : entries) {
-    OutputMesh m;
-    if (ev.scene_entry(id, m)) out.push_back(std::move(m));
-  }
-  // Zipper faces: one output mesh per `zipper` statement, after the scene entries.
-  for (size_t i = 0; i < module.nodes.size(); ++i) {
-    const ir::Node& n = module.nodes[i];
-    if (n.kind != ir::NodeKind::Edit || n.keyword != "zipper") continue;
-    OutputMesh m;
-    if (ev.zipper(ir::NodeId{static_cast<int32_t>(i)}, m)) out.push_back(std::move(m));
-  }
-  if (timings) timings->evaluate_ms += ms_since(t0);
-  return out;
+  return entries;
 }
 
-std::vector<OutputMesh> run_pipeline(std::vector<OutputMesh> meshes, const PipelineOptions& o,
-                                     std::string_view name, SourceRange where,
-                                     DiagnosticEngine& diags, StageTimings* timings,
-                                     const std::function<void(std::string_view)>& progress) {
-  if (!o.any() || meshes.empty()) return meshes;
+// Per-step component memos of the whole-scene pipeline (incremental evaluation only).
+struct PipelineMemos {
+  ComponentMemo subdivide;
+  ComponentMemo offset;
+  ComponentMemo subdivide_after;
+};
+
+std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& meshes, const PipelineOptions& o,
+                                      std::string_view name, SourceRange where,
+                                      DiagnosticEngine& diags, StageTimings* timings,
+                                      const std::function<void(std::string_view)>& progress,
+                                      PipelineMemos* memos, int32_t& kernel_ops) {
   auto say = [&](std::string_view s) {
     if (progress) progress(s);
   };
@@ -1260,50 +1683,52 @@ std::vector<OutputMesh> run_pipeline(std::vector<OutputMesh> meshes, const Pipel
   };
   std::vector<const kernel::Mesh*> parts;
   int32_t curves = 0;
-  for (const OutputMesh& m : meshes) {
-    parts.push_back(&m.mesh);
-    curves += m.curve_count;
+  for (const OutputMesh* m : meshes) {
+    parts.push_back(&m->mesh);
+    curves += m->curve_count;
   }
   auto t0 = Clock::now();
   say("merge");
   kernel::Mesh all = kernel::concatenate(parts);
-  auto merged = Evaluator::merge_mesh(all, o.merge_tolerance);
+  auto merged = detail::Evaluator::merge_mesh(all, o.merge_tolerance);
+  ++kernel_ops;
   if (timings) timings->merge_ms += ms_since(t0);
   if (!merged) {
     fail("merge", merged.error());
     return {};
   }
   kernel::Mesh mesh = std::move(merged->mesh);
-  auto subdivide = [&](int32_t levels, std::string_view flag) -> bool {
-    if (levels <= 0) return true;
-    say("subdivide");
+  // Runs one step on `mesh`, per connected component when `memo` is given.
+  auto run = [&](const Step& st, ComponentMemo* memo, std::string_view flag, double* ms) -> bool {
     auto t1 = Clock::now();
-    kernel::SubdivisionOptions so;
-    so.levels = levels;
-    so.vertex_rule = o.rule;
-    so.has_parent_maps = false;
-    auto r = kernel::subdivide(mesh, so);
-    if (timings) timings->subdivide_ms += ms_since(t1);
-    if (!r) {
-      fail(flag, r.error());
+    auto r = memo ? run_steps_by_component(mesh, {st}, *memo, kernel_ops)
+                  : run_steps(std::move(mesh), {st}, kernel_ops);
+    if (timings) *ms += ms_since(t1);
+    if (auto* failed = std::get_if<StepFailure>(&r)) {
+      fail(flag, failed->error);
       return false;
     }
-    if (!r->empty()) mesh = std::move(r->back().mesh);
+    mesh = std::move(std::get<kernel::Mesh>(r));
     return true;
   };
-  if (!subdivide(o.subdivide_levels, "subdivide")) return {};
+  auto subdivide = [&](int32_t levels, std::string_view flag, ComponentMemo* memo) -> bool {
+    if (levels <= 0) return true;
+    say("subdivide");
+    Step st;
+    st.subdivision.levels = levels;
+    st.subdivision.vertex_rule = o.rule;
+    st.subdivision.has_parent_maps = false;
+    return run(st, memo, flag, timings ? &timings->subdivide_ms : nullptr);
+  };
+  if (!subdivide(o.subdivide_levels, "subdivide", memos ? &memos->subdivide : nullptr)) return {};
   if (o.offset_height > 0) {
     say("offset");
-    auto t2 = Clock::now();
-    auto r = kernel::offset(mesh, kernel::OffsetOptions{o.offset_height});
-    if (timings) timings->offset_ms += ms_since(t2);
-    if (!r) {
-      fail("offset", r.error());
-      return {};
-    }
-    mesh = std::move(r->mesh);
+    Step st;
+    st.kind = Step::Kind::Offset;
+    st.height = o.offset_height;
+    if (!run(st, memos ? &memos->offset : nullptr, "offset", timings ? &timings->offset_ms : nullptr)) return {};
   }
-  if (!subdivide(o.subdivide_after_levels, "subdivide-after")) return {};
+  if (!subdivide(o.subdivide_after_levels, "subdivide-after", memos ? &memos->subdivide_after : nullptr)) return {};
   OutputMesh out;
   out.name = std::string(name);
   out.soup = kernel::to_soup(mesh);
@@ -1312,6 +1737,89 @@ std::vector<OutputMesh> run_pipeline(std::vector<OutputMesh> meshes, const Pipel
   std::vector<OutputMesh> result;
   result.push_back(std::move(out));
   return result;
+}
+
+}  // namespace
+
+struct SceneEvaluator::PipelineMemosHolder {
+  PipelineMemos memos;
+};
+
+SceneEvaluator::SceneEvaluator(const ir::Module& module, bool is_incremental, PipelineOptions pipeline,
+                               std::string pipeline_name, SourceRange pipeline_where)
+    : impl_(std::make_unique<detail::Evaluator>(module, is_incremental)),
+      module_(module),
+      entries_(scene_entries(module)),
+      is_incremental_(is_incremental),
+      pipeline_(pipeline),
+      pipeline_name_(std::move(pipeline_name)),
+      pipeline_where_(pipeline_where) {
+  for (size_t i = 0; i < module.nodes.size(); ++i) {
+    const ir::Node& n = module.nodes[i];
+    if (n.kind == ir::NodeKind::Edit && n.keyword == "zipper") zippers_.push_back(ir::NodeId{static_cast<int32_t>(i)});
+  }
+}
+
+SceneEvaluator::~SceneEvaluator() = default;
+
+void SceneEvaluator::invalidate(ir::NodeId param) { impl_->invalidate(param.index); }
+
+EvalCounters SceneEvaluator::take_counters() { return std::exchange(impl_->counters, EvalCounters{}); }
+
+std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(DiagnosticEngine& diags,
+                                                                        StageTimings* timings) {
+  auto t0 = Clock::now();
+  const int errors_before = diags.error_count();
+  impl_->begin_pass(diags);
+  impl_->invalidate(-1);  // values that reported a diagnostic report it again
+  std::vector<std::shared_ptr<const OutputMesh>> out;
+  for (ir::NodeId id : entries_) {
+    if (auto m = impl_->entry(id)) out.push_back(std::move(m));
+  }
+  // Zipper faces: one output mesh per `zipper` statement, after the scene entries.
+  for (ir::NodeId id : zippers_) {
+    if (auto m = impl_->zipper_entry(id)) out.push_back(std::move(m));
+  }
+  if (timings) timings->evaluate_ms += ms_since(t0);
+  if (!pipeline_.any() || out.empty() || diags.error_count() > errors_before) return out;
+  if (is_incremental_ && out == pipeline_inputs_) return pipeline_outputs_;
+  std::vector<const OutputMesh*> parts;
+  for (const auto& m : out) parts.push_back(m.get());
+  if (!pipeline_memos_) pipeline_memos_ = std::make_shared<PipelineMemosHolder>();
+  std::vector<OutputMesh> done = pipeline_impl(parts, pipeline_, pipeline_name_, pipeline_where_, diags, timings, {},
+                                               is_incremental_ ? &pipeline_memos_->memos : nullptr,
+                                               impl_->counters.kernel_ops);
+  std::vector<std::shared_ptr<const OutputMesh>> result;
+  for (OutputMesh& m : done) result.push_back(std::make_shared<OutputMesh>(std::move(m)));
+  if (is_incremental_) {
+    pipeline_inputs_ = std::move(out);
+    pipeline_outputs_ = result;
+  }
+  return result;
+}
+
+std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
+                                       StageTimings* timings) {
+  std::vector<OutputMesh> out;
+  {
+    SceneEvaluator ev(module, false);
+    for (const auto& m : ev.evaluate(diags, timings)) {
+      // A one-shot evaluator keeps no reference: these objects are ours to move from.
+      out.push_back(std::move(const_cast<OutputMesh&>(*m)));
+    }
+  }
+  return out;
+}
+
+std::vector<OutputMesh> run_pipeline(std::vector<OutputMesh> meshes, const PipelineOptions& o,
+                                     std::string_view name, SourceRange where,
+                                     DiagnosticEngine& diags, StageTimings* timings,
+                                     const std::function<void(std::string_view)>& progress) {
+  if (!o.any() || meshes.empty()) return meshes;
+  std::vector<const OutputMesh*> parts;
+  for (const OutputMesh& m : meshes) parts.push_back(&m);
+  int32_t kernel_ops = 0;
+  return pipeline_impl(parts, o, name, where, diags, timings, progress, nullptr, kernel_ops);
 }
 
 }  // namespace nomec::backend

@@ -8,6 +8,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +55,60 @@ struct StageTimings {
   double merge_ms = 0;
   double subdivide_ms = 0;
   double offset_ms = 0;
+};
+
+/// The work one evaluation did, for `Session` and `nomec --what-if`.
+struct EvalCounters {
+  int32_t generators_run = 0;    // generator and sweep runs
+  int32_t instances_placed = 0;  // leaf instances (re)transformed into their entry's frame
+  int32_t kernel_ops = 0;        // merge, subdivide, offset, lattice, zipper and delete runs
+  std::set<int32_t> nodes;       // IR node indices whose value was (re)computed
+};
+
+namespace detail {
+class Evaluator;
+}
+
+/// Memoized evaluation of one module, shared by `evaluate_scene` (one pass on a fresh
+/// evaluator) and `Session` (kept alive across parameter changes). Every expression value,
+/// generator mesh, sweep, instance world transform, placed instance, pipeline block and
+/// scene entry is cached with the set of parameters it read; `invalidate(p)` drops exactly
+/// the values that read `p`, so the next `evaluate` recomputes only those. With
+/// `is_incremental`, placed instances and scene entries are kept too, and pipeline blocks
+/// (and `pipeline`, the command line's whole-scene steps) subdivide and offset each
+/// connected component separately, reusing components whose input did not change (see
+/// docs/incremental.md); the geometry is the same, but the element order of such blocks'
+/// meshes differs from a one-shot `evaluate_scene`.
+class SceneEvaluator {
+ public:
+  SceneEvaluator(const ir::Module& module, bool is_incremental, PipelineOptions pipeline = {},
+                 std::string pipeline_name = {}, SourceRange pipeline_where = {});
+  ~SceneEvaluator();
+  SceneEvaluator(const SceneEvaluator&) = delete;
+  SceneEvaluator& operator=(const SceneEvaluator&) = delete;
+  /// The output meshes as `evaluate_scene` (then `run_pipeline`, if `pipeline.any()`)
+  /// returns them; unchanged entries are the same objects as in the previous call.
+  std::vector<std::shared_ptr<const OutputMesh>> evaluate(DiagnosticEngine& diags,
+                                                          StageTimings* timings = nullptr);
+  /// Drops every cached value that read parameter `param` (call after changing its value
+  /// in the module), and every value whose evaluation reported a diagnostic.
+  void invalidate(ir::NodeId param);
+  /// The counters since the last call, then resets them.
+  EvalCounters take_counters();
+
+ private:
+  struct PipelineMemosHolder;
+  std::unique_ptr<detail::Evaluator> impl_;
+  const ir::Module& module_;
+  std::vector<ir::NodeId> entries_;
+  std::vector<ir::NodeId> zippers_;
+  bool is_incremental_;
+  PipelineOptions pipeline_;
+  std::string pipeline_name_;
+  SourceRange pipeline_where_;
+  std::vector<std::shared_ptr<const OutputMesh>> pipeline_inputs_;
+  std::vector<std::shared_ptr<const OutputMesh>> pipeline_outputs_;
+  std::shared_ptr<PipelineMemosHolder> pipeline_memos_;
 };
 
 /// Evaluates every entry of `module.scene`. Returns one mesh per scene entry (entries that
