@@ -16,11 +16,13 @@
 
 #include "backend/evaluate.h"
 #include "backend/save.h"
+#include "backend/summary.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
 #include "ir/ir.h"
 #include "kernel/topology.h"
 #include "tools/fmt_command.h"
+#include "tools/summary_json.h"
 #ifdef NOMEC_HAVE_LSP
 #include "lsp/server.h"
 #endif
@@ -71,36 +73,11 @@ nlohmann::json diag_json(const nomec::SourceManager& sources, const nomec::Diagn
   return j;
 }
 
-double round6(double x) { return std::round(x * 1e6) / 1e6; }
-
 // `--emit summary`: one object per output mesh (kernel::topology of the built mesh).
 nlohmann::json summary_json(const std::string& path, const std::vector<nomec::backend::OutputMesh>& meshes) {
-  nlohmann::json out = {{"file", path}, {"meshes", nlohmann::json::array()}};
-  for (const auto& m : meshes) {
-    nomec::kernel::TopologyReport t = nomec::kernel::topology(m.mesh);
-    int32_t genus = 0;
-    for (const auto& c : t.components) genus += c.genus;
-    nomec::kernel::BoundingBox b = nomec::kernel::bounding_box(m.mesh);
-    nlohmann::json bbox = nullptr;
-    if (b.min.x <= b.max.x) {
-      bbox = {{"min", {round6(b.min.x), round6(b.min.y), round6(b.min.z)}},
-              {"max", {round6(b.max.x), round6(b.max.y), round6(b.max.z)}}};
-    }
-    out["meshes"].push_back({{"name", m.name},
-                             {"vertices", t.vertex_count},
-                             {"edges", t.edge_count},
-                             {"faces", t.face_count},
-                             {"euler", t.euler_characteristic},
-                             {"orientable", t.is_orientable},
-                             {"border_loops", t.border_loop_count},
-                             {"genus", genus},
-                             {"components", t.components.size()},
-                             {"closed", t.is_closed},
-                             {"curves", m.curve_count},
-                             {"bounding_box", bbox},
-                             {"position_hash", fmt::format("{:016x}", nomec::kernel::position_hash(m.mesh, 1e-3))}});
-  }
-  return out;
+  std::vector<nomec::backend::MeshSummary> s;
+  for (const auto& m : meshes) s.push_back(nomec::backend::summarize(m));
+  return nomec::tools::summary_json(path, s);
 }
 
 }  // namespace
