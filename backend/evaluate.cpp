@@ -56,6 +56,8 @@ struct Collected {
   std::vector<uint8_t> has_color;
   std::vector<std::string> face_paths;
   int32_t curve_count = 0;
+  // A pipeline block's result: `soup` already built (lets an incremental entry reuse it).
+  std::shared_ptr<const kernel::Mesh> built;
 };
 
 constexpr glm::vec3 kDefaultColor{0.8f, 0.8f, 0.8f};
@@ -303,7 +305,7 @@ std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mes
   std::vector<const kernel::Mesh*> outs;
   for (const auto& e : memo.entries) outs.push_back(&e.output);
   if (outs.size() == 1) return memo.entries[0].output;
-  return kernel::concatenate(outs);
+  return kernel::append_disjoint(outs);
 }
 
 }  // namespace
@@ -455,6 +457,9 @@ class Evaluator {
   bool scene_entry(ir::NodeId id, OutputMesh& out) {
     const ir::Node& n = m_.node(id);
     Collected c;
+    entry_out_ = is_incremental_ ? &c : nullptr;
+    entry_parts_.clear();
+    entry_is_pure_ = true;
     if (n.kind == ir::NodeKind::Instance) {
       instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
     } else if (n.kind == ir::NodeKind::Pipeline) {
@@ -467,9 +472,13 @@ class Evaluator {
       Collected m;
       mesh(id, std::nullopt, short_name(n.name), ir::NodeId::None(), m);
       transform_into(c, m, glm::dmat4(1.0));
+      entry_is_pure_ = false;
     } else {
+      entry_out_ = nullptr;
       return false;
     }
+    entry_out_ = nullptr;
+    const bool can_assemble = is_incremental_ && entry_is_pure_ && deleted_.empty() && !entry_parts_.empty();
     apply_deletes(c);
     out.name = short_name(n.name);
     out.scene_node = id;
@@ -478,6 +487,12 @@ class Evaluator {
       return false;
     }
     out.soup = finish(c);
+    if (can_assemble) {
+      if (auto m = assemble(out.soup)) {
+        out.mesh = std::move(*m);
+        return true;
+      }
+    }
     auto built = kernel::build_mesh(out.soup);
     if (!built) {
       report(built.error(), out.soup, n.range, out.name);
@@ -1160,6 +1175,7 @@ class Evaluator {
     glm::dmat4 t;
     std::optional<glm::vec3> color;
     Collected part;
+    std::optional<kernel::Mesh> mesh;  // `part` built, when an entry reassembles from parts
   };
 
   void place(ir::NodeId tid, const glm::dmat4& t, const std::optional<glm::vec3>& color,
@@ -1177,16 +1193,47 @@ class Evaluator {
     auto it = placements_.find(key);
     if (it != placements_.end() && it->second.value.t == t && it->second.value.color == color) {
       note(it->second.deps);
-      transform_into(out, it->second.value.part, glm::dmat4(1.0));
-      return;
+    } else {
+      open_frame();
+      Collected part;
+      place_leaf(tid, t, color, path, inst, part);
+      Deps d = close_frame();
+      recomputed();
+      it = placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(part), {}}, std::move(d)}).first;
     }
-    open_frame();
-    Collected part;
-    place_leaf(tid, t, color, path, inst, part);
-    Deps d = close_frame();
-    recomputed();
-    transform_into(out, part, glm::dmat4(1.0));
-    placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(part)}, std::move(d)});
+    transform_into(out, it->second.value.part, glm::dmat4(1.0));
+    if (&out == entry_out_) entry_parts_.push_back({&it->second.value, nullptr});
+  }
+
+  // The mesh of a scene entry made only of placed leaves, as the disjoint union of the
+  // leaves' meshes (each built once and kept with its placement) instead of building the
+  // whole entry again; nullopt if a leaf does not build (the caller builds the whole soup
+  // and reports the error at the right face).
+  std::optional<kernel::Mesh> assemble(const kernel::PolygonSoup& whole) {
+    std::vector<const kernel::Mesh*> meshes;
+    for (const EntryPart& part : entry_parts_) {
+      if (part.mesh != nullptr) {
+        meshes.push_back(part.mesh);
+        continue;
+      }
+      Placement* p = part.placement;
+      if (!p->mesh) {
+        kernel::PolygonSoup s = p->part.soup;
+        if (!s.names.empty()) s.names.resize(s.positions.size());
+        auto built = kernel::build_mesh(s);
+        if (!built) return std::nullopt;
+        p->mesh = std::move(*built);
+      }
+      meshes.push_back(&*p->mesh);
+    }
+    kernel::Mesh m = kernel::append_disjoint(meshes);
+    if (m.vertex_count() != whole.vertex_count() || m.face_count() != whole.face_count()) return std::nullopt;
+    // Faces and vertices are in the soup's order, so the soup's attributes apply as they are.
+    kernel::MeshAccess::face_colors(m) = whole.face_colors;
+    kernel::MeshAccess::face_sources(m) = whole.face_sources;
+    if (whole.face_sources.empty()) kernel::MeshAccess::face_sources(m).assign(whole.face_count(), kernel::FaceSource{});
+    kernel::MeshAccess::names(m) = whole.names;
+    return m;
   }
 
   void place_leaf(ir::NodeId tid, const glm::dmat4& t, const std::optional<glm::vec3>& color,
@@ -1266,6 +1313,18 @@ class Evaluator {
     }
     const std::optional<Collected>& res = it->second.value;
     if (!res) return;
+    const bool is_plain = !color && t == glm::dmat4(1.0);
+    if (&out == entry_out_) {
+      if (is_plain && res->built) {
+        entry_parts_.push_back({nullptr, res->built.get()});
+      } else {
+        entry_is_pure_ = false;
+      }
+    }
+    if (is_plain) {
+      transform_into(out, *res, t);
+      return;
+    }
     Collected c = *res;
     if (color) {
       for (size_t f = 0; f < c.has_color.size(); ++f) {
@@ -1365,6 +1424,7 @@ class Evaluator {
     Collected c;
     c.soup = kernel::to_soup(result);
     c.curve_count = curves;
+    if (is_incremental_) c.built = std::make_shared<const kernel::Mesh>(std::move(result));
     bool any_color = std::any_of(colored.begin(), colored.end(), [](uint8_t b) { return b != 0; });
     c.has_color.assign(c.soup.face_count(), any_color ? 1 : 0);
     if (!any_color) c.soup.face_colors.assign(c.soup.face_count(), kDefaultColor);
@@ -1604,6 +1664,15 @@ class Evaluator {
   int ref_depth_ = 0;
   int32_t context_ = -1;        // the scene entry or block being evaluated (placement keys)
   std::vector<int32_t> chain_;  // instances, groups and blocks on the way to the current leaf
+  // The scene entry being collected (incremental only): its faces, the placements appended
+  // to it in order, and whether it holds anything else (then it is built whole).
+  Collected* entry_out_ = nullptr;
+  struct EntryPart {
+    Placement* placement;       // a placed leaf, or
+    const kernel::Mesh* mesh;   // a block's built result
+  };
+  std::vector<EntryPart> entry_parts_;
+  bool entry_is_pure_ = true;
   // Memoized values (see "Memoization" above).
   std::unordered_map<int32_t, std::vector<int32_t>> expr_params_;
   std::unordered_map<int32_t, Memo<ir::EvalResult>> expr_memo_;
@@ -1655,9 +1724,7 @@ std::vector<ir::NodeId> scene_entries(const ir::Module& module) {
 
 // Per-step component memos of the whole-scene pipeline (incremental evaluation only).
 struct PipelineMemos {
-  ComponentMemo subdivide;
-  ComponentMemo offset;
-  ComponentMemo subdivide_after;
+  ComponentMemo components;
 };
 
 std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& meshes, const PipelineOptions& o,
@@ -1698,11 +1765,10 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
     return {};
   }
   kernel::Mesh mesh = std::move(merged->mesh);
-  // Runs one step on `mesh`, per connected component when `memo` is given.
-  auto run = [&](const Step& st, ComponentMemo* memo, std::string_view flag, double* ms) -> bool {
+  // Runs one step on `mesh`.
+  auto run = [&](const Step& st, std::string_view flag, double* ms) -> bool {
     auto t1 = Clock::now();
-    auto r = memo ? run_steps_by_component(mesh, {st}, *memo, kernel_ops)
-                  : run_steps(std::move(mesh), {st}, kernel_ops);
+    auto r = run_steps(std::move(mesh), {st}, kernel_ops);
     if (timings) *ms += ms_since(t1);
     if (auto* failed = std::get_if<StepFailure>(&r)) {
       fail(flag, failed->error);
@@ -1711,24 +1777,56 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
     mesh = std::move(std::get<kernel::Mesh>(r));
     return true;
   };
-  auto subdivide = [&](int32_t levels, std::string_view flag, ComponentMemo* memo) -> bool {
+  auto subdivide = [&](int32_t levels, std::string_view flag) -> bool {
     if (levels <= 0) return true;
     say("subdivide");
     Step st;
     st.subdivision.levels = levels;
     st.subdivision.vertex_rule = o.rule;
     st.subdivision.has_parent_maps = false;
-    return run(st, memo, flag, timings ? &timings->subdivide_ms : nullptr);
+    return run(st, flag, timings ? &timings->subdivide_ms : nullptr);
   };
-  if (!subdivide(o.subdivide_levels, "subdivide", memos ? &memos->subdivide : nullptr)) return {};
-  if (o.offset_height > 0) {
-    say("offset");
+  bool is_done = false;
+  if (memos != nullptr) {
+    // Incremental: every step at once per connected component, so an unchanged component
+    // is reused whole; on a failure the steps are redone one by one below, for the same
+    // diagnostics as a one-shot run.
+    std::vector<Step> steps;
     Step st;
-    st.kind = Step::Kind::Offset;
-    st.height = o.offset_height;
-    if (!run(st, memos ? &memos->offset : nullptr, "offset", timings ? &timings->offset_ms : nullptr)) return {};
+    st.subdivision.vertex_rule = o.rule;
+    st.subdivision.has_parent_maps = false;
+    st.subdivision.levels = o.subdivide_levels;
+    steps.push_back(st);
+    if (o.offset_height > 0) {
+      Step off;
+      off.kind = Step::Kind::Offset;
+      off.height = o.offset_height;
+      steps.push_back(off);
+    }
+    st.subdivision.levels = o.subdivide_after_levels;
+    steps.push_back(st);
+    say("subdivide");
+    auto t1 = Clock::now();
+    auto r = run_steps_by_component(mesh, steps, memos->components, kernel_ops);
+    if (timings) timings->subdivide_ms += ms_since(t1);
+    if (auto* m = std::get_if<kernel::Mesh>(&r)) {
+      mesh = std::move(*m);
+      is_done = true;
+    } else {
+      memos->components.entries.clear();
+    }
   }
-  if (!subdivide(o.subdivide_after_levels, "subdivide-after", memos ? &memos->subdivide_after : nullptr)) return {};
+  if (!is_done) {
+    if (!subdivide(o.subdivide_levels, "subdivide")) return {};
+    if (o.offset_height > 0) {
+      say("offset");
+      Step st;
+      st.kind = Step::Kind::Offset;
+      st.height = o.offset_height;
+      if (!run(st, "offset", timings ? &timings->offset_ms : nullptr)) return {};
+    }
+    if (!subdivide(o.subdivide_after_levels, "subdivide-after")) return {};
+  }
   OutputMesh out;
   out.name = std::string(name);
   out.soup = kernel::to_soup(mesh);
@@ -1786,6 +1884,7 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
   std::vector<const OutputMesh*> parts;
   for (const auto& m : out) parts.push_back(m.get());
   if (!pipeline_memos_) pipeline_memos_ = std::make_shared<PipelineMemosHolder>();
+
   std::vector<OutputMesh> done = pipeline_impl(parts, pipeline_, pipeline_name_, pipeline_where_, diags, timings, {},
                                                is_incremental_ ? &pipeline_memos_->memos : nullptr,
                                                impl_->counters.kernel_ops);

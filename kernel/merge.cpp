@@ -94,6 +94,76 @@ Mesh concatenate(std::span<const Mesh* const> meshes) {
   return built.has_value() ? std::move(*built) : Mesh();
 }
 
+Mesh append_disjoint(std::span<const Mesh* const> meshes) {
+  using A = MeshAccess;
+  Mesh out;
+  bool has_names = false, has_vertex_sharpness = false, has_sharpness = false, has_colors = false;
+  size_t nv = 0, ne = 0, nf = 0;
+  for (const Mesh* m : meshes) {
+    has_names = has_names || m->has_vertex_names();
+    has_vertex_sharpness = has_vertex_sharpness || !A::vertex_sharpness(*m).empty();
+    has_sharpness = has_sharpness || m->has_sharpness();
+    has_colors = has_colors || (m->has_face_colors() && m->face_count() > 0);
+    nv += static_cast<size_t>(m->vertex_count());
+    ne += static_cast<size_t>(m->edge_count());
+    nf += static_cast<size_t>(m->face_count());
+  }
+  A::positions(out).resize(nv);
+  A::vertex_edges(out).resize(nv);
+  A::edge_vertices(out).resize(2 * ne);
+  A::use_faces(out).resize(2 * ne);
+  A::next(out).resize(2 * ne);
+  A::prev(out).resize(2 * ne);
+  A::edge_flags(out).resize(ne);
+  A::face_uses(out).resize(nf);
+  A::face_sources(out).resize(nf);
+  if (has_names) A::names(out).resize(nv);
+  if (has_vertex_sharpness) A::vertex_sharpness(out).assign(nv, 0.0f);
+  if (has_sharpness) A::sharpness(out).assign(ne, 0.0f);
+  if (has_colors) A::face_colors(out).assign(nf, glm::vec3(1.0f));
+  // Copies `from` into `to` at `at`, adding `by` to every valid index.
+  auto shifted = [](const auto& from, auto& to, size_t at, int32_t by) {
+    for (size_t i = 0; i < from.size(); ++i) {
+      const int32_t x = from[i].index;
+      to[at + i].index = x >= 0 ? x + by : x;
+    }
+  };
+  size_t vb = 0, eb = 0, fb = 0;
+  for (const Mesh* m : meshes) {
+    const size_t V = static_cast<size_t>(m->vertex_count()), E = static_cast<size_t>(m->edge_count()),
+                 F = static_cast<size_t>(m->face_count());
+    const int32_t v0 = static_cast<int32_t>(vb), e0 = static_cast<int32_t>(eb), f0 = static_cast<int32_t>(fb);
+    std::copy(m->positions().begin(), m->positions().end(), A::positions(out).begin() + vb);
+    shifted(A::vertex_edges(*m), A::vertex_edges(out), vb, e0);
+    if (m->has_vertex_names()) {
+      for (size_t v = 0; v < V; ++v) {
+        A::names(out)[vb + v] = m->vertex_name(VertexId(static_cast<int32_t>(v)));
+      }
+    }
+    const auto& vs = A::vertex_sharpness(*m);
+    std::copy(vs.begin(), vs.end(), A::vertex_sharpness(out).begin() + vb);
+    shifted(A::edge_vertices(*m), A::edge_vertices(out), 2 * eb, v0);
+    shifted(A::use_faces(*m), A::use_faces(out), 2 * eb, f0);
+    shifted(A::next(*m), A::next(out), 2 * eb, 2 * e0);
+    shifted(A::prev(*m), A::prev(out), 2 * eb, 2 * e0);
+    std::copy(A::edge_flags(*m).begin(), A::edge_flags(*m).end(), A::edge_flags(out).begin() + eb);
+    const auto& es = A::sharpness(*m);
+    std::copy(es.begin(), es.end(), A::sharpness(out).begin() + eb);
+    shifted(A::face_uses(*m), A::face_uses(out), fb, 2 * e0);
+    const auto& fs = A::face_sources(*m);
+    std::copy(fs.begin(), fs.end(), A::face_sources(out).begin() + fb);
+    if (has_colors) {
+      const auto& fc = A::face_colors(*m);
+      std::copy(fc.begin(), fc.end(), A::face_colors(out).begin() + fb);
+    }
+    vb += V;
+    eb += E;
+    fb += F;
+  }
+  A::link_borders(out);
+  return out;
+}
+
 Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
   using Kind = KernelError::Kind;
   if (!(options.tolerance >= 0.0)) {

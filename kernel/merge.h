@@ -48,4 +48,10 @@ Result<MergeResult> merge(std::span<const Mesh* const> meshes, const MergeOption
 /// preceding meshes; face sources and colours are kept). Never fails.
 Mesh concatenate(std::span<const Mesh* const> meshes);
 
+/// The disjoint union of `meshes` made by offsetting their arrays, without rebuilding: the
+/// same vertices, faces and topology as `concatenate`, and each part keeps its own edge
+/// numbering (offset by the preceding parts' edge counts). Linear with a small constant;
+/// used to reassemble a scene from cached parts. Vertex normals are dropped.
+Mesh append_disjoint(std::span<const Mesh* const> meshes);
+
 }  // namespace nomec::kernel

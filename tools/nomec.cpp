@@ -23,6 +23,7 @@
 #include "kernel/topology.h"
 #include "tools/fmt_command.h"
 #include "tools/summary_json.h"
+#include "tools/what_if.h"
 #ifdef NOMEC_HAVE_LSP
 #include "lsp/server.h"
 #endif
@@ -166,6 +167,10 @@ int main(int argc, char** argv) {
   app.add_option("--time", time, "Value of `$time` in expressions (default 0)");
   app.add_option("--frame", frame, "Value of `$frame` in expressions (default 0)");
   app.add_flag("-v,--verbose", verbose, "Report the dialect used and summary counts");
+  std::string what_if_text;
+  app.add_option("--what-if", what_if_text,
+                 "Move one slider (bank.param=value) after a full build and print, as JSON, what "
+                 "the incremental update re-evaluated and its time next to the full build's");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -181,7 +186,18 @@ int main(int argc, char** argv) {
   }
   pipeline.rule = rule == "derose" ? nomec::kernel::VertexRule::DeRose : nomec::kernel::VertexRule::CatmullClark;
   const bool emit_mesh = emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary";
-  if (!emit_mesh && (pipeline.any() || (!output.empty() && emit != "nome") || stl_ascii || time_report)) {
+  nomec::tools::WhatIf what_if;
+  if (!what_if_text.empty()) {
+    std::string problem = nomec::tools::parse_what_if(what_if_text, what_if);
+    if (problem.empty() && (!emit.empty() || files.size() != 1)) {
+      problem = "--what-if takes exactly one input file and no --emit";
+    }
+    if (!problem.empty()) {
+      std::cerr << "nomec: " << problem << "\n";
+      return 2;
+    }
+  }
+  if (!emit_mesh && ((pipeline.any() && what_if_text.empty()) || (!output.empty() && emit != "nome") || stl_ascii || time_report)) {
     std::cerr << "nomec: -o, --stl-ascii, --time-report, --merge, --subdivide, --offset and "
                  "--subdivide-after need --emit stl|obj|ply|summary\n";
     return 2;
@@ -363,6 +379,13 @@ int main(int argc, char** argv) {
       }
     } else if (emit_mesh && file_errors == 0) {
       errors += emit_meshes(path, sources, result.module, check_ms);
+    } else if (!what_if_text.empty() && file_errors == 0) {
+      nomec::DiagnosticEngine geo;
+      errors += nomec::tools::run_what_if(path, std::move(result.module), what_if, pipeline,
+                                          allow_out_of_range, geo, std::cout);
+      geo.sort_and_dedupe();
+      for (const auto& d : geo.diagnostics()) std::cerr << nomec::render_text(sources, d, werror, use_color);
+      errors += geo.error_count();
     }
   }
   if (format == "json") {

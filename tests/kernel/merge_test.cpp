@@ -221,3 +221,40 @@ TEST(Merge, JoinDuplicatingAFaceIsRefused) {
 
 }  // namespace
 }  // namespace nomec::kernel
+
+namespace nomec::kernel {
+namespace {
+
+// append_disjoint gives the same mesh as concatenate (which rebuilds from a soup): same
+// positions, faces in loop order, Möbius edges, borders, sharpness and sources.
+TEST(AppendDisjoint, EqualsConcatenateOnMixedParts) {
+  PolygonSoup mobius = testing::grid_soup(6, 2, Glue::Mobius);
+  PolygonSoup cube = testing::cube_soup();
+  cube.face_sources.assign(cube.face_count(), FaceSource{7, 2});
+  Mesh a = build(mobius), b = build(cube), c = build(testing::grid_soup(3, 3, Glue::None));
+  b.set_sharpness(EdgeId(0), 2.0f);
+  c.set_vertex_sharpness(VertexId(1), 1.5f);
+  std::vector<const Mesh*> parts = {&a, &b, &c};
+  Mesh fast = append_disjoint(parts);
+  Mesh slow = concatenate(parts);
+  PolygonSoup fs = to_soup(fast), ss = to_soup(slow);
+  EXPECT_EQ(fs.positions, ss.positions);
+  EXPECT_EQ(fs.face_sizes, ss.face_sizes);
+  EXPECT_EQ(fs.face_vertices, ss.face_vertices);
+  EXPECT_EQ(fs.face_sources, ss.face_sources);
+  ASSERT_EQ(fs.creases.size(), 1u);
+  EXPECT_EQ(fs.creases[0].sharpness, 2.0f);
+  ASSERT_EQ(fs.corners.size(), 1u);
+  EXPECT_EQ(fs.corners[0].vertex, a.vertex_count() + b.vertex_count() + 1);
+  TopologyReport tf = topology(fast), ts = topology(slow);
+  EXPECT_EQ(tf.edge_count, ts.edge_count);
+  EXPECT_TRUE(fast.has_mobius_edges());
+  EXPECT_TRUE(slow.has_mobius_edges());
+  EXPECT_EQ(tf.border_loop_count, ts.border_loop_count);
+  EXPECT_EQ(tf.components.size(), 3u);
+  EXPECT_EQ(fast.border_loops().size(), slow.border_loops().size());
+  EXPECT_FALSE(tf.is_orientable);
+}
+
+}  // namespace
+}  // namespace nomec::kernel
