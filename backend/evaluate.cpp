@@ -107,6 +107,42 @@ void append_soup(Collected& out, const kernel::PolygonSoup& part, const glm::dma
   }
 }
 
+// `append_soup` of a whole collection with the identity transform (what reassembling a
+// scene entry from cached parts does for every part), in bulk copies.
+void append_collected(Collected& out, const Collected& c) {
+  const kernel::PolygonSoup& part = c.soup;
+  kernel::PolygonSoup& s = out.soup;
+  const int32_t base = s.vertex_count();
+  const bool part_named =
+      std::any_of(part.names.begin(), part.names.end(), [](const std::string& n) { return !n.empty(); });
+  if (!s.names.empty() || part_named) {
+    s.names.resize(static_cast<size_t>(base));
+    s.names.insert(s.names.end(), part.names.begin(), part.names.end());
+    s.names.resize(static_cast<size_t>(base) + part.positions.size());
+  }
+  s.positions.insert(s.positions.end(), part.positions.begin(), part.positions.end());
+  s.face_sizes.insert(s.face_sizes.end(), part.face_sizes.begin(), part.face_sizes.end());
+  const size_t at = s.face_vertices.size();
+  s.face_vertices.insert(s.face_vertices.end(), part.face_vertices.begin(), part.face_vertices.end());
+  for (size_t i = at; i < s.face_vertices.size(); ++i) s.face_vertices[i] += base;
+  const size_t faces = part.face_sizes.size();
+  if (part.face_sources.empty()) {
+    s.face_sources.insert(s.face_sources.end(), faces, kernel::FaceSource{});
+  } else {
+    s.face_sources.insert(s.face_sources.end(), part.face_sources.begin(), part.face_sources.end());
+  }
+  if (part.face_colors.empty()) {
+    s.face_colors.insert(s.face_colors.end(), faces, kDefaultColor);
+  } else {
+    s.face_colors.insert(s.face_colors.end(), part.face_colors.begin(), part.face_colors.end());
+  }
+  out.has_color.insert(out.has_color.end(), c.has_color.begin(), c.has_color.end());
+  out.face_paths.insert(out.face_paths.end(), c.face_paths.begin(), c.face_paths.end());
+  for (const auto& k : part.creases) s.creases.push_back({k.a + base, k.b + base, k.sharpness});
+  for (const auto& k : part.corners) s.corners.push_back({k.vertex + base, k.sharpness});
+  out.curve_count += c.curve_count;
+}
+
 bool is_soup_edge(const kernel::PolygonSoup& s, int32_t a, int32_t b) {
   size_t at = 0;
   for (int32_t f = 0; f < s.face_count(); ++f) {
@@ -1223,6 +1259,9 @@ class Evaluator {
         auto built = kernel::build_mesh(s);
         if (!built) return std::nullopt;
         p->mesh = std::move(*built);
+        // The entry's soup supplies names and colours for the whole union (below).
+        kernel::MeshAccess::names(*p->mesh).clear();
+        kernel::MeshAccess::face_colors(*p->mesh).clear();
       }
       meshes.push_back(&*p->mesh);
     }
@@ -1278,6 +1317,10 @@ class Evaluator {
   }
 
   void transform_into(Collected& out, const Collected& c, const glm::dmat4& t) {
+    if (t == glm::dmat4(1.0)) {
+      append_collected(out, c);
+      return;
+    }
     const int32_t face_base = out.soup.face_count();
     const kernel::PolygonSoup& s = c.soup;
     append_soup(out, s, t, std::nullopt, true);

@@ -305,14 +305,47 @@ def case_progress(nomec, _admesh, _corpus):
     check(visible == err, "apart from the erased progress line, the terminal shows what the pipe shows")
 
 
+def case_what_if(nomec, _admesh, _corpus):
+    funnel = src("examples/funnel_cube.nome")
+    code, out, err = run(nomec, ["--what-if", "fp.z=-0.5", funnel])
+    check(code == 0, f"--what-if exits 0 (got {code}: {err})")
+    j = json.loads(out) if code == 0 else {}
+    check(j.get("parameter") == "fp.z" and j.get("old_value") == -0.8 and j.get("value") == -0.5,
+          f"--what-if names the parameter and both values: {j.get('parameter')} {j.get('old_value')} {j.get('value')}")
+    check(j.get("nodes_in_graph") == 24, f"24 nodes in the funnel cube's graph, got {j.get('nodes_in_graph')}")
+    check(j.get("nodes_reevaluated") == 14, f"fp.z re-evaluates 14 nodes, got {j.get('nodes_reevaluated')}")
+    check(j.get("generators_rerun") == 0, "fp.z re-runs no generator")
+    check(j.get("instances_retransformed") == 6, "fp.z re-transforms the six instances")
+    check(j.get("changed_outputs") == ["cf"], f"only `cf` changes, got {j.get('changed_outputs')}")
+    check(j.get("full_build_ms", 0) > 0 and "update_ms" in j, "both times are reported")
+    # The summary after the move equals a fresh build with -D.
+    fresh = summary(nomec, ["-D", "fp.z=-0.5", funnel])
+    check(j.get("summary") == fresh, "the what-if summary equals a fresh -D build's")
+    # Pipeline flags are honoured: merge + subdivide + offset run per component.
+    code, out, err = run(nomec, ["--what-if", "fp.n=5", "--merge", "--subdivide", "1", "--offset", "0.02", funnel])
+    check(code == 0, f"--what-if with pipeline flags exits 0 (got {code}: {err})")
+    j = json.loads(out) if code == 0 else {}
+    check(j.get("generators_rerun") == 1 and j.get("kernel_ops_rerun", 0) >= 3,
+          f"fp.n re-runs the funnel once and the kernel steps: {j.get('generators_rerun')} {j.get('kernel_ops_rerun')}")
+    fresh = summary(nomec, ["-D", "fp.n=5", "--merge", "--subdivide", "1", "--offset", "0.02", funnel])
+    check(j.get("summary") == fresh, "the pipeline what-if summary equals a fresh -D build's")
+    # Refusals: unknown slider (exit 1, JSON error), malformed argument (usage, exit 2).
+    code, out, err = run(nomec, ["--what-if", "fp.nope=1", funnel])
+    check(code == 1 and "no slider `fp.nope`" in json.loads(out or "{}").get("error", ""),
+          f"unknown slider is refused (exit {code})")
+    code, _, err = run(nomec, ["--what-if", "fp.z", funnel])
+    check(code == 2 and "bank.param=value" in err, f"malformed --what-if is a usage error (exit {code})")
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress"])
+    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress", "what_if"])
     ap.add_argument("--nomec", required=True)
     ap.add_argument("--admesh", default="admesh")
     ap.add_argument("--corpus", default=os.path.join(ROOT, "..", "shared", "corpus"))
     a = ap.parse_args()
-    cases = {"outputs": case_outputs, "admesh": case_admesh, "save": case_save, "progress": case_progress}
+    cases = {"outputs": case_outputs, "admesh": case_admesh, "save": case_save, "progress": case_progress,
+             "what_if": case_what_if}
     cases[a.case](a.nomec, a.admesh, a.corpus)
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")
