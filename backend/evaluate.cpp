@@ -1105,7 +1105,9 @@ class Evaluator {
       local_c.has_color.push_back(fc || color ? 1 : 0);
       std::string fname = short_name(fn.name);
       std::string prefix = path.empty() ? std::string() : path + ".";
-      local_c.face_paths.push_back(fmt::format("{}{}|{}{}", prefix, fname, prefix, soup.face_count() - 1));
+      // Face paths serve only `delete` edits; without any, they stay empty (cheap to copy).
+      local_c.face_paths.push_back(deleted_.empty() ? std::string()
+                                                    : fmt::format("{}{}|{}{}", prefix, fname, prefix, soup.face_count() - 1));
     }
     for (ir::NodeId k : kids_[mesh_id.index]) {
       const ir::Node& kn = m_.node(k);
@@ -1295,7 +1297,7 @@ class Evaluator {
         const int32_t face_base = out.soup.face_count();
         append_soup(out, s, t, color, false);
         for (int32_t f = 0; f < s.face_count(); ++f) {
-          out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);  // 2016 `fun2_5`
+          if (!deleted_.empty()) out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);  // 2016 `fun2_5`
         }
         out.curve_count += static_cast<int32_t>(g->curves.size());
         return;
@@ -1307,7 +1309,7 @@ class Evaluator {
         const int32_t face_base = out.soup.face_count();
         append_soup(out, *sw, t, color, false);
         for (int32_t f = 0; f < sw->face_count(); ++f) {
-          out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);
+          if (!deleted_.empty()) out.face_paths[face_base + f] = fmt::format("{}.{}", path, f);
         }
         return;
       }
