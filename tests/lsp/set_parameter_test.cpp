@@ -1,0 +1,99 @@
+// In-process transcript of the custom request nome/setParameter: moving `fp.z` of the
+// funnel cube answers the new summary (the same as a fresh build with -D) with the work
+// done (six instances re-transformed, no generator), a second move at the same version is
+// incremental, the 2016 `fp_n` spelling runs the funnel once, and unknown sliders, values
+// out of range, documents with errors and malformed parameters are InvalidParams errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "backend/session.h"
+#include "lsp_client.h"
+
+namespace nomec::lsp::test {
+namespace {
+
+const char* kUri = "file:///tmp/lsp-test/funnel_cube.nome";
+
+std::string funnel_cube() {
+  std::ifstream in(std::string(NOMEC_SOURCE_DIR) + "/examples/funnel_cube.nome", std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+json set(Client& c, const std::string& uri, const std::string& parameter, json value) {
+  return c.request("nome/setParameter", {{"uri", uri}, {"parameter", parameter}, {"value", value}});
+}
+
+TEST(LspSetParameter, MovesASliderAndAnswersTheSummary) {
+  Client c;
+  c.initialize();
+  c.open(kUri, funnel_cube(), 1);
+  EXPECT_TRUE(c.diagnostics(kUri, 1)["diagnostics"].empty());
+
+  json r = set(c, kUri, "fp.z", -0.5);
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  const json& res = r["result"];
+  EXPECT_EQ(res["parameter"], "fp.z");
+  EXPECT_EQ(res["version"], 1);
+  EXPECT_EQ(res["nodesInGraph"], 24);
+  EXPECT_EQ(res["nodesReevaluated"], 14);
+  EXPECT_EQ(res["generatorsRerun"], 0);
+  EXPECT_EQ(res["instancesRetransformed"], 6);
+  EXPECT_EQ(res["changedOutputs"], json::array({"cf"}));
+  ASSERT_EQ(res["meshes"].size(), 1u);
+  const json& mesh = res["meshes"][0];
+  EXPECT_EQ(mesh["name"], "cf");
+  EXPECT_EQ(mesh["faces"], 48);
+  EXPECT_EQ(mesh["bounding_box"]["max"][2], 0.5);  // the funnels' rims moved to z = ±0.5
+
+  // A fresh build with fp.z = -0.5 has the same summary, position hash included.
+  {
+    SourceManager sources;
+    DiagnosticEngine diags;
+    CheckOptions o;
+    o.overrides = {{"fp.z", -0.5}};
+    CheckResult fresh = check_source(sources, "f.nome", funnel_cube(), o, diags);
+    backend::Session s(std::move(fresh.module));
+    s.build(diags);
+    EXPECT_EQ(mesh["position_hash"], fmt::format("{:016x}", s.summary()[0].position_hash));
+  }
+
+  // The next move at the same version reuses the session: the 2016 spelling of fp.n
+  // re-runs the funnel once.
+  json n = set(c, kUri, "fp_n", 5);
+  ASSERT_TRUE(n.contains("result")) << n.dump(2);
+  EXPECT_EQ(n["result"]["parameter"], "fp.n");
+  EXPECT_EQ(n["result"]["generatorsRerun"], 1);
+  EXPECT_EQ(n["result"]["meshes"][0]["faces"], 30);
+  EXPECT_EQ(n["result"]["meshes"][0]["bounding_box"]["max"][2], 0.5);  // fp.z stays moved
+}
+
+TEST(LspSetParameter, RefusesBadRequests) {
+  Client c;
+  c.initialize();
+  c.open(kUri, funnel_cube(), 1);
+  c.diagnostics(kUri, 1);
+  json unknown = set(c, kUri, "fp.nope", 1);
+  ASSERT_TRUE(unknown.contains("error")) << unknown.dump();
+  EXPECT_EQ(unknown["error"]["code"], -32602);
+  EXPECT_NE(unknown["error"]["message"].get<std::string>().find("no slider `fp.nope`"), std::string::npos);
+  json range = set(c, kUri, "fp.n", 42);
+  ASSERT_TRUE(range.contains("error")) << range.dump();
+  EXPECT_NE(range["error"]["message"].get<std::string>().find("outside the range [3, 10]"), std::string::npos);
+  json malformed = c.request("nome/setParameter", {{"uri", kUri}, {"parameter", "fp.n"}, {"value", "five"}});
+  ASSERT_TRUE(malformed.contains("error")) << malformed.dump();
+  EXPECT_EQ(malformed["error"]["code"], -32602);
+
+  const char* broken = "file:///tmp/lsp-test/broken.nome";
+  c.open(broken, "bank fp\n  set n 8 3 10 1\nendbank\nfunnel f ({expr $fp_q} 1 0.2 0.5) endfunnel\n", 1);
+  c.diagnostics(broken, 1);
+  json err = set(c, broken, "fp.n", 4);
+  ASSERT_TRUE(err.contains("error")) << err.dump();
+  EXPECT_NE(err["error"]["message"].get<std::string>().find("the document has errors"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nomec::lsp::test
