@@ -8,7 +8,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "backend/session.h"
+#include "frontend/check/check.h"
 #include "lsp_client.h"
 
 namespace nomec::lsp::test {
