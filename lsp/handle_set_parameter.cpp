@@ -54,7 +54,7 @@ json set_parameter(Context& ctx) {
   }
   DiagnosticEngine diags;
   if (it == g_sessions.end()) {
-    Held h{uri, a->version, a, std::make_unique<backend::Session>(a->result.module)};
+    Held h{uri, a->version, a, std::make_unique<backend::Session>(a->module())};
     h.session->build(diags);
     g_sessions.insert(g_sessions.begin(), std::move(h));
     if (g_sessions.size() > kMaxSessions) g_sessions.pop_back();
