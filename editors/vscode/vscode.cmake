@@ -27,8 +27,3 @@ endif()
 # `npm run package` recompiles out/, which the other tests read: never at the same time.
 set_tests_properties(vscode_setup vscode_grammar vscode_e2e vscode_package PROPERTIES
   RESOURCE_LOCK vscode_out LABELS vscode)
-# FIXME(issue 5): enable once `nomec --lsp` answers hover, definition, references and
-# formatting. Today the server passes initialize, diagnostics on open (ranges, codes, UTF-16
-# columns), incremental edits and shutdown/exit, and the test fails on those four features
-# (run it by hand: node editors/vscode/out/test/e2e.test.js build/tools/nomec).
-set_tests_properties(vscode_e2e PROPERTIES DISABLED TRUE)

@@ -103,7 +103,9 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
       });
     return before;
   };
-  const versionOk = (p: { version?: number }) => p.version === undefined || p.version === version;
+  // The server stamps every publish with the document version it checked; waiting for this
+  // version (not for a delay) makes each wait see exactly the result of the last change.
+  const versionOk = (p: { version?: number }) => p.version === version;
   // Later steps need a session: without one they fail at once instead of timing out.
   const ready = () => assert.ok(capabilities, "no session: initialize failed");
 
@@ -171,12 +173,22 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
       ready();
       // VS Code only sends the request when the server advertises it.
       assert.ok(capabilities!.hoverProvider, "initialize advertises hoverProvider");
-      const at = locate(text, "instance fun1 fun", "$fp_z");
-      const hover = await session.request<Hover | null>("textDocument/hover", {
-        textDocument: { uri },
-        position: { line: at.start.line, character: at.start.character + 3 },
-      });
-      assert.ok(hover, "hover result for `$fp_z`");
+      // `$fp_z` is two names: the bank `fp` and its slider `z`. Each part hovers on its own,
+      // with the range of that part (what VS Code highlights), so the slider part shows the
+      // slider and the bank part the bank.
+      const token = locate(text, "instance fun1 fun", "$fp_z");
+      const part = (from: number, to: number) =>
+        Range.create(token.start.line, token.start.character + from, token.start.line, token.start.character + to);
+      const slider = part(4, 5);
+      const bank = part(1, 3);
+      const hoverAt = (character: number) =>
+        session.request<Hover | null>("textDocument/hover", {
+          textDocument: { uri },
+          position: { line: token.start.line, character },
+        });
+
+      const hover = await hoverAt(slider.start.character);
+      assert.ok(hover, "hover result for the `z` of `$fp_z`");
       const { kind, value } = hoverText(hover);
       assert.equal(kind, "markdown", "the client asked for markdown");
       // bank fp: set z -0.8 -1.5 -0.1 0.1
@@ -186,8 +198,24 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
       assert.match(value, number("-0.1"), `max -0.1 in: ${value}`);
       assert.match(value, /\bmin/i, `the word min in: ${value}`);
       assert.match(value, /\bmax/i, `the word max in: ${value}`);
+      assert.match(value, /`z`/, `the slider z in: ${value}`);
       assert.match(value, /\bfp\b/, `the bank fp in: ${value}`);
-      if (hover.range) assert.ok(contains(hover.range, at) && contains(at, hover.range), `hover range ${rangeKey(hover.range)} is the token ${rangeKey(at)}`);
+      assert.ok(hover.range, "a hover range, so VS Code highlights the hovered name");
+      assert.deepEqual(hover.range, slider, `hover range ${rangeKey(hover.range)} is the slider part \`z\``);
+
+      // The cursor just after the slider name (`$fp_z|`) still means the slider.
+      const after = await hoverAt(slider.end.character);
+      assert.ok(after, "hover just after `$fp_z`");
+      assert.deepEqual(after.range, slider);
+      assert.equal(hoverText(after).value, value);
+
+      // The bank part: the bank, not the slider.
+      const bankHover = await hoverAt(bank.start.character + 1);
+      assert.ok(bankHover, "hover result for the `fp` of `$fp_z`");
+      assert.ok(bankHover.range, "a hover range for the bank part");
+      assert.deepEqual(bankHover.range, bank, `hover range ${rangeKey(bankHover.range)} is the bank part \`fp\``);
+      assert.notEqual(hoverText(bankHover).value, value, "the bank part does not show the slider's hover");
+      assert.match(hoverText(bankHover).value, /\bfp\b/, `the bank fp in: ${hoverText(bankHover).value}`);
     });
 
     await t.test("didChange: fixing both errors clears the diagnostics", async () => {
@@ -271,10 +299,30 @@ test("nomec --lsp end to end", { timeout: 120000 }, async (t) => {
       const withoutDecl = await refs(decl, false);
       assert.deepEqual(withoutDecl.map((l) => rangeKey(l.range)).sort(), uses.map(rangeKey).sort());
 
+      // `$fp_z` is the bank `fp` and its slider `z`; references follow the part under the
+      // cursor and list that part of each use (what a rename of it would edit).
       const paramUses = allRanges(text, "$fp_z");
       assert.equal(paramUses.length, 6, "test setup: six uses of $fp_z");
-      const paramRefs = await refs(paramUses[4], false);
-      assert.deepEqual(paramRefs.map((l) => rangeKey(l.range)).sort(), paramUses.map(rangeKey).sort());
+      const shift = (r: Range, from: number, to: number) =>
+        Range.create(r.start.line, r.start.character + from, r.start.line, r.start.character + to);
+      const sliderParts = paramUses.map((r) => shift(r, 4, 5));
+      const setZ = locate(text, "set     z", "z");
+      const sliderRefs = await refs(sliderParts[4], false);
+      assert.deepEqual(sliderRefs.map((l) => rangeKey(l.range)).sort(), sliderParts.map(rangeKey).sort(), "the six `z` parts");
+      const sliderRefsDecl = await refs(sliderParts[4], true);
+      assert.deepEqual(
+        sliderRefsDecl.map((l) => rangeKey(l.range)).sort(),
+        [setZ, ...sliderParts].map(rangeKey).sort(),
+        "the six `z` parts and the `z` of `set z`"
+      );
+      // On the `$` or on `fp`: the bank, used by every `$fp_…` in the file.
+      const bankUses = ["$fp_n", "$fp_ro", "$fp_ratio", "$fp_h", "$fp_z"].flatMap((w) => allRanges(text, w)).map((r) => shift(r, 1, 3));
+      assert.equal(bankUses.length, 10, "test setup: ten `$fp_…` references");
+      for (const character of [paramUses[4].start.character, paramUses[4].start.character + 2]) {
+        const at = Range.create(paramUses[4].start.line, character, paramUses[4].start.line, character);
+        const bankRefs = await refs(at, false);
+        assert.deepEqual(bankRefs.map((l) => rangeKey(l.range)).sort(), bankUses.map(rangeKey).sort(), `the bank from ${rangeKey(at)}`);
+      }
     });
 
     await t.test("formatting: layout fixed, tokens and comments kept, idempotent", async () => {

@@ -107,7 +107,7 @@ export class LspSession {
     uri: string,
     after: number,
     accept: (diags: Diagnostic[], params: PublishDiagnosticsParams) => boolean,
-    timeoutMs = 10000
+    timeoutMs = 30000
   ): Promise<PublishDiagnosticsParams> {
     const deadline = Date.now() + timeoutMs;
     for (;;) {
@@ -139,7 +139,7 @@ export class LspSession {
   }
 
   // A request that fails the test instead of hanging when the server never answers.
-  async request<R>(method: string, params: unknown, timeoutMs = 10000): Promise<R> {
+  async request<R>(method: string, params: unknown, timeoutMs = 30000): Promise<R> {
     let timer: NodeJS.Timeout | undefined;
     const timeout = new Promise<never>((_, reject) => {
       timer = setTimeout(
