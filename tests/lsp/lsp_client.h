@@ -59,10 +59,16 @@ class Client {
     send({{"jsonrpc", "2.0"}, {"id", id}, {"method", method}, {"params", std::move(params)}});
     return id;
   }
-  json wait_response(const json& id, std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
+  /// Every wait below is event-driven (a condition variable signalled by each message the
+  /// server sends), so a passing test never sleeps. The bound only separates "hung" from
+  /// "slow": it must stay far above the time one analysis can take on a loaded shared machine
+  /// or under a sanitizer (each wait covers at most a few analyses), hence two minutes.
+  static constexpr std::chrono::milliseconds kHungServer = std::chrono::seconds(120);
+
+  json wait_response(const json& id, std::chrono::milliseconds timeout = kHungServer) {
     std::unique_lock lock(mu_);
     json found;
-    cv_.wait_for(lock, timeout, [&] {
+    bool answered = cv_.wait_for(lock, timeout, [&] {
       for (const json& m : messages_) {
         if (m.contains("id") && m["id"] == id && !m.contains("method")) {
           found = m;
@@ -71,6 +77,10 @@ class Client {
       }
       return false;
     });
+    if (!answered) {
+      ADD_FAILURE() << "no response to request " << id.dump() << " within " << timeout.count()
+                    << " ms: the server is hung";
+    }
     return found;
   }
   void notify(const std::string& method, json params = json::object()) {
@@ -95,7 +105,7 @@ class Client {
   /// The diagnostics published for `uri` at `version` (waits for them).
   json diagnostics(const std::string& uri, int version, bool with_geometry = false) {
     server_.wait_idle();
-    EXPECT_TRUE(server_.wait_for_diagnostics(uri, version, std::chrono::seconds(20), with_geometry))
+    EXPECT_TRUE(server_.wait_for_diagnostics(uri, version, kHungServer, with_geometry))
         << "no diagnostics for " << uri << " v" << version;
     std::lock_guard lock(mu_);
     auto it = last_diagnostics_.find(uri);
