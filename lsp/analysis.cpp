@@ -121,7 +121,8 @@ json diagnostic_json(const Analysis& a, const Diagnostic& d) {
   return j;
 }
 
-std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text) const {
+std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text,
+                                              ParseCache* cache) const {
   auto a = std::make_shared<Analysis>();
   a->uri = uri;
   a->version = version;
@@ -136,7 +137,14 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   } else {
     CheckOptions options;
     if (path) options.read_file = read_disk_file;
-    index::Analysis ia = index::analyze(path.value_or(uri), std::move(text), options, diags);
+    const size_t bytes = text.size();
+    index::Analysis ia = index::analyze(path.value_or(uri), std::move(text), options, diags, cache);
+    if (cache != nullptr) {
+      const ParseCache::Stats& s = cache->last_stats();
+      a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};
+    } else {
+      a->parse_stats = {1, 1, bytes};
+    }
     a->sources_ptr = std::move(ia.sources);
     a->file = ia.file;
     a->check = std::move(ia.check);

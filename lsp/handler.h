@@ -18,6 +18,7 @@
 #include "frontend/diagnostics/diagnostic.h"
 #include "frontend/index/index.h"
 #include "frontend/source/source_manager.h"
+#include "lsp/server.h"
 #include "lsp/text.h"
 
 namespace nomec::lsp {
@@ -55,6 +56,7 @@ struct Analysis {
   std::vector<Diagnostic> diagnostics;
   json diagnostics_json = json::array();
   bool too_large = false;  // not analysed: over ServerOptions::max_document_bytes
+  ParseStats parse_stats;  // how the document's text was parsed (all of it without a cache)
   LineIndex lines;         // over sources.text(file)
 
   const SourceManager& sources() const { return *sources_ptr; }

@@ -305,6 +305,7 @@ void ServerImpl::did_open(const json& params) {
     d.text = std::move(text);
     d.version = version;
     d.generation = ++generation_;
+    d.parse_cache = std::make_shared<ParseCache>();
     schedule_locked(d, /*now=*/true);
   }
   docs_cv_.notify_all();
@@ -387,6 +388,13 @@ std::shared_ptr<const Geometry> ServerImpl::geometry_of(const std::string& uri, 
   return it->second.geometry;
 }
 
+std::optional<ParseStats> ServerImpl::parse_stats(std::string_view uri) const {
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(std::string(uri));
+  if (it == docs_.end() || !it->second.analysis) return std::nullopt;
+  return it->second.analysis->parse_stats;
+}
+
 std::optional<std::string> ServerImpl::document_text(std::string_view uri) const {
   std::lock_guard lock(docs_mu_);
   auto it = docs_.find(std::string(uri));
@@ -420,9 +428,11 @@ void ServerImpl::analysis_loop() {
     std::string text = next->text;
     int64_t version = next->version;
     uint64_t generation = next->generation;
+    std::shared_ptr<ParseCache> cache = next->parse_cache;
     analysing_ = true;
     lock.unlock();
-    std::shared_ptr<Analysis> a = analyse(uri, version, std::move(text));
+    std::shared_ptr<Analysis> a = analyse(uri, version, std::move(text), cache.get());
+    cache.reset();  // a closed document's pieces go now
     lock.lock();
     analysing_ = false;
     auto it = docs_.find(uri);
@@ -545,5 +555,6 @@ bool Server::exit_requested() const { return impl_->exit_requested(); }
 int Server::exit_code() const { return impl_->exit_code(); }
 bool Server::background_busy() const { return impl_->background_busy(); }
 std::optional<std::string> Server::document_text(std::string_view uri) const { return impl_->document_text(uri); }
+std::optional<ParseStats> Server::parse_stats(std::string_view uri) const { return impl_->parse_stats(uri); }
 
 }  // namespace nomec::lsp

@@ -27,6 +27,13 @@ struct ServerOptions {
 
 class ServerImpl;
 
+/// What parsing the latest analysed version of a document did (see ParseCache::Stats).
+struct ParseStats {
+  size_t pieces = 0;        // top-level pieces of the document
+  size_t parsed = 0;        // pieces re-parsed for this version (the rest were reused)
+  size_t parsed_bytes = 0;  // bytes re-parsed
+};
+
 class Server {
  public:
   /// `sink` receives every outgoing message as one JSON text (no framing); it is called
@@ -52,6 +59,8 @@ class Server {
 
   /// The current text of an open document (after the messages handled so far), for tests.
   std::optional<std::string> document_text(std::string_view uri) const;
+  /// How the latest analysis of an open document was parsed, for tests and benchmarks.
+  std::optional<ParseStats> parse_stats(std::string_view uri) const;
 
   /// True once the `exit` notification was handled; `exit_code` is then 0 if `shutdown`
   /// came first and 1 otherwise (LSP 3.17).

@@ -13,6 +13,7 @@
 #include <string>
 #include <thread>
 
+#include "frontend/parse/parse.h"
 #include "lsp/handler.h"
 #include "lsp/server.h"
 
@@ -33,6 +34,10 @@ struct Document {
   std::chrono::steady_clock::time_point due;
   std::shared_ptr<const Analysis> analysis;
   std::shared_ptr<const Geometry> geometry;
+  /// Pieces of the latest parsed version, so a change re-parses only the statements it
+  /// touched. Used by the analysis thread only (shared so a check in flight keeps it alive
+  /// past didClose); a reopened document starts with a fresh one.
+  std::shared_ptr<ParseCache> parse_cache;
 };
 
 class ServerImpl {
@@ -54,6 +59,7 @@ class ServerImpl {
   }
   bool background_busy() const;
   std::optional<std::string> document_text(std::string_view uri) const;
+  std::optional<ParseStats> parse_stats(std::string_view uri) const;
 
   // For handlers (through Context).
   bool is_cancelled(const json& id) const;
@@ -62,8 +68,10 @@ class ServerImpl {
   void send_notification(const std::string& method, json params);
   const ServerOptions& options() const { return options_; }
 
-  /// Checks one version of a document (analysis.cpp).
-  std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text) const;
+  /// Checks one version of a document (analysis.cpp), parsing it through `cache` (the
+  /// document's ParseCache; may be null).
+  std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
+                                    ParseCache* cache) const;
   /// Evaluates the scene of an analysis (analysis.cpp).
   static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
 

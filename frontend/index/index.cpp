@@ -415,10 +415,15 @@ std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager> sources,
 }
 
 Analysis analyze(const std::string& path, std::string text, CheckOptions options, DiagnosticEngine& diags) {
+  return analyze(path, std::move(text), std::move(options), diags, nullptr);
+}
+
+Analysis analyze(const std::string& path, std::string text, CheckOptions options, DiagnosticEngine& diags,
+                 ParseCache* cache) {
   auto sources = std::make_shared<SourceManager>();
   options.record_names = true;
   int errors_before = diags.error_count();
-  auto check = std::make_shared<CheckResult>(check_source(*sources, path, std::move(text), options, diags));
+  auto check = std::make_shared<CheckResult>(check_source(*sources, path, std::move(text), options, diags, cache));
   Analysis a;
   a.file = check->asts.empty() ? FileId{0} : check->asts.front()->file;
   a.sources = sources;

@@ -122,7 +122,7 @@ class Index {
 
  private:
   friend class Builder;
-  friend Analysis analyze(const std::string&, std::string, CheckOptions, DiagnosticEngine&);
+  friend Analysis analyze(const std::string&, std::string, CheckOptions, DiagnosticEngine&, ParseCache*);
   friend std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager>, std::shared_ptr<const CheckResult>,
                                             std::optional<CheckOptions>);
   SymbolId symbol_at(FileId file, uint32_t offset, SourceRange* range) const;
@@ -164,5 +164,11 @@ struct Analysis {
 /// Diagnostics go to `diags`. Never throws.
 Analysis analyze(const std::string& path, std::string text, CheckOptions options,
                  DiagnosticEngine& diags);
+
+/// The same for an editor re-analysing one document after each change: the main file is
+/// parsed through `cache` (one per document, kept between calls; see ParseCache), so only
+/// its changed statements are re-parsed. Equal to the overload above; `cache` may be null.
+Analysis analyze(const std::string& path, std::string text, CheckOptions options,
+                 DiagnosticEngine& diags, ParseCache* cache);
 
 }  // namespace nomec::index
