@@ -438,7 +438,10 @@ void ServerImpl::analysis_loop() {
     auto it = docs_.find(uri);
     if (it == docs_.end() || it->second.generation != generation) continue;  // closed or reopened
     Document& d = it->second;
-    if (!d.analysis || d.analysis->version <= version) d.analysis = a;
+    // The replaced analysis is freed after publishing: freeing a large scene's IR and
+    // syntax trees takes about a tenth of a re-check and is not the sculptor's concern.
+    std::shared_ptr<const Analysis> previous;
+    if (!d.analysis || d.analysis->version <= version) previous = std::exchange(d.analysis, a);
     docs_cv_.notify_all();
     if (d.version != version) continue;  // edited meanwhile: the next analysis publishes
     json diagnostics = a->diagnostics_json;
@@ -461,6 +464,7 @@ void ServerImpl::analysis_loop() {
       }
       geo_cv_.notify_all();
     }
+    previous.reset();  // outside the lock: requests need not wait for it either
     lock.lock();
   }
 }
