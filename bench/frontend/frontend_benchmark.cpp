@@ -80,14 +80,25 @@ void BM_ParseOnly(benchmark::State& state) {
   state.counters["statements"] = static_cast<double>(stmts);
 }
 
-// Every corpus file (except `.sif` meshes) checked once per iteration: real files with
-// their real mix of dialects, Tcl blocks and errors.
-void BM_ParseCheckCorpus(benchmark::State& state) {
-  struct Input {
-    std::string path, text;
+nomec::CheckOptions corpus_options() {
+  nomec::CheckOptions options;
+  options.read_file = [](const std::string& p) -> std::optional<std::string> {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
   };
-  static const std::vector<Input> inputs = [] {
-    std::vector<Input> v;
+  return options;
+}
+
+struct CorpusFile {
+  std::string path, text;
+};
+
+const std::vector<CorpusFile>& corpus_files() {
+  static const std::vector<CorpusFile> files = [] {
+    std::vector<CorpusFile> v;
     std::error_code ec;
     for (const char* folder : {"nome1", "nome3", "slide"}) {
       for (const auto& e : std::filesystem::recursive_directory_iterator(
@@ -99,20 +110,21 @@ void BM_ParseCheckCorpus(benchmark::State& state) {
         v.push_back({e.path().string(), ss.str()});
       }
     }
+    std::sort(v.begin(), v.end(), [](const CorpusFile& a, const CorpusFile& b) { return a.path < b.path; });
     return v;
   }();
+  return files;
+}
+
+// Every corpus file (except `.sif` meshes) checked once per iteration: real files with
+// their real mix of dialects, Tcl blocks and errors.
+void BM_ParseCheckCorpus(benchmark::State& state) {
+  const std::vector<CorpusFile>& inputs = corpus_files();
   int64_t bytes = 0;
-  for (const Input& in : inputs) bytes += static_cast<int64_t>(in.text.size());
-  nomec::CheckOptions options;
-  options.read_file = [](const std::string& p) -> std::optional<std::string> {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
+  for (const CorpusFile& in : inputs) bytes += static_cast<int64_t>(in.text.size());
+  nomec::CheckOptions options = corpus_options();
   for (auto _ : state) {
-    for (const Input& in : inputs) {
+    for (const CorpusFile& in : inputs) {
       nomec::SourceManager sources;
       nomec::DiagnosticEngine diags;
       nomec::CheckResult r = nomec::check_source(sources, in.path, in.text, options, diags);
@@ -222,18 +234,6 @@ double percentile(std::vector<double> v, double p) {
   return v[k];
 }
 
-nomec::CheckOptions corpus_options() {
-  nomec::CheckOptions options;
-  options.read_file = [](const std::string& p) -> std::optional<std::string> {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  return options;
-}
-
 // Times each keystroke of `steps` (check_source through one cache, as the server does) and
 // records every latency in `out` (milliseconds).
 void run_session(const std::string& path, const std::string& text,
@@ -280,30 +280,6 @@ void BM_Keystroke(benchmark::State& state) {
   }
   report(state, ms);
   state.counters["file_bytes"] = static_cast<double>(text.size());
-}
-
-struct CorpusFile {
-  std::string path, text;
-};
-
-const std::vector<CorpusFile>& corpus_files() {
-  static const std::vector<CorpusFile> files = [] {
-    std::vector<CorpusFile> v;
-    std::error_code ec;
-    for (const char* folder : {"nome1", "nome3", "slide"}) {
-      for (const auto& e : std::filesystem::recursive_directory_iterator(
-               std::filesystem::path(NOMEC_CORPUS_DIR) / folder, ec)) {
-        if (!e.is_regular_file() || e.path().extension() == ".sif") continue;
-        std::ifstream in(e.path(), std::ios::binary);
-        std::ostringstream ss;
-        ss << in.rdbuf();
-        v.push_back({e.path().string(), ss.str()});
-      }
-    }
-    std::sort(v.begin(), v.end(), [](const CorpusFile& a, const CorpusFile& b) { return a.path < b.path; });
-    return v;
-  }();
-  return files;
 }
 
 // Keystroke -> diagnostics over every corpus file (one session per file); the counters

@@ -16,33 +16,14 @@
 #include <vector>
 
 #include "frontend/check/check.h"
+#include "tests/common/corpus_inputs.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::optional<std::string> read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> input_files() {
-  std::vector<std::string> out;
-  const std::vector<fs::path> roots = {fs::path(NOMEC_CORPUS_DIR) / "nome1", fs::path(NOMEC_CORPUS_DIR) / "nome3",
-                                       fs::path(NOMEC_CORPUS_DIR) / "slide", fs::path(NOMEC_SOURCE_DIR) / "examples"};
-  for (const fs::path& root : roots) {
-    std::error_code ec;
-    for (const auto& e : fs::recursive_directory_iterator(root, ec)) {
-      if (!e.is_regular_file() || e.path().extension() == ".md") continue;
-      out.push_back(e.path().string());
-    }
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using nomec::testing_inputs::read_file;
+std::vector<std::string> input_files() { return nomec::testing_inputs::corpus_and_examples(); }
 
 // Checks one text as if it were the file at `path`; returns a failure description or "".
 std::string check_one(const std::string& path, std::string text) {
