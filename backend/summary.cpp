@@ -17,7 +17,7 @@ MeshSummary summarize(const OutputMesh& m) {
   s.border_loops = t.border_loop_count;
   for (const auto& c : t.components) s.genus += c.genus;
   s.components = static_cast<int32_t>(t.components.size());
-  s.is_closed = t.is_closed;
+  s.is_closed = t.is_closed && t.face_count > 0;  // curves alone bound no solid
   s.curves = m.curve_count;
   kernel::BoundingBox b = kernel::bounding_box(m.mesh);
   if (b.min.x <= b.max.x) s.bounding_box = MeshSummary::Box{b.min, b.max};
