@@ -12,14 +12,6 @@ namespace nomec::lsp {
 
 namespace {
 
-std::optional<std::string> read_disk_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 int hex_value(char c) {
   if (c >= '0' && c <= '9') return c - '0';
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
@@ -136,7 +128,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     a->check = std::make_shared<CheckResult>();
   } else {
     CheckOptions options;
-    if (path) options.read_file = read_disk_file;
+    if (path) options.read_file = read_file_bytes;
     const size_t bytes = text.size();
     index::Analysis ia = index::analyze(path.value_or(uri), std::move(text), options, diags, cache);
     if (cache != nullptr) {

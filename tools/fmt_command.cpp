@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "frontend/format/format.h"
+#include "frontend/source/source_manager.h"
 
 namespace nomec::tools {
 
@@ -22,11 +23,7 @@ std::optional<std::string> read_input(const std::string& path) {
   if (path == "-") {
     return std::string(std::istreambuf_iterator<char>(std::cin), {});
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return nomec::read_file_bytes(path);
 }
 
 // Replaces `path` by `text` atomically: a temporary file in the same folder is renamed over it.

@@ -30,16 +30,6 @@
 
 namespace {
 
-std::optional<std::string> read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return std::nullopt;
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 nlohmann::json range_json(const nomec::SourceManager& sources, nomec::SourceRange r) {
   if (!r.is_valid()) {
     return nullptr;
@@ -217,7 +207,7 @@ int main(int argc, char** argv) {
   if (!base.empty()) {
     options.base_file = base;
   }
-  options.read_file = read_file;
+  options.read_file = nomec::read_file_bytes;
   for (const std::string& d : defines) {
     auto eq = d.find('=');
     if (eq == std::string::npos || eq == 0) {
@@ -328,7 +318,7 @@ int main(int argc, char** argv) {
     return failed;
   };
   for (const std::string& path : files) {
-    std::optional<std::string> text = read_file(path);
+    std::optional<std::string> text = nomec::read_file_bytes(path);
     if (!text) {
       std::cerr << fmt::format("nomec: cannot read `{}`\n", path);
       return 2;

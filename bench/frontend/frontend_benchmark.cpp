@@ -82,13 +82,7 @@ void BM_ParseOnly(benchmark::State& state) {
 
 nomec::CheckOptions corpus_options() {
   nomec::CheckOptions options;
-  options.read_file = [](const std::string& p) -> std::optional<std::string> {
-    std::ifstream in(p, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
+  options.read_file = nomec::read_file_bytes;
   return options;
 }
 

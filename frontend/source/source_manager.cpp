@@ -2,8 +2,18 @@
 #include "frontend/source/source_manager.h"
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 
 namespace nomec {
+
+std::optional<std::string> read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 FileId SourceManager::add_file(std::string name, std::string text) {
   File file{std::move(name), std::move(text), {0}};

@@ -3,11 +3,17 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace nomec {
+
+/// Reads a whole file as bytes (no newline conversion); nullopt when it cannot be opened.
+/// The one disk reader of the CLI, the formatter and the language server (their
+/// `CheckOptions::read_file` for includes and base scenes).
+std::optional<std::string> read_file_bytes(const std::string& path);
 
 /// Identifies one file held by a SourceManager.
 struct FileId {

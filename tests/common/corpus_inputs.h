@@ -7,22 +7,16 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "frontend/source/source_manager.h"
+
 namespace nomec::testing_inputs {
 
-inline std::optional<std::string> read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+inline std::optional<std::string> read_file(const std::string& path) { return read_file_bytes(path); }
 
 inline std::vector<std::string> corpus_and_examples() {
   namespace fs = std::filesystem;
