@@ -420,11 +420,26 @@ class Evaluator {
     open_frame();
     context_ = id.index;
     auto m = std::make_shared<OutputMesh>();
+    entry_assembled_ = false;
     const bool ok = scene_entry(id, *m);
     Deps d = close_frame();
     std::shared_ptr<const OutputMesh> out = ok ? std::move(m) : nullptr;
     counters.nodes.insert(id.index);
-    if (is_incremental_) entries_[id.index] = {out, std::move(d)};
+    if (out) counters.new_outputs.push_back(out.get());
+    if (is_incremental_) {
+      entries_[id.index] = {out, std::move(d)};
+      // The layout an update may patch instead of reassembling (see `patch_entry`).
+      if (ok && entry_assembled_) {
+        EntryLayout& l = layouts_[id.index];
+        l.out = out;
+        l.direct_curves = entry_direct_curves_;
+        l.parts.clear();
+        for (const EntryPart& p : entry_parts_) l.parts.push_back(p.part);
+      } else {
+        layouts_.erase(id.index);
+      }
+    }
+    entry_parts_.clear();
     return out;
   }
 
@@ -437,6 +452,7 @@ class Evaluator {
     Deps d = close_frame();
     std::shared_ptr<const OutputMesh> out = ok ? std::move(m) : nullptr;
     counters.nodes.insert(id.index);
+    if (out) counters.new_outputs.push_back(out.get());
     if (is_incremental_) zippers_[id.index] = {out, std::move(d)};
     return out;
   }
@@ -496,6 +512,8 @@ class Evaluator {
     entry_out_ = is_incremental_ ? &c : nullptr;
     entry_parts_.clear();
     entry_is_pure_ = true;
+    // Parts are appended to `c` only when needed: a patched update never copies them.
+    entry_deferred_ = is_incremental_ && deleted_.empty();
     if (n.kind == ir::NodeKind::Instance) {
       instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
     } else if (n.kind == ir::NodeKind::Pipeline) {
@@ -507,14 +525,25 @@ class Evaluator {
       // A saved consolidated mesh that nothing instances (its vertices are world positions).
       Collected m;
       mesh(id, std::nullopt, short_name(n.name), ir::NodeId::None(), m);
-      transform_into(c, m, glm::dmat4(1.0));
       entry_is_pure_ = false;
+      make_eager();
+      transform_into(c, m, glm::dmat4(1.0));
     } else {
       entry_out_ = nullptr;
       return false;
     }
     entry_out_ = nullptr;
     const bool can_assemble = is_incremental_ && entry_is_pure_ && deleted_.empty() && !entry_parts_.empty();
+    if (entry_deferred_) {
+      if (can_assemble && patch_entry(id, c.curve_count, out)) {
+        entry_direct_curves_ = c.curve_count;
+        entry_assembled_ = true;
+        return true;
+      }
+      entry_out_ = &c;
+      make_eager();
+      entry_out_ = nullptr;
+    }
     apply_deletes(c);
     out.name = short_name(n.name);
     out.scene_node = id;
@@ -526,6 +555,7 @@ class Evaluator {
     if (can_assemble) {
       if (auto m = assemble(out.soup)) {
         out.mesh = std::move(*m);
+        entry_assembled_ = true;
         return true;
       }
     }
@@ -1160,7 +1190,7 @@ class Evaluator {
       return;
     }
     std::string path = parent_path.empty() ? short_name(n.name) : parent_path + "." + short_name(n.name);
-    instance_paths.emplace(inst.index, path);
+    instance_paths.try_emplace(inst.index, path);
     glm::dmat4 t = parent_t * local(n);
     if (auto c = surface_color(n)) color = c;
     chain_.push_back(inst.index);
@@ -1212,7 +1242,7 @@ class Evaluator {
   struct Placement {
     glm::dmat4 t;
     std::optional<glm::vec3> color;
-    Collected part;
+    std::shared_ptr<const Collected> part;
     std::optional<kernel::Mesh> mesh;  // `part` built, when an entry reassembles from parts
   };
 
@@ -1227,7 +1257,11 @@ class Evaluator {
       recomputed();
       return;
     }
-    std::string key = fmt::format("{}/{}/{}", context_, inst.index, path);
+    std::string key = std::to_string(context_);
+    key += '/';
+    key += std::to_string(inst.index);
+    key += '/';
+    key += path;
     auto it = placements_.find(key);
     if (it != placements_.end() && it->second.value.t == t && it->second.value.color == color) {
       note(it->second.deps);
@@ -1237,10 +1271,89 @@ class Evaluator {
       place_leaf(tid, t, color, path, inst, part);
       Deps d = close_frame();
       recomputed();
-      it = placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(part), {}}, std::move(d)}).first;
+      auto shared = std::make_shared<const Collected>(std::move(part));
+      it = placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(shared), {}}, std::move(d)}).first;
     }
-    transform_into(out, it->second.value.part, glm::dmat4(1.0));
-    if (&out == entry_out_) entry_parts_.push_back({&it->second.value, nullptr});
+    const Placement& pl = it->second.value;
+    if (&out == entry_out_) {
+      entry_parts_.push_back({&it->second.value, pl.part, nullptr});
+      if (entry_deferred_) return;
+    }
+    transform_into(out, *pl.part, glm::dmat4(1.0));
+  }
+
+  // Appends the parts collected so far to the entry's faces and stops deferring (the entry
+  // holds something that is not a part, which must come after them in order).
+  void make_eager() {
+    if (!entry_deferred_) return;
+    entry_deferred_ = false;
+    entry_direct_curves_ = entry_out_->curve_count;
+    for (const EntryPart& p : entry_parts_) append_collected(*entry_out_, *p.part);
+  }
+
+  // True if `a` equals `b` except for vertex positions (the same faces, sources, colours,
+  // names, creases and, for a block's result, the same built topology).
+  static bool same_but_positions(const Collected& a, const Collected& b) {
+    const kernel::PolygonSoup& x = a.soup;
+    const kernel::PolygonSoup& y = b.soup;
+    auto same_creases = [](const auto& p, const auto& q) {
+      return std::equal(p.begin(), p.end(), q.begin(), q.end(), [](const auto& c, const auto& d) {
+        return c.a == d.a && c.b == d.b && c.sharpness == d.sharpness;
+      });
+    };
+    auto same_corners = [](const auto& p, const auto& q) {
+      return std::equal(p.begin(), p.end(), q.begin(), q.end(), [](const auto& c, const auto& d) {
+        return c.vertex == d.vertex && c.sharpness == d.sharpness;
+      });
+    };
+    if (x.positions.size() != y.positions.size() || x.face_sizes != y.face_sizes ||
+        x.face_vertices != y.face_vertices || x.face_sources != y.face_sources ||
+        x.face_colors != y.face_colors || x.names != y.names || !same_creases(x.creases, y.creases) ||
+        !same_corners(x.corners, y.corners) || a.has_color != b.has_color || a.face_paths != b.face_paths ||
+        a.curve_count != b.curve_count || (a.built == nullptr) != (b.built == nullptr)) {
+      return false;
+    }
+    return a.built == nullptr || kernel::has_same_topology(*a.built, *b.built);
+  }
+
+  // An update of an entry whose parts all equal the previous evaluation's, in the same
+  // order, except for the positions of some (a moved instance, a re-subdivided block with
+  // the same topology): the previous output mesh is copied and only those parts' vertex
+  // ranges are overwritten, instead of concatenating every part and reassembling the mesh.
+  // The result is exactly what reassembling gives, since everything but positions is a
+  // function of the parts' topology. False (nothing done) if there is no previous layout
+  // or some part differs in more than positions.
+  bool patch_entry(ir::NodeId id, int32_t direct_curves, OutputMesh& out) {
+    auto it = layouts_.find(id.index);
+    if (it == layouts_.end()) return false;
+    const EntryLayout& old = it->second;
+    if (old.parts.size() != entry_parts_.size() || old.direct_curves != direct_curves) return false;
+    std::vector<uint8_t> changed(entry_parts_.size(), 0);
+    for (size_t i = 0; i < entry_parts_.size(); ++i) {
+      if (entry_parts_[i].part == old.parts[i]) continue;
+      if (!same_but_positions(*entry_parts_[i].part, *old.parts[i])) return false;
+      changed[i] = 1;
+    }
+    ++counters.outputs_patched;
+    counters.parts_patched += static_cast<int32_t>(std::count(changed.begin(), changed.end(), 1));
+    if (old.out.use_count() == 1) {
+      // Nobody else holds the previous output (it was made non-const by `entry`): take
+      // over its storage instead of copying it.
+      out = std::move(const_cast<OutputMesh&>(*old.out));
+    } else {
+      out = *old.out;
+    }
+    std::vector<glm::dvec3>& mesh_positions = kernel::MeshAccess::positions(out.mesh);
+    size_t at = 0;
+    for (size_t i = 0; i < entry_parts_.size(); ++i) {
+      const std::vector<glm::dvec3>& p = entry_parts_[i].part->soup.positions;
+      if (changed[i]) {
+        std::copy(p.begin(), p.end(), out.soup.positions.begin() + static_cast<ptrdiff_t>(at));
+        std::copy(p.begin(), p.end(), mesh_positions.begin() + static_cast<ptrdiff_t>(at));
+      }
+      at += p.size();
+    }
+    return true;
   }
 
   // The mesh of a scene entry made only of placed leaves, as the disjoint union of the
@@ -1256,7 +1369,7 @@ class Evaluator {
       }
       Placement* p = part.placement;
       if (!p->mesh) {
-        kernel::PolygonSoup s = p->part.soup;
+        kernel::PolygonSoup s = p->part->soup;
         if (!s.names.empty()) s.names.resize(s.positions.size());
         auto built = kernel::build_mesh(s);
         if (!built) return std::nullopt;
@@ -1352,18 +1465,21 @@ class Evaluator {
       context_ = saved_context;
       counters.nodes.insert(pid.index);
       Deps d = close_frame();
-      it = pipeline_cache_.emplace(pid.index, Memo<std::optional<Collected>>{std::move(made), std::move(d)}).first;
+      std::shared_ptr<const Collected> shared = made ? std::make_shared<const Collected>(std::move(*made)) : nullptr;
+      it = pipeline_cache_.emplace(pid.index, Memo<std::shared_ptr<const Collected>>{std::move(shared), std::move(d)}).first;
     } else {
       note(it->second.deps);
     }
-    const std::optional<Collected>& res = it->second.value;
+    const std::shared_ptr<const Collected> res = it->second.value;
     if (!res) return;
     const bool is_plain = !color && t == glm::dmat4(1.0);
     if (&out == entry_out_) {
       if (is_plain && res->built) {
-        entry_parts_.push_back({nullptr, res->built.get()});
+        entry_parts_.push_back({nullptr, res, res->built.get()});
+        if (entry_deferred_) return;
       } else {
         entry_is_pure_ = false;
+        make_eager();
       }
     }
     if (is_plain) {
@@ -1713,11 +1829,25 @@ class Evaluator {
   // to it in order, and whether it holds anything else (then it is built whole).
   Collected* entry_out_ = nullptr;
   struct EntryPart {
-    Placement* placement;       // a placed leaf, or
-    const kernel::Mesh* mesh;   // a block's built result
+    Placement* placement;                   // a placed leaf (built on demand), or
+    std::shared_ptr<const Collected> part;  // its faces, or a block's result
+    const kernel::Mesh* mesh;               // a block's built result
   };
   std::vector<EntryPart> entry_parts_;
   bool entry_is_pure_ = true;
+  // Parts are not yet appended to the entry's faces (see `make_eager`); the polylines
+  // counted directly on the entry; whether its mesh was assembled from parts.
+  bool entry_deferred_ = false;
+  int32_t entry_direct_curves_ = 0;
+  bool entry_assembled_ = false;
+  // Per scene entry assembled from parts: its last output and parts, for `patch_entry`.
+  // Not a cached value (never invalidated): a base that is checked part by part.
+  struct EntryLayout {
+    std::shared_ptr<const OutputMesh> out;
+    std::vector<std::shared_ptr<const Collected>> parts;
+    int32_t direct_curves = 0;
+  };
+  std::map<int32_t, EntryLayout> layouts_;
   // Memoized values (see "Memoization" above).
   std::unordered_map<int32_t, std::vector<int32_t>> expr_params_;
   std::unordered_map<int32_t, Memo<ir::EvalResult>> expr_memo_;
@@ -1725,7 +1855,7 @@ class Evaluator {
   std::map<int32_t, Memo<std::optional<Generated>>> generated_;
   std::map<std::string, Memo<std::optional<kernel::PolygonSoup>>> sweeps_;
   std::unordered_map<std::string, Memo<Placement>> placements_;
-  std::map<int32_t, Memo<std::optional<Collected>>> pipeline_cache_;
+  std::map<int32_t, Memo<std::shared_ptr<const Collected>>> pipeline_cache_;
   std::map<int32_t, ComponentMemo> components_;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> entries_;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> zippers_;
@@ -1925,7 +2055,10 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
   }
   if (timings) timings->evaluate_ms += ms_since(t0);
   if (!pipeline_.any() || out.empty() || diags.error_count() > errors_before) return out;
-  if (is_incremental_ && out == pipeline_inputs_) return pipeline_outputs_;
+  if (is_incremental_ && out == pipeline_inputs_) {
+    impl_->counters.new_outputs.clear();
+    return pipeline_outputs_;
+  }
   std::vector<const OutputMesh*> parts;
   for (const auto& m : out) parts.push_back(m.get());
   if (!pipeline_memos_) pipeline_memos_ = std::make_shared<PipelineMemosHolder>();
@@ -1934,7 +2067,11 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
                                                is_incremental_ ? &pipeline_memos_->memos : nullptr,
                                                impl_->counters.kernel_ops);
   std::vector<std::shared_ptr<const OutputMesh>> result;
-  for (OutputMesh& m : done) result.push_back(std::make_shared<OutputMesh>(std::move(m)));
+  impl_->counters.new_outputs.clear();
+  for (OutputMesh& m : done) {
+    result.push_back(std::make_shared<OutputMesh>(std::move(m)));
+    impl_->counters.new_outputs.push_back(result.back().get());
+  }
   if (is_incremental_) {
     pipeline_inputs_ = std::move(out);
     pipeline_outputs_ = result;

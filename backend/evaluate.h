@@ -63,6 +63,10 @@ struct EvalCounters {
   int32_t instances_placed = 0;  // leaf instances (re)transformed into their entry's frame
   int32_t kernel_ops = 0;        // merge, subdivide, offset, lattice, zipper and delete runs
   std::set<int32_t> nodes;       // IR node indices whose value was (re)computed
+  int32_t outputs_patched = 0;   // outputs made by patching the previous one's positions
+  int32_t parts_patched = 0;     // parts (placed leaves, block results) whose positions were
+  /// The outputs of `evaluate` that are new objects (recomputed), not the previous ones.
+  std::vector<const OutputMesh*> new_outputs;
 };
 
 namespace detail {
@@ -87,7 +91,9 @@ class SceneEvaluator {
   SceneEvaluator(const SceneEvaluator&) = delete;
   SceneEvaluator& operator=(const SceneEvaluator&) = delete;
   /// The output meshes as `evaluate_scene` (then `run_pipeline`, if `pipeline.any()`)
-  /// returns them; unchanged entries are the same objects as in the previous call.
+  /// returns them; unchanged entries are the same objects as in the previous call. A
+  /// changed entry may take over the storage of its previous output when the evaluator
+  /// holds the only reference to it (callers that keep a previous output keep it intact).
   std::vector<std::shared_ptr<const OutputMesh>> evaluate(DiagnosticEngine& diags,
                                                           StageTimings* timings = nullptr);
   /// Drops every cached value that read parameter `param` (call after changing its value

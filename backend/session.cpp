@@ -22,6 +22,9 @@ UpdateStats Session::build(DiagnosticEngine& diags) {
 
 UpdateStats Session::evaluate(DiagnosticEngine& diags) {
   auto t0 = std::chrono::steady_clock::now();
+  // The evaluator says which outputs are new; dropping ours first lets a changed entry
+  // reuse its previous output's storage when no client holds it (see SceneEvaluator).
+  outputs_.clear();
   std::vector<std::shared_ptr<const OutputMesh>> next = evaluator_->evaluate(diags);
   UpdateStats u;
   u.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -32,8 +35,12 @@ UpdateStats Session::evaluate(DiagnosticEngine& diags) {
   u.generators_rerun = c.generators_run;
   u.instances_retransformed = c.instances_placed;
   u.kernel_ops_rerun = c.kernel_ops;
+  u.outputs_patched = c.outputs_patched;
+  u.parts_patched = c.parts_patched;
   for (const auto& m : next) {
-    if (std::find(outputs_.begin(), outputs_.end(), m) == outputs_.end()) u.changed_outputs.push_back(m->name);
+    if (std::find(c.new_outputs.begin(), c.new_outputs.end(), m.get()) != c.new_outputs.end()) {
+      u.changed_outputs.push_back(m->name);
+    }
   }
   outputs_ = std::move(next);
   return u;

@@ -46,6 +46,10 @@ struct UpdateStats {
   /// merge, subdivide, offset, lattice, zipper and delete runs (one per connected
   /// component when a block works per component).
   int32_t kernel_ops_rerun = 0;
+  /// Outputs updated by copying the previous one and overwriting the positions of the
+  /// parts that moved (their topology unchanged), and how many parts that was.
+  int32_t outputs_patched = 0;
+  int32_t parts_patched = 0;
   std::vector<int32_t> reevaluated;          // the node indices behind nodes_reevaluated
   std::vector<std::string> changed_outputs;  // names of output meshes that are new objects
   double ms = 0;                             // wall-clock time of the evaluation

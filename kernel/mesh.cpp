@@ -509,6 +509,17 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
   return m;
 }
 
+bool has_same_topology(const Mesh& a, const Mesh& b) {
+  using A = MeshAccess;
+  return a.vertex_count() == b.vertex_count() && A::vertex_edges(a) == A::vertex_edges(b) &&
+         A::edge_vertices(a) == A::edge_vertices(b) && A::use_faces(a) == A::use_faces(b) &&
+         A::next(a) == A::next(b) && A::prev(a) == A::prev(b) && A::edge_flags(a) == A::edge_flags(b) &&
+         A::sharpness(a) == A::sharpness(b) && A::vertex_sharpness(a) == A::vertex_sharpness(b) &&
+         A::face_uses(a) == A::face_uses(b) && A::face_sources(a) == A::face_sources(b) &&
+         A::face_colors(a) == A::face_colors(b) && a.border_loops() == b.border_loops() &&
+         A::names(a) == A::names(b);
+}
+
 PolygonSoup to_soup(const Mesh& mesh) {
   PolygonSoup soup;
   soup.positions = mesh.positions();

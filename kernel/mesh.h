@@ -258,6 +258,12 @@ class Mesh {
 /// - `NonManifoldVertex` if the faces around a vertex form more than one fan.
 Result<Mesh> build_mesh(const PolygonSoup& soup);
 
+/// True if `a` and `b` differ at most in vertex positions and vertex normals: the same
+/// counts, connectivity, Möbius flags, sharpness, names, face sources and colours, and
+/// border loops. Such meshes stay interchangeable after a position-only edit, e.g. a
+/// moved instance whose reassembled scene is patched in place of rebuilt.
+bool has_same_topology(const Mesh& a, const Mesh& b);
+
 /// The inverse of `build_mesh`: positions, faces in loop order, sources, colours and
 /// creases (edges with non-zero sharpness) and corners (sharp vertices).
 PolygonSoup to_soup(const Mesh& mesh);
@@ -290,6 +296,7 @@ struct MeshAccess {
   static const std::vector<FaceSource>& face_sources(const Mesh& m) { return m.face_sources_; }
   static const std::vector<glm::vec3>& face_colors(const Mesh& m) { return m.face_colors_; }
   static std::vector<std::string>& names(Mesh& m) { return m.names_; }
+  static const std::vector<std::string>& names(const Mesh& m) { return m.names_; }
   static uint8_t mobius_flag() { return Mesh::kMobiusFlag; }
   /// Links boundary edges into border loops (uses the F_b wings of boundary edges).
   static void link_borders(Mesh& m);

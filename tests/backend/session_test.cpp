@@ -166,6 +166,121 @@ TEST(Session, SubdivisionBlockReusesUnchangedComponents) {
   EXPECT_EQ(s.outputs()[0]->soup.face_vertices, f.outputs()[0]->soup.face_vertices);
 }
 
+// Every array of two outputs, soup and built mesh, is equal (a patched or reused result
+// must be exactly what a fresh build makes).
+void expect_identical(const OutputMesh& a, const OutputMesh& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.curve_count, b.curve_count);
+  const kernel::PolygonSoup& pa = a.soup;
+  const kernel::PolygonSoup& pb = b.soup;
+  EXPECT_EQ(pa.positions, pb.positions);
+  EXPECT_EQ(pa.names, pb.names);
+  EXPECT_EQ(pa.face_sizes, pb.face_sizes);
+  EXPECT_EQ(pa.face_vertices, pb.face_vertices);
+  EXPECT_EQ(pa.face_sources, pb.face_sources);
+  EXPECT_EQ(pa.face_colors, pb.face_colors);
+  ASSERT_EQ(pa.creases.size(), pb.creases.size());
+  for (size_t i = 0; i < pa.creases.size(); ++i) {
+    EXPECT_EQ(pa.creases[i].a, pb.creases[i].a);
+    EXPECT_EQ(pa.creases[i].b, pb.creases[i].b);
+    EXPECT_EQ(pa.creases[i].sharpness, pb.creases[i].sharpness);
+  }
+  EXPECT_EQ(pa.corners.size(), pb.corners.size());
+  EXPECT_TRUE(kernel::has_same_topology(a.mesh, b.mesh));
+  EXPECT_EQ(a.mesh.positions(), b.mesh.positions());
+}
+
+// `count` funnels in a group (one output mesh); the first one's x is slider `s.x`, the
+// second's x scale is slider `s.k` (a negative value mirrors it, reversing its faces).
+std::string funnel_field(int count, bool in_block) {
+  std::string s = "bank s\n  set x 0 -1 1 0.1\n  set k 1 -1 1 0.1\n  set n 6 3 9 1\nendbank\n"
+                  "funnel f ({expr $s_n} 0.4 0.3 0.3) endfunnel\nfunnel g (5 0.4 0.3 0.3) endfunnel\n";
+  s += in_block ? "subdivision field type NOME_SD_CC_sharp subdivisions 1\n" : "group field\n";
+  for (int i = 0; i < count; ++i) {
+    std::string x = i == 0 ? "{expr $s_x}" : std::to_string((i % 4) * 3);
+    std::string scale = i == 1 ? " scale ({expr $s_k} 1 1)" : "";
+    s += fmt::format("  instance i{} {}{} translate ({} {} 0) endinstance\n", i, i == 2 ? "f" : "g", scale, x,
+                     (i / 4) * 3);
+  }
+  s += in_block ? "endsubdivision\n" : "endgroup\n";
+  s += "instance all field endinstance\n";
+  return s;
+}
+
+// Builds a fresh session of `text` with `overrides` and checks `s` equals it exactly.
+void expect_fresh_equal(const Session& s, const std::string& text,
+                        std::vector<std::pair<std::string, double>> overrides) {
+  auto c = check("field.nome", text, std::move(overrides));
+  ASSERT_EQ(c->diags.error_count(), 0);
+  Session f(std::move(c->check.module));
+  DiagnosticEngine d;
+  f.build(d);
+  ASSERT_EQ(f.outputs().size(), s.outputs().size());
+  for (size_t i = 0; i < f.outputs().size(); ++i) expect_identical(*s.outputs()[i], *f.outputs()[i]);
+}
+
+// Moving one instance of a group overwrites only its vertex range in the previous output
+// (one output, one part patched); a change of topology (a mirroring scale, another side
+// count) reassembles instead. Every result equals a fresh build.
+TEST(Session, GroupEntryPatchesOnlyTheMovedInstance) {
+  const std::string text = funnel_field(12, false);
+  auto c = check("field.nome", text);
+  ASSERT_EQ(c->diags.error_count(), 0) << c->diags.diagnostics()[0].message;
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  UpdateStats full = s.build(d);
+  EXPECT_EQ(full.outputs_patched, 0);
+  UpdateStats u = s.set_parameter("s.x", 0.5, d);
+  EXPECT_EQ(u.instances_retransformed, 1);
+  EXPECT_EQ(u.outputs_patched, 1);
+  EXPECT_EQ(u.parts_patched, 1);
+  EXPECT_EQ(u.changed_outputs, std::vector<std::string>{"all"});
+  expect_fresh_equal(s, text, {{"s.x", 0.5}});
+  u = s.set_parameter("s.x", -0.3, d);
+  EXPECT_EQ(u.outputs_patched, 1);
+  EXPECT_EQ(u.parts_patched, 1);
+  expect_fresh_equal(s, text, {{"s.x", -0.3}});
+  // A positive scale keeps the faces' orientation: a patch.
+  u = s.set_parameter("s.k", 0.5, d);
+  EXPECT_EQ(u.outputs_patched, 1);
+  expect_fresh_equal(s, text, {{"s.x", -0.3}, {"s.k", 0.5}});
+  // A negative one reverses its faces: reassembled.
+  u = s.set_parameter("s.k", -1, d);
+  EXPECT_EQ(u.instances_retransformed, 1);
+  EXPECT_EQ(u.outputs_patched, 0);
+  expect_fresh_equal(s, text, {{"s.x", -0.3}, {"s.k", -1}});
+  // Another side count: new faces, reassembled; the generator runs once.
+  u = s.set_parameter("s.n", 4, d);
+  EXPECT_EQ(u.generators_rerun, 1);
+  EXPECT_EQ(u.outputs_patched, 0);
+  expect_fresh_equal(s, text, {{"s.x", -0.3}, {"s.k", -1}, {"s.n", 4}});
+  // After a reassembly the next move patches again.
+  u = s.set_parameter("s.x", 0.2, d);
+  EXPECT_EQ(u.outputs_patched, 1);
+  expect_fresh_equal(s, text, {{"s.x", 0.2}, {"s.k", -1}, {"s.n", 4}});
+  EXPECT_EQ(d.error_count(), 0);
+}
+
+// An output a client still holds is never modified by a later update (the patch copies
+// it instead of taking over its storage).
+TEST(Session, PatchLeavesHeldOutputsIntact) {
+  const std::string text = funnel_field(8, false);
+  auto c = check("field.nome", text);
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  s.build(d);
+  const std::shared_ptr<const OutputMesh> held = s.outputs()[0];
+  const std::vector<glm::dvec3> soup_before = held->soup.positions;
+  const std::vector<glm::dvec3> mesh_before = held->mesh.positions();
+  UpdateStats u = s.set_parameter("s.x", 0.7, d);
+  EXPECT_EQ(u.outputs_patched, 1);
+  EXPECT_NE(s.outputs()[0], held);
+  EXPECT_EQ(held->soup.positions, soup_before);
+  EXPECT_EQ(held->mesh.positions(), mesh_before);
+  EXPECT_NE(s.outputs()[0]->soup.positions, soup_before);
+  expect_fresh_equal(s, text, {{"s.x", 0.7}});
+}
+
 void expect_same_outputs(const Session& a, const Session& b, const std::string& where) {
   ASSERT_EQ(a.outputs().size(), b.outputs().size()) << where;
   std::vector<MeshSummary> sa = a.summary(), sb = b.summary();

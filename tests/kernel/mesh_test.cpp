@@ -255,5 +255,27 @@ TEST(MeshBuilder, CreasesAndRoundTrip) {
   EXPECT_EQ(back.names.size(), 8u);
 }
 
+// has_same_topology: a moved copy (positions only) has the same topology; a different
+// orientation, a crease or another face source does not.
+TEST(MeshTopology, SameTopologyIgnoresPositionsOnly) {
+  PolygonSoup soup = cube_soup();
+  Mesh a = *build_mesh(soup);
+  PolygonSoup moved = soup;
+  for (glm::dvec3& p : moved.positions) p += glm::dvec3(3, 0, 1);
+  EXPECT_TRUE(has_same_topology(a, *build_mesh(moved)));
+  PolygonSoup flipped = soup;
+  for (size_t f = 0, at = 0; f < flipped.face_sizes.size(); at += flipped.face_sizes[f++]) {
+    std::reverse(flipped.face_vertices.begin() + at, flipped.face_vertices.begin() + at + flipped.face_sizes[f]);
+  }
+  EXPECT_FALSE(has_same_topology(a, *build_mesh(flipped)));
+  Mesh creased = a;
+  creased.set_sharpness(EdgeId(3), 1.0f);
+  EXPECT_FALSE(has_same_topology(a, creased));
+  Mesh sourced = a;
+  sourced.set_face_source(FaceId(2), FaceSource{5, 1});
+  EXPECT_FALSE(has_same_topology(a, sourced));
+  EXPECT_FALSE(has_same_topology(a, *build_mesh(grid_soup(2, 2, Glue::None))));
+}
+
 }  // namespace
 }  // namespace nomec::kernel
