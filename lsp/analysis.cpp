@@ -130,17 +130,17 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     CheckOptions options;
     if (path) options.read_file = read_file_bytes;
     const size_t bytes = text.size();
-    index::Analysis ia = index::analyze(path.value_or(uri), std::move(text), options, diags, cache);
+    index::Checked checked = index::check_document(path.value_or(uri), std::move(text), options, diags, cache);
     if (cache != nullptr) {
       const ParseCache::Stats& s = cache->last_stats();
       a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};
     } else {
       a->parse_stats = {1, 1, bytes};
     }
-    a->sources_ptr = std::move(ia.sources);
-    a->file = ia.file;
-    a->check = std::move(ia.check);
-    a->index = std::move(ia.index);
+    a->sources_ptr = checked.sources;
+    a->file = checked.file;
+    a->check = checked.check;
+    a->index.emplace(std::move(checked));
   }
   diags.sort_and_dedupe();
   a->diagnostics = diags.diagnostics();

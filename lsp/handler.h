@@ -4,10 +4,12 @@
 // Every feature lives in its own `handle_*.cpp` listed once in handlers.def.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -43,6 +45,40 @@ struct LspError : std::runtime_error {
   int code;
 };
 
+/// The index of one checked document version, built on first use. Diagnostics are
+/// published from the check alone; the index (about a fifth of a re-check on a large file)
+/// is built afterwards by the server's background thread, or by the first request that
+/// needs it, whichever comes first. Thread-safe; empty for a document too large to analyse.
+class LazyIndex {
+ public:
+  LazyIndex() = default;
+  LazyIndex(const LazyIndex&) = delete;
+  LazyIndex& operator=(const LazyIndex&) = delete;
+  /// Sets what to index; only before the analysis is shared.
+  void emplace(index::Checked checked) { checked_ = std::move(checked); }
+
+  /// False when there is nothing to index (a too-large document).
+  explicit operator bool() const { return checked_.has_value(); }
+  /// The index, building it now if no one has yet; null only when `!*this`.
+  const index::Index* get() const {
+    if (!checked_) return nullptr;
+    std::call_once(once_, [this] {
+      index_ = index::build(*checked_);
+      index_built_.store(true);
+    });
+    return index_.get();
+  }
+  const index::Index* operator->() const { return get(); }
+  /// Whether the index has been built (tests and benchmarks).
+  bool built() const { return index_built_.load(); }
+
+ private:
+  std::optional<index::Checked> checked_;
+  mutable std::once_flag once_;
+  mutable std::shared_ptr<const index::Index> index_;
+  mutable std::atomic<bool> index_built_{false};
+};
+
 /// One checked version of an open document. Immutable once published.
 struct Analysis {
   std::string uri;
@@ -50,8 +86,8 @@ struct Analysis {
   std::shared_ptr<const SourceManager> sources_ptr;
   FileId file;  // the document itself (includes and `.anom` bases are other files)
   std::shared_ptr<const CheckResult> check;
-  /// Symbols, occurrences and the answers of most features; null for a too-large file.
-  std::shared_ptr<const index::Index> index;
+  /// Symbols, occurrences and the answers of most features; empty for a too-large file.
+  LazyIndex index;
   /// Front-end diagnostics, sorted; the LSP form of each is in `diagnostics_json`.
   std::vector<Diagnostic> diagnostics;
   json diagnostics_json = json::array();

@@ -61,6 +61,7 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
   request_thread_ = std::thread([this] { request_loop(); });
   analysis_thread_ = std::thread([this] { analysis_loop(); });
   geometry_thread_ = std::thread([this] { geometry_loop(); });
+  after_thread_ = std::thread([this] { after_loop(); });
 }
 
 ServerImpl::~ServerImpl() {
@@ -71,12 +72,15 @@ ServerImpl::~ServerImpl() {
   // Taking each lock once guarantees no thread is between its stop check and its wait.
   { std::lock_guard lock(docs_mu_); }
   { std::lock_guard lock(geo_mu_); }
+  { std::lock_guard lock(after_mu_); }
   queue_cv_.notify_all();
   docs_cv_.notify_all();
   geo_cv_.notify_all();
+  after_cv_.notify_all();
   request_thread_.join();
   analysis_thread_.join();
   geometry_thread_.join();
+  after_thread_.join();
 }
 
 void ServerImpl::send(const json& message) {
@@ -438,12 +442,20 @@ void ServerImpl::analysis_loop() {
     auto it = docs_.find(uri);
     if (it == docs_.end() || it->second.generation != generation) continue;  // closed or reopened
     Document& d = it->second;
-    // The replaced analysis is freed after publishing: freeing a large scene's IR and
-    // syntax trees takes about a tenth of a re-check and is not the sculptor's concern.
+    // The replaced analysis is freed after publishing, on the after-thread: freeing a large
+    // scene's IR and syntax trees takes about a tenth of a re-check and is not the
+    // sculptor's concern.
     std::shared_ptr<const Analysis> previous;
     if (!d.analysis || d.analysis->version <= version) previous = std::exchange(d.analysis, a);
     docs_cv_.notify_all();
-    if (d.version != version) continue;  // edited meanwhile: the next analysis publishes
+    if (d.version != version) {  // edited meanwhile: the next analysis publishes
+      if (previous) {
+        std::lock_guard alock(after_mu_);
+        after_release_.push_back(std::move(previous));
+        after_cv_.notify_all();
+      }
+      continue;
+    }
     json diagnostics = a->diagnostics_json;
     lock.unlock();
     if (a->too_large) {
@@ -464,8 +476,34 @@ void ServerImpl::analysis_loop() {
       }
       geo_cv_.notify_all();
     }
-    previous.reset();  // outside the lock: requests need not wait for it either
+    {
+      std::lock_guard alock(after_mu_);
+      if (previous) after_release_.push_back(std::move(previous));
+      if (a->index) after_index_ = a;  // index it unless a newer version comes first
+    }
+    after_cv_.notify_all();
     lock.lock();
+  }
+}
+
+void ServerImpl::after_loop() {
+  for (;;) {
+    std::shared_ptr<const Analysis> job;
+    std::vector<std::shared_ptr<const Analysis>> release;
+    {
+      std::unique_lock lock(after_mu_);
+      after_cv_.wait(lock, [&] { return stopped() || after_index_ != nullptr || !after_release_.empty(); });
+      if (stopped()) return;
+      job = std::move(after_index_);
+      after_index_.reset();
+      release.swap(after_release_);
+      after_busy_ = true;
+    }
+    release.clear();  // frees here unless a request still holds one
+    if (job && document_version(job->uri) == job->version) job->index.get();
+    job.reset();
+    std::lock_guard lock(after_mu_);
+    after_busy_ = false;
   }
 }
 
@@ -540,6 +578,10 @@ bool ServerImpl::stopped() const {
 
 bool ServerImpl::background_busy() const {
   if (analysing_) return true;
+  {
+    std::lock_guard lock(after_mu_);
+    if (after_busy_ || after_index_ || !after_release_.empty()) return true;
+  }
   std::lock_guard lock(geo_mu_);
   return geo_busy_;
 }

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "frontend/parse/parse.h"
 #include "lsp/handler.h"
@@ -89,6 +90,7 @@ class ServerImpl {
   void schedule_locked(Document& d, bool now);
   void analysis_loop();
   void geometry_loop();
+  void after_loop();
   void publish(const std::string& uri, int64_t version, json diagnostics, bool complete);
   int64_t document_version(const std::string& uri) const;
   bool stopped() const;
@@ -132,9 +134,19 @@ class ServerImpl {
   bool geo_busy_ = false;
   std::atomic<bool> analysing_{false};
 
+  // Work after publishing (after_mu_): building the index of the newest analysis, and
+  // freeing replaced analyses, on their own thread so the next keystroke's check does not
+  // wait for either.
+  mutable std::mutex after_mu_;
+  std::condition_variable after_cv_;
+  std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
+  std::vector<std::shared_ptr<const Analysis>> after_release_;
+  bool after_busy_ = false;
+
   std::thread request_thread_;
   std::thread analysis_thread_;
   std::thread geometry_thread_;
+  std::thread after_thread_;
 };
 
 }  // namespace nomec::lsp

@@ -1782,24 +1782,27 @@ class Checker {
     while (!path.empty() && path[0] == '_') path = path.substr(1);
     struct Match { std::vector<ir::NodeId> chain; std::string vertex; };
     std::vector<Match> matches;
-    std::function<void(ir::NodeId, size_t, std::vector<ir::NodeId>&)> walk;
     // Try the top-level scope, then any instance scope (2016 names may omit outer instances).
     std::function<void(const std::map<std::string, ir::NodeId>&, size_t, std::vector<ir::NodeId>&)> try_scope =
         [&](const std::map<std::string, ir::NodeId>& scope, size_t at, std::vector<ir::NodeId>& chain) {
-          for (auto& [name, inst] : scope) {
-            if (path.compare(at, name.size(), name) == 0 && at + name.size() < path.size() && path[at + name.size()] == '_') {
-              chain.push_back(inst);
-              size_t rest = at + name.size() + 1;
-              ir::NodeId t = m_.node(inst).target;
-              auto sub = t.is_valid() ? instance_scopes_.find(t.index + 1) : instance_scopes_.end();
-              size_t before = matches.size();
-              if (sub != instance_scopes_.end()) try_scope(sub->second, rest, chain);
-              if (matches.size() == before) {
-                std::string why;
-                if (target_has_vertex(inst, path.substr(rest), &why)) matches.push_back({chain, path.substr(rest)});
-              }
-              chain.pop_back();
+          // The names that can match are the prefixes of `path[at:]` that end before an
+          // `_`; looking each up (shortest first, which is the map's order among them)
+          // costs the underscores in the reference instead of every name in the scope.
+          for (size_t u = path.find('_', at); u != std::string::npos; u = path.find('_', u + 1)) {
+            auto found = scope.find(path.substr(at, u - at));
+            if (found == scope.end()) continue;
+            ir::NodeId inst = found->second;
+            chain.push_back(inst);
+            size_t rest = u + 1;
+            ir::NodeId t = m_.node(inst).target;
+            auto sub = t.is_valid() ? instance_scopes_.find(t.index + 1) : instance_scopes_.end();
+            size_t before = matches.size();
+            if (sub != instance_scopes_.end()) try_scope(sub->second, rest, chain);
+            if (matches.size() == before) {
+              std::string why;
+              if (target_has_vertex(inst, path.substr(rest), &why)) matches.push_back({chain, path.substr(rest)});
             }
+            chain.pop_back();
           }
         };
     std::vector<ir::NodeId> chain;

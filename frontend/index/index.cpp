@@ -418,24 +418,41 @@ Analysis analyze(const std::string& path, std::string text, CheckOptions options
   return analyze(path, std::move(text), std::move(options), diags, nullptr);
 }
 
-Analysis analyze(const std::string& path, std::string text, CheckOptions options, DiagnosticEngine& diags,
-                 ParseCache* cache) {
+Checked check_document(const std::string& path, std::string text, CheckOptions options, DiagnosticEngine& diags,
+                       ParseCache* cache) {
   auto sources = std::make_shared<SourceManager>();
   options.record_names = true;
   int errors_before = diags.error_count();
+  Checked c;
   auto check = std::make_shared<CheckResult>(check_source(*sources, path, std::move(text), options, diags, cache));
-  Analysis a;
-  a.file = check->asts.empty() ? FileId{0} : check->asts.front()->file;
-  a.sources = sources;
-  a.check = check;
+  c.file = check->asts.empty() ? FileId{0} : check->asts.front()->file;
+  c.sources = std::move(sources);
+  c.check = std::move(check);
+  c.options = std::move(options);
+  c.path = path;
+  c.error_count = diags.error_count() - errors_before;
+  return c;
+}
+
+std::shared_ptr<const Index> build(const Checked& checked) {
   auto ix = std::make_shared<Index>();
-  ix->sources_ = sources;
-  ix->check_ = check;
-  ix->options_ = std::move(options);
-  ix->main_path_ = path;
-  ix->error_count_ = diags.error_count() - errors_before;
+  ix->sources_ = checked.sources;
+  ix->check_ = checked.check;
+  ix->options_ = checked.options;
+  ix->main_path_ = checked.path;
+  ix->error_count_ = checked.error_count;
   Builder(*ix).run();
-  a.index = std::move(ix);
+  return ix;
+}
+
+Analysis analyze(const std::string& path, std::string text, CheckOptions options, DiagnosticEngine& diags,
+                 ParseCache* cache) {
+  Checked c = check_document(path, std::move(text), std::move(options), diags, cache);
+  Analysis a;
+  a.file = c.file;
+  a.sources = c.sources;
+  a.check = c.check;
+  a.index = build(c);
   return a;
 }
 

@@ -90,6 +90,7 @@ struct Hover {
 };
 
 struct Analysis;
+struct Checked;
 
 class Index {
  public:
@@ -122,9 +123,9 @@ class Index {
 
  private:
   friend class Builder;
-  friend Analysis analyze(const std::string&, std::string, CheckOptions, DiagnosticEngine&, ParseCache*);
   friend std::shared_ptr<const Index> build(std::shared_ptr<const SourceManager>, std::shared_ptr<const CheckResult>,
                                             std::optional<CheckOptions>);
+  friend std::shared_ptr<const Index> build(const Checked&);
   SymbolId symbol_at(FileId file, uint32_t offset, SourceRange* range) const;
   std::string hover_symbol(const Symbol& s) const;
   std::string rename_problem(const Symbol& s, std::string_view new_name) const;
@@ -159,6 +160,26 @@ struct Analysis {
   std::shared_ptr<const CheckResult> check;
   std::shared_ptr<const Index> index;
 };
+
+/// The check half of `analyze`: the file parsed and checked with name resolutions recorded,
+/// and what `build(const Checked&)` needs to index it later. The language server publishes
+/// diagnostics from this and builds the index afterwards, off the keystroke's path.
+struct Checked {
+  std::shared_ptr<const SourceManager> sources;
+  FileId file;
+  std::shared_ptr<const CheckResult> check;
+  CheckOptions options;  // as checked; lets rename re-check its edits
+  std::string path;
+  int error_count = 0;  // errors the check reported
+};
+
+/// Parses and checks `path` with text `text` (through `cache` if not null, see below).
+/// Diagnostics go to `diags`. Never throws.
+Checked check_document(const std::string& path, std::string text, CheckOptions options,
+                       DiagnosticEngine& diags, ParseCache* cache);
+
+/// The index of a checked document; `analyze` is `check_document` followed by this.
+std::shared_ptr<const Index> build(const Checked& checked);
 
 /// Parses, checks (recording name resolutions) and indexes the file `path` with text `text`.
 /// Diagnostics go to `diags`. Never throws.
