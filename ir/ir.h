@@ -123,6 +123,7 @@ struct Node {
 class DepGraph {
  public:
   void resize(size_t n) { users_.resize(n); }
+  void reserve(size_t n) { users_.reserve(n); }
   void add_edge(NodeId from, NodeId to);
   /// Sorts every adjacency list and removes duplicate edges; call once after building.
   void finalize();

@@ -15,6 +15,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <unordered_map>
 
 #include "backend/generators/domain.h"
 #include "frontend/check/signatures.h"
@@ -400,6 +401,7 @@ class Checker {
   }
 
   void declare(const ast::Ast& a, int order_base) {
+    reserve_for(a);
     int order = order_base;
     for (const ast::Item& it : a.top) {
       ++order;
@@ -445,6 +447,15 @@ class Checker {
                   fmt::format("`{}` is already defined as a {}", name, ast::open_keyword(it->second.kind)))
           .note(it->second.range, "previous definition is here");
     }
+  }
+
+  // About one IR expression per syntax expression and two nodes (the statement and a
+  // value node) per statement: reserving once avoids moving the arrays while they grow.
+  void reserve_for(const ast::Ast& a) {
+    m_.exprs.reserve(m_.exprs.size() + a.exprs.size() + a.exprs.size() / 4);
+    m_.nodes.reserve(m_.nodes.size() + 2 * a.stmts.size());
+    m_.deps.reserve(m_.nodes.capacity());
+    declared_.reserve(declared_.size() + a.stmts.size());
   }
 
   void process(const ast::Ast& a, int order_base) {
@@ -658,6 +669,7 @@ class Checker {
     size_t pos = 0;
     auto name = read_name(s, pos, "bank b set n 8 3 10 1 endbank");
     if (!name) return;
+    param_text_memo_.clear();  // a new bank may change how `bank_param` resolves
     if (auto [it, ok] = banks_.emplace(*name, s.items[0].range); !ok) {
       diags_.emit(DiagKind::DuplicateDefinition, s.items[0].range,
                   fmt::format("bank `{}` is already defined", *name))
@@ -757,6 +769,7 @@ class Checker {
     p.step = v[3];
     ir::NodeId id = m_.add_node(std::move(p));
     params_[key] = id;
+    param_text_memo_.clear();  // a new slider may change how `bank_param` resolves
     if (!ok || vals.size() != 4) return;
     if (v[1] > v[2]) {
       diags_.emit(DiagKind::BankRange, vals[1]->range,
@@ -1428,8 +1441,10 @@ class Checker {
   // -------- fields --------
   void add_field(ir::NodeId id, ir::Field f) {
     // A Value node for fields whose expressions depend on parameters.
-    std::set<int32_t> params;
+    std::vector<int32_t> params;
     for (ir::ExprId e : f.exprs) collect_params(e, params);
+    std::sort(params.begin(), params.end());
+    params.erase(std::unique(params.begin(), params.end()), params.end());
     if (!params.empty()) {
       ir::Node v;
       v.kind = ir::NodeKind::Value;
@@ -1445,10 +1460,10 @@ class Checker {
     m_.node(id).fields.push_back(std::move(f));
   }
 
-  void collect_params(ir::ExprId e, std::set<int32_t>& out) const {
+  void collect_params(ir::ExprId e, std::vector<int32_t>& out) const {
     if (!e.is_valid()) return;
     const ir::Expr& x = m_.expr(e);
-    if (x.kind == ir::ExprKind::Param) out.insert(x.param.index);
+    if (x.kind == ir::ExprKind::Param) out.push_back(x.param.index);
     collect_params(x.lhs, out);
     collect_params(x.rhs, out);
     for (ir::ExprId c : x.args) collect_params(c, out);
@@ -1564,6 +1579,7 @@ class Checker {
   std::vector<std::string> names_in(Ns ns) const {
     std::vector<std::string> out;
     for (auto& [k, v] : scopes_[static_cast<int>(ns)]) out.push_back(k);
+    std::sort(out.begin(), out.end());  // "did you mean" prefers the first best match
     return out;
   }
 
@@ -1844,7 +1860,15 @@ class Checker {
   }
 
   // -------- expressions --------
+  // Memoized: a scene refers to the same sliders over and over (`$b_r` in every point).
+  // The memo is cleared whenever a bank or slider is declared.
   ir::NodeId lookup_param_text(const std::string& text) const {
+    if (auto it = param_text_memo_.find(text); it != param_text_memo_.end()) return it->second;
+    ir::NodeId found = lookup_param_text_uncached(text);
+    param_text_memo_.emplace(text, found);
+    return found;
+  }
+  ir::NodeId lookup_param_text_uncached(const std::string& text) const {
     if (auto it = params_.find(text); it != params_.end()) return it->second;
     // `bank_param`: the longest declared bank prefix.
     for (size_t u = text.rfind('_'); u != std::string::npos && u > 0; u = text.rfind('_', u - 1)) {
@@ -1884,7 +1908,7 @@ class Checker {
     ir::Expr e;
     e.kind = ir::ExprKind::Error;
     e.range = r;
-    return m_.add_expr(e);
+    return m_.add_expr(std::move(e));
   }
 
   ir::ExprId param_ir(ir::NodeId p, SourceRange r) {
@@ -1892,7 +1916,7 @@ class Checker {
     e.kind = ir::ExprKind::Param;
     e.param = p;
     e.range = r;
-    return m_.add_expr(e);
+    return m_.add_expr(std::move(e));
   }
 
   ir::ExprId to_ir(const ast::Ast& a, ast::ExprId id, bool constant, ir::NodeId owner) {
@@ -1933,7 +1957,7 @@ class Checker {
       case ast::ExprKind::Number:
         e.kind = ir::ExprKind::Const;
         e.value = x.number;
-        return m_.add_expr(e);
+        return m_.add_expr(std::move(e));
       case ast::ExprKind::Error:
         return error_ir(x.range);
       case ast::ExprKind::DollarRef:
@@ -1942,17 +1966,17 @@ class Checker {
         if (x.kind == ast::ExprKind::Name && (name == "pi" || name == "e")) {
           e.kind = ir::ExprKind::Const;
           e.value = name == "pi" ? M_PI : M_E;
-          return m_.add_expr(e);
+          return m_.add_expr(std::move(e));
         }
         if (x.kind == ast::ExprKind::DollarRef && name == "SLF_PI") {
           e.kind = ir::ExprKind::Const;
           e.value = M_PI;
-          return m_.add_expr(e);
+          return m_.add_expr(std::move(e));
         }
         if (x.kind == ast::ExprKind::DollarRef && (name == "time" || name == "frame")) {
           e.kind = ir::ExprKind::Builtin;
           e.name = name;
-          return m_.add_expr(e);
+          return m_.add_expr(std::move(e));
         }
         ir::NodeId p = lookup_param_text(name);
         if (p.is_valid()) {
@@ -2029,14 +2053,14 @@ class Checker {
                 .fixit(x.range, fmt::format("-({})", sources_.text(operand.range)), "add parentheses to keep this meaning");
           }
         }
-        return m_.add_expr(e);
+        return m_.add_expr(std::move(e));
       }
       case ast::ExprKind::Binary:
         e.kind = ir::ExprKind::Binary;
         e.op = x.op;
         e.lhs = to_ir_rec(a, x.lhs, constant, depth + 1);
         e.rhs = to_ir_rec(a, x.rhs, constant, depth + 1);
-        return m_.add_expr(e);
+        return m_.add_expr(std::move(e));
       case ast::ExprKind::Call: {
         std::optional<ir::Func> f = ir::func_by_name(x.text);
         std::vector<ir::ExprId> args;
@@ -2061,7 +2085,7 @@ class Checker {
         e.kind = ir::ExprKind::Call;
         e.func = *f;
         e.args = std::move(args);
-        return m_.add_expr(e);
+        return m_.add_expr(std::move(e));
       }
     }
     return error_ir(x.range);
@@ -2145,11 +2169,12 @@ class Checker {
   DiagnosticEngine& diags_;
   const CheckOptions& options_;
   ir::Module& m_;
-  std::map<std::string, Symbol> scopes_[static_cast<int>(Ns::Count)];
+  std::unordered_map<std::string, Symbol> scopes_[static_cast<int>(Ns::Count)];
   std::map<std::string, ir::NodeId> params_;  // "bank.param"
+  mutable std::unordered_map<std::string, ir::NodeId> param_text_memo_;  // see lookup_param_text
   std::map<std::string, SourceRange> banks_;
-  std::map<const ast::Stmt*, ir::NodeId> declared_;
-  std::map<int32_t, std::map<std::string, ir::NodeId>> mesh_points_;
+  std::unordered_map<const ast::Stmt*, ir::NodeId> declared_;
+  std::unordered_map<int32_t, std::map<std::string, ir::NodeId>> mesh_points_;
   // Instance scopes keyed by owner node index + 1 (0 = top level).
   std::map<int32_t, std::map<std::string, ir::NodeId>> instance_scopes_;
   std::set<std::string> tcl_vars_;
