@@ -2,6 +2,7 @@
 #include "frontend/source/source_manager.h"
 
 #include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -17,10 +18,12 @@ std::optional<std::string> read_file_bytes(const std::string& path) {
 
 FileId SourceManager::add_file(std::string name, std::string text) {
   File file{std::move(name), std::move(text), {0}};
-  for (uint32_t i = 0; i < file.text.size(); ++i) {
-    if (file.text[i] == '\n') {
-      file.line_starts.push_back(i + 1);
-    }
+  file.line_starts.reserve(file.text.size() / 40 + 16);
+  const char* begin = file.text.data();
+  const char* end = begin + file.text.size();
+  for (const char* p = begin; const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p));) {
+    p = static_cast<const char*>(nl) + 1;
+    file.line_starts.push_back(static_cast<uint32_t>(p - begin));
   }
   files_.push_back(std::move(file));
   return FileId{static_cast<int32_t>(files_.size() - 1)};
