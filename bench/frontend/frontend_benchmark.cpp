@@ -6,7 +6,8 @@
 // `check_source` with a `ParseCache` kept per document, over a ≥ 0.5 MB generated scene and
 // over each corpus file: typing digits into a parameter value, typing inside a name, and
 // inserting then deleting a whole statement; p50/p90 per keystroke are reported as counters
-// (milliseconds). Before timing anything, main() checks that the generated scene has no errors.
+// (milliseconds). BM_KeystrokeParse times the same keystrokes' parse step alone. Before
+// timing anything, main() checks that the generated scene has no errors.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -276,6 +277,39 @@ void BM_Keystroke(benchmark::State& state) {
   state.counters["file_bytes"] = static_cast<double>(text.size());
 }
 
+// The parse step alone of each keystroke (ParseCache::parse, as the server calls it after
+// an edit) on the generated scene of range(0) bytes; the AST is freed outside the timing.
+void BM_KeystrokeParse(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  std::vector<std::string> steps = keystrokes(text);
+  std::vector<double> ms;
+  for (auto _ : state) {
+    nomec::ParseCache cache;
+    {
+      nomec::SourceManager sources;
+      nomec::DiagnosticEngine diags;
+      nomec::FileId f = sources.add_file("bench.nome", text);
+      nomec::ast::Ast open = cache.parse(sources, f, diags);  // didOpen
+    }
+    double total = 0;
+    for (const std::string& step : steps) {
+      nomec::SourceManager sources;
+      nomec::DiagnosticEngine diags;
+      nomec::FileId f = sources.add_file("bench.nome", step);
+      auto t0 = std::chrono::steady_clock::now();
+      nomec::ast::Ast a = cache.parse(sources, f, diags);
+      auto t1 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(a.stmts.size());
+      double t = std::chrono::duration<double, std::milli>(t1 - t0).count();
+      ms.push_back(t);
+      total += t;
+    }
+    state.SetIterationTime(total / 1000.0 / static_cast<double>(steps.size()));
+  }
+  report(state, ms);
+  state.counters["file_bytes"] = static_cast<double>(text.size());
+}
+
 // Keystroke -> diagnostics over every corpus file (one session per file); the counters
 // pool every keystroke of every file.
 void BM_KeystrokeCorpus(benchmark::State& state) {
@@ -324,6 +358,7 @@ void BM_KeystrokeLargestCorpusFile(benchmark::State& state) {
 }
 
 BENCHMARK(BM_Keystroke)->Arg(64 << 10)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KeystrokeParse)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeCorpus)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeLargestCorpusFile)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);

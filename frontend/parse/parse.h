@@ -26,7 +26,9 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
 /// `parse_piece` in piece.h); otherwise it is parsed together with the following pieces,
 /// doubling the run until the run is independent or reaches the end of the file. Pieces
 /// not used by the last two versions are dropped, so memory stays proportional to the
-/// document.
+/// document. Only the text around an edit (found by comparing with the previous version)
+/// is scanned for cuts and looked up; the cuts and runs before and after it are reused,
+/// shifted. Assembling the result still copies the whole AST.
 class ParseCache {
  public:
   ParseCache();
@@ -40,8 +42,11 @@ class ParseCache {
   /// What the last `parse` did, for benchmarks and tests.
   struct Stats {
     size_t pieces = 0;        // pieces (runs of statements) in the assembled result
+    size_t chunks = 0;        // pieces the text was cut into before joining them into runs
     size_t parsed = 0;        // pieces parsed by ANTLR in this call (the rest were reused)
     size_t parsed_bytes = 0;  // bytes given to ANTLR in this call
+    size_t scanned_bytes = 0;    // bytes the cut scanner read (only around the edit)
+    size_t looked_up_bytes = 0;  // bytes of piece text hashed to find cached pieces
   };
   const Stats& last_stats() const;
 

@@ -1,10 +1,22 @@
-// ParseCache: incremental parsing for the language server. Splits a document into runs of
-// top-level statements ("pieces"), parses each distinct piece text once with `parse_piece`,
-// and assembles the file's AST from the pieces, shifting ids and ranges. The result is
-// identical to `parse_file` on the whole text; piece.h states the conditions under which a
-// piece parsed alone is provably the same as inside the file, and pieces that do not meet
-// them are parsed together with the pieces after them.
+// ParseCache: incremental parsing for the language server. Splits a document into chunks
+// at cut points after top-level blocks, joins chunks into runs of top-level statements
+// ("pieces"), parses each distinct piece text once with `parse_piece`, and assembles the
+// file's AST from the pieces, shifting ids and ranges. The result is identical to
+// `parse_file` on the whole text; piece.h states the conditions under which a piece parsed
+// alone is provably the same as inside the file, and pieces that do not meet them are
+// parsed together with the pieces after them.
+//
+// Each call remembers its text, chunk ends and runs. The next call compares the new text
+// with it (common prefix and suffix) and keeps the chunks and runs before the edit as they
+// are and those after it shifted, without scanning or hashing their text again: the cut
+// scanner resumes at the last cut before the edit and stops at the first cut in the
+// unchanged tail that was an old cut too, and the run building resumes after the last old
+// run that ends before the edit and stops once a new run ends where an old run ended in the
+// unchanged tail (see `parse` for why each is exact). The assembly still copies every
+// piece's AST, as the result must view the caller's new text.
 #include <algorithm>
+#include <cstddef>
+#include <cstring>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -82,16 +94,21 @@ bool may_nest(ast::BlockKind parent, ast::BlockKind child) {
 }
 
 // Cut points: just after a newline that follows the end keyword of a top-level block, with
-// only spaces and comments in between, outside any bracket, string or comment. Returns the
-// end offset of every piece; the last one is the text size.
-std::vector<uint32_t> piece_ends(std::string_view t) {
-  std::vector<uint32_t> ends;
+// only spaces and comments in between, outside any bracket, string or comment. Whether
+// there is a cut at `e` depends only on the text before `e` (no token reaches across a
+// newline), and at a cut the scanner's state is the initial one; so scanning may start at
+// any earlier cut, and from a cut on the cuts depend only on the text after it.
+//
+// Scans `t` from `from` (0 or a cut), appending each cut offset to `cuts`; after each one,
+// `stop(cut)` may end the scan (returns true then). Returns false at the end of the text.
+template <typename Stop>
+bool scan_cuts(std::string_view t, size_t from, std::vector<uint32_t>& cuts, Stop&& stop) {
   std::vector<ast::BlockKind> open;
   int comment = 0, paren = 0, brace = 0, bracket = 0;
   bool pending = false;
   const KeywordIndex& kw = keywords();
   size_t n = t.size();
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = from; i < n; ++i) {
     char c = t[i];
     char next = i + 1 < n ? t[i + 1] : '\0';
     if (comment > 0) {
@@ -115,7 +132,8 @@ std::vector<uint32_t> piece_ends(std::string_view t) {
     }
     if (c == '\n') {
       if (pending && paren == 0 && brace == 0 && bracket == 0) {
-        ends.push_back(static_cast<uint32_t>(i + 1));
+        cuts.push_back(static_cast<uint32_t>(i + 1));
+        if (stop(static_cast<uint32_t>(i + 1))) return true;
       }
       pending = false;
       continue;
@@ -154,8 +172,29 @@ std::vector<uint32_t> piece_ends(std::string_view t) {
       pending = open.empty();
     }
   }
-  if (ends.empty() || ends.back() != n) ends.push_back(static_cast<uint32_t>(n));
-  return ends;
+  return false;
+}
+
+// Length of the common prefix of `a` and `b`, comparing in blocks.
+size_t common_prefix(std::string_view a, std::string_view b) {
+  size_t n = std::min(a.size(), b.size()), i = 0;
+  constexpr size_t kBlock = 256;
+  while (i + kBlock <= n && std::memcmp(a.data() + i, b.data() + i, kBlock) == 0) i += kBlock;
+  while (i < n && a[i] == b[i]) ++i;
+  return i;
+}
+
+// Length of the common suffix of `a` and `b`, at most `limit`.
+size_t common_suffix(std::string_view a, std::string_view b, size_t limit) {
+  size_t i = 0;
+  constexpr size_t kBlock = 256;
+  const char* ea = a.data() + a.size();
+  const char* eb = b.data() + b.size();
+  while (i + kBlock <= limit && std::memcmp(ea - i - kBlock, eb - i - kBlock, kBlock) == 0) {
+    i += kBlock;
+  }
+  while (i < limit && ea[-1 - static_cast<ptrdiff_t>(i)] == eb[-1 - static_cast<ptrdiff_t>(i)]) ++i;
+  return i;
 }
 
 struct TextHash {
@@ -173,12 +212,28 @@ struct ParseCache::Impl {
     PieceInfo info;
     uint64_t used = 0;
   };
+  // One run of chunks in a version of the document and the cached piece of its text.
+  struct Use {
+    std::string_view key;
+    Piece* piece;
+    uint32_t at;           // byte offset of the run in that version's text
+    uint32_t first, last;  // the chunks it covers
+  };
   std::unordered_map<std::string, Piece, TextHash, std::equal_to<>> pieces;
   uint64_t generation = 0;
   Stats stats;
 
+  // The previous version: its text, chunk ends (the last is the text size, whether or not
+  // it is a cut) and runs. The next call keeps what lies before and after its edit.
+  bool have_prev = false;
+  std::string prev_text;
+  std::vector<uint32_t> prev_ends;
+  bool prev_last_is_cut = false;
+  std::vector<Use> prev_uses;
+
   // The cached piece for `text`, parsing it if it is new. Returns the key and the piece.
   std::pair<std::string_view, Piece*> get(std::string_view text) {
+    stats.looked_up_bytes += text.size();
     auto it = pieces.find(text);
     if (it == pieces.end()) {
       it = pieces.emplace(std::string(text), Piece{}).first;
@@ -287,22 +342,108 @@ class Assembler {
 
 ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
   Impl& m = *impl_;
+  using Use = Impl::Use;
   ++m.generation;
   m.stats = Stats{};
   std::string_view text = sources.text(file);
-  std::vector<uint32_t> ends = piece_ends(text);
 
-  struct Use {
-    std::string_view key;
-    Impl::Piece* piece;
-    uint32_t at;
-    size_t first, last;  // the chunks it covers
-  };
+  // The edit since the previous version: text[0, prefix) is unchanged, and so is
+  // text[tail, size) (it was old[tail - delta, old size)). Without a previous version
+  // nothing is kept and everything below is the full computation.
+  std::string_view old = m.have_prev ? std::string_view(m.prev_text) : std::string_view();
+  const std::vector<uint32_t>& old_ends = m.prev_ends;
+  const std::vector<Use>& old_uses = m.prev_uses;
+  size_t prefix = 0, suffix = 0;
+  if (m.have_prev) {
+    prefix = common_prefix(old, text);
+    suffix = common_suffix(old, text, std::min(old.size(), text.size()) - prefix);
+  }
+  const size_t tail = text.size() - suffix;
+  const int64_t delta = static_cast<int64_t>(text.size()) - static_cast<int64_t>(old.size());
+
+  // 1. Chunk ends. The cuts up to `prefix` are the old ones; scanning resumes at the last of
+  // them and stops at the first cut in the unchanged tail that was also an old cut: from
+  // there on the old cuts, shifted, are the new ones.
+  const size_t old_cuts =
+      m.have_prev ? old_ends.size() - (m.prev_last_is_cut ? 0 : 1) : 0;
+  const size_t kept_cuts = static_cast<size_t>(
+      std::upper_bound(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(old_cuts),
+                       prefix) -
+      old_ends.begin());
+  std::vector<uint32_t> ends;
+  ends.reserve(old_ends.size() + 16);
+  ends.assign(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(kept_cuts));
+  const size_t scan_from = ends.empty() ? 0 : ends.back();
+  size_t scan_to = text.size();
+  bool last_is_cut = false;
+  bool joined = scan_cuts(text, scan_from, ends, [&](uint32_t e) {
+    if (e < tail || e >= text.size()) return false;
+    const auto old_e = static_cast<uint32_t>(static_cast<int64_t>(e) - delta);
+    auto it = std::lower_bound(old_ends.begin() + static_cast<ptrdiff_t>(kept_cuts),
+                               old_ends.begin() + static_cast<ptrdiff_t>(old_cuts), old_e);
+    if (it == old_ends.begin() + static_cast<ptrdiff_t>(old_cuts) || *it != old_e) return false;
+    for (++it; it != old_ends.end(); ++it) {
+      ends.push_back(static_cast<uint32_t>(static_cast<int64_t>(*it) + delta));
+    }
+    scan_to = e;
+    return true;
+  });
+  if (joined) {
+    last_is_cut = m.prev_last_is_cut;
+  } else {
+    last_is_cut = !ends.empty() && ends.back() == text.size();
+    if (!last_is_cut) ends.push_back(static_cast<uint32_t>(text.size()));
+  }
+  m.stats.scanned_bytes = scan_to - scan_from;
+  m.stats.chunks = ends.size();
+
+  // 2. Runs. Building them is a left-to-right process over the chunk texts (a run may be
+  // extended backwards over the one before it, and the chunks a step looks at never go
+  // back). Right after an old run was pushed, the old process had looked only at chunks up
+  // to that run's last one; if those are unchanged, the new process passes the same state,
+  // so it resumes after the last old run that ends before the first changed chunk (and
+  // before the last chunk, which is treated differently). An old run that survived to the
+  // end was never undone by the runs after it, which therefore depend only on the chunks
+  // after it; so once the new process has pushed a run that ends where an old run ended,
+  // at a cut in the unchanged tail, the rest are the old runs, shifted.
+  const size_t n = ends.size();
+  const size_t old_n = m.have_prev ? old_ends.size() : 0;
+  const int64_t chunk_delta = static_cast<int64_t>(n) - static_cast<int64_t>(old_n);
+  const size_t same_chunks = std::min({kept_cuts, old_n == 0 ? 0 : old_n - 1, n - 1});
   std::vector<Use> uses;
-  size_t n = ends.size();
+  uses.reserve(old_uses.size() + 16);
+  {
+    auto keep = std::partition_point(old_uses.begin(), old_uses.end(),
+                                     [&](const Use& u) { return u.last < same_chunks; });
+    uses.assign(old_uses.begin(), keep);
+  }
+  // After a run was pushed and the next starts at `i`: appends the old runs from there on
+  // if the new process is now where the old one was. Returns whether it did.
+  auto join_old = [&](size_t i) {
+    if (i >= n || ends[i - 1] < tail) return false;
+    const int64_t old_i = static_cast<int64_t>(i) - chunk_delta;
+    if (old_i < 1 || old_i >= static_cast<int64_t>(old_n)) return false;
+    if (static_cast<int64_t>(old_ends[static_cast<size_t>(old_i) - 1]) !=
+        static_cast<int64_t>(ends[i - 1]) - delta) {
+      return false;
+    }
+    auto it = std::partition_point(old_uses.begin(), old_uses.end(), [&](const Use& u) {
+      return static_cast<int64_t>(u.first) < old_i;
+    });
+    if (it == old_uses.end() || static_cast<int64_t>(it->first) != old_i) return false;
+    for (; it != old_uses.end(); ++it) {
+      Use u = *it;
+      u.at = static_cast<uint32_t>(static_cast<int64_t>(u.at) + delta);
+      u.first = static_cast<uint32_t>(static_cast<int64_t>(u.first) + chunk_delta);
+      u.last = static_cast<uint32_t>(static_cast<int64_t>(u.last) + chunk_delta);
+      uses.push_back(u);
+    }
+    return true;
+  };
   size_t min_last = 0;  // a run starting at `i` must reach at least this chunk
-  for (size_t i = 0; i < n;) {
+  for (size_t i = uses.empty() ? 0 : uses.back().last + 1; i < n;) {
     uint32_t begin = i == 0 ? 0 : ends[i - 1];
+    bool joined_old = false;
     for (size_t span = std::max<size_t>(1, min_last + 1 - std::min(min_last + 1, i));;
          span *= 2) {
       size_t j = std::min(n - 1, i + span - 1);
@@ -316,13 +457,16 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
         break;
       }
       if (piece->info.self_contained || j == n - 1) {
-        uses.push_back({key, piece, begin, i, j});
+        uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j)});
         min_last = 0;
         i = j + 1;
+        joined_old = join_old(i);
         break;
       }
     }
+    if (joined_old) break;
   }
+  for (const Use& u : uses) u.piece->used = m.generation;
 
   ast::Ast out;
   out.file = file;
@@ -343,6 +487,11 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   for (const Use& u : uses) assembler.append_diags(u.piece->tokens, u.key, u.at, diags);
   for (const Use& u : uses) assembler.append_diags(u.piece->syntax, u.key, u.at, diags);
   m.stats.pieces = uses.size();
+  m.have_prev = true;
+  m.prev_text.assign(text);
+  m.prev_ends = std::move(ends);
+  m.prev_last_is_cut = last_is_cut;
+  m.prev_uses = std::move(uses);
 
   // Keep what this version and the one before used (an undo finds its pieces again).
   std::erase_if(m.pieces, [&](const auto& kv) { return kv.second.used + 1 < m.generation; });

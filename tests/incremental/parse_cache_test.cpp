@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -144,6 +145,36 @@ std::string cached_parse(nomec::ParseCache& cache, const std::string& text) {
   return dump_ast(a) + "--\n" + dump_diags(diags);
 }
 
+// Empty when `got` equals `want`; otherwise the first differing line of each, so that a
+// failure on a large document stays readable.
+std::string first_difference(const std::string& got, const std::string& want) {
+  if (got == want) return "";
+  size_t i = 0;
+  while (i < got.size() && i < want.size() && got[i] == want[i]) ++i;
+  size_t b = want.rfind('\n', i == 0 ? 0 : i - 1);
+  b = b == std::string::npos ? 0 : b + 1;
+  size_t bg = std::min(b, got.size());
+  return fmt::format("first difference near\n  want: {}\n  got:  {}",
+                     want.substr(b, want.find('\n', i) - b),
+                     got.substr(bg, got.find('\n', i) - bg));
+}
+
+// The cached parse of `text` through `cache`, which must also have split the text into the
+// same chunks and runs as a fresh cache does (cuts are only hints, so a wrong cut could
+// still give the right AST; the counts show it).
+std::string cached_parse_same_runs(nomec::ParseCache& cache, const std::string& text) {
+  std::string got = cached_parse(cache, text);
+  nomec::ParseCache fresh;
+  cached_parse(fresh, text);
+  if (cache.last_stats().pieces != fresh.last_stats().pieces ||
+      cache.last_stats().chunks != fresh.last_stats().chunks) {
+    return fmt::format("{} runs of {} chunks instead of {} of {}", cache.last_stats().pieces,
+                       cache.last_stats().chunks, fresh.last_stats().pieces,
+                       fresh.last_stats().chunks);
+  }
+  return got;
+}
+
 // One random edit at a random place: the alphabet favours what changes structure.
 void random_edit(std::string& text, std::mt19937& rng) {
   static const std::vector<std::string> fragments = {
@@ -255,6 +286,179 @@ TEST(ParseCache, SmallEditsReparseSmallPieces) {
   scene.insert(scene.size() / 2, "(* ");
   ASSERT_EQ(cached_parse(cache, scene), full_parse(scene));
   EXPECT_GT(cache.last_stats().parsed_bytes, scene.size() / 3);
+}
+
+// Scripted edits that each hit one path of the edit-local update (cuts and runs kept before
+// the edit, re-derived around it, and taken over shifted after it): every version must
+// equal a fresh parse.
+TEST(ParseCache, EditsAtEveryPlaceAndOfEveryStructure) {
+  const std::string scene = generated_scene(16);
+  struct Edit {
+    const char* what;
+    std::function<void(std::string&)> apply;
+  };
+  auto at_mid = [](const std::string& t, const char* needle) { return t.find(needle, t.size() / 2); };
+  const std::vector<Edit> edits = {
+      {"insert at the start", [](std::string& t) { t.insert(0, "point s (1 2 3) endpoint\n"); }},
+      {"delete the first character", [](std::string& t) { t.erase(0, 1); }},
+      {"delete the first line", [](std::string& t) { t.erase(0, t.find('\n') + 1); }},
+      {"type a digit in the middle", [&](std::string& t) { t.insert(at_mid(t, "set r 1.") + 8, "7"); }},
+      {"type a name character", [&](std::string& t) { t.insert(at_mid(t, "mesh m") + 6, "x"); }},
+      // Two edits whose lengths cancel: between them, the new cuts sit where old cuts were,
+      // but the text after them changed, so nothing there may be taken over.
+      {"two same-length edits far apart",
+       [](std::string& t) {
+         size_t a = t.find("set n ", t.size() / 5) + 6;
+         t[a] = t[a] == '9' ? '8' : '9';
+         size_t b = t.find("set n ", t.size() * 4 / 5) + 6;
+         t[b] = t[b] == '9' ? '8' : '9';
+       }},
+      {"same-length edits far apart, breaking end keywords",
+       [](std::string& t) {
+         t[t.find("endpoint", t.size() / 5)] = 'x';
+         t[t.find("endmesh", t.size() * 4 / 5) + 6] = 'x';
+       }},
+      {"and mending them the same way",
+       [](std::string& t) {
+         t[t.find("xndpoint", t.size() / 5)] = 'e';
+         t[t.find("endmesx", t.size() * 4 / 5) + 6] = 'h';
+       }},
+      {"insert and delete far apart",
+       [](std::string& t) {
+         t.insert(t.find('\n', t.size() / 5) + 1, "#");
+         t.erase(t.find("endmesh", t.size() * 4 / 5), 1);
+       }},
+      // The last run is accepted because it is last, not because it is self-contained: text
+      // typed after it must be parsed with it.
+      {"end with a block closed by the wrong keyword",
+       [](std::string& t) { t += "mesh m\n  point a (1 2 3) endpoint\nendpoint\n"; }},
+      {"type a statement and its end keyword after it",
+       [](std::string& t) { t += "point z (1 2 3) endpoint\nendmesh\n"; }},
+      {"and another statement", [](std::string& t) { t += "point z (1 2 3) endpoint\n"; }},
+      {"append at the end", [](std::string& t) { t += "point e (0 0 1) endpoint\n"; }},
+      {"append without a newline", [](std::string& t) { t += "point f (0 0 1) endpoint"; }},
+      {"type after the last character", [](std::string& t) { t += "  "; }},
+      {"drop the final newline", [](std::string& t) { t.pop_back(); t.pop_back(); t.pop_back(); }},
+      {"truncate the last statement", [](std::string& t) { t.erase(t.rfind("endpoint")); }},
+      {"open a comment in the middle", [&](std::string& t) { t.insert(at_mid(t, "mesh m"), "(* "); }},
+      {"close it further down", [&](std::string& t) { t.insert(t.find("endgroup", t.size() * 3 / 4), "*) "); }},
+      {"open a nested comment inside it", [&](std::string& t) { t.insert(at_mid(t, "point v1"), "(* "); }},
+      {"close the nested comment", [&](std::string& t) { t.insert(t.find("endgroup", t.size() * 3 / 4), "*) "); }},
+      {"remove an end keyword", [&](std::string& t) { t.erase(at_mid(t, "endmesh"), 7); }},
+      {"put it back", [&](std::string& t) { t.insert(at_mid(t, "\nfunnel fun"), "endmesh"); }},
+      {"unbalanced open bracket", [&](std::string& t) { t.insert(at_mid(t, "instance box"), "("); }},
+      {"unbalanced close bracket", [&](std::string& t) { t.insert(at_mid(t, "group g"), ")"); }},
+      {"open a brace", [&](std::string& t) { t.insert(at_mid(t, "bank b"), "{ "); }},
+      {"open a string", [&](std::string& t) { t.insert(at_mid(t, "set n"), "\""); }},
+      {"an end keyword with nothing open", [&](std::string& t) { t.insert(at_mid(t, "\nbank b") + 1, "endbank\n"); }},
+      {"a token that cannot start a statement", [&](std::string& t) { t.insert(at_mid(t, "\npoint q") + 1, ") , "); }},
+      {"two edits far apart", [](std::string& t) { t.insert(t.size() / 5, "9"); t.insert(t.size() * 4 / 5, "(* x *)"); }},
+      {"replace everything", [](std::string& t) { t = generated_scene(3); }},
+      {"empty the document", [](std::string& t) { t.clear(); }},
+      {"type into the empty document", [](std::string& t) { t = "p"; }},
+      {"paste a scene", [&](std::string& t) { t = scene; }},
+      {"the same text again", [](std::string&) {}},
+  };
+  nomec::ParseCache cache;
+  std::string text = scene;
+  ASSERT_EQ(first_difference(cached_parse_same_runs(cache, text), full_parse(text)), "");
+  std::vector<std::string> versions = {text};
+  for (const Edit& e : edits) {
+    e.apply(text);
+    ASSERT_EQ(first_difference(cached_parse_same_runs(cache, text), full_parse(text)), "")
+        << e.what;
+    versions.push_back(text);
+  }
+  // Undo every step back to the start, then redo them.
+  for (size_t k = versions.size(); k-- > 0;) {
+    ASSERT_EQ(first_difference(cached_parse_same_runs(cache, versions[k]), full_parse(versions[k])), "")
+        << "undo to " << k;
+  }
+  for (size_t k = 0; k < versions.size(); ++k) {
+    ASSERT_EQ(first_difference(cached_parse_same_runs(cache, versions[k]), full_parse(versions[k])), "")
+        << "redo to " << k;
+  }
+}
+
+// A typing session: edits cluster around a moving cursor (as in an editor), sometimes
+// several at once (a multi-cursor edit or a formatter), and sometimes jump back several
+// versions (undo); every version must equal a fresh parse.
+TEST(ParseCache, TypingSessionsWithUndo) {
+  const std::string scene = generated_scene(10);
+  static const std::vector<std::string> typed = {
+      "1", "0", ".", " ", "\n", "e", "n", "d", "(", ")", "(*", "*)", "#", "\"", "{", "}",
+      "endmesh", "endpoint", "mesh ", "point ", "face ", "endface", "set ", "\n\n"};
+  for (uint32_t seed = 300; seed < 304; ++seed) {
+    std::mt19937 rng(seed);
+    nomec::ParseCache cache;
+    std::string text = scene;
+    std::vector<std::string> history = {text};
+    size_t cursor = std::uniform_int_distribution<size_t>(0, text.size())(rng);
+    ASSERT_EQ(first_difference(cached_parse_same_runs(cache, text), full_parse(text)), "");
+    for (int k = 0; k < 40; ++k) {
+      int action = std::uniform_int_distribution<int>(0, 19)(rng);
+      if (action == 0 && history.size() > 1) {  // undo a few versions
+        size_t back = std::min<size_t>(history.size() - 1, 1 + rng() % 4);
+        history.resize(history.size() - back);
+        text = history.back();
+      } else if (action == 1) {  // edits at several places at once
+        for (int c = 0; c < 3; ++c) random_edit(text, rng);
+      } else if (action == 2) {  // move the cursor
+        cursor = std::uniform_int_distribution<size_t>(0, text.size())(rng);
+      } else if (action <= 5 && cursor > 0) {  // backspace
+        text.erase(--cursor, 1);
+      } else {  // type
+        const std::string& f = typed[rng() % typed.size()];
+        cursor = std::min(cursor, text.size());
+        text.insert(cursor, f);
+        cursor += f.size();
+      }
+      cursor = std::min(cursor, text.size());
+      history.push_back(text);
+      std::string want = full_parse(text);
+      ASSERT_EQ(first_difference(cached_parse_same_runs(cache, text), want), "")
+          << "seed " << seed << " step " << k;
+    }
+  }
+}
+
+// The work of a keystroke is proportional to the edit: the cut scanner reads and the piece
+// lookup hashes only the text around it, not the whole file.
+TEST(ParseCache, KeystrokeWorkIsLocal) {
+  std::string scene = generated_scene(240);
+  nomec::ParseCache cache;
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+  EXPECT_EQ(cache.last_stats().scanned_bytes, scene.size());
+  EXPECT_GE(cache.last_stats().looked_up_bytes, scene.size());
+  for (size_t place : {scene.size() / 10, scene.size() / 2, scene.size() - 40}) {
+    size_t at = scene.find_first_of("0123456789", place);
+    ASSERT_NE(at, std::string::npos);
+    scene.insert(at, "3");
+    ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "") << "at " << at;
+    EXPECT_LT(cache.last_stats().scanned_bytes, 2000u) << "at " << at;
+    EXPECT_LT(cache.last_stats().looked_up_bytes, 2000u) << "at " << at;
+    EXPECT_EQ(cache.last_stats().parsed, 1u) << "at " << at;
+    EXPECT_GT(cache.last_stats().pieces, 240u);
+  }
+  // The same text again: nothing is parsed, and almost nothing scanned.
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+  EXPECT_EQ(cache.last_stats().parsed, 0u);
+  EXPECT_LT(cache.last_stats().scanned_bytes, 2000u);
+  // Removing an end keyword joins the block with what follows up to the next cut that
+  // lines up with an old one; the scan goes no further than that.
+  size_t end = scene.find("endmesh", scene.size() / 2);
+  scene.erase(end, 7);
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+  EXPECT_LT(cache.last_stats().scanned_bytes, 4000u);
+  // An unclosed comment hides every later cut: the scan runs to the end of the file.
+  size_t open_at = scene.size() / 3;
+  scene.insert(open_at, "(* ");
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+  EXPECT_GE(cache.last_stats().scanned_bytes, scene.size() - open_at - 2000);
+  // Closing it again: the cuts after it are found again (scan to the first old cut after
+  // the edit, which is the end, since the previous version had none).
+  scene.insert(open_at + 3, "*) ");
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
 }
 
 std::string check_dump(const std::string& text, nomec::ParseCache* cache) {
