@@ -51,43 +51,67 @@ void DepGraph::add_edge(NodeId from, NodeId to) {
   if (!from.is_valid() || !to.is_valid() || from == to) {
     return;
   }
-  size_t need = static_cast<size_t>(std::max(from.index, to.index)) + 1;
-  if (users_.size() < need) {
-    users_.resize(need);
-  }
-  auto& list = users_[from.index];
+  resize(static_cast<size_t>(std::max(from.index, to.index)) + 1);
   // Duplicates are removed in `finalize`; skipping the common repeat here keeps lists short.
-  if (list.empty() || list.back() != to) {
-    list.push_back(to);
+  if (last_to_[from.index] == to.index) {
+    return;
   }
+  last_to_[from.index] = to.index;
+  edges_.emplace_back(from.index, to.index);
+  stale_ = true;
 }
 
 void DepGraph::finalize() {
-  for (auto& list : users_) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
+  sorted_ = true;
+  stale_ = true;
+  compact();
 }
 
-size_t DepGraph::edge_count() const {
-  size_t n = 0;
-  for (const auto& u : users_) {
-    n += u.size();
+void DepGraph::compact() const {
+  if (!stale_) {
+    return;
   }
-  return n;
+  const size_t n = last_to_.size();
+  begin_.assign(n + 1, 0);
+  for (const auto& [from, to] : edges_) {
+    ++begin_[static_cast<size_t>(from) + 1];
+  }
+  for (size_t i = 0; i < n; ++i) {
+    begin_[i + 1] += begin_[i];
+  }
+  items_.assign(edges_.size(), NodeId{});
+  std::vector<uint32_t> fill(begin_.begin(), begin_.end() - 1);
+  for (const auto& [from, to] : edges_) {  // stable: each list keeps insertion order
+    items_[fill[from]++] = NodeId{to};
+  }
+  if (sorted_) {
+    // Sort and deduplicate each list, then close the gaps left by removed duplicates.
+    uint32_t out = 0;
+    for (size_t i = 0; i < n; ++i) {
+      auto first = items_.begin() + begin_[i];
+      auto last = items_.begin() + begin_[i + 1];
+      std::sort(first, last, [](NodeId a, NodeId b) { return a.index < b.index; });
+      last = std::unique(first, last);
+      begin_[i] = out;
+      out = static_cast<uint32_t>(std::move(first, last, items_.begin() + out) - items_.begin());
+    }
+    begin_[n] = out;
+    items_.resize(out);
+  }
+  stale_ = false;
 }
 
 std::vector<NodeId> DepGraph::topo_order(std::vector<NodeId>* cycle_nodes) const {
-  std::vector<int> indegree(users_.size(), 0);
-  for (const auto& u : users_) {
-    for (NodeId to : u) {
-      ++indegree[to.index];
-    }
+  compact();
+  const size_t count = node_count();
+  std::vector<int> indegree(count, 0);
+  for (NodeId to : items_) {
+    ++indegree[to.index];
   }
   std::vector<NodeId> order;
-  order.reserve(users_.size());
+  order.reserve(count);
   std::vector<NodeId> ready;
-  for (size_t i = users_.size(); i-- > 0;) {
+  for (size_t i = count; i-- > 0;) {
     if (indegree[i] == 0) {
       ready.push_back(NodeId{static_cast<int32_t>(i)});
     }
@@ -96,7 +120,7 @@ std::vector<NodeId> DepGraph::topo_order(std::vector<NodeId>* cycle_nodes) const
     NodeId n = ready.back();
     ready.pop_back();
     order.push_back(n);
-    for (NodeId to : users_[n.index]) {
+    for (NodeId to : users(n)) {
       if (--indegree[to.index] == 0) {
         ready.push_back(to);
       }
@@ -104,7 +128,7 @@ std::vector<NodeId> DepGraph::topo_order(std::vector<NodeId>* cycle_nodes) const
   }
   if (cycle_nodes != nullptr) {
     cycle_nodes->clear();
-    for (size_t i = 0; i < users_.size(); ++i) {
+    for (size_t i = 0; i < count; ++i) {
       if (indegree[i] > 0) {
         cycle_nodes->push_back(NodeId{static_cast<int32_t>(i)});
       }
@@ -114,13 +138,13 @@ std::vector<NodeId> DepGraph::topo_order(std::vector<NodeId>* cycle_nodes) const
 }
 
 std::vector<NodeId> DepGraph::affected_by(NodeId start) const {
-  std::vector<char> seen(users_.size(), 0);
+  std::vector<char> seen(node_count(), 0);
   std::vector<NodeId> stack{start};
   seen[start.index] = 1;
   while (!stack.empty()) {
     NodeId n = stack.back();
     stack.pop_back();
-    for (NodeId to : users_[n.index]) {
+    for (NodeId to : users(n)) {
       if (!seen[to.index]) {
         seen[to.index] = 1;
         stack.push_back(to);

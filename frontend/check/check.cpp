@@ -1457,7 +1457,9 @@ class Checker {
       m_.deps.add_edge(vid, id);
       f.value_node = vid;
     }
-    m_.node(id).fields.push_back(std::move(f));
+    std::vector<ir::Field>& fields = m_.node(id).fields;
+    if (fields.empty()) fields.reserve(2);  // most statements have one or two fields
+    fields.push_back(std::move(f));
   }
 
   void collect_params(ir::ExprId e, std::vector<int32_t>& out) const {
@@ -1480,6 +1482,7 @@ class Checker {
     f.name = std::move(name);
     f.kind = ir::FieldKind::Vector;
     f.range = list.range;
+    f.exprs.reserve(list.elems.size());
     for (ast::ExprId e : list.elems) f.exprs.push_back(to_ir(a, e, false, id));
     add_field(id, std::move(f));
   }
@@ -1523,6 +1526,7 @@ class Checker {
     f.name = std::move(name);
     f.kind = ir::FieldKind::Vertices;
     f.range = list.range;
+    f.vertices.reserve(list.elems.size());
     for (ast::ExprId e : list.elems) {
       const ast::Expr& x = a.expr(e);
       if (x.kind != ast::ExprKind::Name) {
