@@ -25,8 +25,9 @@ ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine&
 /// alone when its parse is provably independent of the text around it (see
 /// `parse_piece` in piece.h); otherwise it is parsed together with the following pieces,
 /// doubling the run until the run is independent or reaches the end of the file. Pieces
-/// not used by the last two versions are dropped, so memory stays proportional to the
-/// document. Only the text around an edit (found by comparing with the previous version)
+/// that neither of the last two versions used are dropped once the cache holds about
+/// twice the document's pieces or three times its bytes, so memory stays proportional to
+/// the document. Only the text around an edit (found by comparing with the previous version)
 /// is scanned for cuts and looked up; the cuts and runs before and after it are reused,
 /// shifted. Assembling the result still copies the whole AST.
 class ParseCache {
@@ -47,6 +48,8 @@ class ParseCache {
     size_t parsed_bytes = 0;  // bytes given to ANTLR in this call
     size_t scanned_bytes = 0;    // bytes the cut scanner read (only around the edit)
     size_t looked_up_bytes = 0;  // bytes of piece text hashed to find cached pieces
+    size_t cached_pieces = 0;    // pieces kept for the next versions after this call
+    size_t cached_bytes = 0;     // their text
   };
   const Stats& last_stats() const;
 

@@ -218,9 +218,11 @@ struct ParseCache::Impl {
     Piece* piece;
     uint32_t at;           // byte offset of the run in that version's text
     uint32_t first, last;  // the chunks it covers
+    bool has_diags;        // the piece reported something (most do not)
   };
   std::unordered_map<std::string, Piece, TextHash, std::equal_to<>> pieces;
   uint64_t generation = 0;
+  size_t cached_bytes = 0;  // the text of every cached piece
   Stats stats;
 
   // The previous version: its text, chunk ends (the last is the text size, whether or not
@@ -237,6 +239,7 @@ struct ParseCache::Impl {
     auto it = pieces.find(text);
     if (it == pieces.end()) {
       it = pieces.emplace(std::string(text), Piece{}).first;
+      cached_bytes += text.size();
       Piece& p = it->second;
       p.ast = parse_piece(it->first, FileId{0}, PieceSinks{p.comments, p.tokens, p.syntax},
                           &p.info);
@@ -457,7 +460,11 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
         break;
       }
       if (piece->info.self_contained || j == n - 1) {
-        uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j)});
+        bool has_diags = !piece->comments.diagnostics().empty() ||
+                         !piece->tokens.diagnostics().empty() ||
+                         !piece->syntax.diagnostics().empty();
+        uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j),
+                        has_diags});
         min_last = 0;
         i = j + 1;
         joined_old = join_old(i);
@@ -483,9 +490,13 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   out.top.reserve(top);
   Assembler assembler(out, text, file);
   for (const Use& u : uses) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
-  for (const Use& u : uses) assembler.append_diags(u.piece->comments, u.key, u.at, diags);
-  for (const Use& u : uses) assembler.append_diags(u.piece->tokens, u.key, u.at, diags);
-  for (const Use& u : uses) assembler.append_diags(u.piece->syntax, u.key, u.at, diags);
+  std::vector<const Use*> reporting;
+  for (const Use& u : uses) {
+    if (u.has_diags) reporting.push_back(&u);
+  }
+  for (const Use* u : reporting) assembler.append_diags(u->piece->comments, u->key, u->at, diags);
+  for (const Use* u : reporting) assembler.append_diags(u->piece->tokens, u->key, u->at, diags);
+  for (const Use* u : reporting) assembler.append_diags(u->piece->syntax, u->key, u->at, diags);
   m.stats.pieces = uses.size();
   m.have_prev = true;
   m.prev_text.assign(text);
@@ -493,8 +504,20 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   m.prev_last_is_cut = last_is_cut;
   m.prev_uses = std::move(uses);
 
-  // Keep what this version and the one before used (an undo finds its pieces again).
-  std::erase_if(m.pieces, [&](const auto& kv) { return kv.second.used + 1 < m.generation; });
+  // Keep what this version and the one before used (an undo finds its pieces again); the
+  // sweep visits every cached piece, so it runs only once the cache holds twice as many
+  // pieces as this version uses or three times the text's bytes (plus some slack), keeping
+  // memory proportional to the document without a full pass per keystroke.
+  if (m.pieces.size() > 2 * m.prev_uses.size() + 64 ||
+      m.cached_bytes > 3 * text.size() + (64u << 10)) {
+    std::erase_if(m.pieces, [&](const auto& kv) {
+      if (kv.second.used + 1 >= m.generation) return false;
+      m.cached_bytes -= kv.first.size();
+      return true;
+    });
+  }
+  m.stats.cached_pieces = m.pieces.size();
+  m.stats.cached_bytes = m.cached_bytes;
   return out;
 }
 

@@ -461,6 +461,31 @@ TEST(ParseCache, KeystrokeWorkIsLocal) {
   ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
 }
 
+// Memory stays proportional to the document: typing where every keystroke makes a new
+// piece of most of the file (inside an unclosed comment), and typing new statements that
+// each add pieces, never lets the cache grow past a few times the document.
+TEST(ParseCache, CacheStaysProportionalToTheDocument) {
+  std::string scene = generated_scene(60);
+  nomec::ParseCache cache;
+  cached_parse(cache, scene);
+  scene.insert(scene.size() / 3, "(* ");
+  size_t at = scene.size() / 2;
+  for (int k = 0; k < 40; ++k) {
+    scene.insert(at++, 1, static_cast<char>('a' + k % 26));
+    cached_parse(cache, scene);
+    EXPECT_LE(cache.last_stats().cached_bytes, 3 * scene.size() + (64u << 10)) << k;
+  }
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+  scene.erase(scene.size() / 3, 3);
+  for (int k = 0; k < 200; ++k) {
+    scene.insert(scene.find('\n', scene.size() / 2) + 1,
+                 fmt::format("point t{} ({} 0 0) endpoint\n", k, k));
+    cached_parse(cache, scene);
+    EXPECT_LE(cache.last_stats().cached_pieces, 2 * cache.last_stats().pieces + 64) << k;
+  }
+  ASSERT_EQ(first_difference(cached_parse(cache, scene), full_parse(scene)), "");
+}
+
 std::string check_dump(const std::string& text, nomec::ParseCache* cache) {
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
