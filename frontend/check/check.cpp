@@ -16,6 +16,7 @@
 #include <regex>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "backend/generators/domain.h"
 #include "frontend/check/signatures.h"
@@ -258,12 +259,12 @@ class Checker {
     // Content signals.
     SourceRange nome_at, nome3_at;
     std::string nome_why, nome3_why;
-    std::set<std::string> banks;
+    std::unordered_set<std::string_view> banks;  // views of the syntax tree's text
     for (const ast::Item& it : a.top) {
       if (it.kind == ItemKind::Block && a.stmt(it.block).kind == BlockKind::Bank) {
         const ast::Stmt& s = a.stmt(it.block);
         if (!s.items.empty() && s.items[0].kind == ItemKind::Word) {
-          banks.insert(std::string(s.items[0].text));
+          banks.insert(s.items[0].text);
         }
       }
     }
@@ -302,14 +303,16 @@ class Checker {
         }
       }
     }
+    // Only the first signal of each kind is kept, so the scan stops once both are known.
     for (const ast::Expr& e : a.exprs) {
+      if (nome_at.is_valid() && nome3_at.is_valid()) break;
       if (e.kind != ast::ExprKind::DollarRef) continue;
       std::string_view t = e.text.substr(1);
       if (auto dot = t.find('.'); dot != std::string_view::npos) {
-        if (banks.contains(std::string(t.substr(0, dot)))) note_nome3(e.range, "`$bank.param`");
-      } else {
+        if (!nome3_at.is_valid() && banks.contains(t.substr(0, dot))) note_nome3(e.range, "`$bank.param`");
+      } else if (!nome_at.is_valid()) {
         for (size_t u = t.find('_'); u != std::string_view::npos; u = t.find('_', u + 1)) {
-          if (banks.contains(std::string(t.substr(0, u)))) { note_nome(e.range, "`$bank_param`"); break; }
+          if (banks.contains(t.substr(0, u))) { note_nome(e.range, "`$bank_param`"); break; }
         }
       }
     }
