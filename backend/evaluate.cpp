@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat4x4.hpp>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <unordered_map>
@@ -58,6 +59,12 @@ struct Collected {
   int32_t curve_count = 0;
   // A pipeline block's result: `soup` already built (lets an incremental entry reuse it).
   std::shared_ptr<const kernel::Mesh> built;
+};
+
+// A pipeline block's result: the results of its clusters of input parts, in order (one
+// part when it ran on its whole input).
+struct BlockResult {
+  std::vector<std::shared_ptr<const Collected>> parts;
 };
 
 constexpr glm::vec3 kDefaultColor{0.8f, 0.8f, 0.8f};
@@ -294,26 +301,27 @@ std::vector<kernel::PolygonSoup> split_components(const kernel::Mesh& mesh) {
 }
 
 // Runs `steps` on each connected component of `mesh` separately, reusing the result of a
-// component whose input soup and steps equal one of the previous call's (`memo`), and
-// concatenates the results in component order. Falls back to the whole mesh (so errors
-// are exactly those of a one-shot run) when a component fails or the mesh has vertices
-// no face uses.
+// component whose input soup and steps equal an entry of `pool` (which is moved out), and
+// concatenates the results in component order; every component used is appended to
+// `next`. Falls back to the whole mesh (so errors are exactly those of a one-shot run)
+// when a component fails or the mesh has vertices no face uses.
 std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mesh& mesh,
                                                                const std::vector<Step>& steps,
-                                                               ComponentMemo& memo,
+                                                               ComponentMemo& pool, ComponentMemo& next,
                                                                int32_t& kernel_ops) {
   std::vector<kernel::PolygonSoup> parts = split_components(mesh);
   size_t used_vertices = 0;
   for (const auto& p : parts) used_vertices += p.positions.size();
-  if (used_vertices != static_cast<size_t>(mesh.vertex_count())) {
-    memo.entries.clear();
-    return run_steps(mesh, steps, kernel_ops);
-  }
-  ComponentMemo next;
+  if (used_vertices != static_cast<size_t>(mesh.vertex_count())) return run_steps(mesh, steps, kernel_ops);
+  std::unordered_multimap<uint64_t, size_t> by_hash;
+  for (size_t i = 0; i < pool.entries.size(); ++i) by_hash.emplace(pool.entries[i].hash, i);
+  const size_t first = next.entries.size();
   for (kernel::PolygonSoup& p : parts) {
     const uint64_t h = soup_hash(p);
     ComponentMemo::Entry* hit = nullptr;
-    for (ComponentMemo::Entry& e : memo.entries) {
+    auto [lo, hi] = by_hash.equal_range(h);
+    for (auto it = lo; it != hi; ++it) {
+      ComponentMemo::Entry& e = pool.entries[it->second];
       if (e.hash == h && e.steps == steps && same_soup(e.input, p)) {
         hit = &e;
         break;
@@ -327,22 +335,47 @@ std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mes
     }
     auto built = kernel::build_mesh(p);
     if (!built) {
-      memo.entries.clear();
+      next.entries.resize(first);
       return run_steps(mesh, steps, kernel_ops);
     }
     auto r = run_steps(std::move(*built), steps, kernel_ops);
     if (std::holds_alternative<StepFailure>(r)) {
-      memo.entries.clear();
+      next.entries.resize(first);
       return run_steps(mesh, steps, kernel_ops);
     }
     next.entries.push_back({h, std::move(p), steps, std::move(std::get<kernel::Mesh>(r))});
   }
-  memo = std::move(next);
   std::vector<const kernel::Mesh*> outs;
-  for (const auto& e : memo.entries) outs.push_back(&e.output);
-  if (outs.size() == 1) return memo.entries[0].output;
+  for (size_t i = first; i < next.entries.size(); ++i) outs.push_back(&next.entries[i].output);
+  if (outs.size() == 1) return *outs[0];
   return kernel::append_disjoint(outs);
 }
+
+// The bounding boxes of a block's input part (all its used vertices, and its border
+// vertices), kept with the part object they describe.
+struct PartBounds {
+  std::shared_ptr<const Collected> part;
+  kernel::BoundingBox all;
+  kernel::BoundingBox border;  // empty (min > max) if the part has no border
+};
+
+// One cluster of a block's input parts (see `run_block_by_clusters`) and its result.
+struct ClusterMemo {
+  std::vector<std::shared_ptr<const Collected>> parts;
+  double tolerance = 0;
+  std::vector<Step> steps;
+  bool any_color = false;
+  std::shared_ptr<const Collected> result;
+  ComponentMemo components;
+};
+
+// What a block keeps between evaluations: per-part bounds and per-cluster results when it
+// ran by clusters, or the per-component results when it ran on its whole input.
+struct BlockMemo {
+  std::unordered_map<const Collected*, PartBounds> bounds;
+  std::vector<ClusterMemo> clusters;
+  ComponentMemo components;
+};
 
 }  // namespace
 
@@ -509,11 +542,13 @@ class Evaluator {
   bool scene_entry(ir::NodeId id, OutputMesh& out) {
     const ir::Node& n = m_.node(id);
     Collected c;
-    entry_out_ = is_incremental_ ? &c : nullptr;
-    entry_parts_.clear();
-    entry_is_pure_ = true;
     // Parts are appended to `c` only when needed: a patched update never copies them.
-    entry_deferred_ = is_incremental_ && deleted_.empty();
+    Sink sink;
+    sink.out = &c;
+    sink.is_deferred = is_incremental_ && deleted_.empty();
+    Sink* const saved_sink = sink_;
+    sink_ = is_incremental_ ? &sink : nullptr;
+    entry_parts_.clear();
     if (n.kind == ir::NodeKind::Instance) {
       instance(id, glm::dmat4(1.0), std::nullopt, "", c, 0);
     } else if (n.kind == ir::NodeKind::Pipeline) {
@@ -525,24 +560,24 @@ class Evaluator {
       // A saved consolidated mesh that nothing instances (its vertices are world positions).
       Collected m;
       mesh(id, std::nullopt, short_name(n.name), ir::NodeId::None(), m);
-      entry_is_pure_ = false;
-      make_eager();
+      sink.is_pure = false;
+      if (sink_ != nullptr) make_eager();
       transform_into(c, m, glm::dmat4(1.0));
     } else {
-      entry_out_ = nullptr;
+      sink_ = saved_sink;
       return false;
     }
-    entry_out_ = nullptr;
-    const bool can_assemble = is_incremental_ && entry_is_pure_ && deleted_.empty() && !entry_parts_.empty();
-    if (entry_deferred_) {
+    sink_ = saved_sink;
+    entry_parts_ = std::move(sink.parts);
+    entry_direct_curves_ = sink.direct_curves;
+    const bool can_assemble = is_incremental_ && sink.is_pure && deleted_.empty() && !entry_parts_.empty();
+    if (sink.is_deferred) {
+      entry_direct_curves_ = c.curve_count;
       if (can_assemble && patch_entry(id, c.curve_count, out)) {
-        entry_direct_curves_ = c.curve_count;
         entry_assembled_ = true;
         return true;
       }
-      entry_out_ = &c;
-      make_eager();
-      entry_out_ = nullptr;
+      for (const EntryPart& p : entry_parts_) append_collected(c, *p.part);
     }
     apply_deletes(c);
     out.name = short_name(n.name);
@@ -1246,6 +1281,19 @@ class Evaluator {
     std::optional<kernel::Mesh> mesh;  // `part` built, when an entry reassembles from parts
   };
 
+  struct EntryPart {
+    Placement* placement;                   // a placed leaf (built on demand), or
+    std::shared_ptr<const Collected> part;  // its faces, or a part of a block's result
+    const kernel::Mesh* mesh;               // a block part's built mesh
+  };
+  struct Sink {
+    Collected* out = nullptr;
+    std::vector<EntryPart> parts;
+    bool is_pure = true;
+    bool is_deferred = false;
+    int32_t direct_curves = 0;
+  };
+
   void place(ir::NodeId tid, const glm::dmat4& t, const std::optional<glm::vec3>& color,
              const std::string& path, ir::NodeId inst, Collected& out) {
     auto recomputed = [&] {
@@ -1275,20 +1323,23 @@ class Evaluator {
       it = placements_.insert_or_assign(std::move(key), Memo<Placement>{Placement{t, color, std::move(shared), {}}, std::move(d)}).first;
     }
     const Placement& pl = it->second.value;
-    if (&out == entry_out_) {
-      entry_parts_.push_back({&it->second.value, pl.part, nullptr});
-      if (entry_deferred_) return;
+    if (collects(out)) {
+      sink_->parts.push_back({&it->second.value, pl.part, nullptr});
+      if (sink_->is_deferred) return;
     }
     transform_into(out, *pl.part, glm::dmat4(1.0));
   }
 
-  // Appends the parts collected so far to the entry's faces and stops deferring (the entry
-  // holds something that is not a part, which must come after them in order).
+  // True if `out` is the faces of the entry or block being collected part by part.
+  bool collects(const Collected& out) const { return sink_ != nullptr && sink_->out == &out; }
+
+  // Appends the parts collected so far to the sink's faces and stops deferring (the entry
+  // or block holds something that is not a part, which must come after them in order).
   void make_eager() {
-    if (!entry_deferred_) return;
-    entry_deferred_ = false;
-    entry_direct_curves_ = entry_out_->curve_count;
-    for (const EntryPart& p : entry_parts_) append_collected(*entry_out_, *p.part);
+    if (!sink_->is_deferred) return;
+    sink_->is_deferred = false;
+    sink_->direct_curves = sink_->out->curve_count;
+    for (const EntryPart& p : sink_->parts) append_collected(*sink_->out, *p.part);
   }
 
   // True if `a` equals `b` except for vertex positions (the same faces, sources, colours,
@@ -1460,90 +1511,60 @@ class Evaluator {
       const int32_t saved_context = context_;
       context_ = pid.index;
       chain_.push_back(pid.index);
-      std::optional<Collected> made = run_block(pid, short_name(p.name), depth);
+      std::optional<BlockResult> made = run_block(pid, short_name(p.name), depth);
       chain_.pop_back();
       context_ = saved_context;
       counters.nodes.insert(pid.index);
       Deps d = close_frame();
-      std::shared_ptr<const Collected> shared = made ? std::make_shared<const Collected>(std::move(*made)) : nullptr;
-      it = pipeline_cache_.emplace(pid.index, Memo<std::shared_ptr<const Collected>>{std::move(shared), std::move(d)}).first;
+      std::shared_ptr<const BlockResult> shared = made ? std::make_shared<const BlockResult>(std::move(*made)) : nullptr;
+      it = pipeline_cache_.emplace(pid.index, Memo<std::shared_ptr<const BlockResult>>{std::move(shared), std::move(d)}).first;
     } else {
       note(it->second.deps);
     }
-    const std::shared_ptr<const Collected> res = it->second.value;
+    const std::shared_ptr<const BlockResult> res = it->second.value;
     if (!res) return;
     const bool is_plain = !color && t == glm::dmat4(1.0);
-    if (&out == entry_out_) {
-      if (is_plain && res->built) {
-        entry_parts_.push_back({nullptr, res, res->built.get()});
-        if (entry_deferred_) return;
+    if (collects(out)) {
+      const bool is_built = std::all_of(res->parts.begin(), res->parts.end(),
+                                        [](const auto& part) { return part->built != nullptr; });
+      if (is_plain && is_built) {
+        for (const auto& part : res->parts) sink_->parts.push_back({nullptr, part, part->built.get()});
+        if (sink_->is_deferred) return;
       } else {
-        entry_is_pure_ = false;
+        sink_->is_pure = false;
         make_eager();
       }
     }
-    if (is_plain) {
-      transform_into(out, *res, t);
-      return;
-    }
-    Collected c = *res;
-    if (color) {
-      for (size_t f = 0; f < c.has_color.size(); ++f) {
-        if (!c.has_color[f]) {
-          c.soup.face_colors[f] = *color;
-          c.has_color[f] = 1;
+    for (const auto& part : res->parts) {
+      if (is_plain) {
+        transform_into(out, *part, t);
+        continue;
+      }
+      Collected c = *part;
+      if (color) {
+        for (size_t f = 0; f < c.has_color.size(); ++f) {
+          if (!c.has_color[f]) {
+            c.soup.face_colors[f] = *color;
+            c.has_color[f] = 1;
+          }
         }
       }
+      transform_into(out, c, t);
     }
-    transform_into(out, c, t);
   }
 
-  std::optional<Collected> run_block(ir::NodeId pid, const std::string& path, int depth) {
-    const ir::Node& p = m_.node(pid);
-    Collected in;
-    for (ir::NodeId k : kids_[pid.index]) {
-      if (m_.node(k).kind == ir::NodeKind::Instance) {
-        instance(k, glm::dmat4(1.0), std::nullopt, path, in, depth + 1);
-      }
-    }
-    apply_deletes(in);
-    std::vector<uint8_t> colored = in.has_color;
-    int32_t curves = in.curve_count;
-    const std::string& kw = p.keyword;
-    if (kw == "mirror") {
-      // SLIDE `mirror … endmirror` "reverses all face orientations" to repair instances
-      // mirrored by a negative scale, which SLIDE leaves inside out. nomec already
-      // reverses faces placed by a transform with negative determinant, so the block's
-      // repair is done: its instances pass through unchanged. (A block around unmirrored
-      // instances, which SLIDE would turn inside out, therefore differs from SLIDE.)
-      return in;
-    }
-    kernel::PolygonSoup soup = finish(in);
-    if (kw != "merge" && kw != "subdivision" && kw != "offset") {
-      diags_->emit(DiagKind::GeometryFailed, p.range,
-                  fmt::format("`{}` blocks are not implemented in the backend yet", kw));
-      return std::nullopt;
-    }
-    if (soup.face_count() == 0) {
-      diags_->emit(DiagKind::GeometryFailed, p.range,
-                  fmt::format("`{}` `{}` has no faces to work on", kw, short_name(p.name)));
-      return std::nullopt;
-    }
-    auto built = kernel::build_mesh(soup);
-    if (!built) {
-      report(built.error(), soup, p.range, short_name(p.name));
-      return std::nullopt;
-    }
-    double tol = -1;
-    if (const ir::Field* f = find_field(p, "tolerance")) tol = scalar(*f, 0, -1);
-    auto merged = merge_mesh(*built, tol);
-    ++counters.kernel_ops;
-    if (!merged) {
-      report(merged.error(), soup, p.range, short_name(p.name));
-      return std::nullopt;
-    }
+  // A block's steps and tolerance, read from its fields.
+  struct BlockSetup {
+    double tolerance = -1;  // < 0: 1e-4 x the input's bounding-box diagonal
     std::vector<Step> steps;
-    SourceRange step_range = p.range;
+    SourceRange step_range;
+  };
+
+  BlockSetup block_setup(const ir::Node& p) {
+    BlockSetup b;
+    const std::string& kw = p.keyword;
+    b.step_range = p.range;
+    if (const ir::Field* f = find_field(p, "tolerance")) b.tolerance = scalar(*f, 0, -1);
     if (kw == "subdivision") {
       Step st;
       st.subdivision.has_parent_maps = false;
@@ -1560,8 +1581,8 @@ class Evaluator {
       } else if (type == "NOME_SD_DeRose") {
         st.subdivision.vertex_rule = kernel::VertexRule::DeRose;
       }
-      steps.push_back(st);
-      if (lf) step_range = lf->range;
+      b.steps.push_back(st);
+      if (lf) b.step_range = lf->range;
     } else if (kw == "offset") {
       const ir::Field* hf = find_field(p, "height");
       const ir::Field* wf = find_field(p, "width");
@@ -1571,29 +1592,268 @@ class Evaluator {
       st.width = wf ? scalar(*wf, 0, 0) : 0;
       bool grid = tf && tf->text == "NOME_OFFSET_GRID";
       st.kind = grid && st.width > 0 ? Step::Kind::Lattice : Step::Kind::Offset;
-      steps.push_back(st);
-      if (hf) step_range = hf->range;
+      b.steps.push_back(st);
+      if (hf) b.step_range = hf->range;
     }
-    auto ran = is_incremental_ ? run_steps_by_component(merged->mesh, steps, components_[pid.index],
-                                                        counters.kernel_ops)
-                               : run_steps(std::move(merged->mesh), steps, counters.kernel_ops);
-    if (auto* failed = std::get_if<StepFailure>(&ran)) {
-      report(failed->error, soup, step_range, short_name(p.name));
-      return std::nullopt;
-    }
-    kernel::Mesh result = std::move(std::get<kernel::Mesh>(ran));
+    return b;
+  }
+
+  // A block's result mesh as a part, with the block's colour rule: if no input face has a
+  // colour, every face gets the neutral grey.
+  std::shared_ptr<const Collected> block_part(kernel::Mesh result, bool any_color, int32_t curves) {
     Collected c;
     c.soup = kernel::to_soup(result);
     c.curve_count = curves;
     if (is_incremental_) c.built = std::make_shared<const kernel::Mesh>(std::move(result));
-    bool any_color = std::any_of(colored.begin(), colored.end(), [](uint8_t b) { return b != 0; });
     c.has_color.assign(c.soup.face_count(), any_color ? 1 : 0);
     if (!any_color) c.soup.face_colors.assign(c.soup.face_count(), kDefaultColor);
     if (c.soup.face_colors.size() != static_cast<size_t>(c.soup.face_count())) {
       c.soup.face_colors.assign(c.soup.face_count(), kDefaultColor);
     }
     c.face_paths.assign(c.soup.face_count(), std::string());
-    return c;
+    return std::make_shared<const Collected>(std::move(c));
+  }
+
+  std::optional<BlockResult> run_block(ir::NodeId pid, const std::string& path, int depth) {
+    const ir::Node& p = m_.node(pid);
+    Collected in;
+    Sink sink;
+    sink.out = &in;
+    sink.is_deferred = is_incremental_ && deleted_.empty();
+    Sink* const saved_sink = sink_;
+    sink_ = is_incremental_ ? &sink : nullptr;
+    for (ir::NodeId k : kids_[pid.index]) {
+      if (m_.node(k).kind == ir::NodeKind::Instance) {
+        instance(k, glm::dmat4(1.0), std::nullopt, path, in, depth + 1);
+      }
+    }
+    sink_ = saved_sink;
+    const std::string& kw = p.keyword;
+    if (sink.is_deferred) {
+      int32_t faces = in.soup.face_count();
+      for (const EntryPart& part : sink.parts) faces += part.part->soup.face_count();
+      if (sink.is_pure && faces > 0 && in.curve_count == 0 && (kw == "merge" || kw == "subdivision" || kw == "offset")) {
+        BlockSetup setup = block_setup(p);
+        if (auto r = run_block_by_clusters(pid, sink.parts, setup)) return r;
+        for (const EntryPart& part : sink.parts) append_collected(in, *part.part);
+        return run_block_whole(pid, std::move(in), setup);
+      }
+      for (const EntryPart& part : sink.parts) append_collected(in, *part.part);
+    }
+    apply_deletes(in);
+    if (kw == "mirror") {
+      // SLIDE `mirror … endmirror` "reverses all face orientations" to repair instances
+      // mirrored by a negative scale, which SLIDE leaves inside out. nomec already
+      // reverses faces placed by a transform with negative determinant, so the block's
+      // repair is done: its instances pass through unchanged. (A block around unmirrored
+      // instances, which SLIDE would turn inside out, therefore differs from SLIDE.)
+      BlockResult r;
+      r.parts.push_back(std::make_shared<const Collected>(std::move(in)));
+      return r;
+    }
+    if (kw != "merge" && kw != "subdivision" && kw != "offset") {
+      diags_->emit(DiagKind::GeometryFailed, p.range,
+                  fmt::format("`{}` blocks are not implemented in the backend yet", kw));
+      return std::nullopt;
+    }
+    if (in.soup.face_count() == 0) {
+      diags_->emit(DiagKind::GeometryFailed, p.range,
+                  fmt::format("`{}` `{}` has no faces to work on", kw, short_name(p.name)));
+      return std::nullopt;
+    }
+    BlockSetup setup = block_setup(p);
+    return run_block_whole(pid, std::move(in), setup);
+  }
+
+  // A block over its whole input at once: build, merge, then the steps (per connected
+  // component when incremental). Reports kernel errors at the faces that caused them.
+  std::optional<BlockResult> run_block_whole(ir::NodeId pid, Collected in, const BlockSetup& setup) {
+    const ir::Node& p = m_.node(pid);
+    const bool any_color = std::any_of(in.has_color.begin(), in.has_color.end(), [](uint8_t b) { return b != 0; });
+    const int32_t curves = in.curve_count;
+    kernel::PolygonSoup soup = finish(in);
+    auto built = kernel::build_mesh(soup);
+    if (!built) {
+      report(built.error(), soup, p.range, short_name(p.name));
+      return std::nullopt;
+    }
+    auto merged = merge_mesh(*built, setup.tolerance);
+    ++counters.kernel_ops;
+    if (!merged) {
+      report(merged.error(), soup, p.range, short_name(p.name));
+      return std::nullopt;
+    }
+    std::variant<kernel::Mesh, StepFailure> ran;
+    if (is_incremental_) {
+      BlockMemo& bm = blocks_[pid.index];
+      ComponentMemo next;
+      ran = run_steps_by_component(merged->mesh, setup.steps, bm.components, next, counters.kernel_ops);
+      bm = BlockMemo{};
+      bm.components = std::move(next);
+    } else {
+      ran = run_steps(std::move(merged->mesh), setup.steps, counters.kernel_ops);
+    }
+    if (auto* failed = std::get_if<StepFailure>(&ran)) {
+      report(failed->error, soup, setup.step_range, short_name(p.name));
+      return std::nullopt;
+    }
+    BlockResult r;
+    r.parts.push_back(block_part(std::move(std::get<kernel::Mesh>(ran)), any_color, curves));
+    return r;
+  }
+
+  // A block over its input parts in *clusters*: parts whose border vertices cannot come
+  // within the merge tolerance of each other's (their border bounding boxes, grown by
+  // twice the tolerance, do not overlap) cannot be joined by the merge, so each cluster is
+  // merged and stepped on its own, and a cluster made of the very same part objects as in
+  // the previous evaluation (same tolerance, steps and colour rule) reuses its result
+  // without merging anything. The block's result is the clusters' results in order, each
+  // a part of its own, so an entry can patch just the changed ones. Nullopt (nothing
+  // reported) if a part does not build or a cluster fails: the caller then runs the whole
+  // input at once, which reports the error as a one-shot build does.
+  std::optional<BlockResult> run_block_by_clusters(ir::NodeId pid, const std::vector<EntryPart>& parts,
+                                                   const BlockSetup& setup) {
+    BlockMemo& bm = blocks_[pid.index];
+    const size_t n = parts.size();
+    // Bounds per part, computed once per part object.
+    std::unordered_map<const Collected*, PartBounds> bounds;
+    std::vector<const PartBounds*> pb(n);
+    bool any_color = false;
+    kernel::BoundingBox all;
+    for (size_t i = 0; i < n; ++i) {
+      const Collected* key = parts[i].part.get();
+      auto old = bm.bounds.find(key);
+      PartBounds b;
+      if (old != bm.bounds.end()) {
+        b = std::move(old->second);
+      } else {
+        std::optional<kernel::Mesh> own;
+        const kernel::Mesh* m = parts[i].part->built.get();
+        if (m == nullptr) {
+          auto built = kernel::build_mesh(parts[i].part->soup);
+          if (!built) return std::nullopt;
+          own = std::move(*built);
+          m = &*own;
+        }
+        b.part = parts[i].part;
+        b.all = kernel::bounding_box(*m);
+        for (int32_t e = 0; e < m->edge_count(); ++e) {
+          if (!m->is_boundary(kernel::EdgeId(e))) continue;
+          for (int end = 0; end < 2; ++end) {
+            const glm::dvec3& q = m->position(m->edge_vertex(kernel::EdgeId(e), end));
+            b.border.min = glm::min(b.border.min, q);
+            b.border.max = glm::max(b.border.max, q);
+          }
+        }
+      }
+      auto [it, _] = bounds.emplace(key, std::move(b));
+      pb[i] = &it->second;
+      all.min = glm::min(all.min, pb[i]->all.min);
+      all.max = glm::max(all.max, pb[i]->all.max);
+      const auto& hc = parts[i].part->has_color;
+      any_color = any_color || std::any_of(hc.begin(), hc.end(), [](uint8_t c) { return c != 0; });
+    }
+    double tol = setup.tolerance;
+    if (tol < 0) {
+      // As `merge_mesh` on the whole input (the union of the parts' boxes is its box).
+      double diag = all.min.x <= all.max.x ? glm::length(all.max - all.min) : 0;
+      tol = diag > 0 ? 1e-4 * diag : 1e-9;
+    }
+    // Clusters: union-find over parts whose grown border boxes overlap (sweep along x).
+    std::vector<size_t> root(n);
+    std::iota(root.begin(), root.end(), size_t{0});
+    auto find = [&](size_t x) {
+      while (root[x] != x) x = root[x] = root[root[x]];
+      return x;
+    };
+    const double grow = 2 * tol;
+    std::vector<size_t> order;
+    for (size_t i = 0; i < n; ++i) {
+      if (pb[i]->border.min.x <= pb[i]->border.max.x) order.push_back(i);  // has a border
+    }
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return pb[a]->border.min.x < pb[b]->border.min.x; });
+    for (size_t a = 0; a < order.size(); ++a) {
+      const kernel::BoundingBox& x = pb[order[a]]->border;
+      for (size_t b = a + 1; b < order.size() && pb[order[b]]->border.min.x <= x.max.x + grow; ++b) {
+        const kernel::BoundingBox& y = pb[order[b]]->border;
+        if (y.min.y <= x.max.y + grow && x.min.y <= y.max.y + grow && y.min.z <= x.max.z + grow &&
+            x.min.z <= y.max.z + grow) {
+          size_t ra = find(order[a]), rb = find(order[b]);
+          if (ra != rb) root[std::max(ra, rb)] = std::min(ra, rb);
+        }
+      }
+    }
+    // Clusters in order of their first part; parts in input order.
+    std::vector<std::vector<size_t>> clusters;
+    std::vector<size_t> cluster_of(n, SIZE_MAX);
+    for (size_t i = 0; i < n; ++i) {
+      size_t r = find(i);
+      if (cluster_of[r] == SIZE_MAX) {
+        cluster_of[r] = clusters.size();
+        clusters.emplace_back();
+      }
+      clusters[cluster_of[r]].push_back(i);
+    }
+    // Match clusters with the previous evaluation's by their first part object.
+    std::unordered_map<const Collected*, size_t> previous;
+    for (size_t k = 0; k < bm.clusters.size(); ++k) previous.emplace(bm.clusters[k].parts.front().get(), k);
+    std::vector<uint8_t> old_used(bm.clusters.size(), 0);
+    std::vector<std::optional<size_t>> reuse(clusters.size());
+    for (size_t c = 0; c < clusters.size(); ++c) {
+      auto it = previous.find(parts[clusters[c].front()].part.get());
+      if (it == previous.end() || old_used[it->second]) continue;
+      const ClusterMemo& old = bm.clusters[it->second];
+      bool same = old.tolerance == tol && old.steps == setup.steps && old.any_color == any_color &&
+                  old.parts.size() == clusters[c].size();
+      for (size_t k = 0; same && k < clusters[c].size(); ++k) same = old.parts[k] == parts[clusters[c][k]].part;
+      if (same) {
+        reuse[c] = it->second;
+        old_used[it->second] = 1;
+      }
+    }
+    // Components of dissolved clusters may still be reused by content.
+    ComponentMemo pool;
+    for (size_t k = 0; k < bm.clusters.size(); ++k) {
+      if (old_used[k]) continue;
+      for (auto& e : bm.clusters[k].components.entries) pool.entries.push_back(std::move(e));
+    }
+    std::vector<ClusterMemo> next(clusters.size());
+    BlockResult result;
+    for (size_t c = 0; c < clusters.size(); ++c) {
+      if (reuse[c]) {
+        next[c] = std::move(bm.clusters[*reuse[c]]);
+        ++counters.clusters_reused;
+        result.parts.push_back(next[c].result);
+        continue;
+      }
+      ClusterMemo& cm = next[c];
+      cm.tolerance = tol;
+      cm.steps = setup.steps;
+      cm.any_color = any_color;
+      Collected cc;
+      int32_t curves = 0;
+      for (size_t i : clusters[c]) {
+        cm.parts.push_back(parts[i].part);
+        append_collected(cc, *parts[i].part);
+        curves += parts[i].part->curve_count;
+      }
+      // The whole input's soup rule (see `finish`), with the block's colour decision.
+      if (!any_color) cc.soup.face_colors.clear();
+      if (!cc.soup.names.empty()) cc.soup.names.resize(cc.soup.positions.size());
+      auto built = kernel::build_mesh(cc.soup);
+      if (!built) return std::nullopt;
+      auto merged = kernel::merge(*built, kernel::MergeOptions{tol});
+      ++counters.kernel_ops;
+      if (!merged) return std::nullopt;
+      auto ran = run_steps_by_component(merged->mesh, setup.steps, pool, cm.components, counters.kernel_ops);
+      if (std::holds_alternative<StepFailure>(ran)) return std::nullopt;
+      cm.result = block_part(std::move(std::get<kernel::Mesh>(ran)), any_color, curves);
+      result.parts.push_back(cm.result);
+    }
+    bm.clusters = std::move(next);
+    bm.bounds = std::move(bounds);
+    bm.components = {};
+    return result;
   }
 
  public:
@@ -1825,19 +2085,14 @@ class Evaluator {
   int ref_depth_ = 0;
   int32_t context_ = -1;        // the scene entry or block being evaluated (placement keys)
   std::vector<int32_t> chain_;  // instances, groups and blocks on the way to the current leaf
-  // The scene entry being collected (incremental only): its faces, the placements appended
-  // to it in order, and whether it holds anything else (then it is built whole).
-  Collected* entry_out_ = nullptr;
-  struct EntryPart {
-    Placement* placement;                   // a placed leaf (built on demand), or
-    std::shared_ptr<const Collected> part;  // its faces, or a block's result
-    const kernel::Mesh* mesh;               // a block's built result
-  };
+  // The scene entry or block being collected part by part (incremental only): its faces,
+  // its parts in order, whether it holds anything else (then it is built whole), whether
+  // the parts are not yet appended to its faces (see `make_eager`), and the polylines
+  // counted on it directly.
+  Sink* sink_ = nullptr;
+  // The parts of the entry just collected, its direct polylines, and whether its mesh was
+  // assembled (or patched) from them.
   std::vector<EntryPart> entry_parts_;
-  bool entry_is_pure_ = true;
-  // Parts are not yet appended to the entry's faces (see `make_eager`); the polylines
-  // counted directly on the entry; whether its mesh was assembled from parts.
-  bool entry_deferred_ = false;
   int32_t entry_direct_curves_ = 0;
   bool entry_assembled_ = false;
   // Per scene entry assembled from parts: its last output and parts, for `patch_entry`.
@@ -1855,8 +2110,8 @@ class Evaluator {
   std::map<int32_t, Memo<std::optional<Generated>>> generated_;
   std::map<std::string, Memo<std::optional<kernel::PolygonSoup>>> sweeps_;
   std::unordered_map<std::string, Memo<Placement>> placements_;
-  std::map<int32_t, Memo<std::shared_ptr<const Collected>>> pipeline_cache_;
-  std::map<int32_t, ComponentMemo> components_;
+  std::map<int32_t, Memo<std::shared_ptr<const BlockResult>>> pipeline_cache_;
+  std::map<int32_t, BlockMemo> blocks_;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> entries_;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> zippers_;
 };
@@ -1982,7 +2237,9 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
     steps.push_back(st);
     say("subdivide");
     auto t1 = Clock::now();
-    auto r = run_steps_by_component(mesh, steps, memos->components, kernel_ops);
+    ComponentMemo next;
+    auto r = run_steps_by_component(mesh, steps, memos->components, next, kernel_ops);
+    memos->components = std::move(next);
     if (timings) timings->subdivide_ms += ms_since(t1);
     if (auto* m = std::get_if<kernel::Mesh>(&r)) {
       mesh = std::move(*m);

@@ -65,6 +65,7 @@ struct EvalCounters {
   std::set<int32_t> nodes;       // IR node indices whose value was (re)computed
   int32_t outputs_patched = 0;   // outputs made by patching the previous one's positions
   int32_t parts_patched = 0;     // parts (placed leaves, block results) whose positions were
+  int32_t clusters_reused = 0;   // clusters of a block's input whose merged, stepped result was reused
   /// The outputs of `evaluate` that are new objects (recomputed), not the previous ones.
   std::vector<const OutputMesh*> new_outputs;
 };

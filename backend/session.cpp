@@ -37,6 +37,7 @@ UpdateStats Session::evaluate(DiagnosticEngine& diags) {
   u.kernel_ops_rerun = c.kernel_ops;
   u.outputs_patched = c.outputs_patched;
   u.parts_patched = c.parts_patched;
+  u.clusters_reused = c.clusters_reused;
   for (const auto& m : next) {
     if (std::find(c.new_outputs.begin(), c.new_outputs.end(), m.get()) != c.new_outputs.end()) {
       u.changed_outputs.push_back(m->name);

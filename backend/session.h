@@ -50,6 +50,9 @@ struct UpdateStats {
   /// parts that moved (their topology unchanged), and how many parts that was.
   int32_t outputs_patched = 0;
   int32_t parts_patched = 0;
+  /// Clusters of a pipeline block's input (parts that the merge may join) whose merged and
+  /// subdivided/offset result was reused as a whole (see docs/incremental.md).
+  int32_t clusters_reused = 0;
   std::vector<int32_t> reevaluated;          // the node indices behind nodes_reevaluated
   std::vector<std::string> changed_outputs;  // names of output meshes that are new objects
   double ms = 0;                             // wall-clock time of the evaluation

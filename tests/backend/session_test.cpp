@@ -134,38 +134,6 @@ TEST(Session, RefusesUnknownAndOutOfRangeSliders) {
   EXPECT_EQ(s.module().node(s.find_parameter("fp.n")).value, 8);
 }
 
-// Two separate funnels in one subdivision block: moving one re-subdivides only its
-// component; the other's subdivided faces are reused.
-TEST(Session, SubdivisionBlockReusesUnchangedComponents) {
-  const std::string text =
-      "bank b\n  set x 0 -1 1 0.1\nendbank\n"
-      "funnel f (6 0.5 0.5 0.5) endfunnel\n"
-      "subdivision s type NOME_SD_CC_sharp subdivisions 2\n"
-      "  instance a f translate ({expr $b_x} 0 0) endinstance\n"
-      "  instance c f translate (5 0 0) endinstance\n"
-      "endsubdivision\n"
-      "instance top s endinstance\n";
-  auto c = check("blocks.nome", text);
-  ASSERT_EQ(c->diags.error_count(), 0) << c->diags.diagnostics()[0].message;
-  Session s(std::move(c->check.module));
-  DiagnosticEngine d;
-  UpdateStats full = s.build(d);
-  ASSERT_EQ(d.error_count(), 0);
-  EXPECT_EQ(full.kernel_ops_rerun, 1 + 2);  // merge, then one subdivision per component
-  UpdateStats u = s.set_parameter("b.x", 0.5, d);
-  ASSERT_EQ(d.error_count(), 0);
-  EXPECT_EQ(u.generators_rerun, 0);
-  EXPECT_EQ(u.instances_retransformed, 1);
-  EXPECT_EQ(u.kernel_ops_rerun, 1 + 1);  // merge, and only the moved funnel is subdivided
-  // Same result as a fresh build at x = 0.5.
-  auto fresh = check("blocks.nome", text, {{"b.x", 0.5}});
-  Session f(std::move(fresh->check.module));
-  f.build(d);
-  ASSERT_EQ(f.outputs().size(), 1u);
-  EXPECT_EQ(s.outputs()[0]->soup.positions, f.outputs()[0]->soup.positions);
-  EXPECT_EQ(s.outputs()[0]->soup.face_vertices, f.outputs()[0]->soup.face_vertices);
-}
-
 // Every array of two outputs, soup and built mesh, is equal (a patched or reused result
 // must be exactly what a fresh build makes).
 void expect_identical(const OutputMesh& a, const OutputMesh& b) {
@@ -281,6 +249,64 @@ TEST(Session, PatchLeavesHeldOutputsIntact) {
   expect_fresh_equal(s, text, {{"s.x", 0.7}});
 }
 
+// Three separate funnels in one subdivision block: each is a cluster of its own (their
+// borders are far apart), merged and subdivided separately. Moving the middle one (the
+// block's bounding box, hence the merge tolerance, stays the same) re-merges and
+// re-subdivides only its cluster; the other two clusters' results are reused whole, and
+// the entry patches the moved cluster's vertices. Moving it past the others grows the box,
+// so every cluster is merged again, but the unchanged components' subdivisions are still
+// reused by content. Every result equals a fresh build.
+TEST(Session, SubdivisionBlockReusesUnchangedClusters) {
+  const std::string text =
+      "bank b\n  set x 0 -9 9 0.1\nendbank\n"
+      "funnel f (6 0.5 0.5 0.5) endfunnel\n"
+      "subdivision s type NOME_SD_CC_sharp subdivisions 2\n"
+      "  instance d f translate (-5 0 0) endinstance\n"
+      "  instance a f translate ({expr $b_x} 0 0) endinstance\n"
+      "  instance c f translate (5 0 0) endinstance\n"
+      "endsubdivision\n"
+      "instance top s endinstance\n";
+  auto c = check("blocks.nome", text);
+  ASSERT_EQ(c->diags.error_count(), 0) << c->diags.diagnostics()[0].message;
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  UpdateStats full = s.build(d);
+  ASSERT_EQ(d.error_count(), 0);
+  EXPECT_EQ(full.kernel_ops_rerun, 3 + 3);  // a merge and a subdivision per cluster
+  EXPECT_EQ(full.clusters_reused, 0);
+  UpdateStats u = s.set_parameter("b.x", 0.5, d);
+  ASSERT_EQ(d.error_count(), 0);
+  EXPECT_EQ(u.generators_rerun, 0);
+  EXPECT_EQ(u.instances_retransformed, 1);
+  EXPECT_EQ(u.kernel_ops_rerun, 1 + 1);  // the moved funnel's merge and subdivision
+  EXPECT_EQ(u.clusters_reused, 2);
+  EXPECT_EQ(u.outputs_patched, 1);
+  EXPECT_EQ(u.parts_patched, 1);
+  expect_fresh_equal(s, text, {{"b.x", 0.5}});
+  u = s.set_parameter("b.x", 8, d);  // past `c`: a larger box, another tolerance
+  EXPECT_EQ(u.kernel_ops_rerun, 3 + 1);
+  EXPECT_EQ(u.clusters_reused, 0);
+  expect_fresh_equal(s, text, {{"b.x", 8}});
+  EXPECT_EQ(d.error_count(), 0);
+  // Onto `c`: the coinciding rims cannot be merged; the failing cluster falls back to the
+  // whole input, which reports exactly what a fresh build reports.
+  DiagnosticEngine ud;
+  s.set_parameter("b.x", 5, ud);
+  EXPECT_GT(ud.error_count(), 0);
+  auto fresh = check("blocks.nome", text, {{"b.x", 5}});
+  Session f(std::move(fresh->check.module));
+  DiagnosticEngine fd;
+  f.build(fd);
+  EXPECT_EQ(ud.error_count(), fd.error_count());
+  ASSERT_EQ(ud.diagnostics().size(), fd.diagnostics().size());
+  for (size_t i = 0; i < ud.diagnostics().size(); ++i) EXPECT_EQ(ud.diagnostics()[i].message, fd.diagnostics()[i].message);
+  EXPECT_EQ(s.outputs().size(), f.outputs().size());
+  // And back: clusters again, equal to a fresh build.
+  u = s.set_parameter("b.x", 0.5, d);
+  EXPECT_EQ(d.error_count(), 0);
+  expect_fresh_equal(s, text, {{"b.x", 0.5}});
+}
+
 void expect_same_outputs(const Session& a, const Session& b, const std::string& where) {
   ASSERT_EQ(a.outputs().size(), b.outputs().size()) << where;
   std::vector<MeshSummary> sa = a.summary(), sb = b.summary();
@@ -310,9 +336,9 @@ struct PropertyCase {
   PipelineOptions pipeline;
 };
 
-void run_property(const PropertyCase& pc, uint32_t seed, int steps) {
+void run_property(const PropertyCase& pc, uint32_t seed, int steps, std::string text = {}) {
   SCOPED_TRACE(pc.path);
-  const std::string text = read(pc.path);
+  if (text.empty()) text = read(pc.path);
   ASSERT_FALSE(text.empty()) << "cannot read " << pc.path;
   auto c = check(pc.path, text);
   ASSERT_EQ(c->diags.error_count(), 0);
@@ -380,6 +406,16 @@ TEST(SessionProperty, RandomSliderSequencesMatchFreshBuilds) {
   };
   uint32_t seed = 20261122;
   for (const PropertyCase& pc : cases) run_property(pc, seed++, 6);
+  // Corpus files with pipeline blocks, and generated fields in a group and in a block
+  // (patched entries, clusters of the block's input).
+  for (const char* f : {"nome3/sharp_specs.nom", "nome3/hello_cube.nom", "nome3/light_test.nom",
+                        "slide/subdivision.slf", "slide/CHS_Merge-Saddle.slf"}) {
+    const std::string path = corpus + f;
+    auto c = check(path, read(path));
+    if (c->diags.error_count() == 0 && !c->check.module.params().empty()) run_property({path, {}}, seed++, 4);
+  }
+  run_property({"group_field.nome", {}}, seed++, 8, funnel_field(12, false));
+  run_property({"block_field.nome", {}}, seed++, 8, funnel_field(12, true));
 }
 
 }  // namespace
