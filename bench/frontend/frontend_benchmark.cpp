@@ -12,15 +12,14 @@
 
 #include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
 #include <iostream>
 #include <algorithm>
 #include <chrono>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "frontend/source/source_manager.h"
 #include "frontend/check/check.h"
 #include "frontend/index/index.h"
 #include "bench/common/generated_scene.h"
@@ -99,10 +98,7 @@ const std::vector<CorpusFile>& corpus_files() {
       for (const auto& e : std::filesystem::recursive_directory_iterator(
                std::filesystem::path(NOMEC_CORPUS_DIR) / folder, ec)) {
         if (!e.is_regular_file() || e.path().extension() == ".sif") continue;
-        std::ifstream in(e.path(), std::ios::binary);
-        std::ostringstream ss;
-        ss << in.rdbuf();
-        v.push_back({e.path().string(), ss.str()});
+        v.push_back({e.path().string(), nomec::read_file_bytes(e.path().string()).value()});
       }
     }
     std::sort(v.begin(), v.end(), [](const CorpusFile& a, const CorpusFile& b) { return a.path < b.path; });

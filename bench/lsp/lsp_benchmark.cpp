@@ -20,14 +20,13 @@
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "frontend/source/source_manager.h"
 #include "bench/common/generated_scene.h"
 #include "lsp/server.h"
 
@@ -280,12 +279,7 @@ void BM_LspKeystroke(benchmark::State& state) {
 }
 BENCHMARK(BM_LspKeystroke)->Arg(64 << 10)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_file(const std::filesystem::path& p) { return nomec::read_file_bytes(p.string()).value(); }
 
 // One benchmark per corpus file, `BM_LspKeystrokeCorpus/<path under the corpus>`; its URI is
 // the file's real path so includes and `.anom` bases resolve as in the editor.

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "frontend/source/source_manager.h"
 #include "frontend/check/check.h"
 #include "frontend/format/format.h"
 #include "frontend/parse/parse.h"
@@ -22,12 +22,7 @@ using nomec::FormatOptions;
 
 namespace {
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read(const fs::path& p) { return nomec::read_file_bytes(p.string()).value(); }
 
 bool is_nome_file(const fs::path& p) {
   std::string ext = p.extension().string();

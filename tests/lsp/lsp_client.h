@@ -7,26 +7,21 @@
 
 #include <chrono>
 #include <condition_variable>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "frontend/source/source_manager.h"
 #include "lsp/server.h"
 
 namespace nomec::lsp::test {
 
 using json = nlohmann::json;
 
-inline std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+/// The file's bytes; throws (failing the test) if it cannot be read.
+inline std::string read_text(const std::string& path) { return nomec::read_file_bytes(path).value(); }
 
 inline json pos(int line, int character) { return {{"line", line}, {"character", character}}; }
 inline json range(int l0, int c0, int l1, int c1) { return {{"start", pos(l0, c0)}, {"end", pos(l1, c1)}}; }

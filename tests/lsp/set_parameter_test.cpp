@@ -5,11 +5,10 @@
 // out of range, documents with errors and malformed parameters are InvalidParams errors.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
+#include "frontend/source/source_manager.h"
 #include "backend/session.h"
 #include "frontend/check/check.h"
 #include "lsp_client.h"
@@ -20,10 +19,7 @@ namespace {
 const char* kUri = "file:///tmp/lsp-test/funnel_cube.nome";
 
 std::string funnel_cube() {
-  std::ifstream in(std::string(NOMEC_SOURCE_DIR) + "/examples/funnel_cube.nome", std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return nomec::read_file_bytes(std::string(NOMEC_SOURCE_DIR) + "/examples/funnel_cube.nome").value();
 }
 
 json set(Client& c, const std::string& uri, const std::string& parameter, json value) {
