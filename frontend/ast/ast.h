@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "frontend/ast/small_vec.h"
 #include "frontend/source/source_manager.h"
 
 namespace nomec::ast {
@@ -70,14 +71,14 @@ struct Expr {
   double number = 0;
   ExprId lhs;  // unary operand or binary left
   ExprId rhs;
-  std::vector<ExprId> args;  // call arguments
+  SmallVec<ExprId, 2> args;  // call arguments
 };
 
 /// A parenthesised list, e.g. `(0 -0.5*$b.w 0)` with three elements.
 struct ParenList {
   SourceRange range;
-  std::vector<ExprId> elems;
-  std::vector<SourceRange> commas;  // tolerated, warned about
+  SmallVec<ExprId, 4> elems;
+  SmallVec<SourceRange, 1> commas;  // tolerated, warned about
 };
 
 enum class ItemKind : uint8_t { Word, List, Value, Block, Tcl, Include };
@@ -99,7 +100,7 @@ struct Stmt {
   SourceRange open_kw;
   SourceRange close_kw;  // invalid when the parser had to recover without one
   std::string_view close_text;
-  std::vector<Item> items;
+  SmallVec<Item, 4> items;
 };
 
 struct Ast {

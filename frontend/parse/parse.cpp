@@ -577,7 +577,7 @@ class AstBuilder {
     stmt.kind = open_it->second;
     stmt.range = ctx_range(ctx);
     stmt.open_kw = token_range(ctx->start);
-    std::vector<ast::Item> items;
+    decltype(ast::Stmt::items) items;
     for (size_t i = 1; i < ctx->children.size(); ++i) {
       antlr4::tree::ParseTree* child = ctx->children[i];
       if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {

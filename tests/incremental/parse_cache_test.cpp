@@ -78,7 +78,8 @@ std::string dump_range(nomec::SourceRange r) {
   return fmt::format("{}:{}-{}", r.file.index, r.begin, r.end);
 }
 
-std::string dump_items(const std::vector<nomec::ast::Item>& items) {
+template <typename Items>
+std::string dump_items(const Items& items) {
   std::string s;
   for (const auto& i : items) {
     s += fmt::format(" [{} {} '{}' e{} l{} s{}]", static_cast<int>(i.kind), dump_range(i.range),

@@ -1,0 +1,129 @@
+// SmallVec: a vector of trivially copyable elements that keeps its first N elements inside
+// the object. The syntax tree's per-node lists (a statement's items, a list's elements, a
+// call's arguments) are short, and a large document has tens of thousands of them: with
+// std::vector each was a heap allocation when parsed, again each time the language server's
+// parse cache assembled a document from its pieces, and a free when the tree was dropped.
+#pragma once
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
+#include <new>
+#include <type_traits>
+#include <utility>
+
+namespace nomec::ast {
+
+template <typename T, uint32_t N>
+class SmallVec {
+  static_assert(std::is_trivially_copyable_v<T>, "SmallVec copies its elements bytewise");
+  static_assert(N > 0);
+
+ public:
+  using value_type = T;
+  using iterator = T*;
+  using const_iterator = const T*;
+
+  SmallVec() = default;
+  SmallVec(std::initializer_list<T> init) { assign(init.begin(), init.size()); }
+  SmallVec(const SmallVec& o) { assign(o.data(), o.size_); }
+  SmallVec(SmallVec&& o) noexcept { take(o); }
+  SmallVec& operator=(const SmallVec& o) {
+    if (this != &o) {
+      size_ = 0;
+      assign(o.data(), o.size_);
+    }
+    return *this;
+  }
+  SmallVec& operator=(SmallVec&& o) noexcept {
+    if (this != &o) {
+      release();
+      take(o);
+    }
+    return *this;
+  }
+  ~SmallVec() { release(); }
+
+  uint32_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  T* data() { return heap_ != nullptr ? heap_ : inline_; }
+  const T* data() const { return heap_ != nullptr ? heap_ : inline_; }
+  T& operator[](size_t i) { return data()[i]; }
+  const T& operator[](size_t i) const { return data()[i]; }
+  T& front() { return data()[0]; }
+  const T& front() const { return data()[0]; }
+  T& back() { return data()[size_ - 1]; }
+  const T& back() const { return data()[size_ - 1]; }
+  T* begin() { return data(); }
+  T* end() { return data() + size_; }
+  const T* begin() const { return data(); }
+  const T* end() const { return data() + size_; }
+
+  void clear() { size_ = 0; }
+  void reserve(uint32_t n) {
+    if (n > capacity()) grow(n);
+  }
+  void push_back(const T& v) {
+    if (size_ == capacity()) {
+      T copy = v;  // `v` may live in this vector
+      grow(capacity() * 2);
+      data()[size_++] = copy;
+      return;
+    }
+    data()[size_++] = v;
+  }
+  template <typename... Args>
+  T& emplace_back(Args&&... args) {
+    push_back(T{std::forward<Args>(args)...});
+    return back();
+  }
+  void pop_back() { --size_; }
+
+  friend bool operator==(const SmallVec& a, const SmallVec& b) {
+    if (a.size_ != b.size_) return false;
+    for (uint32_t i = 0; i < a.size_; ++i) {
+      if (!(a[i] == b[i])) return false;
+    }
+    return true;
+  }
+
+ private:
+  uint32_t capacity() const { return heap_ != nullptr ? cap_ : N; }
+  void assign(const T* from, uint32_t n) {
+    reserve(n);
+    if (n > 0) std::memcpy(static_cast<void*>(data()), from, sizeof(T) * n);
+    size_ = n;
+  }
+  void grow(uint32_t n) {
+    T* fresh = static_cast<T*>(std::malloc(sizeof(T) * n));
+    if (fresh == nullptr) throw std::bad_alloc();
+    if (size_ > 0) std::memcpy(static_cast<void*>(fresh), data(), sizeof(T) * size_);
+    std::free(heap_);
+    heap_ = fresh;
+    cap_ = n;
+  }
+  void take(SmallVec& o) {
+    size_ = o.size_;
+    if (o.heap_ != nullptr) {
+      heap_ = o.heap_;
+      cap_ = o.cap_;
+      o.heap_ = nullptr;
+    } else if (size_ > 0) {
+      std::memcpy(static_cast<void*>(inline_), o.inline_, sizeof(T) * size_);
+    }
+    o.size_ = 0;
+  }
+  void release() {
+    std::free(heap_);
+    heap_ = nullptr;
+    size_ = 0;
+  }
+
+  T* heap_ = nullptr;  // null while the elements fit inline
+  uint32_t size_ = 0;
+  uint32_t cap_ = 0;  // of heap_
+  T inline_[N];
+};
+
+}  // namespace nomec::ast
