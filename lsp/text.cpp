@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "frontend/source/source_manager.h"
+
 namespace nomec::lsp {
 namespace {
 
@@ -39,19 +41,11 @@ void step(std::string_view s, size_t i, size_t end, size_t& bytes, uint32_t& uni
 }  // namespace
 
 LineIndex::LineIndex(std::string_view text) : text_(text) {
-  starts_.reserve(text.size() / 40 + 16);
-  starts_.push_back(0);
   if (std::memchr(text.data(), '\r', text.size()) == nullptr) {
-    // The usual case, `\n` only: memchr finds line ends far faster than a byte loop
-    // (this runs on every version of a document the server checks).
-    const char* p = text.data();
-    const char* end = p + text.size();
-    while (const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p))) {
-      p = static_cast<const char*>(nl) + 1;
-      starts_.push_back(static_cast<uint32_t>(p - text.data()));
-    }
+    starts_ = lf_line_starts(text);  // the usual case, `\n` only
     return;
   }
+  starts_.push_back(0);
   for (size_t i = 0; i < text.size(); ++i) {
     if (text[i] == '\n') {
       starts_.push_back(static_cast<uint32_t>(i + 1));

@@ -15,6 +15,10 @@ namespace nomec {
 /// `CheckOptions::read_file` for includes and base scenes).
 std::optional<std::string> read_file_bytes(const std::string& path);
 
+/// Line starts of `text` when only `\n` ends lines: 0, then the offset after every `\n`.
+/// Shared by SourceManager's line tables and the language server's LineIndex.
+std::vector<uint32_t> lf_line_starts(std::string_view text);
+
 /// Identifies one file held by a SourceManager.
 struct FileId {
   int32_t index = -1;
