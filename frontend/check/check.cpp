@@ -439,7 +439,7 @@ class Checker {
     node.range = s.range;
     ir::NodeId id = m_.add_node(std::move(node));
     define(ns, name, Symbol{id, s.items[0].range, order, s.kind});
-    declared_slot(s) = id;
+    if (ir::NodeId* d = declared_slot(s)) *d = id;
   }
 
   void define(Ns ns, const std::string& name, Symbol sym) {
@@ -595,7 +595,7 @@ class Checker {
 
   // Creates (or reuses the declared) node for a statement.
   ir::NodeId node_for(const ast::Stmt& s, std::string name, const Ctx& ctx) {
-    if (ir::NodeId d = declared_slot(s); d.is_valid()) return d;
+    if (const ir::NodeId* d = declared_slot(s); d != nullptr && d->is_valid()) return *d;
     ir::Node node;
     node.kind = node_kind_for(s.kind);
     node.keyword = std::string(ast::open_keyword(s.kind));
@@ -1007,7 +1007,7 @@ class Checker {
       if (!scopes_[static_cast<int>(Ns::Shape)].contains(name)) {
         ir::NodeId id = node_for(s, name, ctx);
         define(Ns::Shape, name, Symbol{id, s.open_kw, order_, s.kind});
-        declared_slot(s) = id;
+        if (ir::NodeId* d = declared_slot(s)) *d = id;
       }
     }
     ir::NodeId id = node_for(s, qualify(ctx, name), ctx);
@@ -2181,19 +2181,19 @@ class Checker {
   mutable std::unordered_map<std::string, ir::NodeId> param_text_memo_;  // see lookup_param_text
   std::map<std::string, SourceRange> banks_;
   // The node declared for each statement, by statement index, per syntax tree (the main
-  // file, its base scene, its includes); `declared_other_` for a statement of none of them.
+  // file, its base scene, its includes: each is declared before it is processed).
   struct Declared {
     const ast::Ast* ast;
     std::vector<ir::NodeId> ids;
   };
   std::vector<Declared> declared_;
-  std::unordered_map<const ast::Stmt*, ir::NodeId> declared_other_;
-  ir::NodeId& declared_slot(const ast::Stmt& s) {
+  // The slot of `s`, or null for a statement of no declared tree.
+  ir::NodeId* declared_slot(const ast::Stmt& s) {
     for (Declared& d : declared_) {
       const std::vector<ast::Stmt>& v = d.ast->stmts;
-      if (!v.empty() && &s >= v.data() && &s < v.data() + v.size()) return d.ids[static_cast<size_t>(&s - v.data())];
+      if (!v.empty() && &s >= v.data() && &s < v.data() + v.size()) return &d.ids[static_cast<size_t>(&s - v.data())];
     }
-    return declared_other_[&s];
+    return nullptr;
   }
   std::unordered_map<int32_t, std::map<std::string, ir::NodeId>> mesh_points_;
   // Instance scopes keyed by owner node index + 1 (0 = top level).
