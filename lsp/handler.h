@@ -4,7 +4,6 @@
 // Every feature lives in its own `handle_*.cpp` listed once in handlers.def.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -62,21 +61,15 @@ class LazyIndex {
   /// The index, building it now if no one has yet; null only when `!*this`.
   const index::Index* get() const {
     if (!checked_) return nullptr;
-    std::call_once(once_, [this] {
-      index_ = index::build(*checked_);
-      index_built_.store(true);
-    });
+    std::call_once(once_, [this] { index_ = index::build(*checked_); });
     return index_.get();
   }
   const index::Index* operator->() const { return get(); }
-  /// Whether the index has been built (tests and benchmarks).
-  bool built() const { return index_built_.load(); }
 
  private:
   std::optional<index::Checked> checked_;
   mutable std::once_flag once_;
   mutable std::shared_ptr<const index::Index> index_;
-  mutable std::atomic<bool> index_built_{false};
 };
 
 /// One checked version of an open document. Immutable once published.

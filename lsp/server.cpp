@@ -449,11 +449,7 @@ void ServerImpl::analysis_loop() {
     if (!d.analysis || d.analysis->version <= version) previous = std::exchange(d.analysis, a);
     docs_cv_.notify_all();
     if (d.version != version) {  // edited meanwhile: the next analysis publishes
-      if (previous) {
-        std::lock_guard alock(after_mu_);
-        after_release_.push_back(std::move(previous));
-        after_cv_.notify_all();
-      }
+      hand_to_after_thread(std::move(previous), nullptr);
       continue;
     }
     json diagnostics = a->diagnostics_json;
@@ -476,14 +472,19 @@ void ServerImpl::analysis_loop() {
       }
       geo_cv_.notify_all();
     }
-    {
-      std::lock_guard alock(after_mu_);
-      if (previous) after_release_.push_back(std::move(previous));
-      if (a->index) after_index_ = a;  // index it unless a newer version comes first
-    }
-    after_cv_.notify_all();
+    hand_to_after_thread(std::move(previous), a->index ? a : nullptr);
     lock.lock();
   }
+}
+
+void ServerImpl::hand_to_after_thread(std::shared_ptr<const Analysis> release,
+                                      std::shared_ptr<const Analysis> to_index) {
+  {
+    std::lock_guard lock(after_mu_);
+    if (release) after_release_.push_back(std::move(release));
+    if (to_index) after_index_ = std::move(to_index);  // replaces an older one not yet indexed
+  }
+  after_cv_.notify_all();
 }
 
 void ServerImpl::after_loop() {

@@ -91,6 +91,9 @@ class ServerImpl {
   void analysis_loop();
   void geometry_loop();
   void after_loop();
+  /// Queues `release` to be freed and `to_index` (either may be null) to be indexed on the
+  /// after thread; `to_index` is skipped if its document has changed by then.
+  void hand_to_after_thread(std::shared_ptr<const Analysis> release, std::shared_ptr<const Analysis> to_index);
   void publish(const std::string& uri, int64_t version, json diagnostics, bool complete);
   int64_t document_version(const std::string& uri) const;
   bool stopped() const;
