@@ -360,7 +360,7 @@ std::string expr_text(const Module& m, ExprId id) {
     case ExprKind::Param:
       return "$" + m.node(e.param).name;
     case ExprKind::Builtin:
-      return "$" + e.name;
+      return "$" + std::string(e.name);
     case ExprKind::Error:
       return "<error>";
     case ExprKind::Unary:

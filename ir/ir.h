@@ -12,9 +12,14 @@
 #include <utility>
 #include <vector>
 
+#include "frontend/ast/small_vec.h"
 #include "frontend/source/source_manager.h"
 
 namespace nomec::ir {
+
+/// Short inline lists (no heap allocation up to N elements), as in the syntax tree.
+template <typename T, uint32_t N>
+using SmallVec = ast::SmallVec<T, N>;
 
 template <typename Tag>
 struct Id {
@@ -56,10 +61,10 @@ struct Expr {
   Func func = Func::Sin;
   double value = 0;
   NodeId param;      // Param node
-  std::string name;  // Builtin: "time" / "frame"
+  std::string_view name;  // Builtin: "time" / "frame" (static text)
   ExprId lhs;
   ExprId rhs;
-  std::vector<ExprId> args;
+  SmallVec<ExprId, 2> args;
   SourceRange range;
 };
 
@@ -87,8 +92,8 @@ enum class FieldKind : uint8_t {
 struct Field {
   std::string name;
   FieldKind kind = FieldKind::Scalar;
-  std::vector<ExprId> exprs;
-  std::vector<NodeId> refs;
+  SmallVec<ExprId, 4> exprs;
+  SmallVec<NodeId, 2> refs;
   std::vector<VertexRef> vertices;
   std::string text;
   SourceRange range;

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <initializer_list>
 #include <new>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 
@@ -51,6 +52,10 @@ class SmallVec {
   const T* data() const { return heap_ != nullptr ? heap_ : inline_; }
   T& operator[](size_t i) { return data()[i]; }
   const T& operator[](size_t i) const { return data()[i]; }
+  const T& at(size_t i) const {
+    if (i >= size_) throw std::out_of_range("SmallVec::at");
+    return data()[i];
+  }
   T& front() { return data()[0]; }
   const T& front() const { return data()[0]; }
   T& back() { return data()[size_ - 1]; }

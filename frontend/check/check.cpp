@@ -1444,7 +1444,8 @@ class Checker {
   // -------- fields --------
   void add_field(ir::NodeId id, ir::Field f) {
     // A Value node for fields whose expressions depend on parameters.
-    std::vector<int32_t> params;
+    std::vector<int32_t>& params = params_scratch_;
+    params.clear();
     for (ir::ExprId e : f.exprs) collect_params(e, params);
     std::sort(params.begin(), params.end());
     params.erase(std::unique(params.begin(), params.end()), params.end());
@@ -1452,7 +1453,9 @@ class Checker {
       ir::Node v;
       v.kind = ir::NodeKind::Value;
       v.keyword = "value";
-      v.name = fmt::format("{}.{}", m_.node(id).name, f.name);
+      const std::string& owner = m_.node(id).name;
+      v.name.reserve(owner.size() + 1 + f.name.size());
+      v.name.append(owner).append(1, '.').append(f.name);
       v.range = f.range;
       v.owner = id;
       ir::NodeId vid = m_.add_node(std::move(v));
@@ -1982,7 +1985,7 @@ class Checker {
         }
         if (x.kind == ast::ExprKind::DollarRef && (name == "time" || name == "frame")) {
           e.kind = ir::ExprKind::Builtin;
-          e.name = name;
+          e.name = name == "time" ? std::string_view("time") : std::string_view("frame");
           return m_.add_expr(std::move(e));
         }
         ir::NodeId p = lookup_param_text(name);
@@ -2070,7 +2073,7 @@ class Checker {
         return m_.add_expr(std::move(e));
       case ast::ExprKind::Call: {
         std::optional<ir::Func> f = ir::func_by_name(x.text);
-        std::vector<ir::ExprId> args;
+        ir::SmallVec<ir::ExprId, 2> args;
         for (ast::ExprId arg : x.args) args.push_back(to_ir_rec(a, arg, constant, depth + 1));
         if (!f) {
           static const std::vector<std::string> names = {"sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "abs", "exp", "log", "ln", "log10", "pow", "min", "max", "floor", "ceil", "round", "sign", "mod"};
@@ -2187,6 +2190,7 @@ class Checker {
     std::vector<ir::NodeId> ids;
   };
   std::vector<Declared> declared_;
+  std::vector<int32_t> params_scratch_;  // add_field: the parameters a field reads
   // The slot of `s`, or null for a statement of no declared tree.
   ir::NodeId* declared_slot(const ast::Stmt& s) {
     for (Declared& d : declared_) {
