@@ -20,6 +20,7 @@ packages=(
   libcli11-dev                   # tools/ command line
   libosd-dev                     # OpenSubdiv: test oracle and benchmark baseline only
   libbenchmark-dev               # bench/
+  libjemalloc-dev                # allocator of nomec (language server speed on large files)
   admesh                         # STL sanity checks in tests
   cmake ninja-build g++ clang
   ca-certificates git python3

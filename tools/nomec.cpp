@@ -21,6 +21,7 @@
 #include "frontend/check/check.h"
 #include "ir/ir.h"
 #include "kernel/topology.h"
+#include "tools/allocator.h"
 #include "tools/fmt_command.h"
 #include "tools/summary_json.h"
 #include "tools/what_if.h"
@@ -92,7 +93,7 @@ int main(int argc, char** argv) {
 #endif
   }
   CLI::App app{"nomec: compiler for NOME, NOME3 and SLIDE scene files"};
-  app.set_version_flag("--version", std::string("nomec ") + NOMEC_VERSION);
+  app.set_version_flag("--version", fmt::format("nomec {} (allocator: {})", NOMEC_VERSION, nomec::allocator_name()));
   std::vector<std::string> files;
   bool check_only = false;
   std::string emit;

@@ -29,6 +29,7 @@
 #include "frontend/source/source_manager.h"
 #include "bench/common/generated_scene.h"
 #include "lsp/server.h"
+#include "tools/allocator.h"
 
 namespace {
 
@@ -306,6 +307,7 @@ void register_corpus() {
 
 int main(int argc, char** argv) {
   register_corpus();
+  benchmark::AddCustomContext("allocator", std::string(nomec::allocator_name()));
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
