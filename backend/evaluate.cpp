@@ -1562,7 +1562,7 @@ class Evaluator {
 
   BlockSetup block_setup(const ir::Node& p) {
     BlockSetup b;
-    const std::string& kw = p.keyword;
+    const std::string_view kw = p.keyword;
     b.step_range = p.range;
     if (const ir::Field* f = find_field(p, "tolerance")) b.tolerance = scalar(*f, 0, -1);
     if (kw == "subdivision") {
@@ -1628,7 +1628,7 @@ class Evaluator {
       }
     }
     sink_ = saved_sink;
-    const std::string& kw = p.keyword;
+    const std::string_view kw = p.keyword;
     if (sink.is_deferred) {
       int32_t faces = in.soup.face_count();
       for (const EntryPart& part : sink.parts) faces += part.part->soup.face_count();

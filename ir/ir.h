@@ -110,7 +110,7 @@ std::string_view node_kind_name(NodeKind kind);
 /// target is the Generator and whose `fields` hold the transform chain in written order.
 struct Node {
   NodeKind kind = NodeKind::Value;
-  std::string keyword;  // source statement, e.g. "funnel", "instance", "subdivision"
+  std::string_view keyword;  // source statement, e.g. "funnel", "instance" (static text)
   std::string name;     // qualified name, e.g. "cubeMadeByFunnel.fun1"; "" if anonymous
   SourceRange range;
   NodeId parent;                // enclosing mesh/group/pipeline

@@ -434,7 +434,7 @@ class Checker {
     std::string name(s.items[0].text);
     ir::Node node;
     node.kind = node_kind_for(s.kind);
-    node.keyword = std::string(ast::open_keyword(s.kind));
+    node.keyword = ast::open_keyword(s.kind);
     node.name = name;
     node.range = s.range;
     ir::NodeId id = m_.add_node(std::move(node));
@@ -598,7 +598,7 @@ class Checker {
     if (const ir::NodeId* d = declared_slot(s); d != nullptr && d->is_valid()) return *d;
     ir::Node node;
     node.kind = node_kind_for(s.kind);
-    node.keyword = std::string(ast::open_keyword(s.kind));
+    node.keyword = ast::open_keyword(s.kind);
     node.name = std::move(name);
     node.range = s.range;
     node.parent = ctx.parent;
