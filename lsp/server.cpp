@@ -4,6 +4,9 @@
 // thread whose results are merged into them. Features are in handle_*.cpp.
 #include "lsp/server_impl.h"
 
+#include <dlfcn.h>
+#include <malloc.h>
+
 #include <algorithm>
 
 namespace nomec::lsp {
@@ -487,13 +490,40 @@ void ServerImpl::hand_to_after_thread(std::shared_ptr<const Analysis> release,
   after_cv_.notify_all();
 }
 
+namespace {
+
+// Returns the allocator's free pages to the system: jemalloc keeps them (tools/allocator.h),
+// the C library's malloc keeps some in its arenas.
+void release_free_memory() {
+  using Mallctl = int (*)(const char*, void*, size_t*, void*, size_t);
+  if (auto mallctl = reinterpret_cast<Mallctl>(dlsym(RTLD_DEFAULT, "mallctl"))) {
+    mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);  // 4096: MALLCTL_ARENAS_ALL
+  } else {
+    malloc_trim(0);
+  }
+}
+
+}  // namespace
+
 void ServerImpl::after_loop() {
   for (;;) {
     std::shared_ptr<const Analysis> job;
     std::vector<std::shared_ptr<const Analysis>> release;
     {
       std::unique_lock lock(after_mu_);
-      after_cv_.wait(lock, [&] { return stopped() || after_index_ != nullptr || !after_release_.empty(); });
+      auto has_work = [&] { return stopped() || after_index_ != nullptr || !after_release_.empty(); };
+      if (after_freed_ && options_.idle_release_ms > 0) {
+        // Typing pauses: once nothing arrived for idle_release_ms, give the memory back.
+        if (!after_cv_.wait_for(lock, std::chrono::milliseconds(options_.idle_release_ms), has_work)) {
+          after_freed_ = false;
+          lock.unlock();
+          release_free_memory();
+          ++memory_releases_;
+          continue;
+        }
+      } else {
+        after_cv_.wait(lock, has_work);
+      }
       if (stopped()) return;
       job = std::move(after_index_);
       after_index_.reset();
@@ -505,6 +535,7 @@ void ServerImpl::after_loop() {
     job.reset();
     std::lock_guard lock(after_mu_);
     after_busy_ = false;
+    after_freed_ = true;
   }
 }
 
@@ -601,6 +632,7 @@ bool Server::wait_for_diagnostics(std::string_view uri, int64_t version, std::ch
 bool Server::exit_requested() const { return impl_->exit_requested(); }
 int Server::exit_code() const { return impl_->exit_code(); }
 bool Server::background_busy() const { return impl_->background_busy(); }
+size_t Server::memory_releases() const { return impl_->memory_releases(); }
 std::optional<std::string> Server::document_text(std::string_view uri) const { return impl_->document_text(uri); }
 std::optional<ParseStats> Server::parse_stats(std::string_view uri) const { return impl_->parse_stats(uri); }
 

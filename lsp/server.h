@@ -23,6 +23,10 @@ struct ServerOptions {
   bool geometry = true;
   /// Documents larger than this are kept but not analysed (a diagnostic says so).
   size_t max_document_bytes = 32u << 20;
+  /// Once no document has been re-checked for this long, memory freed since the last
+  /// release is returned to the system (jemalloc keeps freed pages for reuse while the
+  /// user types; see tools/allocator.h). 0 never releases.
+  int idle_release_ms = 2000;
 };
 
 class ServerImpl;
@@ -69,6 +73,8 @@ class Server {
   /// True while a check or a background scene evaluation is running (neither can be
   /// interrupted; `run_stdio` does not wait for them when the client says `exit`).
   bool background_busy() const;
+  /// How many times free memory was returned to the system after an idle period.
+  size_t memory_releases() const;
 
  private:
   std::unique_ptr<ServerImpl> impl_;

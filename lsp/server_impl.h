@@ -43,6 +43,7 @@ struct Document {
 
 class ServerImpl {
  public:
+  size_t memory_releases() const { return memory_releases_.load(); }
   ServerImpl(Server::Sink sink, ServerOptions options);
   ~ServerImpl();
 
@@ -145,6 +146,8 @@ class ServerImpl {
   std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
   std::vector<std::shared_ptr<const Analysis>> after_release_;
   bool after_busy_ = false;
+  bool after_freed_ = false;              // memory was freed since the last release
+  std::atomic<size_t> memory_releases_{0};  // ServerOptions::idle_release_ms
 
   std::thread request_thread_;
   std::thread analysis_thread_;

@@ -29,6 +29,8 @@
 #include "lsp/server.h"
 #endif
 
+NOMEC_JEMALLOC_CONFIG();
+
 namespace {
 
 nlohmann::json range_json(const nomec::SourceManager& sources, nomec::SourceRange r) {

@@ -31,6 +31,9 @@
 #include "lsp/server.h"
 #include "tools/allocator.h"
 
+// The same allocator options as `nomec` (see tools/allocator.h).
+NOMEC_JEMALLOC_CONFIG();
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -3,7 +3,9 @@
 // and the diagnostics it publishes equal those of a fresh check of the same text.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
+#include <thread>
 
 #include "lsp_client.h"
 
@@ -73,6 +75,53 @@ TEST(LspIncremental, OneCharacterEditReparsesOnePieceAndMatchesAFreshCheck) {
   ASSERT_TRUE(f.has_value());
   EXPECT_EQ(f->parsed, f->pieces);  // the reopened document starts with a fresh cache
   EXPECT_EQ(edited, fresh);
+}
+
+// Polls `releases` until it reaches `want` (false after two minutes).
+bool wait_releases(const Server& server, size_t want) {
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (server.memory_releases() < want) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+// Freed memory is kept while the user types (tools/allocator.h) and returned once no
+// document was re-checked for `idle_release_ms`: once per pause, not on a timer.
+TEST(LspMemory, FreedMemoryIsReturnedOnceAfterEachPause) {
+  ServerOptions o = Client::test_options();
+  o.idle_release_ms = 40;
+  Client c(o);
+  c.initialize();
+  EXPECT_EQ(c.server().memory_releases(), 0u);  // nothing analysed, nothing freed yet
+  const std::string uri = "file:///tmp/lsp-test/memory.nome";
+  c.open(uri, large_document(50), 1);
+  c.diagnostics(uri, 1);
+  ASSERT_TRUE(wait_releases(c.server(), 1));
+  // No new work, no new release, however long the pause.
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(c.server().memory_releases(), 1u);
+  // An edit frees the previous analysis: one more release after the next pause.
+  c.change(uri, 2, replace_char(1, 18, "7"));
+  c.diagnostics(uri, 2);
+  ASSERT_TRUE(wait_releases(c.server(), 2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(c.server().memory_releases(), 2u);
+}
+
+TEST(LspMemory, ZeroIdleTimeNeverReleases) {
+  ServerOptions o = Client::test_options();
+  o.idle_release_ms = 0;
+  Client c(o);
+  c.initialize();
+  const std::string uri = "file:///tmp/lsp-test/memory.nome";
+  c.open(uri, large_document(10), 1);
+  c.diagnostics(uri, 1);
+  c.change(uri, 2, replace_char(1, 18, "7"));
+  c.diagnostics(uri, 2);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(c.server().memory_releases(), 0u);
 }
 
 }  // namespace
