@@ -27,5 +27,6 @@ inline std::string_view allocator_name() {
 
 // jemalloc reads its options from this symbol when the program starts; without jemalloc
 // the symbol is unused.
-#define NOMEC_JEMALLOC_CONFIG() \
-  extern "C" const char* malloc_conf = "dirty_decay_ms:-1,muzzy_decay_ms:-1"
+#define NOMEC_JEMALLOC_CONFIG()        \
+  extern "C" const char* malloc_conf; \
+  const char* malloc_conf = "dirty_decay_ms:-1,muzzy_decay_ms:-1"
