@@ -144,7 +144,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   }
   diags.sort_and_dedupe();
   a->diagnostics = diags.diagnostics();
-  a->lines = LineIndex(a->sources().text(a->file));
+  a->lines = LineIndex(a->sources().text(a->file), a->sources().line_starts(a->file));
   for (const Diagnostic& d : a->diagnostics) a->diagnostics_json.push_back(diagnostic_json(*a, d));
   return a;
 }

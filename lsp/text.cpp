@@ -40,9 +40,11 @@ void step(std::string_view s, size_t i, size_t end, size_t& bytes, uint32_t& uni
 
 }  // namespace
 
-LineIndex::LineIndex(std::string_view text) : text_(text) {
-  if (std::memchr(text.data(), '\r', text.size()) == nullptr) {
-    starts_ = lf_line_starts(text);  // the usual case, `\n` only
+LineIndex::LineIndex(std::string_view text) : LineIndex(text, {}) {}
+
+LineIndex::LineIndex(std::string_view text, const std::vector<uint32_t>& lf_starts) : text_(text) {
+  if (std::memchr(text.data(), '\r', text.size()) == nullptr) {  // the usual case, `\n` only
+    starts_ = lf_starts.empty() ? lf_line_starts(text) : lf_starts;
     return;
   }
   starts_.push_back(0);

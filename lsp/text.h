@@ -23,6 +23,9 @@ class LineIndex {
  public:
   LineIndex() = default;
   explicit LineIndex(std::string_view text);
+  /// The same, given `lf_line_starts(text)` already computed (e.g. by SourceManager): it
+  /// is copied when `\n` is the only line end, so the table is not computed twice.
+  LineIndex(std::string_view text, const std::vector<uint32_t>& lf_starts);
 
   /// Byte offset of a position. Lines past the end clamp to the end of the text;
   /// characters past the end of a line clamp to the end of that line (before its line

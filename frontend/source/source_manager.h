@@ -59,6 +59,8 @@ class SourceManager {
   std::string_view line_text(FileId file, uint32_t line) const;
   /// The byte offset of a 1-based line/0-based byte column (clamped to the text).
   uint32_t offset_of(FileId file, uint32_t line, uint32_t column0) const;
+  /// The file's line table: `lf_line_starts` of its text.
+  const std::vector<uint32_t>& line_starts(FileId file) const { return files_[file.index].line_starts; }
 
  private:
   // Rationale: line starts are computed once per file when it is added; every position

@@ -2,6 +2,7 @@
 // invalid UTF-8, CRLF and lone CR line ends, clamping, and incremental edit splicing.
 #include <gtest/gtest.h>
 
+#include "frontend/source/source_manager.h"
 #include "lsp/text.h"
 
 namespace nomec::lsp {
@@ -14,6 +15,20 @@ TEST(LspText, AsciiRoundTrip) {
   EXPECT_EQ(idx.offset({1, 1}), 4u);
   EXPECT_EQ(idx.position(4), (Position{1, 1}));
   EXPECT_EQ(idx.position(6), (Position{2, 0}));
+}
+
+// Given SourceManager's `\n`-only table, LineIndex uses it for `\n` texts and ignores it
+// when `\r` ends lines too: the same positions as computing its own.
+TEST(LspText, PrecomputedLfTableGivesTheSameIndex) {
+  for (std::string text : {"ab\ncd\n\nef", "ab\r\ncd\rx\ny", "", "no newline"}) {
+    LineIndex own(text);
+    LineIndex given(text, lf_line_starts(text));
+    ASSERT_EQ(own.line_count(), given.line_count()) << text;
+    for (uint32_t line = 0; line < own.line_count(); ++line) {
+      EXPECT_EQ(own.line_start(line), given.line_start(line)) << text;
+      EXPECT_EQ(own.line_content_end(line), given.line_content_end(line)) << text;
+    }
+  }
 }
 
 TEST(LspText, Utf16ColumnsForNonAscii) {
