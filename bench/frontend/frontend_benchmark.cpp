@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 #include "frontend/check/check.h"
 #include "frontend/index/index.h"
@@ -97,7 +98,7 @@ const std::vector<CorpusFile>& corpus_files() {
     for (const char* folder : {"nome1", "nome3", "slide"}) {
       for (const auto& e : std::filesystem::recursive_directory_iterator(
                std::filesystem::path(NOMEC_CORPUS_DIR) / folder, ec)) {
-        if (!e.is_regular_file() || e.path().extension() == ".sif") continue;
+        if (!e.is_regular_file() || !nomec::is_scene_path(e.path().string())) continue;
         v.push_back({e.path().string(), nomec::read_file_bytes(e.path().string()).value()});
       }
     }

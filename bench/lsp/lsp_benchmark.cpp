@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 #include "bench/common/generated_scene.h"
 #include "lsp/server.h"
@@ -291,10 +292,7 @@ void register_corpus() {
   std::error_code ec;
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::recursive_directory_iterator(NOMEC_CORPUS_DIR, ec)) {
-    if (!e.is_regular_file()) continue;
-    std::string ext = e.path().extension().string();
-    if (ext == ".sif" || ext == ".md") continue;
-    files.push_back(e.path());
+    if (e.is_regular_file() && nomec::is_scene_path(e.path().string())) files.push_back(e.path());
   }
   std::sort(files.begin(), files.end());
   for (const auto& f : files) {

@@ -21,6 +21,7 @@
 #include "backend/generators/domain.h"
 #include "frontend/check/signatures.h"
 #include "frontend/parse/parse.h"
+#include "frontend/source/file_kinds.h"
 
 namespace nomec {
 
@@ -2212,11 +2213,6 @@ class Checker {
   int include_depth_ = 0;
 };
 
-bool is_saved_work_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".anom" || ext == ".amom";
-}
-
 // The base scene of a saved-work file: `--base`, else the `.nom`/`.nome` named like its
 // folder, else the only one in the folder.
 std::optional<std::string> find_base(const std::string& path, const CheckOptions& options) {
@@ -2227,8 +2223,7 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
   std::string folder = std::filesystem::absolute(dir, ec).filename().string();
   std::vector<std::filesystem::path> candidates;
   for (const auto& entry : std::filesystem::directory_iterator(dir.empty() ? "." : dir, ec)) {
-    std::string ext = entry.path().extension().string();
-    if (ext == ".nom" || ext == ".nome") candidates.push_back(entry.path());
+    if (is_base_scene_path(entry.path().string())) candidates.push_back(entry.path());
   }
   for (const auto& c : candidates) {
     if (c.stem().string() == folder) return c.string();

@@ -15,6 +15,7 @@
 #include "frontend/format/format.h"
 #include "frontend/parse/parse.h"
 #include "ir/ir.h"
+#include "tests/common/corpus_inputs.h"
 
 namespace fs = std::filesystem;
 using nomec::format_source;
@@ -24,22 +25,13 @@ namespace {
 
 std::string read(const fs::path& p) { return nomec::read_file_bytes(p.string()).value(); }
 
-bool is_nome_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  return ext == ".nome" || ext == ".nom" || ext == ".slf" || ext == ".anom";
-}
-
 // Every corpus file, example and test input (including this folder's goldens).
 std::vector<fs::path> all_inputs() {
   std::vector<fs::path> out;
-  for (fs::path root : {fs::path(NOMEC_CORPUS_DIR), fs::path(NOMEC_SOURCE_DIR) / "examples",
-                        fs::path(NOMEC_SOURCE_DIR) / "tests"}) {
-    if (!fs::exists(root)) continue;
-    for (const auto& e : fs::recursive_directory_iterator(root)) {
-      if (e.is_regular_file() && is_nome_file(e.path())) out.push_back(e.path());
-    }
+  for (const std::string& p : nomec::testing_inputs::scene_files_under(
+           {fs::path(NOMEC_CORPUS_DIR), fs::path(NOMEC_SOURCE_DIR) / "examples", fs::path(NOMEC_SOURCE_DIR) / "tests"})) {
+    out.emplace_back(p);
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -20,6 +20,7 @@
 #include "frontend/check/check.h"
 #include "frontend/parse/parse.h"
 #include "ir/ir.h"
+#include "tests/common/corpus_inputs.h"
 
 namespace fs = std::filesystem;
 
@@ -39,20 +40,7 @@ struct Doc {
 
 std::vector<Doc> corpus_docs() {
   std::vector<Doc> out;
-  const std::vector<fs::path> roots = {fs::path(NOMEC_CORPUS_DIR) / "nome1",
-                                       fs::path(NOMEC_CORPUS_DIR) / "nome3",
-                                       fs::path(NOMEC_CORPUS_DIR) / "slide",
-                                       fs::path(NOMEC_SOURCE_DIR) / "examples"};
-  for (const fs::path& root : roots) {
-    std::error_code ec;
-    for (const auto& e : fs::recursive_directory_iterator(root, ec)) {
-      if (!e.is_regular_file()) continue;
-      std::string ext = e.path().extension().string();
-      if (ext == ".md" || ext == ".sif") continue;
-      out.push_back({e.path().string(), read(e.path())});
-    }
-  }
-  std::sort(out.begin(), out.end(), [](const Doc& a, const Doc& b) { return a.name < b.name; });
+  for (const std::string& path : nomec::testing_inputs::corpus_and_examples()) out.push_back({path, read(path)});
   return out;
 }
 

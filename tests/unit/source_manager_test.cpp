@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "frontend/diagnostics/diagnostic.h"
+#include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 
 namespace nomec {
@@ -47,6 +48,22 @@ TEST(Diagnostics, ClosestMatch) {
   EXPECT_EQ(closest_match("radus", {"radius", "ratio", "n"}), "radius");
   EXPECT_EQ(closest_match("pint", {"point", "face"}), "point");
   EXPECT_EQ(closest_match("zzzzzz", {"point", "face"}), "");
+}
+
+// Corpus folders hold SLIDE's Tcl helpers and `.sif` meshes beside the scenes: sweeps over
+// real files choose scenes by these rules.
+TEST(FileKinds, ScenesAreChosenByExtension) {
+  for (const char* scene : {"a.nome", "dir/b.nom", "c.slf", "zero/zerosave.anom", "x.amom", "../shared/a.b/c.nom"}) {
+    EXPECT_TRUE(is_scene_path(scene)) << scene;
+  }
+  for (const char* other : {"slide/SLIDEUI.tcl", "zero/Zero_6.sif", "README.md", "nome", "dir.nom/file", ".nom"}) {
+    EXPECT_FALSE(is_scene_path(other)) << other;
+  }
+  EXPECT_TRUE(is_saved_work_path("zero/zerosave.anom"));
+  EXPECT_FALSE(is_saved_work_path("zero/zero.nom"));
+  EXPECT_TRUE(is_base_scene_path("zero/zero.nom"));
+  EXPECT_EQ(path_extension("a/b.c/d"), "");
+  EXPECT_EQ(path_extension("a/b.tar.slf"), ".slf");
 }
 
 }  // namespace
