@@ -1,7 +1,6 @@
 // STL/OBJ/PLY rendering and atomic file replacement (see write.h).
 #include "backend/write.h"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,9 +10,6 @@
 #include <glm/vec2.hpp>
 #include <algorithm>
 #include <map>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace nomec::backend {
 namespace {
@@ -248,68 +244,6 @@ std::string to_ply(std::span<const OutputMesh> meshes) {
     base += s.positions.size();
   }
   return out;
-}
-
-namespace {
-
-// Writes straight into an existing non-regular file (`/dev/null`, a FIFO, a terminal):
-// renaming a temporary file over it would replace the device or pipe with a plain file.
-std::string write_in_place(const std::string& path, std::string_view content) {
-  int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC);
-  if (fd < 0) return fmt::format("cannot open `{}`: {}", path, std::strerror(errno));
-  size_t done = 0;
-  while (done < content.size()) {
-    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      std::string err = fmt::format("cannot write `{}`: {}", path, std::strerror(errno));
-      ::close(fd);
-      return err;
-    }
-    done += static_cast<size_t>(n);
-  }
-  ::close(fd);
-  return {};
-}
-
-}  // namespace
-
-std::string write_file_atomically(const std::string& path, std::string_view content) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    return write_in_place(path, content);
-  }
-  std::string tmpl = path + ".tmp.XXXXXX";
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  int fd = mkstemp(name.data());
-  if (fd < 0) return fmt::format("cannot create `{}`: {}", tmpl, std::strerror(errno));
-  size_t done = 0;
-  while (done < content.size()) {
-    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      std::string err = fmt::format("cannot write `{}`: {}", name.data(), std::strerror(errno));
-      ::close(fd);
-      ::unlink(name.data());
-      return err;
-    }
-    done += static_cast<size_t>(n);
-  }
-  // mkstemp creates 0600; outputs are ordinary files (0644 less the umask).
-  mode_t mask = umask(0);
-  umask(mask);
-  fchmod(fd, 0666 & ~mask);
-  if (::close(fd) != 0) {
-    ::unlink(name.data());
-    return fmt::format("cannot write `{}`: {}", name.data(), std::strerror(errno));
-  }
-  if (std::rename(name.data(), path.c_str()) != 0) {
-    std::string err = fmt::format("cannot rename `{}` to `{}`: {}", name.data(), path, std::strerror(errno));
-    ::unlink(name.data());
-    return err;
-  }
-  return {};
 }
 
 }  // namespace nomec::backend

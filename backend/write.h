@@ -1,7 +1,7 @@
 // Output writers: STL (binary and ASCII), OBJ with an MTL of face colours, and ASCII PLY
 // with face colours, e.g. `nomec --emit stl funnel_cube.nome -o funnel_cube.stl`. Writers
-// render to a string; `write_file_atomically` puts it on disk via a temporary file in the
-// same directory and a rename, so a failed compile never touches an existing output.
+// render to a string; the CLI puts it on disk with `write_file_atomically` (base/file_io.h),
+// so a failed compile never touches an existing output.
 #pragma once
 
 #include <span>
@@ -30,9 +30,5 @@ std::string to_mtl(std::span<const OutputMesh> meshes);
 /// ASCII PLY with `red green blue` face properties when any mesh has face colours.
 std::string to_ply(std::span<const OutputMesh> meshes);
 
-/// Writes `content` to `path` through `path.tmp.XXXXXX` and rename (an existing
-/// non-regular file such as `/dev/null` or a FIFO is written in place instead). Returns "" or an error
-/// message (lowercase, e.g. "cannot create `out/x.stl.tmp`: No such file or directory").
-std::string write_file_atomically(const std::string& path, std::string_view content);
 
 }  // namespace nomec::backend

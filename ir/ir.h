@@ -12,23 +12,12 @@
 #include <utility>
 #include <vector>
 
-#include "frontend/ast/small_vec.h"
+#include "base/id.h"
+#include "base/small_vec.h"
 #include "frontend/source/source_manager.h"
 
 namespace nomec::ir {
 
-/// Short inline lists (no heap allocation up to N elements), as in the syntax tree.
-template <typename T, uint32_t N>
-using SmallVec = ast::SmallVec<T, N>;
-
-template <typename Tag>
-struct Id {
-  int32_t index = -1;
-  static constexpr Id None() { return Id{}; }
-  bool is_valid() const { return index >= 0; }
-  friend bool operator==(Id, Id) = default;
-  friend auto operator<=>(Id, Id) = default;
-};
 struct ExprTag;
 struct NodeTag;
 using ExprId = Id<ExprTag>;

@@ -7,21 +7,12 @@
 #include <cstdint>
 #include <functional>
 
+#include "base/id.h"
+
 namespace nomec::kernel {
 
-/// A typed int32 index. `Tag` only distinguishes the kinds; `None()` is -1.
-template <typename Tag>
-struct Id {
-  int32_t index = -1;
-
-  constexpr Id() = default;
-  constexpr explicit Id(int32_t i) : index(i) {}
-  static constexpr Id None() { return Id(); }
-  constexpr bool is_valid() const { return index >= 0; }
-  constexpr explicit operator bool() const { return is_valid(); }
-  friend constexpr bool operator==(Id a, Id b) = default;
-  friend constexpr auto operator<=>(Id a, Id b) = default;
-};
+/// The kernel's handles use the project's one typed index (base/id.h).
+using nomec::Id;
 
 struct VertexTag {};
 struct EdgeTag {};
@@ -56,9 +47,4 @@ struct EdgeUse {
 
 }  // namespace nomec::kernel
 
-template <typename Tag>
-struct std::hash<nomec::kernel::Id<Tag>> {
-  size_t operator()(nomec::kernel::Id<Tag> id) const noexcept {
-    return std::hash<int32_t>()(id.index);
-  }
-};
+

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "base/file_io.h"
 #include "backend/evaluate.h"
 #include "lsp/server_impl.h"
 
@@ -128,7 +129,10 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     a->check = std::make_shared<CheckResult>();
   } else {
     CheckOptions options;
-    if (path) options.read_file = read_file_bytes;
+    if (path) {
+      options.read_file = read_file_bytes;
+      options.list_folder = list_folder;
+    }
     const size_t bytes = text.size();
     index::Checked checked = index::check_document(path.value_or(uri), std::move(text), options, diags, cache);
     if (cache != nullptr) {

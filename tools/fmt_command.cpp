@@ -1,5 +1,6 @@
 // `nomec fmt` implementation: reads each file (or stdin), calls format_source, and prints,
 // checks or rewrites in place (write to a temporary file next to it, then rename).
+#include "base/file_io.h"
 #include "tools/fmt_command.h"
 
 #include <cstdio>
@@ -24,35 +25,6 @@ std::optional<std::string> read_input(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(std::cin), {});
   }
   return nomec::read_file_bytes(path);
-}
-
-// Replaces `path` by `text` atomically: a temporary file in the same folder is renamed over it.
-bool write_atomically(const std::string& path, const std::string& text, std::string& error) {
-  namespace fs = std::filesystem;
-  fs::path target(path);
-  fs::path temp = target;
-  temp += fmt::format(".nomec-fmt-{}.tmp", static_cast<long>(getpid()));
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      error = fmt::format("cannot write `{}`", temp.string());
-      std::error_code ignored;
-      fs::remove(temp, ignored);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::permissions(temp, fs::status(target, ec).permissions(), ec);
-  fs::rename(temp, target, ec);
-  if (ec) {
-    error = fmt::format("cannot replace `{}`: {}", path, ec.message());
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -101,7 +73,7 @@ int run_fmt(const FmtCommand& command) {
       }
     } else if (command.in_place) {
       std::string error;
-      if (result.text != *text && !write_atomically(path, result.text, error)) {
+      if (result.text != *text && !(error = write_file_atomically(path, result.text)).empty()) {
         std::cerr << "nomec fmt: " << error << "\n";
         return 2;
       }

@@ -14,13 +14,13 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "base/file_io.h"
 #include "backend/evaluate.h"
 #include "backend/save.h"
 #include "backend/summary.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
 #include "ir/ir.h"
-#include "kernel/topology.h"
 #include "tools/allocator.h"
 #include "tools/fmt_command.h"
 #include "tools/summary_json.h"
@@ -211,6 +211,7 @@ int main(int argc, char** argv) {
     options.base_file = base;
   }
   options.read_file = nomec::read_file_bytes;
+  options.list_folder = nomec::list_folder;
   for (const std::string& d : defines) {
     auto eq = d.find('=');
     if (eq == std::string::npos || eq == 0) {
@@ -298,10 +299,10 @@ int main(int argc, char** argv) {
       std::cout.write(content.data(), static_cast<std::streamsize>(content.size()));
       std::cout.flush();
     } else {
-      std::string err = be::write_file_atomically(target, content);
+      std::string err = nomec::write_file_atomically(target, content);
       if (err.empty() && !mtl.empty()) {
         std::filesystem::path mtl_path = std::filesystem::path(target).replace_extension(".mtl");
-        err = be::write_file_atomically(mtl_path.string(), mtl);
+        err = nomec::write_file_atomically(mtl_path.string(), mtl);
       }
       if (!err.empty()) {
         std::cerr << fmt::format("nomec: {}\n", err);
@@ -366,7 +367,7 @@ int main(int argc, char** argv) {
       std::string content = nomec::backend::to_nome(result.module, sources, path);
       if (target == "-") {
         std::cout << content << std::flush;
-      } else if (std::string err = nomec::backend::write_file_atomically(target, content); !err.empty()) {
+      } else if (std::string err = nomec::write_file_atomically(target, content); !err.empty()) {
         std::cerr << fmt::format("nomec: {}\n", err);
         errors += 1;
       }

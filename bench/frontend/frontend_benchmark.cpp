@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_io.h"
 #include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 #include "frontend/check/check.h"
@@ -84,6 +85,7 @@ void BM_ParseOnly(benchmark::State& state) {
 nomec::CheckOptions corpus_options() {
   nomec::CheckOptions options;
   options.read_file = nomec::read_file_bytes;
+  options.list_folder = nomec::list_folder;
   return options;
 }
 

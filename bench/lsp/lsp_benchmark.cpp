@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_io.h"
 #include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 #include "bench/common/generated_scene.h"

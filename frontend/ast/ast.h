@@ -7,7 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "frontend/ast/small_vec.h"
+#include "base/id.h"
+#include "base/small_vec.h"
 #include "frontend/source/source_manager.h"
 
 namespace nomec::ast {
@@ -34,13 +35,6 @@ BlockCategory category(BlockKind kind);
 /// All opening keywords (for "did you mean" on misspelled statements).
 const std::vector<std::string_view>& all_open_keywords();
 
-template <typename Tag>
-struct Id {
-  int32_t index = -1;
-  static constexpr Id None() { return Id{}; }
-  bool is_valid() const { return index >= 0; }
-  friend bool operator==(Id, Id) = default;
-};
 struct ExprTag;
 struct ListTag;
 struct StmtTag;

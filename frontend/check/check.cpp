@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fmt/format.h>
 #include <map>
 #include <regex>
@@ -24,25 +23,6 @@
 #include "frontend/source/file_kinds.h"
 
 namespace nomec {
-
-std::string_view dialect_name(Dialect d) {
-  switch (d) {
-    case Dialect::Nome:
-      return "nome";
-    case Dialect::Nome3:
-      return "nome3";
-    case Dialect::Slide:
-      return "slide";
-  }
-  return "nome";
-}
-
-std::optional<Dialect> dialect_by_name(std::string_view name) {
-  if (name == "nome") return Dialect::Nome;
-  if (name == "nome3") return Dialect::Nome3;
-  if (name == "slide") return Dialect::Slide;
-  return std::nullopt;
-}
 
 namespace {
 
@@ -248,7 +228,7 @@ class Checker {
 
   // ---------------- dialect ----------------
   std::string choose_dialect(const ast::Ast& a, const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
+    std::string ext(path_extension(path));
     if (options_.dialect) {
       dialect_ = *options_.dialect;
       return "chosen with --dialect";
@@ -521,8 +501,9 @@ class Checker {
 
   void handle_include(const ast::Ast& a, const ast::Item& it) {
     std::string rel(it.text);
-    std::filesystem::path base = std::filesystem::path(std::string(sources_.name(a.file))).parent_path();
-    std::string path = (base / rel).string();
+    std::string_view including = sources_.name(a.file);
+    const size_t slash = including.find_last_of('/');
+    std::string path = slash == std::string_view::npos || rel.starts_with("/") ? rel : std::string(including.substr(0, slash + 1)) + rel;
     if (rel.empty()) {
       diags_.emit(DiagKind::IncludeFailed, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
       return;
@@ -2074,7 +2055,7 @@ class Checker {
         return m_.add_expr(std::move(e));
       case ast::ExprKind::Call: {
         std::optional<ir::Func> f = ir::func_by_name(x.text);
-        ir::SmallVec<ir::ExprId, 2> args;
+        SmallVec<ir::ExprId, 2> args;
         for (ast::ExprId arg : x.args) args.push_back(to_ir_rec(a, arg, constant, depth + 1));
         if (!f) {
           static const std::vector<std::string> names = {"sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "abs", "exp", "log", "ln", "log10", "pow", "min", "max", "floor", "ceil", "round", "sign", "mod"};
@@ -2214,21 +2195,23 @@ class Checker {
 };
 
 // The base scene of a saved-work file: `--base`, else the `.nom`/`.nome` named like its
-// folder, else the only one in the folder.
+// folder, else the only one in the folder (listed through `options.list_folder`).
 std::optional<std::string> find_base(const std::string& path, const CheckOptions& options) {
   if (options.base_file) return options.base_file;
-  std::filesystem::path p(path);
-  std::filesystem::path dir = p.parent_path();
-  std::error_code ec;
-  std::string folder = std::filesystem::absolute(dir, ec).filename().string();
-  std::vector<std::filesystem::path> candidates;
-  for (const auto& entry : std::filesystem::directory_iterator(dir.empty() ? "." : dir, ec)) {
-    if (is_base_scene_path(entry.path().string())) candidates.push_back(entry.path());
+  if (!options.list_folder) return std::nullopt;
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash == 0 ? 1 : slash);
+  std::optional<FolderListing> listing = options.list_folder(dir);
+  if (!listing) return std::nullopt;
+  std::vector<std::string> candidates;
+  for (const std::string& f : listing->files) {
+    if (is_base_scene_path(f)) candidates.push_back(f);
   }
-  for (const auto& c : candidates) {
-    if (c.stem().string() == folder) return c.string();
+  auto full = [&](const std::string& name) { return (dir.empty() ? std::string(".") : dir) + "/" + name; };
+  for (const std::string& c : candidates) {
+    if (c.substr(0, c.size() - path_extension(c).size()) == listing->name) return full(c);
   }
-  if (candidates.size() == 1) return candidates[0].string();
+  if (candidates.size() == 1) return full(candidates[0]);
   return std::nullopt;
 }
 

@@ -10,19 +10,21 @@
 #include <utility>
 #include <vector>
 
+#include "base/folder_listing.h"
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
+#include "ir/dialect.h"
 #include "ir/ir.h"
 
 namespace nomec {
 
-enum class Dialect : uint8_t { Nome, Nome3, Slide };
-std::string_view dialect_name(Dialect d);
-std::optional<Dialect> dialect_by_name(std::string_view name);
-
 /// Reads an input file (the main file, `include`d files, `.anom` base files). Returns
 /// nullopt when the file cannot be read.
 using FileReader = std::function<std::optional<std::string>(const std::string& path)>;
+
+/// Lists a folder (its name and file names), to find the base scene of saved work next to
+/// it. May be empty: then only `CheckOptions::base_file` names one.
+using FolderLister = std::function<std::optional<FolderListing>(const std::string& dir)>;
 
 struct CheckOptions {
   std::optional<Dialect> dialect;                          // --dialect
@@ -32,6 +34,7 @@ struct CheckOptions {
   double time = 0;                                         // --time: value of `$time`
   double frame = 0;                                        // --frame: value of `$frame`
   FileReader read_file;                                    // may be empty: no includes
+  FolderLister list_folder;                                // may be empty: no base search
   bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
 };
 

@@ -3,18 +3,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 namespace nomec {
-
-std::optional<std::string> read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::vector<uint32_t> lf_line_starts(std::string_view text) {
   // memchr finds line ends far faster than a byte loop; tables are rebuilt for every

@@ -8,25 +8,17 @@
 #include <string_view>
 #include <vector>
 
-namespace nomec {
+#include "base/id.h"
 
-/// Reads a whole file as bytes (no newline conversion); nullopt when it cannot be opened.
-/// The one disk reader of the CLI, the formatter and the language server (their
-/// `CheckOptions::read_file` for includes and base scenes).
-std::optional<std::string> read_file_bytes(const std::string& path);
+namespace nomec {
 
 /// Line starts of `text` when only `\n` ends lines: 0, then the offset after every `\n`.
 /// Shared by SourceManager's line tables and the language server's LineIndex.
 std::vector<uint32_t> lf_line_starts(std::string_view text);
 
 /// Identifies one file held by a SourceManager.
-struct FileId {
-  int32_t index = -1;
-  static constexpr FileId None() { return FileId{}; }
-  bool is_valid() const { return index >= 0; }
-  friend bool operator==(FileId, FileId) = default;
-  friend auto operator<=>(FileId, FileId) = default;
-};
+struct FileTag;
+using FileId = Id<FileTag>;
 
 /// A half-open byte range [begin, end) in one file, e.g. the name `fun` in `funnel fun (…)`.
 struct SourceRange {

@@ -13,6 +13,7 @@
 #include <system_error>
 #include <vector>
 
+#include "base/file_io.h"
 #include "frontend/source/file_kinds.h"
 #include "frontend/source/source_manager.h"
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_io.h"
 #include "frontend/source/source_manager.h"
 #include "frontend/check/check.h"
 #include "frontend/format/format.h"

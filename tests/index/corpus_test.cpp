@@ -30,6 +30,7 @@ class IndexCorpus : public ::testing::TestWithParam<std::string> {};
 Analysis analyze_file(const std::string& path, DiagnosticEngine& diags, std::string text) {
   CheckOptions opts;
   opts.read_file = read_file;
+  opts.list_folder = list_folder;
   return analyze(path, std::move(text), opts, diags);
 }
 
@@ -160,6 +161,7 @@ TEST_P(IndexCorpus, Invariants) {
       if (auto it = by_name.find(p); it != by_name.end()) return it->second;
       return read_file(p);
     };
+    opts.list_folder = list_folder;
     DiagnosticEngine d2;
     Analysis b = analyze(path, renamed, opts, d2);
     EXPECT_EQ(d2.error_count(), errors) << path << ": renaming `" << s.name << "` to `" << fresh << "`";

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_io.h"
 #include "frontend/source/source_manager.h"
 #include "lsp/server.h"
 

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "base/file_io.h"
 #include "frontend/source/source_manager.h"
 #include "backend/session.h"
 #include "frontend/check/check.h"

@@ -31,6 +31,7 @@ std::string check_one(const std::string& path, std::string text) {
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions options;
   options.read_file = read_file;
+  options.list_folder = nomec::list_folder;
   try {
     nomec::check_source(sources, path, std::move(text), options, diags);
     diags.sort_and_dedupe();

@@ -14,7 +14,7 @@
 #include <type_traits>
 #include <utility>
 
-namespace nomec::ast {
+namespace nomec {
 
 template <typename T, uint32_t N>
 class SmallVec {
@@ -131,4 +131,4 @@ class SmallVec {
   T inline_[N];
 };
 
-}  // namespace nomec::ast
+}  // namespace nomec

@@ -1,0 +1,119 @@
+// File reading, atomic writing and folder listing (see file_io.h), with POSIX calls so that
+// errors carry the system's reason.
+#include "base/file_io.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <dirent.h>
+#include <fcntl.h>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace nomec {
+
+std::optional<std::string> read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+namespace {
+
+std::string quoted_error(std::string_view what, const std::string& path) {
+  return std::string(what) + " `" + path + "`: " + std::strerror(errno);
+}
+
+// Writes all of `content` to `fd`; "" or an error naming `shown`.
+std::string write_all(int fd, std::string_view content, const std::string& shown) {
+  size_t done = 0;
+  while (done < content.size()) {
+    ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return quoted_error("cannot write", shown);
+    }
+    done += static_cast<size_t>(n);
+  }
+  return {};
+}
+
+// Writes straight into an existing non-regular file (`/dev/null`, a FIFO, a terminal):
+// renaming a temporary file over it would replace the device or pipe with a plain file.
+std::string write_in_place(const std::string& path, std::string_view content) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+  if (fd < 0) return quoted_error("cannot open", path);
+  std::string err = write_all(fd, content, path);
+  ::close(fd);
+  return err;
+}
+
+}  // namespace
+
+std::string write_file_atomically(const std::string& path, std::string_view content) {
+  struct stat st {};
+  const bool exists = ::stat(path.c_str(), &st) == 0;
+  if (exists && !S_ISREG(st.st_mode)) return write_in_place(path, content);
+  std::string tmpl = path + ".tmp.XXXXXX";
+  std::vector<char> name(tmpl.begin(), tmpl.end());
+  name.push_back('\0');
+  int fd = mkstemp(name.data());
+  if (fd < 0) return quoted_error("cannot create", tmpl);
+  const std::string temp(name.data());
+  if (std::string err = write_all(fd, content, temp); !err.empty()) {
+    ::close(fd);
+    ::unlink(temp.c_str());
+    return err;
+  }
+  // mkstemp creates 0600: keep the permissions of the file being replaced, or give a new
+  // output the ordinary 0666 less the umask.
+  mode_t mode = 0;
+  if (exists) {
+    mode = st.st_mode & 07777;
+  } else {
+    mode_t mask = umask(0);
+    umask(mask);
+    mode = 0666 & ~mask;
+  }
+  fchmod(fd, mode);
+  if (::close(fd) != 0) {
+    std::string err = quoted_error("cannot write", temp);
+    ::unlink(temp.c_str());
+    return err;
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::string err = "cannot rename `" + temp + "` to `" + path + "`: " + std::strerror(errno);
+    ::unlink(temp.c_str());
+    return err;
+  }
+  return {};
+}
+
+std::optional<FolderListing> list_folder(const std::string& dir) {
+  const std::string folder = dir.empty() ? "." : dir;
+  DIR* d = ::opendir(folder.c_str());
+  if (d == nullptr) return std::nullopt;
+  FolderListing out;
+  if (char* real = ::realpath(folder.c_str(), nullptr)) {
+    std::string abs(real);
+    std::free(real);
+    out.name = abs.substr(abs.find_last_of('/') + 1);
+  }
+  while (const dirent* e = ::readdir(d)) {
+    std::string name = e->d_name;
+    if (name == "." || name == "..") continue;
+    struct stat st {};
+    if (::stat((folder + "/" + name).c_str(), &st) == 0 && S_ISREG(st.st_mode)) out.files.push_back(std::move(name));
+  }
+  ::closedir(d);
+  std::sort(out.files.begin(), out.files.end());
+  return out;
+}
+
+}  // namespace nomec

@@ -1,0 +1,330 @@
+// The generators' argument-domain rules (see generator_catalogue.h): the rules on argument
+// values that need no geometry to decide (counts with their minimum, positive radii, angle
+// ranges, latitudes, `c` < `a` for a Dupin cyclide …), e.g. `circle c (20 1)` → "`segs`
+// must be at least 3, got 1". One function per generator lists its rules in the dialect's
+// argument order; `--check` runs them on the values it knows and the backend on all values
+// before it builds anything.
+#include <cmath>
+#include <string>
+
+#include "ir/generator_catalogue.h"
+
+namespace nomec::ir {
+namespace {
+
+/// Evaluates rules in order and keeps the first problem. A rule whose arguments are not
+/// all known is skipped.
+class Rules {
+ public:
+  Rules(GenKind kind, Dialect dialect, KnownArgs known) : info_(generator(kind)), dialect_(dialect), known_(known) {}
+
+  std::optional<ArgProblem> problem;
+
+  template <typename E>
+  const double* get(E arg) const {
+    const size_t i = arg_index(arg);
+    return i < known_.size() && known_[i] ? &*known_[i] : nullptr;
+  }
+
+  template <typename E>
+  std::string q(E arg) const {
+    return "`" + std::string(info_.display_name(arg_index(arg), dialect_)) + "`";
+  }
+
+  template <typename E>
+  bool finite(E arg, double v) {
+    if (std::isfinite(v)) return true;
+    report(arg, q(arg) + " must be a finite number", "check the expression that computes it");
+    return false;
+  }
+
+  /// A count >= min (after rounding to a whole number) and <= kMaxCount.
+  template <typename E>
+  void count(E arg, int min, std::string_view why = "") {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (std::round(*v) < min) {
+      report(arg, q(arg) + " must be at least " + std::to_string(min) + ", got " + format_argument(*v),
+             "use a whole number of " + std::to_string(min) + " or more" + std::string(why));
+    } else if (std::round(*v) > kMaxCount) {
+      report(arg, q(arg) + " must be at most " + std::to_string(kMaxCount) + ", got " + format_argument(*v),
+             "a finer mesh than this cannot be built in reasonable memory");
+    }
+  }
+
+  template <typename E>
+  void positive(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (!(*v > 0)) {
+      report(arg, q(arg) + " must be positive, got " + format_argument(*v), "sizes and radii must be greater than 0");
+    }
+  }
+
+  /// `1 + ratio > 0`: the scaled ring radius stays positive.
+  template <typename E>
+  void above_minus_one(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (!(1.0 + *v > 0)) {
+      const std::string n(info_.display_name(arg_index(arg), dialect_));
+      report(arg, q(arg) + " must be greater than -1 (the ring radius ro*(1+" + n + ") must be positive)",
+             "a ratio of -0.5 halves the radius; -1 would shrink the ring to a point");
+    }
+  }
+
+  /// An angle range in degrees in (0, 360]; returns whether it is a full turn (nullopt if
+  /// unknown or broken).
+  template <typename E>
+  std::optional<bool> span(E arg, std::optional<double> value) {
+    if (!value || problem || !finite(arg, *value)) return std::nullopt;
+    const double s = *value;
+    if (!(s > 0)) {
+      report(arg, "angle range " + q(arg) + " must be positive, got " + format_argument(s) + " degrees",
+             "angle ranges are in degrees, greater than 0 and at most 360");
+      return std::nullopt;
+    }
+    if (s > 360.0 + 1e-9) {
+      report(arg, "angle range " + q(arg) + " must be at most 360 degrees, got " + format_argument(s),
+             "use 360 for a full turn; the surface is closed seamlessly");
+      return std::nullopt;
+    }
+    return s >= 360.0 - 1e-9;
+  }
+  template <typename E>
+  std::optional<bool> span(E arg) {
+    const double* v = get(arg);
+    return span(arg, v ? std::optional<double>(*v) : std::nullopt);
+  }
+
+  /// A latitude within [-90, 90] degrees.
+  template <typename E>
+  void latitude(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (*v < -90.0 - 1e-9 || *v > 90.0 + 1e-9) {
+      report(arg, q(arg) + " is a latitude and must be within [-90, 90] degrees, got " + format_argument(*v),
+             "-90 is the south pole, 90 the north pole");
+    }
+  }
+
+  template <typename E>
+  void nonzero(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (*v == 0.0) report(arg, q(arg) + " must not be 0", "a zero here gives a degenerate curve or surface");
+  }
+
+  template <typename E>
+  void whole_nonzero(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (std::abs(*v - std::round(*v)) > 1e-9 || std::lround(*v) == 0) {
+      report(arg, q(arg) + " must be a non-zero whole number, got " + format_argument(*v),
+             "the knot winds a whole number of times; negative numbers wind the other way");
+    } else if (std::abs(*v) > 1000) {
+      report(arg, q(arg) + " must be at most 1000 in absolute value", "use a smaller winding number");
+    }
+  }
+
+  template <typename E>
+  void greater(E lo, E hi) {
+    const double* a = get(lo);
+    const double* b = get(hi);
+    if (a == nullptr || b == nullptr || problem || !finite(lo, *a) || !finite(hi, *b)) return;
+    if (!(*b > *a)) report(hi, q(hi) + " must be greater than " + q(lo), "swap the two bounds, or widen the range");
+  }
+
+  template <typename E>
+  void report(E arg, std::string message, std::string hint) {
+    if (!problem) problem = ArgProblem{arg_index(arg), std::move(message), std::move(hint)};
+  }
+
+  Dialect dialect() const { return dialect_; }
+
+ private:
+  const GeneratorInfo& info_;
+  Dialect dialect_;
+  KnownArgs known_;
+};
+
+template <typename A>
+void funnel_or_tunnel(Rules& r) {
+  // The dialect's argument order: NOME3 writes the funnel `(radius ratio height n)`.
+  if (r.dialect() == Dialect::Nome3) {
+    r.positive(A::ro);
+    r.above_minus_one(A::ratio);
+    r.count(A::n, 3, " (a ring of fewer sides has no area)");
+  } else {
+    r.count(A::n, 3, " (a ring of fewer sides has no area)");
+    r.positive(A::ro);
+    r.above_minus_one(A::ratio);
+  }
+}
+
+// Sphere and ellipsoid after their radii: azimuth range, latitudes, segment counts.
+template <typename A>
+void spheroid(Rules& r) {
+  const std::optional<bool> wrap = r.span(A::theta_max);
+  r.latitude(A::phi_min);
+  r.latitude(A::phi_max);
+  r.greater(A::phi_min, A::phi_max);
+  if (wrap) r.count(A::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full turn" : "");
+  const double* lo = r.get(A::phi_min);
+  const double* hi = r.get(A::phi_max);
+  if (lo != nullptr && hi != nullptr) {
+    const bool both_poles = *lo <= -90.0 + 1e-9 && *hi >= 90.0 - 1e-9;
+    r.count(A::phi_segs, both_poles ? 2 : 1, both_poles ? " from pole to pole" : "");
+  }
+}
+
+void rules_for(GenKind kind, Rules& r) {
+  switch (kind) {
+    case GenKind::Funnel:
+      funnel_or_tunnel<gen_arg::Funnel>(r);
+      return;
+    case GenKind::Tunnel:
+      funnel_or_tunnel<gen_arg::Tunnel>(r);
+      r.above_minus_one(gen_arg::Tunnel::dri_low);
+      return;
+    case GenKind::Circle:
+      r.positive(gen_arg::Circle::radius);
+      r.count(gen_arg::Circle::segs, 3, " (a circle of fewer segments has no area)");
+      return;
+    case GenKind::Mobiusstrip: {
+      using A = gen_arg::Mobiusstrip;
+      r.positive(A::radius);
+      const double* tw = r.get(A::num_twists);
+      if (tw != nullptr && !r.problem && r.finite(A::num_twists, *tw) && std::abs(*tw - std::round(*tw)) > 1e-9) {
+        r.report(A::num_twists, r.q(A::num_twists) + " must be a whole number of half-twists",
+                 "1 gives a Möbius band, 2 a full twist");
+      }
+      const double* cuts = r.get(A::num_cuts);
+      if (cuts != nullptr && !r.problem && *cuts != 0.0) {
+        r.report(A::num_cuts, "cuts are not supported yet: " + r.q(A::num_cuts) + " must be 0",
+                 "use 0 and cut the band with `delete`");
+      }
+      r.count(A::n, 3);
+      return;
+    }
+    case GenKind::Rimribbon:
+      r.nonzero(gen_arg::Rimribbon::width);
+      return;
+    case GenKind::Sphere:
+      r.positive(gen_arg::Sphere::radius);
+      spheroid<gen_arg::Sphere>(r);
+      return;
+    case GenKind::Ellipsoid:
+      r.positive(gen_arg::Ellipsoid::a);
+      r.positive(gen_arg::Ellipsoid::b);
+      spheroid<gen_arg::Ellipsoid>(r);
+      return;
+    case GenKind::Cylinder: {
+      using A = gen_arg::Cylinder;
+      r.positive(A::radius);
+      r.positive(A::height);
+      if (auto wrap = r.span(A::theta_max)) r.count(A::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full turn" : "");
+      r.count(A::height_segs, 1);
+      return;
+    }
+    case GenKind::Hyperboloid: {
+      using A = gen_arg::Hyperboloid;
+      for (A a : {A::a, A::b, A::c, A::height}) r.positive(a);
+      r.count(A::theta_segs, 3, " around a full turn");
+      r.count(A::height_segs, 1);
+      return;
+    }
+    case GenKind::Dupin: {
+      using A = gen_arg::Dupin;
+      r.positive(A::a);
+      r.positive(A::b);
+      const double* a = r.get(A::a);
+      const double* c = r.get(A::c);
+      if (a != nullptr && c != nullptr && !r.problem && r.finite(A::c, *c) && !(*a > std::abs(*c))) {
+        r.report(A::c, r.q(A::c) + " must be smaller than " + r.q(A::a) +
+                           " in absolute value (the cyclide is unbounded otherwise)",
+                 "choose |c| < a");
+      }
+      r.count(A::u_segs, 3, " around a full turn");
+      r.count(A::v_segs, 3, " around a full turn");
+      return;
+    }
+    case GenKind::Torus: {
+      using A = gen_arg::Torus;
+      r.positive(A::major_radius);
+      r.positive(A::minor_radius);
+      const std::optional<bool> wrap_i = r.span(A::theta_max);
+      const double* lo = r.get(A::phi_min);
+      const double* hi = r.get(A::phi_max);
+      std::optional<bool> wrap_j;
+      if (lo != nullptr && hi != nullptr) wrap_j = r.span(A::phi_max, *hi - *lo);
+      if (wrap_i) r.count(A::theta_segs, *wrap_i ? 3 : 1, *wrap_i ? " around a full turn" : "");
+      if (wrap_j) r.count(A::phi_segs, *wrap_j ? 3 : 1, *wrap_j ? " around a full turn" : "");
+      return;
+    }
+    case GenKind::Torusknot: {
+      using A = gen_arg::Torusknot;
+      r.whole_nonzero(A::symm);
+      r.whole_nonzero(A::turns);
+      for (A a : {A::major_radius, A::minor_radius, A::tube_radius}) r.positive(a);
+      r.count(A::circ_segs, 3, " around the tube");
+      r.count(A::sweep_segs, 3, " along the closed knot");
+      return;
+    }
+    case GenKind::Helix:
+      r.positive(gen_arg::Helix::radius);
+      r.nonzero(gen_arg::Helix::turns);
+      r.count(gen_arg::Helix::segs, 1);
+      return;
+    case GenKind::Spiral:
+      r.positive(gen_arg::Spiral::growth);
+      r.nonzero(gen_arg::Spiral::turns);
+      r.count(gen_arg::Spiral::segs, 1);
+      return;
+    case GenKind::Genparametricsurf: {
+      using A = gen_arg::Genparametricsurf;
+      r.greater(A::u_min, A::u_max);
+      r.greater(A::v_min, A::v_max);
+      r.count(A::u_segs, 1);
+      r.count(A::v_segs, 1);
+      return;
+    }
+    case GenKind::Gencartesiansurf: {
+      using A = gen_arg::Gencartesiansurf;
+      r.greater(A::x_min, A::x_max);
+      r.greater(A::y_min, A::y_max);
+      r.count(A::x_segs, 1);
+      r.count(A::y_segs, 1);
+      return;
+    }
+    case GenKind::Genimplicitsurf: {
+      using A = gen_arg::Genimplicitsurf;
+      r.greater(A::x_min, A::x_max);
+      r.greater(A::y_min, A::y_max);
+      r.greater(A::z_min, A::z_max);
+      r.count(A::resolution, 1);
+      const double* res = r.get(A::resolution);
+      if (res != nullptr && !r.problem && std::round(*res) > 128) {
+        r.report(A::resolution, r.q(A::resolution) + " must be at most 128, got " + std::to_string(round_count(*res)),
+                 "the surface is sampled on a resolution³ grid; 128 is already 2 million samples");
+      }
+      return;
+    }
+    case GenKind::Beziercurve:
+      r.count(gen_arg::Beziercurve::segs, 1);
+      return;
+    case GenKind::Bspline:
+      r.count(gen_arg::Bspline::order, 2);
+      return;
+  }
+}
+
+}  // namespace
+
+std::optional<ArgProblem> check_arguments(GenKind kind, Dialect dialect, KnownArgs known) {
+  Rules r(kind, dialect, known);
+  rules_for(kind, r);
+  return r.problem;
+}
+
+}  // namespace nomec::ir
