@@ -70,8 +70,8 @@ struct EvalCounters {
   std::vector<const OutputMesh*> new_outputs;
 };
 
-namespace detail {
-class Evaluator;
+namespace eval {
+class Context;
 }
 
 /// Memoized evaluation of one module, shared by `evaluate_scene` (one pass on a fresh
@@ -105,7 +105,7 @@ class SceneEvaluator {
 
  private:
   struct PipelineMemosHolder;
-  std::unique_ptr<detail::Evaluator> impl_;
+  std::unique_ptr<eval::Context> impl_;
   const ir::Module& module_;
   std::vector<ir::NodeId> entries_;
   std::vector<ir::NodeId> zippers_;

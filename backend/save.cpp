@@ -33,6 +33,7 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
   std::vector<ir::NodeId> params = module.params();
   for (ir::NodeId id : params) {
     const ir::Node& p = module.node(id);
+    const double value = module.param(id).value;
     if (!p.range.is_valid()) continue;
     std::string_view text = sources.text(p.range.file);
     // `set NAME value min max step`: the value is the token after the name.
@@ -41,8 +42,8 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
     uint32_t e = b;
     while (e < text.size() && !is_space(text[e])) ++e;
     std::optional<double> written = plain_number(text.substr(b, e - b));
-    if (written && *written == p.value) continue;  // unchanged: keep the text as written
-    edits[p.range.file.index].push_back(Edit{b, e, fmt::format("{}", p.value)});
+    if (written && *written == value) continue;  // unchanged: keep the text as written
+    edits[p.range.file.index].push_back(Edit{b, e, fmt::format("{}", value)});
   }
   // Files in order: the base scene(s) first, the compiled file last.
   std::vector<FileId> files;
@@ -75,10 +76,10 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
   }
   // NOME 2016 saved work may set sliders in `savedparameter` blocks, which win over the
   // banks; a final block with every current value wins over those in turn.
-  if (module.dialect == "nome" && !params.empty()) {
+  if (module.dialect == Dialect::Nome && !params.empty()) {
     out += "\n# Current slider values (they override any earlier savedparameter block).\nsavedparameter\n";
     for (ir::NodeId id : params) {
-      out += fmt::format("    {} {}\n", module.node(id).name, module.node(id).value);
+      out += fmt::format("    {} {}\n", module.node(id).name, module.param(id).value);
     }
     out += "endsavedparameter\n";
   }

@@ -70,8 +70,8 @@ UpdateStats Session::set_parameter(std::string_view name, double value, Diagnost
     u.error = fmt::format("no slider `{}` in this scene", name);
     return u;
   }
-  ir::Node& param = module_->node(p);
-  u.parameter = param.name;  // qualified, e.g. `fp.z`
+  ir::ParamData& param = module_->param(p);
+  u.parameter = module_->node(p).name;  // qualified, e.g. `fp.z`
   if (!options_.allow_out_of_range && param.min <= param.max && (value < param.min || value > param.max)) {
     u.error = fmt::format("{} is outside the range [{}, {}] of slider `{}`", value, param.min, param.max,
                           u.parameter);

@@ -84,6 +84,10 @@ class SmallVec {
     return back();
   }
   void pop_back() { --size_; }
+  /// Drops elements from the end until `n` remain (no-op when there are fewer).
+  void truncate(uint32_t n) {
+    if (n < size_) size_ = n;
+  }
 
   friend bool operator==(const SmallVec& a, const SmallVec& b) {
     if (a.size_ != b.size_) return false;

@@ -100,6 +100,7 @@ Catalogue build() {
 #define NOMEC_GEN_VARIABLES(Kind, Names) info(GenKind::Kind).variables = split_words(Names);
 #define NOMEC_GEN_RING(Kind, Prefix, CountArg) rings.push_back(PendingRing{GenKind::Kind, Prefix, #CountArg});
 #define NOMEC_GEN_ALIAS(Kind, Alias, Prefix) info(GenKind::Kind).aliases.push_back(VertexAlias{Alias, Prefix});
+#define NOMEC_GEN_SIGNAL(Kind, Dialects) info(GenKind::Kind).signals |= static_cast<DialectSet>(Dialects);
 #include "ir/generators.def"
   for (const Pending& p : signatures) {
     GeneratorInfo& g = info(p.kind);

@@ -103,6 +103,8 @@ struct GeneratorInfo {
   std::vector<std::string_view> variables;   // of the Function arguments, e.g. `u v`
   std::vector<RingInfo> rings;
   std::vector<VertexAlias> aliases;
+  /// Dialects its keyword is a detection signal of (e.g. NOME3 for `torus`).
+  DialectSet signals = 0;
 
   /// The positional list in `dialect`, or null when the generator takes none there (SLIDE's
   /// `cylinder`, `rimribbon`).

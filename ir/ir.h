@@ -1,7 +1,12 @@
-// Typed IR of one checked NOME scene: parameters, expressions, and nodes (points, faces,
-// meshes, generators, groups, instances with transform chains, pipeline blocks), all
-// addressed by IDs. Lowered from the checked AST by frontend/check; read by the backend,
-// the language server and the incremental evaluator. Knows nothing of ANTLR or the kernel.
+// Typed IR of one checked NOME scene. Every node says what it is: a kind from
+// node_kinds.def with a typed payload (ir/nodes.h), e.g. a `Subdivision` node with its rule
+// resolved to `SubdivisionRule::DeRose` and its level as an operand, or a `Generator` node
+// whose `GenKind` and arguments come from the generator catalogue. Expressions, operands,
+// vertex references and node lists live in the module's stores, addressed by IDs. Lowered
+// from the checked syntax tree by frontend/check; read by the backend (which switches on
+// kinds, never on keywords), the language server and the incremental evaluator, through
+// the parameter → value → node → instance dependency graph. Knows nothing of ANTLR or the
+// kernel.
 #pragma once
 
 #include <cstdint>
@@ -15,13 +20,10 @@
 #include "base/id.h"
 #include "base/small_vec.h"
 #include "frontend/source/source_manager.h"
+#include "ir/dialect.h"
+#include "ir/nodes.h"
 
 namespace nomec::ir {
-
-struct ExprTag;
-struct NodeTag;
-using ExprId = Id<ExprTag>;
-using NodeId = Id<NodeTag>;
 
 /// Math functions available in expressions (radians).
 enum class Func : uint8_t {
@@ -32,15 +34,18 @@ std::string_view func_name(Func f);
 std::optional<Func> func_by_name(std::string_view name);
 /// Number of arguments; -1 for variadic (min, max take at least one).
 int func_arity(Func f);
+/// Every function name, for "did you mean" hints.
+std::span<const std::string_view> func_names();
 
 enum class ExprKind : uint8_t {
-  Const,    // `0.5`, `pi`
-  Param,    // `$fp.n`, `$fp_n`, `fp.n`
-  Builtin,  // `$time`, `$frame`
+  Const,     // `0.5`, `pi`
+  Param,     // `$fp.n`, `$fp_n`, `fp.n`
+  Builtin,   // `$time`, `$frame`
+  Variable,  // `u` in a function surface's `funcX [cos(u)*v]`
   Unary,
   Binary,
   Call,
-  Error,    // could not be checked; a diagnostic was emitted
+  Error,     // could not be checked; a diagnostic was emitted
 };
 
 /// A scalar expression, e.g. `{expr $fp_ro * 2}` = Binary('*', Param fp.ro, Const 2).
@@ -48,134 +53,85 @@ struct Expr {
   ExprKind kind = ExprKind::Error;
   char op = 0;  // + - * / % ^, 'i' for `//`
   Func func = Func::Sin;
+  uint8_t variable = 0;   // Variable: its index among the function's variables
   double value = 0;
-  NodeId param;      // Param node
-  std::string_view name;  // Builtin: "time" / "frame" (static text)
+  NodeId param;           // Param node
+  std::string_view name;  // Builtin: "time" / "frame"; Variable: its name (static text)
   ExprId lhs;
   ExprId rhs;
   SmallVec<ExprId, 2> args;
   SourceRange range;
 };
 
-/// A vertex reference in a face, polyline or consolidate block: either a point node, or a
-/// path through instances to a generated/mesh vertex (`fun3.hc3`, 2016 `cf_fun3_hc3`).
-struct VertexRef {
-  std::string text;               // as written
-  NodeId point;                   // resolved point, if it names a point
-  std::vector<NodeId> instances;  // resolved instance chain, outermost first
-  std::string vertex;             // vertex name inside the innermost instance target
-  SourceRange range;
-};
-
-enum class FieldKind : uint8_t {
-  Scalar,    // one expression
-  Vector,    // several expressions, e.g. a point position or a transform argument
-  Ref,       // a named node (surface, path, cross section, target)
-  Refs,      // a list of named nodes
-  Vertices,  // vertex references
-  Flag,      // a word present, e.g. `closed`, `hidden`, `mintorsion`
-  Text,      // a symbolic value or raw text, e.g. `NOME_SD_CC_sharp`, `[u*v]`
-};
-
-/// A named, typed argument of a node, e.g. `n` of a funnel or `translate` of an instance.
-struct Field {
-  std::string name;
-  FieldKind kind = FieldKind::Scalar;
-  SmallVec<ExprId, 4> exprs;
-  SmallVec<NodeId, 2> refs;
-  std::vector<VertexRef> vertices;
-  std::string text;
-  SourceRange range;
-  NodeId value_node;  // the Value node of this field when it depends on parameters
-};
-
-enum class NodeKind : uint8_t {
-#define NOMEC_IR_NODE(Kind, Name) Kind,
-#include "ir/node_kinds.def"
-};
-std::string_view node_kind_name(NodeKind kind);
-
-/// One IR node. Examples: Param `fp.n`; Generator `funnel fun`; Instance `cf.fun1` whose
-/// target is the Generator and whose `fields` hold the transform chain in written order.
-struct Node {
-  NodeKind kind = NodeKind::Value;
-  std::string_view keyword;  // source statement, e.g. "funnel", "instance" (static text)
-  std::string name;     // qualified name, e.g. "cubeMadeByFunnel.fun1"; "" if anonymous
-  SourceRange range;
-  NodeId parent;                // enclosing mesh/group/pipeline
-  std::vector<NodeId> children; // mesh points/faces, group/pipeline instances
-  NodeId target;                // Instance: the instanced node
-  std::vector<Field> fields;
-  bool is_hidden = false;
-  // Param only.
-  double value = 0, min = 0, max = 0, step = 0;
-  std::string bank;
-  // Value only: the field owner and the expression.
-  NodeId owner;
-};
-
-/// The dependency graph: an edge A -> B means B must be re-evaluated when A changes
-/// (parameter -> value -> point -> face -> mesh -> instance -> group …).
-class DepGraph {
- public:
-  /// Makes room for nodes 0..n-1 (the graph only grows).
-  void resize(size_t n) {
-    if (n > last_to_.size()) last_to_.resize(n, -1);
-  }
-  void reserve(size_t n) { last_to_.reserve(n); }
-  void add_edge(NodeId from, NodeId to);
-  /// Sorts every adjacency list and removes duplicate edges; call once after building, and
-  /// before sharing the graph between threads (the queries below build their arrays lazily).
-  void finalize();
-  std::span<const NodeId> users(NodeId n) const {
-    compact();
-    return {items_.data() + begin_[n.index], items_.data() + begin_[n.index + 1]};
-  }
-  size_t node_count() const { return last_to_.size(); }
-  size_t edge_count() const {
-    compact();
-    return items_.size();
-  }
-  /// Kahn's topological order; nodes on cycles are returned in `cycle_nodes` instead.
-  std::vector<NodeId> topo_order(std::vector<NodeId>* cycle_nodes = nullptr) const;
-  /// Every node reachable from `start` (excluding `start`), in topological order.
-  std::vector<NodeId> affected_by(NodeId start) const;
-
- private:
-  // Rationale: edges are appended to one array while the checker builds the graph (no
-  // allocation per node: a large scene has tens of thousands), and turned into compressed
-  // adjacency arrays (CSR: users of n are items_[begin_[n] .. begin_[n+1]]) on first query.
-  // `finalize` also sorts each list and removes duplicates (O(E log E)), so counts in
-  // `--emit deps` and re-evaluation counts are exact without a search per insertion.
-  void compact() const;
-  std::vector<std::pair<int32_t, int32_t>> edges_;  // (from, to) in insertion order
-  std::vector<int32_t> last_to_;                    // per node: the last `to` added from it
-  bool sorted_ = false;                             // finalize() was called
-  mutable bool stale_ = true;                       // begin_/items_ lag behind edges_
-  mutable std::vector<uint32_t> begin_;
-  mutable std::vector<NodeId> items_;
-};
-
 /// A checked scene.
 struct Module {
-  std::string dialect;
+  Dialect dialect = Dialect::Nome;
   /// Values of the built-ins `$time` and `$frame` (`--time`, `--frame`; 0 by default).
   double time = 0;
   double frame = 0;
   std::vector<Expr> exprs;
   std::vector<Node> nodes;
+  std::vector<Operand> operands;
+  // Rationale: the lists of references a node holds (a face's vertices, an object's faces,
+  // an instance's transforms, a generator's arguments) are slices of these shared arrays,
+  // so payloads stay small and fixed-size and the whole scene is a handful of allocations;
+  // a list is written once, when its statement is checked.
+  std::vector<VertexRef> vertex_refs;
+  std::vector<NodeId> node_refs;
+  std::vector<TransformOp> transforms;
+  std::vector<GenArgBinding> gen_args;
+  std::vector<DeletedFace> deleted_faces;
+  std::vector<Slice<VertexRef>> vertex_lists;
   std::vector<NodeId> scene;  // top-level visible instances and pipeline blocks
   DepGraph deps;
 
   const Node& node(NodeId id) const { return nodes[id.index]; }
   Node& node(NodeId id) { return nodes[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
-  NodeId add_node(Node node);
+  const Operand& operand(OperandId id) const { return operands[id.index]; }
+  Operand& operand(OperandId id) { return operands[id.index]; }
+  /// A node's payload, e.g. `module.get<InstanceData>(id)`; the node must be of that kind.
+  template <typename T>
+  const T& get(NodeId id) const {
+    return nodes[id.index].as<T>();
+  }
+  template <typename T>
+  T& get(NodeId id) {
+    return nodes[id.index].as<T>();
+  }
+  /// A parameter's value and range.
+  const ParamData& param(NodeId id) const { return get<ParamData>(id); }
+  ParamData& param(NodeId id) { return get<ParamData>(id); }
+
+  /// Adds a node of `kind` (with the default payload of that kind).
+  NodeId add_node(NodeKind kind, std::string_view keyword, std::string name, SourceRange range,
+                  NodeId parent = NodeId::None());
   ExprId add_expr(Expr expr);
+  OperandId add_operand(Operand operand);
+  /// Appends `items` to a store and returns their slice.
+  Slice<VertexRef> add_vertex_refs(std::vector<VertexRef> items);
+  Slice<NodeId> add_node_refs(std::span<const NodeId> items);
+
+  std::span<const VertexRef> refs(Slice<VertexRef> s) const { return {vertex_refs.data() + s.begin, s.size}; }
+  std::span<const NodeId> refs(Slice<NodeId> s) const { return {node_refs.data() + s.begin, s.size}; }
+  std::span<const TransformOp> refs(Slice<TransformOp> s) const { return {transforms.data() + s.begin, s.size}; }
+  std::span<const GenArgBinding> refs(Slice<GenArgBinding> s) const { return {gen_args.data() + s.begin, s.size}; }
+  std::span<const DeletedFace> refs(Slice<DeletedFace> s) const { return {deleted_faces.data() + s.begin, s.size}; }
+  std::span<const Slice<VertexRef>> refs(Slice<Slice<VertexRef>> s) const {
+    return {vertex_lists.data() + s.begin, s.size};
+  }
+
+  /// The binding of generator argument `arg` on generator node `id`, or null when the file
+  /// does not give it.
+  const GenArgBinding* gen_arg(NodeId id, ArgIndex arg) const;
   /// Every parameter node, in declaration order.
   std::vector<NodeId> params() const;
   NodeId find_param(std::string_view bank, std::string_view name) const;
 };
+
+/// Every vertex list a node holds (a face's vertices, a polyline's points, a crease chain,
+/// a zipper border), for code that visits vertex references whatever the node's kind.
+SmallVec<Slice<VertexRef>, 2> vertex_lists_of(const Module& module, const Node& node);
 
 /// Result of evaluating an expression: a value or a domain problem at a sub-expression.
 struct EvalResult {
@@ -184,8 +140,10 @@ struct EvalResult {
   std::string problem;   // e.g. "division by zero"
   SourceRange where;
 };
-/// Evaluates with the module's current parameter values and its `time`/`frame`.
-EvalResult evaluate(const Module& module, ExprId expr);
+/// Evaluates with the module's current parameter values and its `time`/`frame`; `variables`
+/// are the values of a function's variables (`u`, `v` …) by index. Iterative: expressions
+/// of any depth are evaluated without deep recursion.
+EvalResult evaluate(const Module& module, ExprId expr, std::span<const double> variables = {});
 
 /// Human-readable dump (`nomec --emit ir`).
 std::string dump_ir(const Module& module, const SourceManager& sources);

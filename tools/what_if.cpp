@@ -49,7 +49,7 @@ int run_what_if(const std::string& path, ir::Module module, const WhatIf& change
   backend::Session session(std::move(module), options);
   backend::UpdateStats full = session.build(diags);
   ir::NodeId p = session.find_parameter(change.parameter);
-  const double old_value = p.is_valid() ? session.module().node(p).value : 0;
+  const double old_value = p.is_valid() ? session.module().param(p).value : 0;
   backend::UpdateStats u = session.set_parameter(change.parameter, change.value, diags);
   nlohmann::json j = {{"file", path},
                       {"parameter", u.parameter},

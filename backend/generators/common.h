@@ -1,11 +1,10 @@
-// Internal helpers shared by the generator implementations: argument lookup and
+// Internal helpers shared by the generator implementations: typed argument lookup and
 // validation, and the quad-grid builder (with seam welding) most surfaces use. Not part
 // of the public API (generators.h).
 #pragma once
 
 #include <cmath>
 #include <functional>
-#include <initializer_list>
 #include <numbers>
 #include <string>
 #include <string_view>
@@ -19,56 +18,90 @@ namespace nomec::backend::detail {
 struct Failure {
   GeneratorError error;
 };
-[[noreturn]] void fail(std::string_view argument, std::string message);
+[[noreturn]] void fail(ir::ArgIndex arg, std::string message);
 
 inline constexpr double kPi = std::numbers::pi;
 inline double radians(double degrees) { return degrees * kPi / 180.0; }
 
 /// A number as it appears in an error message (`%g`: `0.5`, `1e+06`).
-std::string fmt_number(double v);
+inline std::string fmt_number(double v) { return ir::format_argument(v); }
 
 /// Largest count accepted per dimension, and largest number of generated vertices.
-inline constexpr int kMaxSegments = 100000;
+inline constexpr int kMaxSegments = ir::kMaxCount;
 inline constexpr long long kMaxVertices = 4000000;
 
-/// A looked-up argument: the name it was found under and its value.
-struct Arg {
-  std::string_view name;
-  double value = 0.0;
-};
-
-/// Reads numbers from `GeneratorArgs` by name. Each lookup takes the accepted names in
-/// order of preference (the dialect's name first); a missing argument fails naming the
-/// first one.
+/// Reads a generator's arguments by their typed names (`gen_arg::Funnel::ro`); a failure
+/// names the argument as the dialect writes it.
 class ArgReader {
  public:
-  explicit ArgReader(const GeneratorArgs& args) : args_(args) {}
-  bool is_nome3() const { return args_.dialect == "nome3"; }
-  const GeneratorArgs& raw() const { return args_; }
+  explicit ArgReader(const GeneratorInput& in) : in_(in), info_(ir::generator(in.kind)) {}
+  const GeneratorInput& raw() const { return in_; }
+  Dialect dialect() const { return in_.dialect; }
 
-  Arg number(std::initializer_list<std::string_view> names) const;
-  /// Like `number`, but returns `fallback` (under the first name) when absent.
-  Arg number_or(std::initializer_list<std::string_view> names, double fallback) const;
-  bool has(std::string_view name) const;
-  /// A whole-number count >= `min` (and <= kMaxSegments).
-  int count(std::initializer_list<std::string_view> names, int min) const;
-  /// A count with a default when absent.
-  int count_or(std::initializer_list<std::string_view> names, int min, int fallback) const;
+  /// `arg` as the dialect writes it, e.g. `radius` for a NOME3 funnel's `ro`.
+  template <typename A>
+  std::string name(A arg) const {
+    return std::string(info_.display_name(ir::arg_index(arg), in_.dialect));
+  }
+  template <typename A>
+  bool has(A arg) const {
+    const size_t i = ir::arg_index(arg);
+    return i < in_.numbers.size() && in_.numbers[i].has_value();
+  }
+  /// A finite number; fails when absent.
+  template <typename A>
+  double number(A arg) const {
+    if (!has(arg)) fail(ir::arg_index(arg), "missing argument `" + name(arg) + "`");
+    const double v = *in_.numbers[ir::arg_index(arg)];
+    if (!std::isfinite(v)) fail(ir::arg_index(arg), "`" + name(arg) + "` must be a finite number");
+    return v;
+  }
+  template <typename A>
+  double number_or(A arg, double fallback) const {
+    return has(arg) ? number(arg) : fallback;
+  }
+  /// A whole-number count >= `min` (rounded, and <= kMaxSegments).
+  template <typename A>
+  int count(A arg, int min) const {
+    return as_count(ir::arg_index(arg), name(arg), number(arg), min);
+  }
+  template <typename A>
+  int count_or(A arg, int min, int fallback) const {
+    return has(arg) ? count(arg, min) : fallback;
+  }
   /// A number > 0.
-  double positive(std::initializer_list<std::string_view> names) const;
-  /// Raw text (e.g. `funcX`), with one pair of surrounding `[ ]` removed.
-  std::string text(std::string_view name) const;
+  template <typename A>
+  double positive(A arg) const {
+    const double v = number(arg);
+    if (!(v > 0)) fail(ir::arg_index(arg), "`" + name(arg) + "` must be positive, got " + fmt_number(v));
+    return v;
+  }
+  /// A Flag argument: present as a bare word, or given a non-zero value.
+  template <typename A>
+  bool flag(A arg) const {
+    const size_t i = ir::arg_index(arg);
+    if (i < in_.numbers.size() && in_.numbers[i].has_value()) return *in_.numbers[i] != 0.0;
+    return i < in_.flags.size() && in_.flags[i] != 0;
+  }
+  /// A Function argument; fails when absent.
+  template <typename A>
+  const ScalarFunction& function(A arg) const {
+    const size_t i = ir::arg_index(arg);
+    if (i >= in_.functions.size() || !in_.functions[i]) {
+      fail(ir::arg_index(arg), "missing function `" + name(arg) + " [ ... ]`");
+    }
+    return in_.functions[i];
+  }
 
  private:
-  const GeneratorArgs& args_;
+  static int as_count(ir::ArgIndex arg, const std::string& n, double v, int min);
+  const GeneratorInput& in_;
+  const ir::GeneratorInfo& info_;
 };
-
-/// Validates a whole-number value of `arg` (>= min).
-int as_count(const Arg& arg, int min);
 
 /// True if an angular span in degrees covers the full circle (within 1e-9 degrees).
 /// Spans above 360 fail naming `argument`; spans <= 0 too.
-bool full_turn(double span_degrees, std::string_view argument);
+bool full_turn(double span_degrees, ir::ArgIndex arg, const std::string& name);
 
 /// Adds `segs_i` x `segs_j` quads on a grid of vertices. Along a wrapped direction the
 /// last row of vertices is the first one (welded seam, segs >= 3 required by callers);
@@ -79,6 +112,6 @@ int32_t add_grid(kernel::PolygonSoup& soup, int segs_i, int segs_j, bool wrap_i,
                  const std::function<glm::dvec3(int, int)>& pos, bool flip = false);
 
 /// Fails if a grid of this size would exceed kMaxVertices.
-void check_size(long long vertices, std::string_view argument);
+void check_size(long long vertices, ir::ArgIndex arg);
 
 }  // namespace nomec::backend::detail

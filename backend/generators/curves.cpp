@@ -20,18 +20,11 @@ Generated polyline(const std::vector<glm::dvec3>& pts, bool closed) {
   return g;
 }
 
-double nonzero(const ArgReader& a, std::string_view name) {
-  const Arg v = a.number({name});
-  if (v.value == 0.0) {
-    fail(name, "`" + std::string(name) + "` must not be 0");
-  }
-  return v.value;
-}
-
-// `closed` arrives as a number (non-zero = closed) or, as a bare flag, as a text.
-bool is_closed(const ArgReader& a) {
-  if (a.has("closed")) return a.number({"closed"}).value != 0.0;
-  return a.raw().texts.find("closed") != a.raw().texts.end();
+template <typename A>
+double nonzero(const ArgReader& a, A arg) {
+  const double v = a.number(arg);
+  if (v == 0.0) fail(ir::arg_index(arg), "`" + a.name(arg) + "` must not be 0");
+  return v;
 }
 
 // de Boor evaluation of a B-spline of order k (degree k-1) with knot vector `t` at `x`.
@@ -68,29 +61,32 @@ Generated winding_curve(double turns, double h, int segs, RadiusFn radius) {
   return polyline(pts, false);
 }
 
-Generated make_helix(const ArgReader& a) {
-  const double r = a.positive({"radius"});
-  const double h = a.number({"height"}).value;
-  const double turns = nonzero(a, "turns");
-  const int segs = a.count({"segs"}, 1);
+Generated make_Helix(const ArgReader& a) {
+  using A = ir::gen_arg::Helix;
+  const double r = a.positive(A::radius);
+  const double h = a.number(A::height);
+  const double turns = nonzero(a, A::turns);
+  const int segs = a.count(A::segs, 1);
   return winding_curve(turns, h, segs, [r](double) { return r; });
 }
 
-Generated make_spiral(const ArgReader& a) {
-  const double growth = a.positive({"growth"});
-  const double h = a.number({"height"}).value;
-  const double turns = nonzero(a, "turns");
-  const int segs = a.count({"segs"}, 1);
+Generated make_Spiral(const ArgReader& a) {
+  using A = ir::gen_arg::Spiral;
+  const double growth = a.positive(A::growth);
+  const double h = a.number(A::height);
+  const double turns = nonzero(a, A::turns);
+  const int segs = a.count(A::segs, 1);
   // The radius grows by `growth` per turn.
   return winding_curve(turns, h, segs, [&](double s) { return growth * std::abs(turns) * s; });
 }
 
-Generated make_beziercurve(const ArgReader& a) {
+Generated make_Beziercurve(const ArgReader& a) {
+  using A = ir::gen_arg::Beziercurve;
   const auto& cps = a.raw().points;
   if (cps.size() < 2) {
-    fail("points", "a bezier curve needs at least 2 control points, got " + std::to_string(cps.size()));
+    fail(ir::arg_index(A::points), "a bezier curve needs at least 2 control points, got " + std::to_string(cps.size()));
   }
-  const int segs = a.count_or({"segs", "slices"}, 1, 16);
+  const int segs = a.count_or(A::segs, 1, 16);
   std::vector<glm::dvec3> pts;
   for (int i = 0; i <= segs; ++i) {
     const double t = static_cast<double>(i) / segs;
@@ -103,21 +99,21 @@ Generated make_beziercurve(const ArgReader& a) {
   return polyline(pts, false);
 }
 
-Generated make_bspline(const ArgReader& a) {
+Generated make_Bspline(const ArgReader& a) {
+  using A = ir::gen_arg::Bspline;
   const auto& cps = a.raw().points;
-  const int k = a.count_or({"order"}, 2, 4);
+  const int k = a.count_or(A::order, 2, 4);
   const int n = static_cast<int>(cps.size());
-  const bool closed = is_closed(a);
+  const bool closed = a.flag(A::closed);
+  const ir::ArgIndex points = ir::arg_index(A::points);
   if (n < k) {
-    fail("points", "a b-spline of order " + std::to_string(k) + " needs at least " +
-                       std::to_string(k) + " control points, got " + std::to_string(n));
+    fail(points, "a b-spline of order " + std::to_string(k) + " needs at least " + std::to_string(k) +
+                     " control points, got " + std::to_string(n));
   }
-  if (closed && n < 3) {
-    fail("points", "a closed b-spline needs at least 3 control points");
-  }
+  if (closed && n < 3) fail(points, "a closed b-spline needs at least 3 control points");
   const int spans = closed ? n : n - k + 1;
-  const int segs = a.count_or({"segs", "slices"}, closed ? 3 : 1, 8 * spans);
-  check_size(segs, "segs");
+  const int segs = a.count_or(A::segs, closed ? 3 : 1, 8 * spans);
+  check_size(segs, ir::arg_index(A::segs));
   std::vector<glm::dvec3> pts;
   if (!closed) {
     // Clamped uniform knots: the curve starts and ends at the end control points.

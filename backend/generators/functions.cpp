@@ -1,5 +1,6 @@
 // Function surfaces: genparametricsurf (x, y, z as functions of u, v), gencartesiansurf
-// (z = f(x, y)); genimplicitsurf is not supported yet.
+// (z = f(x, y)) and genimplicitsurf (f(x, y, z) = 0). The functions arrive evaluable (the
+// checker lowered their text to IR expressions; the backend evaluates them).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -7,33 +8,41 @@
 #include <unordered_map>
 #include <vector>
 
-#include "backend/generators/expr.h"
 #include "backend/generators/impl.h"
 
 namespace nomec::backend::detail {
 namespace {
 
 
-Expression parse_func(const ArgReader& a, std::string_view name, const std::vector<std::string>& vars) {
-  std::string error;
-  const std::string text = a.text(name);
-  std::optional<Expression> e = Expression::parse(text, vars, &error);
-  if (!e) {
-    fail(name, "in `" + std::string(name) + "`: " + error);
+// "u=0.5, v=1": where a function was evaluated, for messages.
+std::string where(const ArgReader& a, std::span<const double> vars) {
+  const auto& names = ir::generator(a.raw().kind).variables;
+  std::string out;
+  for (size_t i = 0; i < vars.size() && i < names.size(); ++i) {
+    out += (i == 0 ? "" : ", ") + std::string(names[i]) + "=" + fmt_number(vars[i]);
   }
-  return *e;
+  return out;
+}
+
+// A function's value at `vars`, failing on the argument when it has none or is not finite.
+template <typename A>
+double value_at(const ArgReader& a, A arg, std::span<const double> vars) {
+  std::string problem;
+  std::optional<double> v = a.function(arg)(vars, &problem);
+  if (!v) fail(ir::arg_index(arg), "`" + a.name(arg) + "` cannot be evaluated at " + where(a, vars) + ": " + problem);
+  if (!std::isfinite(*v)) fail(ir::arg_index(arg), "`" + a.name(arg) + "` is not finite at " + where(a, vars));
+  return *v;
 }
 
 struct Range {
   double lo;
   double hi;
 };
-Range range(const ArgReader& a, std::string_view lo_name, std::string_view hi_name) {
-  const double lo = a.number({lo_name}).value;
-  const double hi = a.number({hi_name}).value;
-  if (!(hi > lo)) {
-    fail(hi_name, "`" + std::string(hi_name) + "` must be greater than `" + std::string(lo_name) + "`");
-  }
+template <typename A>
+Range range(const ArgReader& a, A lo_arg, A hi_arg) {
+  const double lo = a.number(lo_arg);
+  const double hi = a.number(hi_arg);
+  if (!(hi > lo)) fail(ir::arg_index(hi_arg), "`" + a.name(hi_arg) + "` must be greater than `" + a.name(lo_arg) + "`");
   return {lo, hi};
 }
 
@@ -104,59 +113,49 @@ void weld(kernel::PolygonSoup& s) {
 
 }  // namespace
 
-Generated make_genparametricsurf(const ArgReader& a) {
-  const std::vector<std::string> vars = {"u", "v"};
-  const Expression fx = parse_func(a, "funcX", vars);
-  const Expression fy = parse_func(a, "funcY", vars);
-  const Expression fz = parse_func(a, "funcZ", vars);
-  const Range u = range(a, "u_min", "u_max");
-  const Range v = range(a, "v_min", "v_max");
-  const int us = a.count({"u_segs"}, 1);
-  const int vs = a.count({"v_segs"}, 1);
-  check_size(static_cast<long long>(us + 1) * (vs + 1), "u_segs");
+Generated make_Genparametricsurf(const ArgReader& a) {
+  using A = ir::gen_arg::Genparametricsurf;
+  a.function(A::funcX);
+  a.function(A::funcY);
+  a.function(A::funcZ);
+  const Range u = range(a, A::u_min, A::u_max);
+  const Range v = range(a, A::v_min, A::v_max);
+  const int us = a.count(A::u_segs, 1);
+  const int vs = a.count(A::v_segs, 1);
+  check_size(static_cast<long long>(us + 1) * (vs + 1), ir::arg_index(A::u_segs));
   Generated g;
   add_grid(g.soup, us, vs, false, false, [&](int i, int j) {
-    const std::vector<double> uv = {u.lo + (u.hi - u.lo) * i / us, v.lo + (v.hi - v.lo) * j / vs};
-    const glm::dvec3 p(fx.evaluate(uv), fy.evaluate(uv), fz.evaluate(uv));
-    const char* bad = !std::isfinite(p.x) ? "funcX" : !std::isfinite(p.y) ? "funcY"
-                    : !std::isfinite(p.z) ? "funcZ" : nullptr;
-    if (bad != nullptr) {
-      fail(bad, "`" + std::string(bad) + "` is not finite at u=" + fmt_number(uv[0]) + ", v=" + fmt_number(uv[1]));
-    }
-    return p;
+    const double uv[2] = {u.lo + (u.hi - u.lo) * i / us, v.lo + (v.hi - v.lo) * j / vs};
+    return glm::dvec3(value_at(a, A::funcX, uv), value_at(a, A::funcY, uv), value_at(a, A::funcZ, uv));
   });
   weld(g.soup);
   return g;
 }
 
-Generated make_gencartesiansurf(const ArgReader& a) {
-  const Expression f = parse_func(a, "func", {"x", "y"});
-  const Range x = range(a, "x_min", "x_max");
-  const Range y = range(a, "y_min", "y_max");
-  const int xs = a.count({"x_segs"}, 1);
-  const int ys = a.count({"y_segs"}, 1);
-  check_size(static_cast<long long>(xs + 1) * (ys + 1), "x_segs");
+Generated make_Gencartesiansurf(const ArgReader& a) {
+  using A = ir::gen_arg::Gencartesiansurf;
+  a.function(A::func);
+  const Range x = range(a, A::x_min, A::x_max);
+  const Range y = range(a, A::y_min, A::y_max);
+  const int xs = a.count(A::x_segs, 1);
+  const int ys = a.count(A::y_segs, 1);
+  check_size(static_cast<long long>(xs + 1) * (ys + 1), ir::arg_index(A::x_segs));
   Generated g;
   add_grid(g.soup, xs, ys, false, false, [&](int i, int j) {
-    const std::vector<double> xy = {x.lo + (x.hi - x.lo) * i / xs, y.lo + (y.hi - y.lo) * j / ys};
-    const double z = f.evaluate(xy);
-    if (!std::isfinite(z)) {
-      fail("func", "`func` is not finite at x=" + fmt_number(xy[0]) + ", y=" + fmt_number(xy[1]));
-    }
-    return glm::dvec3(xy[0], xy[1], z);
+    const double xy[2] = {x.lo + (x.hi - x.lo) * i / xs, y.lo + (y.hi - y.lo) * j / ys};
+    return glm::dvec3(xy[0], xy[1], value_at(a, A::func, xy));
   });
   return g;
 }
 
-Generated make_genimplicitsurf(const ArgReader& a) {
-  const Expression f = parse_func(a, "func", {"x", "y", "z"});
-  const Range x = range(a, "x_min", "x_max");
-  const Range y = range(a, "y_min", "y_max");
-  const Range z = range(a, "z_min", "z_max");
-  const int res = a.count({"resolution"}, 1);
-  if (res > 128) {
-    fail("resolution", "`resolution` must be at most 128, got " + std::to_string(res));
-  }
+Generated make_Genimplicitsurf(const ArgReader& a) {
+  using A = ir::gen_arg::Genimplicitsurf;
+  a.function(A::func);
+  const Range x = range(a, A::x_min, A::x_max);
+  const Range y = range(a, A::y_min, A::y_max);
+  const Range z = range(a, A::z_min, A::z_max);
+  const int res = a.count(A::resolution, 1);
+  if (res > 128) fail(ir::arg_index(A::resolution), "`resolution` must be at most 128, got " + std::to_string(res));
   // Sample f on the (res+1)^3 grid; exact zeros are nudged so that no grid value lies on
   // the surface (this keeps the marching-tetrahedra result a manifold).
   const int n = res + 1;
@@ -170,10 +169,8 @@ Generated make_genimplicitsurf(const ArgReader& a) {
     for (int j = 0; j < n; ++j) {
       for (int k = 0; k < n; ++k) {
         const glm::dvec3 p = gp(i, j, k);
-        double v = f.evaluate({p.x, p.y, p.z});
-        if (!std::isfinite(v)) {
-          fail("func", "`func` is not finite at x=" + fmt_number(p.x) + ", y=" + fmt_number(p.y) + ", z=" + fmt_number(p.z));
-        }
+        const double xyz[3] = {p.x, p.y, p.z};
+        double v = value_at(a, A::func, xyz);
         if (v == 0.0) v = 1e-300;
         val[vid(i, j, k)] = v;
       }

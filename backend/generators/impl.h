@@ -1,33 +1,13 @@
-// Internal: one function per generator, each building a `Generated` from the arguments
-// or failing with `detail::fail` (see common.h). Dispatched by `generate`.
+// Internal: one geometry function per entry of the generator catalogue, `make_<Kind>`,
+// building a `Generated` from the arguments or failing with `detail::fail` (see common.h).
+// Declared from ir/generators.def, so a catalogue entry without its function does not link.
 #pragma once
 
 #include "backend/generators/common.h"
 
 namespace nomec::backend::detail {
 
-// rings.cpp
-Generated make_funnel(const ArgReader& a);
-Generated make_tunnel(const ArgReader& a);
-Generated make_circle(const ArgReader& a);
-Generated make_mobiusstrip(const ArgReader& a);
-Generated make_rimribbon(const ArgReader& a);
-// surfaces.cpp
-Generated make_torus(const ArgReader& a);
-Generated make_sphere(const ArgReader& a);
-Generated make_ellipsoid(const ArgReader& a);
-Generated make_cylinder(const ArgReader& a);
-Generated make_hyperboloid(const ArgReader& a);
-Generated make_dupin(const ArgReader& a);
-Generated make_torusknot(const ArgReader& a);
-// functions.cpp
-Generated make_genparametricsurf(const ArgReader& a);
-Generated make_gencartesiansurf(const ArgReader& a);
-Generated make_genimplicitsurf(const ArgReader& a);
-// curves.cpp
-Generated make_helix(const ArgReader& a);
-Generated make_spiral(const ArgReader& a);
-Generated make_beziercurve(const ArgReader& a);
-Generated make_bspline(const ArgReader& a);
+#define NOMEC_GENERATOR(Kind, Keyword, Output, Summary) Generated make_##Kind(const ArgReader& a);
+#include "ir/generators.def"
 
 }  // namespace nomec::backend::detail

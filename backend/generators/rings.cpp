@@ -28,7 +28,17 @@ void add_band(kernel::PolygonSoup& s, int32_t lo, int32_t hi, int n) {
   }
 }
 
-// The dialect's name first: NOME3 funnels say `radius`/`height`, 2016 ones `ro`/`h`.
+// Ring radius factor 1 + ratio, which must stay positive.
+template <typename A>
+double radius_factor(const ArgReader& a, A ratio) {
+  const double v = a.number(ratio);
+  if (!(1.0 + v > 0)) {
+    const std::string n = a.name(ratio);
+    fail(ir::arg_index(ratio), "`" + n + "` must be greater than -1 (the ring radius ro*(1+" + n + ") must be positive)");
+  }
+  return 1.0 + v;
+}
+
 struct FunnelArgs {
   int n;
   double ro;
@@ -36,28 +46,21 @@ struct FunnelArgs {
   double h;
 };
 
-double radius_factor(const Arg& ratio) {
-  if (!(1.0 + ratio.value > 0)) {
-    const std::string n(ratio.name);
-    fail(n, "`" + n + "` must be greater than -1 (the ring radius ro*(1+" + n +
-                ") must be positive)");
-  }
-  return 1.0 + ratio.value;
-}
-
+// Funnels and tunnels share their first four arguments.
+template <typename A>
 FunnelArgs funnel_args(const ArgReader& a) {
   FunnelArgs f{};
-  f.n = a.count({"n"}, 3);
-  f.ro = a.is_nome3() ? a.positive({"radius", "ro"}) : a.positive({"ro", "radius"});
-  f.ratio = radius_factor(a.number({"ratio"})) - 1.0;
-  f.h = (a.is_nome3() ? a.number({"height", "h"}) : a.number({"h", "height"})).value;
+  f.n = a.count(A::n, 3);
+  f.ro = a.positive(A::ro);
+  f.ratio = radius_factor(a, A::ratio) - 1.0;
+  f.h = a.number(A::h);
   return f;
 }
 
 }  // namespace
 
-Generated make_funnel(const ArgReader& a) {
-  const FunnelArgs f = funnel_args(a);
+Generated make_Funnel(const ArgReader& a) {
+  const FunnelArgs f = funnel_args<ir::gen_arg::Funnel>(a);
   Generated g;
   const int32_t bc = add_ring(g.soup, "bc", f.ro, 0.0, f.n);
   const int32_t hc = add_ring(g.soup, "hc", f.ro * (1.0 + f.ratio), f.h, f.n);
@@ -65,10 +68,11 @@ Generated make_funnel(const ArgReader& a) {
   return g;
 }
 
-Generated make_tunnel(const ArgReader& a) {
-  const FunnelArgs f = funnel_args(a);
-  const double low_factor = a.has("dri_low") ? radius_factor(a.number({"dri_low"})) : 1.0 + f.ratio;
-  const double low_h = a.number_or({"hgt_low"}, f.h).value;
+Generated make_Tunnel(const ArgReader& a) {
+  using A = ir::gen_arg::Tunnel;
+  const FunnelArgs f = funnel_args<A>(a);
+  const double low_factor = a.has(A::dri_low) ? radius_factor(a, A::dri_low) : 1.0 + f.ratio;
+  const double low_h = a.number_or(A::hgt_low, f.h);
   Generated g;
   const int32_t bc = add_ring(g.soup, "bc", f.ro, 0.0, f.n);
   const int32_t hc = add_ring(g.soup, "hc", f.ro * (1.0 + f.ratio), f.h, f.n);
@@ -78,9 +82,10 @@ Generated make_tunnel(const ArgReader& a) {
   return g;
 }
 
-Generated make_circle(const ArgReader& a) {
-  const double r = a.positive({"radius"});
-  const int segs = a.count({"segs"}, 3);
+Generated make_Circle(const ArgReader& a) {
+  using A = ir::gen_arg::Circle;
+  const double r = a.positive(A::radius);
+  const int segs = a.count(A::segs, 3);
   Generated g;
   const int32_t base = add_ring(g.soup, "v", r, 0.0, segs);
   Generated::Curve c;
@@ -92,18 +97,18 @@ Generated make_circle(const ArgReader& a) {
   return g;
 }
 
-Generated make_mobiusstrip(const ArgReader& a) {
-  const double radius = a.positive({"radius"});
-  const Arg twists_arg = a.number({"num_twists", "numTwists"});
-  if (std::abs(twists_arg.value - std::round(twists_arg.value)) > 1e-9) {
-    fail(twists_arg.name, "`num_twists` must be a whole number of half-twists");
+Generated make_Mobiusstrip(const ArgReader& a) {
+  using A = ir::gen_arg::Mobiusstrip;
+  const double radius = a.positive(A::radius);
+  const double twists_value = a.number(A::num_twists);
+  if (std::abs(twists_value - std::round(twists_value)) > 1e-9) {
+    fail(ir::arg_index(A::num_twists), "`" + a.name(A::num_twists) + "` must be a whole number of half-twists");
   }
-  const long twists = std::lround(twists_arg.value);
-  const Arg cuts = a.number({"num_cuts", "numCuts"});
-  if (cuts.value != 0.0) {
-    fail(cuts.name, "cuts are not supported yet: `num_cuts` must be 0");
+  const long twists = std::lround(twists_value);
+  if (a.number(A::num_cuts) != 0.0) {
+    fail(ir::arg_index(A::num_cuts), "cuts are not supported yet: `" + a.name(A::num_cuts) + "` must be 0");
   }
-  const int n = a.count({"n", "N"}, 3);
+  const int n = a.count(A::n, 3);
   const double w = radius / 4.0;  // half of the band's width
   Generated g;
   auto pos = [&](int i, double v) {
@@ -149,26 +154,25 @@ glm::dvec3 rotate_about(const glm::dvec3& v, const glm::dvec3& axis, double angl
 
 }  // namespace
 
-Generated make_rimribbon(const ArgReader& a) {
+Generated make_Rimribbon(const ArgReader& a) {
+  using A = ir::gen_arg::Rimribbon;
   const auto& pts = a.raw().points;
   const int m = static_cast<int>(pts.size());
-  const bool closed = (a.has("closed") && a.number({"closed"}).value != 0.0) ||
-                      a.raw().texts.find("closed") != a.raw().texts.end();
+  const bool closed = a.raw().is_path_closed;
+  const ir::ArgIndex path = ir::arg_index(A::path);
   if (m < (closed ? 3 : 2)) {
-    fail("path", "a rim ribbon needs a path of at least " + std::string(closed ? "3" : "2") +
-                     " points, got " + std::to_string(m));
+    fail(path, "a rim ribbon needs a path of at least " + std::string(closed ? "3" : "2") + " points, got " +
+                   std::to_string(m));
   }
   for (int k = 0; k + 1 < m + (closed ? 1 : 0); ++k) {
     if (len3(pts[(k + 1) % m] - pts[k]) == 0.0) {
-      fail("path", "the path repeats point " + std::to_string(k) + " (zero-length segment)");
+      fail(path, "the path repeats point " + std::to_string(k) + " (zero-length segment)");
     }
   }
-  const double width = a.number({"width"}).value;
-  if (width == 0.0) {
-    fail("width", "`width` must not be 0");
-  }
-  const double azimuth = radians(a.number_or({"azimuth"}, 0.0).value);
-  const double twist = radians(a.number_or({"twist"}, 0.0).value);
+  const double width = a.number(A::width);
+  if (width == 0.0) fail(ir::arg_index(A::width), "`width` must not be 0");
+  const double azimuth = radians(a.number_or(A::azimuth, 0.0));
+  const double twist = radians(a.number_or(A::twist, 0.0));
   // Unit tangents (central differences) and arc length.
   std::vector<glm::dvec3> tan(m);
   std::vector<double> arc(m + 1, 0.0);

@@ -12,34 +12,28 @@ namespace nomec::backend::detail {
 namespace {
 
 
-/// Segment count along a direction: >= 3 when it wraps around, else >= 1.
-int segs_for(const ArgReader& a, std::string_view name, bool wraps) {
-  return a.count({name}, wraps ? 3 : 1);
-}
-
 // Sphere-like surface of revolution: equatorial radius `ra`, polar radius `rb`.
 // theta (azimuth) in [0, theta_max], phi (latitude) in [phi_min, phi_max] within
 // [-90, 90] degrees.
+template <typename A>
 Generated spheroid(const ArgReader& a, double ra, double rb) {
-  const double theta_max = a.number({"theta_max"}).value;
-  const bool wrap = full_turn(theta_max, "theta_max");
-  const double phi_min = a.number({"phi_min"}).value;
-  const double phi_max = a.number({"phi_max"}).value;
-  if (phi_min < -90.0 - 1e-9 || phi_min > 90.0) {
-    fail("phi_min", "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_min));
+  const double theta_max = a.number(A::theta_max);
+  const bool wrap = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
+  const double phi_min = a.number(A::phi_min);
+  const double phi_max = a.number(A::phi_max);
+  if (phi_min < -90.0 - 1e-9 || phi_min > 90.0 + 1e-9) {
+    fail(ir::arg_index(A::phi_min), "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_min));
   }
-  if (phi_max > 90.0 + 1e-9 || phi_max < -90.0) {
-    fail("phi_max", "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_max));
+  if (phi_max > 90.0 + 1e-9 || phi_max < -90.0 - 1e-9) {
+    fail(ir::arg_index(A::phi_max), "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_max));
   }
-  if (!(phi_max > phi_min)) {
-    fail("phi_max", "`phi_max` must be greater than `phi_min`");
-  }
+  if (!(phi_max > phi_min)) fail(ir::arg_index(A::phi_max), "`phi_max` must be greater than `phi_min`");
   const bool south = phi_min <= -90.0 + 1e-9;
   const bool north = phi_max >= 90.0 - 1e-9;
-  const int ts = segs_for(a, "theta_segs", wrap);
-  const int ps = a.count({"phi_segs"}, south && north ? 2 : 1);
+  const int ts = a.count(A::theta_segs, wrap ? 3 : 1);
+  const int ps = a.count(A::phi_segs, south && north ? 2 : 1);
   const int ni = wrap ? ts : ts + 1;
-  check_size(static_cast<long long>(ni) * (ps + 1), "phi_segs");
+  check_size(static_cast<long long>(ni) * (ps + 1), ir::arg_index(A::phi_segs));
 
   Generated g;
   std::vector<int32_t> row_start(ps + 1);
@@ -77,17 +71,18 @@ Generated spheroid(const ArgReader& a, double ra, double rb) {
 
 }  // namespace
 
-Generated make_torus(const ArgReader& a) {
-  const double R = a.positive({"major_radius"});
-  const double r = a.positive({"minor_radius"});
-  const double theta_max = a.number({"theta_max"}).value;
-  const double phi_min = a.number({"phi_min"}).value;
-  const double phi_max = a.number({"phi_max"}).value;
-  const bool wrap_i = full_turn(theta_max, "theta_max");
-  const bool wrap_j = full_turn(phi_max - phi_min, "phi_max");
-  const int ts = segs_for(a, "theta_segs", wrap_i);
-  const int ps = segs_for(a, "phi_segs", wrap_j);
-  check_size(static_cast<long long>(ts + 1) * (ps + 1), "theta_segs");
+Generated make_Torus(const ArgReader& a) {
+  using A = ir::gen_arg::Torus;
+  const double R = a.positive(A::major_radius);
+  const double r = a.positive(A::minor_radius);
+  const double theta_max = a.number(A::theta_max);
+  const double phi_min = a.number(A::phi_min);
+  const double phi_max = a.number(A::phi_max);
+  const bool wrap_i = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
+  const bool wrap_j = full_turn(phi_max - phi_min, ir::arg_index(A::phi_max), a.name(A::phi_max));
+  const int ts = a.count(A::theta_segs, wrap_i ? 3 : 1);
+  const int ps = a.count(A::phi_segs, wrap_j ? 3 : 1);
+  check_size(static_cast<long long>(ts + 1) * (ps + 1), ir::arg_index(A::theta_segs));
   Generated g;
   add_grid(g.soup, ts, ps, wrap_i, wrap_j, [&](int i, int j) {
     const double th = radians(theta_max * i / ts);
@@ -98,25 +93,26 @@ Generated make_torus(const ArgReader& a) {
   return g;
 }
 
-Generated make_sphere(const ArgReader& a) {
-  const double r = a.positive({"radius"});
-  return spheroid(a, r, r);
+Generated make_Sphere(const ArgReader& a) {
+  const double r = a.positive(ir::gen_arg::Sphere::radius);
+  return spheroid<ir::gen_arg::Sphere>(a, r, r);
 }
 
-Generated make_ellipsoid(const ArgReader& a) {
-  const double ra = a.positive({"a"});
-  const double rb = a.positive({"b"});
-  return spheroid(a, ra, rb);
+Generated make_Ellipsoid(const ArgReader& a) {
+  const double ra = a.positive(ir::gen_arg::Ellipsoid::a);
+  const double rb = a.positive(ir::gen_arg::Ellipsoid::b);
+  return spheroid<ir::gen_arg::Ellipsoid>(a, ra, rb);
 }
 
-Generated make_cylinder(const ArgReader& a) {
-  const double r = a.positive({"radius"});
-  const double h = a.positive({"height"});
-  const double theta_max = a.number({"theta_max"}).value;
-  const bool wrap = full_turn(theta_max, "theta_max");
-  const int ts = segs_for(a, "theta_segs", wrap);
-  const int hs = a.count({"height_segs"}, 1);
-  check_size(static_cast<long long>(ts + 1) * (hs + 1), "theta_segs");
+Generated make_Cylinder(const ArgReader& a) {
+  using A = ir::gen_arg::Cylinder;
+  const double r = a.positive(A::radius);
+  const double h = a.positive(A::height);
+  const double theta_max = a.number(A::theta_max);
+  const bool wrap = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
+  const int ts = a.count(A::theta_segs, wrap ? 3 : 1);
+  const int hs = a.count(A::height_segs, 1);
+  check_size(static_cast<long long>(ts + 1) * (hs + 1), ir::arg_index(A::theta_segs));
   Generated g;
   add_grid(g.soup, ts, hs, wrap, false, [&](int i, int j) {
     const double th = radians(theta_max * i / ts);
@@ -125,14 +121,15 @@ Generated make_cylinder(const ArgReader& a) {
   return g;
 }
 
-Generated make_hyperboloid(const ArgReader& a) {
-  const double ra = a.positive({"a"});
-  const double rb = a.positive({"b"});
-  const double rc = a.positive({"c"});
-  const double h = a.positive({"height"});
-  const int ts = a.count({"theta_segs"}, 3);
-  const int hs = a.count({"height_segs"}, 1);
-  check_size(static_cast<long long>(ts) * (hs + 1), "theta_segs");
+Generated make_Hyperboloid(const ArgReader& a) {
+  using A = ir::gen_arg::Hyperboloid;
+  const double ra = a.positive(A::a);
+  const double rb = a.positive(A::b);
+  const double rc = a.positive(A::c);
+  const double h = a.positive(A::height);
+  const int ts = a.count(A::theta_segs, 3);
+  const int hs = a.count(A::height_segs, 1);
+  check_size(static_cast<long long>(ts) * (hs + 1), ir::arg_index(A::theta_segs));
   Generated g;
   add_grid(g.soup, ts, hs, true, false, [&](int i, int j) {
     const double th = 2.0 * kPi * i / ts;
@@ -143,17 +140,18 @@ Generated make_hyperboloid(const ArgReader& a) {
   return g;
 }
 
-Generated make_dupin(const ArgReader& a) {
-  const double ca = a.positive({"a"});
-  const double cb = a.positive({"b"});
-  const double cc = a.number({"c"}).value;
-  const double cd = a.number({"d"}).value;
+Generated make_Dupin(const ArgReader& a) {
+  using A = ir::gen_arg::Dupin;
+  const double ca = a.positive(A::a);
+  const double cb = a.positive(A::b);
+  const double cc = a.number(A::c);
+  const double cd = a.number(A::d);
   if (!(ca > std::abs(cc))) {
-    fail("c", "`c` must be smaller than `a` in absolute value (the cyclide is unbounded otherwise)");
+    fail(ir::arg_index(A::c), "`c` must be smaller than `a` in absolute value (the cyclide is unbounded otherwise)");
   }
-  const int us = a.count({"u_segs"}, 3);
-  const int vs = a.count({"v_segs"}, 3);
-  check_size(static_cast<long long>(us) * vs, "u_segs");
+  const int us = a.count(A::u_segs, 3);
+  const int vs = a.count(A::v_segs, 3);
+  check_size(static_cast<long long>(us) * vs, ir::arg_index(A::u_segs));
   Generated g;
   add_grid(g.soup, us, vs, true, true, [&](int i, int j) {
     const double u = 2.0 * kPi * i / us;
@@ -166,25 +164,24 @@ Generated make_dupin(const ArgReader& a) {
   return g;
 }
 
-Generated make_torusknot(const ArgReader& a) {
-  auto whole_nonzero = [&](std::string_view name) {
-    const Arg v = a.number({name});
-    if (std::abs(v.value - std::round(v.value)) > 1e-9 || std::lround(v.value) == 0) {
-      fail(name, "`" + std::string(name) + "` must be a non-zero whole number, got " + fmt_number(v.value));
+Generated make_Torusknot(const ArgReader& a) {
+  using A = ir::gen_arg::Torusknot;
+  auto whole_nonzero = [&](A arg) {
+    const double v = a.number(arg);
+    if (std::abs(v - std::round(v)) > 1e-9 || std::lround(v) == 0) {
+      fail(ir::arg_index(arg), "`" + a.name(arg) + "` must be a non-zero whole number, got " + fmt_number(v));
     }
-    if (std::abs(v.value) > 1000) {
-      fail(name, "`" + std::string(name) + "` must be at most 1000 in absolute value");
-    }
-    return static_cast<double>(std::lround(v.value));
+    if (std::abs(v) > 1000) fail(ir::arg_index(arg), "`" + a.name(arg) + "` must be at most 1000 in absolute value");
+    return static_cast<double>(std::lround(v));
   };
-  const double p = whole_nonzero("symm");
-  const double q = whole_nonzero("turns");
-  const double R = a.positive({"major_radius"});
-  const double r = a.positive({"minor_radius"});
-  const double tube = a.positive({"tube_radius"});
-  const int cs = a.count({"circ_segs"}, 3);
-  const int ss = a.count({"sweep_segs"}, 3);
-  check_size(static_cast<long long>(cs) * ss, "sweep_segs");
+  const double p = whole_nonzero(A::symm);
+  const double q = whole_nonzero(A::turns);
+  const double R = a.positive(A::major_radius);
+  const double r = a.positive(A::minor_radius);
+  const double tube = a.positive(A::tube_radius);
+  const int cs = a.count(A::circ_segs, 3);
+  const int ss = a.count(A::sweep_segs, 3);
+  check_size(static_cast<long long>(cs) * ss, ir::arg_index(A::sweep_segs));
   // The knot lies on a torus (R, r); its exact normal frame is the torus normal N (which
   // is periodic, so the tube closes without a twist seam) and B = T x N.
   std::vector<glm::dvec3> centre(ss), nrm(ss), bin(ss);

@@ -55,6 +55,9 @@ struct CheckResult {
   std::vector<std::shared_ptr<const ast::Ast>> asts;
 };
 
+/// The generator of the catalogue a statement is, if it is one (`funnel`, `bsplinecurve` …).
+std::optional<ir::GenKind> statement_generator(const ast::Stmt& s);
+
 /// The option words a block kind accepts, e.g. `translate`, `rotate`, `surface` for
 /// `instance` (for completion and highlighting in frontend/index).
 std::vector<std::string_view> option_words(ast::BlockKind kind);

@@ -11,7 +11,7 @@
 #include <unordered_map>
 
 #include "frontend/ast/ast.h"
-#include "frontend/check/signatures.h"
+#include "ir/generator_catalogue.h"
 
 namespace nomec::index {
 
@@ -172,8 +172,11 @@ class Builder {
       visit_instance(s, parent, node, me);
     } else if (named && defines_name(s, parent_kind, top)) {
       me = add_symbol(std::string(s.items[0].text), kind_of(s.kind), s.items[0].range, s.range, parent, node);
-      if (const GenSignature* sig = signature_for(s.kind, cr_.dialect)) {
-        ix_.symbols_[me].detail = fmt::format("{} ({})", ast::open_keyword(s.kind), fmt::join(sig->args, " "));
+      std::optional<ir::GenKind> gen = statement_generator(s);
+      const ir::Signature* sig = gen ? ir::generator(*gen).signature(cr_.dialect) : nullptr;
+      if (sig != nullptr) {
+        ix_.symbols_[me].detail = fmt::format("{} ({})", ast::open_keyword(s.kind),
+                                              fmt::join(sig->names.begin(), sig->names.begin() + static_cast<ptrdiff_t>(sig->args.size()), " "));
       } else {
         ix_.symbols_[me].detail = std::string(ast::open_keyword(s.kind));
       }
@@ -212,8 +215,8 @@ class Builder {
     }
     me = add_symbol(name, SymbolKind::Instance, name_range, s.range, parent, node, add_def);
     std::string detail = "instance";
-    if (node.is_valid() && m_.node(node).target.is_valid()) {
-      const ir::Node& t = m_.node(m_.node(node).target);
+    if (node.is_valid() && m_.node(node).kind == ir::NodeKind::Instance && m_.get<ir::InstanceData>(node).target.is_valid()) {
+      const ir::Node& t = m_.node(m_.get<ir::InstanceData>(node).target);
       detail = fmt::format("instance of {} `{}`", t.keyword, t.name);
     }
     ix_.symbols_[me].detail = std::move(detail);
@@ -236,8 +239,8 @@ class Builder {
         if (!p.is_valid() || m_.node(p).kind != ir::NodeKind::Param) continue;  // duplicate: reported
         SymbolId sid = add_symbol(std::string(name.text), SymbolKind::Parameter, name.range,
                                   SourceRange{name.range.file, it.range.begin, end}, bank, p);
-        const ir::Node& pn = m_.node(p);
-        ix_.symbols_[sid].detail = fmt::format("{} = {} in [{}, {}] step {}", pn.name, pn.value, pn.min, pn.max, pn.step);
+        const ir::ParamData& pn = m_.param(p);
+        ix_.symbols_[sid].detail = fmt::format("{} = {} in [{}, {}] step {}", m_.node(p).name, pn.value, pn.min, pn.max, pn.step);
         member_params_.emplace(member_key(bank, name.text), sid);
         i = j - 1;
       } else if (it.text == "list" && i + 1 < s.items.size() && s.items[i + 1].kind == ItemKind::List) {
@@ -266,7 +269,7 @@ class Builder {
     std::string_view text = sm_.text(r);
     uint32_t o = !text.empty() && text[0] == '$' ? 1 : 0;
     std::string_view rest = text.substr(o);
-    std::string_view bank = pn.bank;
+    std::string_view bank = m_.param(p).bank;
     std::string_view shortname = std::string_view(pn.name).substr(std::min(pn.name.size(), bank.size() + 1));
     if (rest.size() == bank.size() + 1 + shortname.size() && rest.substr(0, bank.size()) == bank &&
         (rest[bank.size()] == '.' || rest[bank.size()] == '_') && rest.substr(bank.size() + 1) == shortname) {
@@ -323,7 +326,7 @@ class Builder {
     }
     // The last part: a point of the instanced mesh.
     ir::NodeId inst_node = ref.instances.back();
-    ir::NodeId target = m_.node(inst_node).target;
+    ir::NodeId target = m_.get<ir::InstanceData>(inst_node).target;
     SymbolId ts = sym(target);
     (void)last;
     if (ts < 0) return;
@@ -337,8 +340,8 @@ class Builder {
       if (e.kind == ir::ExprKind::Param && e.param.is_valid()) param_use(e.range, e.param);
     }
     for (const ir::Node& n : m_.nodes) {
-      for (const ir::Field& f : n.fields) {
-        for (const ir::VertexRef& v : f.vertices) vertex_use(v);
+      for (ir::Slice<ir::VertexRef> list : ir::vertex_lists_of(m_, n)) {
+        for (const ir::VertexRef& v : m_.refs(list)) vertex_use(v);
       }
     }
     for (const ListUse& l : lists_) {

@@ -1,6 +1,7 @@
 // Keyword descriptions and classification for the index (see keywords.h). Block keywords
-// come from frontend/ast/block_kinds.def and option words from the checker's option tables,
-// so this file only adds the human descriptions.
+// come from frontend/ast/block_kinds.def, option words from the checker's option tables and
+// generators' descriptions from the generator catalogue, so this file only adds the human
+// descriptions of the other keywords.
 #include "frontend/index/keywords.h"
 
 #include <string>
@@ -8,6 +9,7 @@
 #include <unordered_set>
 
 #include "frontend/check/check.h"
+#include "ir/generator_catalogue.h"
 #include "ir/ir.h"
 
 namespace nomec::index {
@@ -60,26 +62,6 @@ const KwDoc kDocs[] = {
     {"window", "a window (viewing; accepted and ignored)"},
     {"viewport", "a viewport (viewing; accepted and ignored)"},
     {"render", "render settings (viewing; accepted and ignored)"},
-    {"funnel", "generator: a funnel of n quads between a base ring and a wider top ring"},
-    {"tunnel", "generator: two funnels sharing their base ring"},
-    {"rimribbon", "generator: a ribbon along a polyline (`path`, `width`, `azimuth`, `twist`)"},
-    {"circle", "generator: a circle (line loop) of `segs` vertices"},
-    {"sphere", "generator: a sphere (or part of one)"},
-    {"ellipsoid", "generator: an ellipsoid"},
-    {"cylinder", "generator: an open cylinder (tube)"},
-    {"hyperboloid", "generator: a hyperboloid of one sheet"},
-    {"dupin", "generator: a Dupin cyclide"},
-    {"mobiusstrip", "generator: a Möbius strip"},
-    {"helix", "generator: a helix curve"},
-    {"spiral", "generator: a spiral curve"},
-    {"torus", "generator: a torus (or part of one)"},
-    {"torusknot", "generator: a tube along a torus knot"},
-    {"beziercurve", "a Bézier curve through control points"},
-    {"bspline", "a B-spline curve (NOME3)"},
-    {"bsplinecurve", "a B-spline curve (SLIDE)"},
-    {"gencartesiansurf", "generator: a surface z = func(x, y)"},
-    {"genparametricsurf", "generator: a parametric surface (funcX, funcY, funcZ of u, v)"},
-    {"genimplicitsurf", "generator: an implicit surface func(x, y, z) = 0"},
     {"include", "reads another file: `include \"file.slf\"`"},
     {"expr", "an expression value: `{expr $fp.n * 2}`"},
     {"tclinit", "SLIDE Tcl code run at start-up (kept, not evaluated)"},
@@ -115,9 +97,18 @@ const KwDoc kDocs[] = {
 };
 
 const std::unordered_map<std::string_view, std::string_view>& doc_map() {
+  // Generators are documented by the catalogue; these strings outlive the map's views.
+  static const std::vector<std::string> generator_docs = [] {
+    std::vector<std::string> out;
+    for (const ir::GeneratorInfo& g : ir::generators()) out.push_back("generator: " + std::string(g.summary));
+    return out;
+  }();
   static const std::unordered_map<std::string_view, std::string_view> m = [] {
     std::unordered_map<std::string_view, std::string_view> out;
     for (const KwDoc& d : kDocs) out.emplace(d.word, d.doc);
+    for (const ir::GeneratorInfo& g : ir::generators()) {
+      for (std::string_view k : g.keywords) out.emplace(k, generator_docs[static_cast<size_t>(g.kind)]);
+    }
     return out;
   }();
   return m;

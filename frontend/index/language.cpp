@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <fmt/format.h>
 
-#include "frontend/check/signatures.h"
+#include "ir/generator_catalogue.h"
 #include "frontend/index/index.h"
 #include "frontend/index/keywords.h"
 #include "frontend/index/lex.h"
@@ -227,7 +227,7 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
           if (next < 0) return out;
           // Continue inside the instance's target.
           const ir::Node& n = check_->module.node(symbols_[next].node);
-          cur = symbol_of(n.target);
+          cur = n.kind == ir::NodeKind::Instance ? symbol_of(n.as<ir::InstanceData>().target) : -1;
           if (cur < 0 || d == std::string_view::npos) break;
           at = d + 1;
         }
@@ -336,7 +336,19 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
       }
     }
   }
-  const GenSignature* sig = signature_for(c.stmt, check_->dialect);
+  const std::optional<ir::GenKind> gen = ir::generator_by_keyword(ast::open_keyword(c.stmt));
+  const ir::GeneratorInfo* info = gen ? &ir::generator(*gen) : nullptr;
+  const ir::Signature* sig = info != nullptr ? info->signature(check_->dialect) : nullptr;
+  // The signature's arguments with their meanings; the optional ones marked as such.
+  auto add_arguments = [&](bool with_optional) {
+    for (size_t i = 0; i < sig->names.size(); ++i) {
+      const bool optional = i >= sig->args.size();
+      if (optional && !with_optional) break;
+      const ir::ArgIndex arg = optional ? sig->optional[i - sig->args.size()] : sig->args[i];
+      std::string doc = arg == ir::kNoArg ? std::string() : std::string(info->args[arg].doc);
+      params.push_back({std::string(sig->names[i]), optional ? "optional: " + doc : doc});
+    }
+  };
   if (rotate_angle) {
     head = "rotate (ax ay az) ";
     params = {{"degrees", "rotation angle in degrees"}};
@@ -357,12 +369,11 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
     params = {{"x", "x coordinate"}, {"y", "y coordinate"}, {"z", "z coordinate"}};
   } else if (sig != nullptr && c.lists_before == 0 && option.empty()) {
     head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
-    for (std::string_view a : sig->args) params.push_back({std::string(a), std::string(argument_doc(c.stmt, a))});
-    for (std::string_view a : sig->optional) params.push_back({std::string(a), "optional: " + std::string(argument_doc(c.stmt, a))});
+    add_arguments(true);
   } else if (sig != nullptr && c.lists_before == 0 && (c.items.size() >= 1)) {
     // `funnel f (` where the name happens to be an option word.
     head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
-    for (std::string_view a : sig->args) params.push_back({std::string(a), std::string(argument_doc(c.stmt, a))});
+    add_arguments(false);
   } else {
     return std::nullopt;
   }
@@ -373,9 +384,10 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
     h.label += params[i].first;
     h.parameters.push_back({b, static_cast<uint32_t>(h.label.size())});
     std::string doc = params[i].second;
-    if (sig != nullptr && std::find(sig->counts.begin(), sig->counts.end(), params[i].first) != sig->counts.end() &&
-        doc.find("count") == std::string::npos) {
-      doc += doc.empty() ? "a whole-number count" : " (count)";
+    if (info != nullptr && doc.find("count") == std::string::npos) {
+      std::optional<ir::ArgIndex> arg = info->arg_named(params[i].first);
+      const bool counted = arg && (info->args[*arg].type == ir::ArgType::Count || info->args[*arg].type == ir::ArgType::Whole);
+      if (counted) doc += doc.empty() ? "a whole-number count" : " (count)";
     }
     h.parameter_docs.push_back(std::move(doc));
   }
@@ -437,9 +449,10 @@ std::string Index::hover_symbol(const Symbol& s) const {
   switch (s.kind) {
     case SymbolKind::Parameter: {
       if (n == nullptr) break;
-      md = fmt::format("**slider `{}`** in bank `{}`\n\n", s.name, n->bank);
+      const ir::ParamData& pd = n->as<ir::ParamData>();
+      md = fmt::format("**slider `{}`** in bank `{}`\n\n", s.name, pd.bank);
       md += "| value | min | max | step |\n|---|---|---|---|\n";
-      md += fmt::format("| {} | {} | {} | {} |\n", fmt_num(n->value), fmt_num(n->min), fmt_num(n->max), fmt_num(n->step));
+      md += fmt::format("| {} | {} | {} | {} |\n", fmt_num(pd.value), fmt_num(pd.min), fmt_num(pd.max), fmt_num(pd.step));
       std::vector<std::string> insts;
       size_t total = 0;
       for (ir::NodeId d : m.deps.affected_by(s.node)) {
@@ -456,7 +469,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
       }
       size_t uses = 0;
       for (uint32_t i = ref_begin_[s.id]; i < ref_begin_[s.id + 1]; ++i) uses += !occurrences_[ref_items_[i]].is_definition;
-      md += fmt::format("\n\nUsed {} time{}. Write it as `${}.{}` or `${}_{}`.", uses, uses == 1 ? "" : "s", n->bank, s.name, n->bank, s.name);
+      md += fmt::format("\n\nUsed {} time{}. Write it as `${}.{}` or `${}_{}`.", uses, uses == 1 ? "" : "s", pd.bank, s.name, pd.bank, s.name);
       return md;
     }
     case SymbolKind::Bank: {
@@ -464,7 +477,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
       md += "| slider | value | min | max | step |\n|---|---|---|---|---|\n";
       for (const Symbol& p : symbols_) {
         if (p.parent != s.id || p.kind != SymbolKind::Parameter || !p.node.is_valid()) continue;
-        const ir::Node& pn = m.node(p.node);
+        const ir::ParamData& pn = m.param(p.node);
         md += fmt::format("| `{}` | {} | {} | {} | {} |\n", p.name, fmt_num(pn.value), fmt_num(pn.min), fmt_num(pn.max), fmt_num(pn.step));
       }
       return md;
@@ -473,41 +486,38 @@ std::string Index::hover_symbol(const Symbol& s) const {
   }
   if (n == nullptr) return fmt::format("**{} `{}`**", symbol_kind_name(s.kind), s.name);
   md = fmt::format("**{} `{}`**", n->keyword, s.name);
+  auto operand_line = [&](ir::OperandId o) {
+    const ir::Operand& op = m.operand(o);
+    std::vector<std::string> vals;
+    for (ir::ExprId e : op.exprs) vals.push_back(value_of(e));
+    return fmt::format("\n- `{}` ({})", op.name, fmt::join(vals, " | "));
+  };
   if (n->kind == ir::NodeKind::Instance) {
-    if (n->target.is_valid()) {
-      const ir::Node& t = m.node(n->target);
+    const ir::InstanceData& inst = n->as<ir::InstanceData>();
+    if (inst.target.is_valid()) {
+      const ir::Node& t = m.node(inst.target);
       md += fmt::format(" — instance of {} `{}`", t.keyword, t.name);
     }
     md += "\n";
-    for (const ir::Field& f : n->fields) {
-      if (f.kind == ir::FieldKind::Flag) {
-        md += fmt::format("\n- `{}`", f.name);
-      } else if (!f.exprs.empty()) {
-        std::vector<std::string> vals;
-        for (ir::ExprId e : f.exprs) vals.push_back(value_of(e));
-        md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vals, " | "));
-      } else if (!f.refs.empty() && f.refs[0].is_valid()) {
-        md += fmt::format("\n- `{}` `{}`", f.name, m.node(f.refs[0]).name);
-      }
-    }
-    if (n->target.is_valid()) {
-      SymbolId ts = symbol_of(n->target);
+    for (ir::OperandId o : n->operands) md += operand_line(o);
+    if (inst.surface.is_valid()) md += fmt::format("\n- `surface` `{}`", m.node(inst.surface).name);
+    if (inst.is_hidden) md += "\n- `hidden`";
+    if (inst.target.is_valid()) {
+      SymbolId ts = symbol_of(inst.target);
       if (ts >= 0 && symbols_[ts].kind == SymbolKind::Generator) md += "\n\n" + hover_symbol(symbols_[ts]);
     }
     return md;
   }
-  BlockKind kind;
-  bool has_kind = block_by_open(n->keyword, &kind);
-  if (has_kind) {
-    if (std::string_view d = keyword_doc(n->keyword); !d.empty()) md += fmt::format(" — {}", d);
-  }
+  if (std::string_view d = keyword_doc(n->keyword); !d.empty()) md += fmt::format(" — {}", d);
   md += "\n";
-  const GenSignature* sig = has_kind ? signature_for(kind, check_->dialect) : nullptr;
-  if (sig != nullptr) {
+  if (n->kind == ir::NodeKind::Generator) {
+    // The arguments as written, with their meanings from the generator catalogue.
+    const ir::GeneratorInfo& info = ir::generator(n->as<ir::GeneratorData>().gen);
     md += "\n| argument | value | meaning |\n|---|---|---|\n";
-    for (const ir::Field& f : n->fields) {
-      if (f.exprs.empty()) continue;
-      md += fmt::format("| `{}` | {} | {} |\n", f.name, value_of(f.exprs[0]), argument_doc(kind, f.name));
+    for (const ir::GenArgBinding& b : m.refs(n->as<ir::GeneratorData>().args)) {
+      if (!b.value.is_valid() || m.operand(b.value).exprs.empty()) continue;
+      const ir::Operand& op = m.operand(b.value);
+      md += fmt::format("| `{}` | {} | {} |\n", op.name, value_of(op.exprs[0]), b.arg == ir::kNoArg ? "" : info.args[b.arg].doc);
     }
     return md;
   }
@@ -523,18 +533,16 @@ std::string Index::hover_symbol(const Symbol& s) const {
   for (const Symbol& o : symbols_) instances += o.parent == s.id && o.kind == SymbolKind::Instance && !o.node.is_valid();
   if (points + faces > 0) md += fmt::format("\n{} point{}, {} face{} written here", points, points == 1 ? "" : "s", faces, faces == 1 ? "" : "s");
   if (instances > 0) md += fmt::format("\n{} instance{}", instances, instances == 1 ? "" : "s");
-  for (const ir::Field& f : n->fields) {
-    if (!f.exprs.empty()) {
-      std::vector<std::string> vals;
-      for (ir::ExprId e : f.exprs) vals.push_back(value_of(e));
-      md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vals, " | "));
-    } else if (f.kind == ir::FieldKind::Vertices) {
-      std::vector<std::string> vs;
-      for (const ir::VertexRef& v : f.vertices) vs.push_back(v.text);
-      md += fmt::format("\n- `{}` ({})", f.name, fmt::join(vs, " "));
-    } else if (f.kind == ir::FieldKind::Text && !f.text.empty()) {
-      md += fmt::format("\n- `{}` {}", f.name, f.text);
-    }
+  for (ir::OperandId o : n->operands) md += operand_line(o);
+  for (ir::Slice<ir::VertexRef> list : ir::vertex_lists_of(m, *n)) {
+    std::vector<std::string> vs;
+    for (const ir::VertexRef& v : m.refs(list)) vs.push_back(v.text);
+    md += fmt::format("\n- `{}` ({})", n->kind == ir::NodeKind::Polyline ? "points" : "vertices", fmt::join(vs, " "));
+  }
+  if (n->kind == ir::NodeKind::Subdivision) {
+    md += fmt::format("\n- rule {}", ir::subdivision_rule_name(n->as<ir::SubdivisionData>().rule));
+  } else if (n->kind == ir::NodeKind::Offset) {
+    md += fmt::format("\n- {} offset", ir::offset_kind_name(n->as<ir::OffsetData>().kind));
   }
   return md;
 }

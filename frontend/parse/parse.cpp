@@ -34,14 +34,18 @@ using nomec_antlr::NomeParser;
 // ANTLR indexes code points; diagnostics use byte offsets. The input is decoded here (not by
 // ANTLR, whose decoder throws on invalid UTF-8): every invalid byte becomes one U+FFFD, so
 // any byte sequence lexes, and `byte_of` maps a code-point index back to its byte offset.
+// A text parsed on its own but lying inside a file (the function of `funcX [ … ]`) has the
+// offset of its first byte in `base`, so ranges are file offsets.
 struct Offsets {
   std::vector<uint32_t> cp_to_byte;  // empty when the text is ASCII (identity)
   uint32_t text_size = 0;
+  uint32_t base = 0;
   // Clamped to the text: tokens the parser conjures during recovery have no real position.
-  uint32_t byte_of(size_t cp) const {
+  uint32_t local_of(size_t cp) const {
     if (cp_to_byte.empty()) return static_cast<uint32_t>(std::min<size_t>(cp, text_size));
     return cp < cp_to_byte.size() ? cp_to_byte[cp] : cp_to_byte.back();
   }
+  uint32_t byte_of(size_t cp) const { return base + local_of(cp); }
 };
 
 std::u32string decode_utf8(std::string_view text, Offsets& offsets) {
@@ -402,7 +406,7 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
       out.push_back(std::move(tok));
       break;
     }
-    size_t start = offsets.byte_of(tok->getStartIndex());
+    size_t start = offsets.local_of(tok->getStartIndex());  // index into `text`
     // The parser is recursive: bound how deep brackets, signs and `^` chains nest, and stop
     // reading the file where a limit is crossed (one error, no stack overflow).
     if (type == NomeLexer::LPAREN || type == NomeLexer::LBRACE) {
@@ -494,6 +498,9 @@ class AstBuilder {
              std::vector<int32_t>* unanchored)
       : file_(file), text_(text), offsets_(offsets), ast_(out), unanchored_(unanchored) {}
 
+  /// The expression of a parse-tree context (a function text parsed with the `expr` rule).
+  ast::ExprId build_expr(antlr4::ParserRuleContext* ctx) { return convert_expr(ctx); }
+
   void build_file(NomeParser::FileContext* file) {
     for (auto* top : file->topStmt()) {
       if (top->TCLINIT() != nullptr) {
@@ -552,8 +559,8 @@ class AstBuilder {
     return SourceRange{file_, begin, end};
   }
   std::string_view view(SourceRange r) const {
-    size_t begin = std::min<size_t>(r.begin, text_.size());
-    size_t end = std::clamp<size_t>(r.end, begin, text_.size());
+    size_t begin = std::min<size_t>(r.begin - std::min(r.begin, offsets_.base), text_.size());
+    size_t end = std::clamp<size_t>(r.end - std::min(r.end, offsets_.base), begin, text_.size());
     return text_.substr(begin, end - begin);
   }
 
@@ -905,6 +912,62 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
 
 ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
   return parse_piece(sources.text(file), file, PieceSinks{diags, diags, diags}, nullptr);
+}
+
+ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceRange raw, ast::Ast& out,
+                                DiagnosticEngine& diags) {
+  uint32_t b = std::min<uint32_t>(raw.begin, static_cast<uint32_t>(file_text.size()));
+  uint32_t e = std::clamp<uint32_t>(raw.end, b, static_cast<uint32_t>(file_text.size()));
+  if (e > b && file_text[b] == '[') ++b;
+  if (e > b && file_text[e - 1] == ']') --e;
+  const std::string_view text = file_text.substr(b, e - b);
+  Offsets offsets;
+  offsets.text_size = static_cast<uint32_t>(text.size());
+  offsets.base = b;
+  DecodedInput input(decode_utf8(text, offsets));
+  NomeLexer lexer(&input);
+  lexer.removeErrorListeners();
+  SilentListener silent;
+  lexer.addErrorListener(&silent);
+  std::vector<std::unique_ptr<antlr4::Token>> raw_tokens = lexer.getAllTokens();
+  raw_tokens.push_back(lexer.getTokenFactory()->create({&lexer, &input}, antlr4::Token::EOF, "<EOF>",
+                                                       antlr4::Token::DEFAULT_CHANNEL, input.size(), input.size() - 1, 0, 0));
+  bool stopped = false;
+  DiagnosticEngine token_diags;
+  std::vector<std::unique_ptr<antlr4::Token>> tokens =
+      prepare_tokens(std::move(raw_tokens), text, offsets, file, token_diags, stopped);
+  const bool token_errors = token_diags.error_count() > 0;
+  diags.append(std::move(token_diags));
+  antlr4::ListTokenSource source(std::move(tokens));
+  antlr4::CommonTokenStream stream(&source);
+  NomeParser parser(&stream);
+  parser.removeErrorListeners();
+  SyntaxErrorListener listener(file, offsets, diags);
+  parser.addErrorListener(&listener);
+  NomeParser::ExprContext* tree = nullptr;
+  try {
+    tree = parser.expr();
+  } catch (const std::exception&) {
+    tree = nullptr;
+  }
+  auto error = [&](SourceRange at) {
+    ast::Expr x;
+    x.kind = ast::ExprKind::Error;
+    x.range = at;
+    out.exprs.push_back(x);
+    return ast::ExprId(static_cast<int32_t>(out.exprs.size() - 1));
+  };
+  if (tree == nullptr || listener.error_count() > 0 || token_errors || stopped) return error(raw);
+  antlr4::Token* next = stream.LT(1);
+  if (next != nullptr && next->getType() != antlr4::Token::EOF) {
+    const SourceRange at{file, offsets.byte_of(next->getStartIndex()), offsets.byte_of(next->getStopIndex() + 1)};
+    diags.emit(DiagKind::SyntaxError, at,
+               fmt::format("unexpected `{}` in the function; a function is one expression, e.g. `cos(u)*v`",
+                           next->getText()));
+    return error(raw);
+  }
+  AstBuilder builder(file, text, offsets, out, nullptr);
+  return builder.build_expr(tree);
 }
 
 }  // namespace nomec

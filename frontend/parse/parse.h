@@ -14,6 +14,13 @@ namespace nomec {
 /// Parses one file. Always returns an AST (possibly partial); problems go to `diags`.
 ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
 
+/// Parses the expression inside a raw `[ … ]` item of `file` (a function surface's
+/// `funcX [cos(u)*v]`; `raw` is the item's range in the file) with the grammar's `expr`
+/// rule, appending its expressions to `out`; ranges are offsets in the file. A syntax error
+/// is reported at its place and gives an error expression. Returns the root expression.
+ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceRange raw, ast::Ast& out,
+                                DiagnosticEngine& diags);
+
 /// Incremental parsing for an editor: keeps the pieces of the previous versions of one
 /// document and re-parses with ANTLR only the pieces whose text changed. `parse` returns
 /// exactly what `parse_file` returns for the same text (the same AST, ids, ranges and

@@ -131,7 +131,7 @@ TEST(Session, RefusesUnknownAndOutOfRangeSliders) {
   u = s.set_parameter("fp.n", 11, d);
   EXPECT_FALSE(u.ok());
   EXPECT_NE(u.error.find("outside the range [3, 10]"), std::string::npos);
-  EXPECT_EQ(s.module().node(s.find_parameter("fp.n")).value, 8);
+  EXPECT_EQ(s.module().param(s.find_parameter("fp.n")).value, 8);
 }
 
 // Every array of two outputs, soup and built mesh, is equal (a patched or reused result
@@ -353,21 +353,23 @@ void run_property(const PropertyCase& pc, uint32_t seed, int steps, std::string 
   std::mt19937 rng(seed);
   std::map<std::string, double> values;
   for (int i = 0; i < steps; ++i) {
-    const ir::Node& p = s.module().node(params[rng() % params.size()]);
+    const ir::NodeId pid = params[rng() % params.size()];
+    const ir::ParamData& p = s.module().param(pid);
+    const std::string& name = s.module().node(pid).name;
     double lo = std::min(p.min, p.max), hi = std::max(p.min, p.max);
     double v = lo + (hi - lo) * std::uniform_real_distribution<double>(0, 1)(rng);
     if (p.step > 0) v = std::min(hi, lo + std::round((v - lo) / p.step) * p.step);
     DiagnosticEngine ud;
-    UpdateStats u = s.set_parameter(p.name, v, ud);
+    UpdateStats u = s.set_parameter(name, v, ud);
     ASSERT_TRUE(u.ok()) << u.error;
-    values[p.name] = v;
+    values[name] = v;
     std::vector<std::pair<std::string, double>> overrides(values.begin(), values.end());
     auto fresh = check(pc.path, text, overrides);
     Session f(std::move(fresh->check.module), so);
     DiagnosticEngine fd;
     f.build(fd);
-    EXPECT_EQ(ud.error_count(), fd.error_count()) << "after " << p.name << "=" << v;
-    expect_same_outputs(s, f, fmt::format("step {}: {}={}", i, p.name, v));
+    EXPECT_EQ(ud.error_count(), fd.error_count()) << "after " << name << "=" << v;
+    expect_same_outputs(s, f, fmt::format("step {}: {}={}", i, name, v));
     // Also the one-shot evaluate_scene path (element order may differ in blocks that work
     // per component, so compare the order-independent summaries).
     if (!pc.pipeline.any()) {

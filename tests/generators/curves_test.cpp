@@ -31,8 +31,8 @@ TEST(Spiral, RadiusGrowsPerTurn) {
             "segs");
 }
 
-GeneratorArgs with_points(std::vector<glm::dvec3> pts, std::vector<std::pair<std::string, double>> nums) {
-  GeneratorArgs a = numbers(std::move(nums), "nome3");
+Args with_points(std::vector<glm::dvec3> pts, std::vector<std::pair<std::string, double>> nums) {
+  Args a = numbers(std::move(nums), "nome3");
   a.points = std::move(pts);
   for (size_t i = 0; i < a.points.size(); ++i) a.point_names.push_back("p" + std::to_string(i));
   return a;

@@ -29,14 +29,16 @@ bool has(const Checked& c, DiagKind kind) {
                      [&](const Diagnostic& d) { return d.kind == kind; });
 }
 
+// The value of expression `i` of operand `field` of node `node`.
 double field_value(const Checked& c, std::string_view node, std::string_view field, size_t i) {
-  for (const ir::Node& n : c.result.module.nodes) {
+  const ir::Module& m = c.result.module;
+  for (const ir::Node& n : m.nodes) {
     if (n.name != node) continue;
-    for (const ir::Field& f : n.fields) {
-      if (f.name == field) return ir::evaluate(c.result.module, f.exprs.at(i)).value;
+    for (ir::OperandId o : n.operands) {
+      if (m.operand(o).name == field) return ir::evaluate(m, m.operand(o).exprs.at(static_cast<uint32_t>(i))).value;
     }
   }
-  ADD_FAILURE() << "no field " << field << " on " << node;
+  ADD_FAILURE() << "no operand " << field << " on " << node;
   return 0;
 }
 

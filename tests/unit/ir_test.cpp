@@ -7,12 +7,7 @@
 namespace nomec::ir {
 namespace {
 
-NodeId add(Module& m, NodeKind kind, std::string name) {
-  Node n;
-  n.kind = kind;
-  n.name = std::move(name);
-  return m.add_node(std::move(n));
-}
+NodeId add(Module& m, NodeKind kind, std::string name) { return m.add_node(kind, "", std::move(name), SourceRange{}); }
 
 TEST(DepGraph, TopologicalOrderAndReachability) {
   Module m;
@@ -79,7 +74,8 @@ TEST(Evaluate, ArithmeticAndFunctions) {
   call.func = Func::Atan2;
   call.args = {num(m, 1), num(m, 1)};
   EXPECT_NEAR(evaluate(m, m.add_expr(call)).value, 0.7853981633974483, 1e-15);
-  NodeId p = m.add_node(Node{.kind = NodeKind::Param, .name = "b.x", .value = 4});
+  NodeId p = add(m, NodeKind::Param, "b.x");
+  m.param(p).value = 4;
   Expr ref;
   ref.kind = ExprKind::Param;
   ref.param = p;

@@ -1,0 +1,187 @@
+// The checker context's services (see context.h): node and operand creation with their
+// dependency edges, statement names, and text helpers for messages.
+#include "frontend/check/context.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+namespace nomec::check {
+
+ir::NodeKind node_kind_for(BlockKind kind) {
+  switch (kind) {
+    case BlockKind::Surface: return ir::NodeKind::Surface;
+    case BlockKind::Point:
+    case BlockKind::Vertex: return ir::NodeKind::Point;
+    case BlockKind::Polyline: return ir::NodeKind::Polyline;
+    case BlockKind::Face:
+    case BlockKind::Facet:
+    case BlockKind::Consolidateface: return ir::NodeKind::Face;
+    case BlockKind::Object:
+    case BlockKind::Mesh:
+    case BlockKind::Consolidate:
+    case BlockKind::Savedworkingmesh: return ir::NodeKind::Mesh;
+    case BlockKind::Group: return ir::NodeKind::Group;
+    case BlockKind::Instance: return ir::NodeKind::Instance;
+    case BlockKind::Sweep: return ir::NodeKind::Sweep;
+    case BlockKind::Crosssection: return ir::NodeKind::CrossSection;
+    case BlockKind::Path: return ir::NodeKind::SweepPath;
+    case BlockKind::Controlpoint: return ir::NodeKind::ControlPoint;
+    case BlockKind::Transform: return ir::NodeKind::Transform;
+    case BlockKind::Lookat:
+    case BlockKind::Camera:
+    case BlockKind::Light:
+    case BlockKind::Window:
+    case BlockKind::Viewport:
+    case BlockKind::Render: return ir::NodeKind::SceneSetup;
+    case BlockKind::Delete: return ir::NodeKind::Delete;
+    case BlockKind::Sharp: return ir::NodeKind::Sharp;
+    case BlockKind::Zipper: return ir::NodeKind::Zipper;
+    case BlockKind::Merge: return ir::NodeKind::Merge;
+    case BlockKind::Subdivision: return ir::NodeKind::Subdivision;
+    case BlockKind::Offset: return ir::NodeKind::Offset;
+    case BlockKind::Handle: return ir::NodeKind::Handle;
+    case BlockKind::Rind: return ir::NodeKind::Rind;
+    case BlockKind::Sierpinski: return ir::NodeKind::Sierpinski;
+    case BlockKind::Menger: return ir::NodeKind::Menger;
+    case BlockKind::Mirror: return ir::NodeKind::FaceReversal;
+    case BlockKind::Bank:
+    case BlockKind::Savedparameter: return ir::NodeKind::Value;
+    case BlockKind::Funnel:
+    case BlockKind::Tunnel:
+    case BlockKind::Rimribbon:
+    case BlockKind::Circle:
+    case BlockKind::Sphere:
+    case BlockKind::Ellipsoid:
+    case BlockKind::Cylinder:
+    case BlockKind::Hyperboloid:
+    case BlockKind::Dupin:
+    case BlockKind::Mobiusstrip:
+    case BlockKind::Helix:
+    case BlockKind::Spiral:
+    case BlockKind::Torus:
+    case BlockKind::Torusknot:
+    case BlockKind::Beziercurve:
+    case BlockKind::Bspline:
+    case BlockKind::Bsplinecurve:
+    case BlockKind::Gencartesiansurf:
+    case BlockKind::Genparametricsurf:
+    case BlockKind::Genimplicitsurf: return ir::NodeKind::Generator;
+  }
+  return ir::NodeKind::Value;
+}
+
+void Context::reserve_for(const ast::Ast& a) {
+  // About one IR expression per syntax expression and two nodes (the statement and a
+  // value node) per statement: reserving once avoids moving the arrays while they grow.
+  m_.exprs.reserve(m_.exprs.size() + a.exprs.size() + a.exprs.size() / 4);
+  m_.nodes.reserve(m_.nodes.size() + 2 * a.stmts.size());
+  m_.operands.reserve(m_.operands.size() + a.stmts.size());
+  m_.deps.reserve(m_.nodes.capacity());
+  declared_.push_back({&a, std::vector<ir::NodeId>(a.stmts.size(), ir::NodeId::None())});
+}
+
+ir::NodeId* Context::declared_slot(const ast::Stmt& s) {
+  for (Declared& d : declared_) {
+    const std::vector<ast::Stmt>& v = d.ast->stmts;
+    if (!v.empty() && &s >= v.data() && &s < v.data() + v.size()) return &d.ids[static_cast<size_t>(&s - v.data())];
+  }
+  return nullptr;
+}
+
+ir::NodeId Context::node_for(const ast::Stmt& s, std::string name, const Ctx& ctx) {
+  if (const ir::NodeId* d = declared_slot(s); d != nullptr && d->is_valid()) return *d;
+  return m_.add_node(node_kind_for(s.kind), ast::open_keyword(s.kind), std::move(name), s.range, ctx.parent);
+}
+
+std::string Context::qualify(const Ctx& ctx, const std::string& name) const {
+  if (!ctx.parent.is_valid() || name.empty()) return name;
+  return fmt::format("{}.{}", m_.node(ctx.parent).name, name);
+}
+
+void Context::adopt(ir::NodeId parent, ir::NodeId child) {
+  if (!parent.is_valid() || !child.is_valid()) return;
+  m_.node(parent).children.push_back(child);
+  m_.deps.add_edge(child, parent);
+}
+
+namespace {
+
+void collect_params(const ir::Module& m, ir::ExprId root, std::vector<int32_t>& out) {
+  if (!root.is_valid()) return;
+  // Iterative: expressions may be deep.
+  SmallVec<ir::ExprId, 16> todo;
+  todo.push_back(root);
+  while (!todo.empty()) {
+    const ir::Expr& x = m.expr(todo.back());
+    todo.pop_back();
+    if (x.kind == ir::ExprKind::Param) out.push_back(x.param.index);
+    if (x.lhs.is_valid()) todo.push_back(x.lhs);
+    if (x.rhs.is_valid()) todo.push_back(x.rhs);
+    for (ir::ExprId c : x.args) todo.push_back(c);
+  }
+}
+
+}  // namespace
+
+ir::OperandId Context::add_operand(ir::NodeId owner, std::string_view name, SmallVec<ir::ExprId, 4> exprs,
+                                   SourceRange range) {
+  std::vector<int32_t>& params = params_scratch_;
+  params.clear();
+  for (ir::ExprId e : exprs) collect_params(m_, e, params);
+  std::sort(params.begin(), params.end());
+  params.erase(std::unique(params.begin(), params.end()), params.end());
+  ir::Operand o;
+  o.name = name;
+  o.exprs = std::move(exprs);
+  o.range = range;
+  o.owner = owner;
+  const ir::OperandId id = m_.add_operand(std::move(o));
+  if (!params.empty()) {
+    // A Value node for operands whose expressions depend on parameters.
+    const std::string& owner_name = m_.node(owner).name;
+    std::string value_name;
+    value_name.reserve(owner_name.size() + 1 + name.size());
+    value_name.append(owner_name).append(1, '.').append(name);
+    ir::NodeId vid = m_.add_node(ir::NodeKind::Value, "value", std::move(value_name), range);
+    m_.get<ir::ValueData>(vid).operand = id;
+    for (int32_t p : params) m_.deps.add_edge(ir::NodeId(p), vid);
+    m_.deps.add_edge(vid, owner);
+    m_.operand(id).value_node = vid;
+  }
+  m_.node(owner).operands.push_back(id);
+  return id;
+}
+
+std::optional<std::string> Context::read_name(const ast::Stmt& s, size_t& pos, std::string_view example) {
+  if (pos < s.items.size() && s.items[pos].kind == ItemKind::Word) return std::string(s.items[pos++].text);
+  diags_.emit(DiagKind::MissingName, s.open_kw,
+              fmt::format("`{}` needs a name, e.g. `{}`", ast::open_keyword(s.kind), example));
+  return std::nullopt;
+}
+
+void Context::misplaced(const ast::Stmt& s, const Ctx& ctx) {
+  diags_.emit(DiagKind::MisplacedStatement, s.open_kw,
+              fmt::format("`{}` cannot appear inside `{}`", ast::open_keyword(s.kind), ast::open_keyword(ctx.parent_kind)));
+}
+
+std::string Context::clip(std::string_view t) {
+  std::string s(t.substr(0, 40));
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return t.size() > 40 ? s + "…" : s;
+}
+
+std::string Context::split_text(const ast::Ast& a, const ast::ParenList& list) const {
+  if (list.elems.empty()) return "";
+  std::vector<std::string> parts;
+  for (ast::ExprId e : list.elems) parts.push_back(fmt::format("`{}`", clip(sources_.text(a.expr(e).range))));
+  return fmt::format("; the list was read as: {}", fmt::join(parts, " | "));
+}
+
+void Context::check_commas(const ast::Ast& a, ast::ListId list) {
+  const ast::ParenList& l = a.list(list);
+  if (l.commas.empty()) return;
+  auto d = diags_.emit(DiagKind::CommaInList, l.commas.front(), "NOME lists are separated by spaces; commas are ignored");
+  for (SourceRange c : l.commas) d.fixit(c, "", "remove `,`");
+}
+
+}  // namespace nomec::check

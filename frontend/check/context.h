@@ -1,0 +1,157 @@
+// The checker's context: the state one check of a scene shares between its concerns (the
+// module being written, the diagnostics, the dialect, the scopes of names and parameters,
+// where each statement's node is) and the small services every concern uses (creating
+// nodes and operands, reading a statement's name, common messages). The concerns themselves
+// are free functions in their own files (handlers.h lists them), in the manner of Carbon's
+// check::Context and Handle* functions.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "frontend/ast/ast.h"
+#include "frontend/check/check.h"
+#include "frontend/diagnostics/diagnostic.h"
+#include "ir/ir.h"
+
+namespace nomec::check {
+
+using ast::BlockKind;
+using ast::ItemKind;
+
+// Namespaces. NOME files share one namespace for shapes; SLIDE keeps surfaces, points and
+// faces apart from shapes (`surface Y` and `point Y` coexist in real SLIDE files), and we do
+// the same for every dialect because no valid NOME file depends on the difference.
+enum class Ns : uint8_t { Surface, Point, Face, Shape, Scene, Count };
+
+/// A definition in a namespace: its node, where its name is, and where it was declared.
+struct Symbol {
+  ir::NodeId node;
+  SourceRange range;
+  int order = 0;  // top-level statement index of the definition
+  BlockKind kind = BlockKind::Point;
+};
+
+/// Where a statement is being checked: its enclosing node (a mesh, group, block …).
+struct Ctx {
+  ir::NodeId parent;                        // enclosing mesh/group/pipeline node
+  BlockKind parent_kind = BlockKind::Bank;  // Bank = top level
+  bool top = true;
+};
+
+/// A `list (…)` entry to check once every bank is known.
+struct PendingList {
+  std::string bank, name;
+  SourceRange range;
+};
+
+/// The IR node kind a statement lowers to (Bank and Savedparameter make none: Value).
+ir::NodeKind node_kind_for(BlockKind kind);
+
+/// The generator a statement is, if it is one (`funnel`, `bsplinecurve` …).
+inline std::optional<ir::GenKind> generator_of(const ast::Stmt& s) { return statement_generator(s); }
+
+/// A face named in a `delete` block, resolved once every instance is known.
+struct PendingDelete {
+  ir::NodeId owner;  // the delete node
+  std::string text;
+  SourceRange range;
+};
+
+class Context {
+ public:
+  Context(SourceManager& sources, DiagnosticEngine& diags, const CheckOptions& options, ir::Module& module)
+      : sources_(sources), diags_(diags), options_(options), m_(module) {}
+
+  SourceManager& sources() { return sources_; }
+  DiagnosticEngine& diags() { return diags_; }
+  const CheckOptions& options() const { return options_; }
+  ir::Module& module() { return m_; }
+  Dialect dialect() const { return dialect_; }
+  void set_dialect(Dialect d) { dialect_ = d; }
+
+  // ---- nodes ----
+  /// Reserves room for the statements of a syntax tree and remembers its statements, so
+  /// each can be given its node before it is checked.
+  void reserve_for(const ast::Ast& a);
+  /// The node declared for `s` (see `declare`), or null for a statement of no declared tree.
+  ir::NodeId* declared_slot(const ast::Stmt& s);
+  /// Creates (or reuses the declared) node for a statement.
+  ir::NodeId node_for(const ast::Stmt& s, std::string name, const Ctx& ctx);
+  /// `parent.name` for a nested definition, `name` at the top level.
+  std::string qualify(const Ctx& ctx, const std::string& name) const;
+  /// Adds `child` to `parent`'s children and the edge child → parent.
+  void adopt(ir::NodeId parent, ir::NodeId child);
+
+  // ---- operands ----
+  /// Adds an operand to node `owner` (listed in its `operands`, in written order), with a
+  /// Value node and its edges when its expressions read parameters.
+  ir::OperandId add_operand(ir::NodeId owner, std::string_view name, SmallVec<ir::ExprId, 4> exprs, SourceRange range);
+
+  // ---- names of the statement ----
+  /// Reads the name that follows the keyword; reports MissingName if absent.
+  std::optional<std::string> read_name(const ast::Stmt& s, size_t& pos, std::string_view example);
+  void misplaced(const ast::Stmt& s, const Ctx& ctx);
+
+  // ---- text helpers for messages ----
+  static std::string clip(std::string_view t);
+  /// "; the list was read as: `a` | `b`" for arity messages.
+  std::string split_text(const ast::Ast& a, const ast::ParenList& list) const;
+  /// Warns once per list about commas (NOME lists are separated by spaces).
+  void check_commas(const ast::Ast& a, ast::ListId list);
+
+  // ---- scopes (state used by names.cpp and the statement handlers) ----
+  std::unordered_map<std::string, Symbol> scopes[static_cast<int>(Ns::Count)];
+  std::map<std::string, ir::NodeId> params;  // "bank.param"
+  mutable std::unordered_map<std::string, ir::NodeId> param_text_memo;  // see lookup_param_text
+  std::map<std::string, SourceRange> banks;
+  std::unordered_map<int32_t, std::map<std::string, ir::NodeId>> mesh_points;
+  // Instance scopes keyed by owner node index + 1 (0 = top level).
+  std::map<int32_t, std::map<std::string, ir::NodeId>> instance_scopes;
+  std::vector<PendingList> pending_lists;
+  std::vector<PendingDelete> pending_deletes;
+
+  // ---- SLIDE's Tcl ----
+  std::set<std::string> tcl_vars;
+  std::set<std::string> tcl_suffixes;
+  std::set<std::string> tcl_reported;
+  bool has_tcl = false;
+  /// Names only Tcl defines are reported once per name (real SLIDE files use them hundreds
+  /// of times); later uses stay quiet.
+  bool first_tcl_report(const std::string& name) { return tcl_reported.insert(name).second; }
+
+  // ---- progress ----
+  int order = 0;  // index of the top-level statement being checked
+  int include_depth = 0;
+  bool reported_deep_expr = false;
+  bool is_saved_work = false;
+  bool base_loaded = false;
+  std::vector<NameUse>* name_uses = nullptr;  // CheckOptions::record_names
+  std::vector<std::unique_ptr<ast::Ast>> owned_asts;  // included files
+  std::vector<std::unique_ptr<ast::Ast>> fragments;   // function texts (`funcX [ … ]`)
+
+ private:
+  // The node declared for each statement, by statement index, per syntax tree (the main
+  // file, its base scene, its includes: each is declared before it is processed).
+  struct Declared {
+    const ast::Ast* ast;
+    std::vector<ir::NodeId> ids;
+  };
+
+  SourceManager& sources_;
+  DiagnosticEngine& diags_;
+  const CheckOptions& options_;
+  ir::Module& m_;
+  Dialect dialect_ = Dialect::Nome;
+  std::vector<Declared> declared_;
+  std::vector<int32_t> params_scratch_;  // add_operand: the parameters an operand reads
+};
+
+}  // namespace nomec::check

@@ -1,0 +1,358 @@
+// Lowering expressions from the syntax tree into the IR (see handlers.h): names become
+// sliders, constants or a function's variables, calls are checked against the function
+// table, and each value is evaluated once so a division by zero is reported where it is
+// written. Iterative (an explicit stack): an expression nesting thousands of operations deep
+// is refused with one `NestingTooDeep` error, without deep recursion.
+#include <cmath>
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+#include "frontend/parse/parse.h"
+
+namespace nomec::check {
+
+namespace {
+
+// Expressions deeper than this (e.g. `1+1+…+1` with thousands of terms) are refused, so
+// evaluation, printing and the backend never see them.
+constexpr int kMaxExprDepth = 1000;
+
+// What names mean where an expression is lowered.
+struct Scope {
+  bool constant = false;                        // slider values: no slider references
+  std::span<const std::string_view> variables;  // a function's variables (`u`, `v` …)
+};
+
+ir::ExprId add(Context& c, ir::Expr e) { return c.module().add_expr(std::move(e)); }
+
+ir::ExprId param_expr(Context& c, ir::NodeId p, SourceRange r) {
+  ir::Expr e;
+  e.kind = ir::ExprKind::Param;
+  e.param = p;
+  e.range = r;
+  return add(c, std::move(e));
+}
+
+ir::ExprId constant_expr(Context& c, double v, SourceRange r) {
+  ir::Expr e;
+  e.kind = ir::ExprKind::Const;
+  e.value = v;
+  e.range = r;
+  return add(c, std::move(e));
+}
+
+std::string tcl_var_hint(const Context& c, std::string_view name) {
+  for (const std::string& suf : c.tcl_suffixes) {
+    if (name.size() > suf.size() && name.substr(name.size() - suf.size()) == suf) {
+      return "a slider made by `CreateScale` inside a Tcl proc";
+    }
+  }
+  if (c.tcl_vars.contains(std::string(name))) return "a Tcl variable set in a `tclinit` block";
+  return "";
+}
+
+std::vector<std::string> slider_names(const Context& c, bool dotted_style) {
+  std::vector<std::string> all;
+  for (const auto& [k, v] : c.params) {
+    std::string shown = k;
+    if (!dotted_style) std::replace(shown.begin(), shown.end(), '.', '_');
+    all.push_back(shown);
+  }
+  return all;
+}
+
+// A name or `$` reference: a constant, a function variable, a built-in, or a slider.
+ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
+  const bool dollar = x.kind == ast::ExprKind::DollarRef;
+  std::string name(dollar ? x.text.substr(1) : x.text);
+  if (!dollar) {
+    for (size_t i = 0; i < scope.variables.size(); ++i) {
+      if (scope.variables[i] == name) {
+        ir::Expr e;
+        e.kind = ir::ExprKind::Variable;
+        e.variable = static_cast<uint8_t>(i);
+        e.name = scope.variables[i];
+        e.range = x.range;
+        return add(c, std::move(e));
+      }
+    }
+    if (name == "pi" || name == "e") return constant_expr(c, name == "pi" ? M_PI : M_E, x.range);
+  }
+  if (dollar && name == "SLF_PI") return constant_expr(c, M_PI, x.range);
+  if (dollar && (name == "time" || name == "frame")) {
+    ir::Expr e;
+    e.kind = ir::ExprKind::Builtin;
+    e.name = name == "time" ? std::string_view("time") : std::string_view("frame");
+    e.range = x.range;
+    return add(c, std::move(e));
+  }
+  if (ir::NodeId p = lookup_param_text(c, name); p.is_valid()) {
+    if (scope.constant) {
+      c.diags().emit(DiagKind::NotAConstant, x.range,
+                     fmt::format("slider values must be constant, but this refers to `{}`", c.module().node(p).name));
+      return error_expr(c, x.range);
+    }
+    return param_expr(c, p, x.range);
+  }
+  if (c.dialect() == Dialect::Slide && dollar) {
+    std::string why = tcl_var_hint(c, name);
+    if (c.first_tcl_report("$" + name)) {
+      c.diags().emit(DiagKind::TclDefinedName, x.range,
+                     fmt::format("`${}` is {}; nomec does not evaluate Tcl yet, so values that use it are not checked yet",
+                                 name, why.empty() ? "not a slider of this file; it may be defined by Tcl code" : why));
+    }
+    return error_expr(c, x.range);
+  }
+  if (!dollar && !scope.variables.empty()) {
+    std::vector<std::string> candidates(scope.variables.begin(), scope.variables.end());
+    candidates.emplace_back("pi");
+    std::string hint = closest_match(name, candidates);
+    std::vector<std::string> shown;
+    for (std::string_view v : scope.variables) shown.push_back(fmt::format("`{}`", v));
+    auto d = c.diags().emit(DiagKind::UnknownName, x.range,
+                            fmt::format("unknown name `{}` in the function; its variables are {}{}", name,
+                                        fmt::join(shown, ", "), hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+    if (!hint.empty()) d.fixit(x.range, hint, fmt::format("replace with `{}`", hint));
+    return error_expr(c, x.range);
+  }
+  const bool dotted_style = name.find('.') != std::string::npos || c.dialect() == Dialect::Nome3;
+  std::string hint = closest_match(name, slider_names(c, dotted_style));
+  if (!dollar) {
+    c.diags().emit(DiagKind::ExpectedNumber, x.range,
+                   fmt::format("`{}` is not a number or a slider{}", name, hint.empty() ? "" : fmt::format("; did you mean `${}`?", hint)));
+    return error_expr(c, x.range);
+  }
+  auto d = c.diags().emit(DiagKind::UnknownParameter, x.range,
+                          fmt::format("unknown slider `${}`{}", name, hint.empty() ? "" : fmt::format("; did you mean `${}`?", hint)));
+  if (!hint.empty()) d.fixit(x.range, "$" + hint, fmt::format("replace with `${}`", hint));
+  return error_expr(c, x.range);
+}
+
+// An expression without operands (or one refused as a whole).
+ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
+  switch (x.kind) {
+    case ast::ExprKind::Number:
+      return constant_expr(c, x.number, x.range);
+    case ast::ExprKind::DollarRef:
+    case ast::ExprKind::Name:
+      return lower_name(c, x, scope);
+    case ast::ExprKind::TclArrayRef:
+      if (c.dialect() == Dialect::Slide) {
+        if (c.first_tcl_report(std::string(x.text))) {
+          c.diags().emit(DiagKind::TclDefinedName, x.range,
+                         fmt::format("`{}` is an element of a Tcl array made by a `slideui` object in `tclinit`; nomec does "
+                                     "not evaluate Tcl yet, so values that use it are not checked yet",
+                                     x.text));
+        }
+        return error_expr(c, x.range);
+      }
+      c.diags().emit(DiagKind::UnknownParameter, x.range,
+                     fmt::format("`{}` is a Tcl array element, which only SLIDE files can use", x.text));
+      return error_expr(c, x.range);
+    case ast::ExprKind::Raw:
+      if (c.dialect() == Dialect::Slide && x.in_braces) {
+        c.diags().emit(DiagKind::TclDefinedName, x.range,
+                       fmt::format("this value is a Tcl script (`{}`); nomec does not evaluate Tcl yet, so values that "
+                                   "use it are not checked yet",
+                                   Context::clip(x.text)));
+        return error_expr(c, x.range);
+      }
+      c.diags().emit(DiagKind::ExpectedNumber, x.range, fmt::format("expected a number, found raw text `{}`", Context::clip(x.text)));
+      return error_expr(c, x.range);
+    case ast::ExprKind::String:
+      c.diags().emit(DiagKind::ExpectedNumber, x.range, fmt::format("expected a number, found the string {}", x.text));
+      return error_expr(c, x.range);
+    case ast::ExprKind::Error:
+    case ast::ExprKind::Unary:
+    case ast::ExprKind::Binary:
+    case ast::ExprKind::Call:
+      break;
+  }
+  return error_expr(c, x.range);
+}
+
+// NOME3 applied `-` before `^`: warn where `-a^b` reads differently.
+void warn_unary_minus_power(Context& c, const ast::Ast& a, const ast::Expr& x, ir::ExprId unary, ir::ExprId power) {
+  const ast::Expr& operand = a.expr(x.lhs);
+  ir::EvalResult v = ir::evaluate(c.module(), unary);
+  if (!v.ok) return;
+  const ir::Expr& pow = c.module().expr(power);
+  ir::EvalResult b = ir::evaluate(c.module(), pow.lhs), p = ir::evaluate(c.module(), pow.rhs);
+  double nome3 = b.ok && p.ok ? std::pow(-b.value, p.value) : 0;
+  c.diags()
+      .emit(DiagKind::UnaryMinusPower, x.range,
+            fmt::format("`-` applies after `^` here, giving {}; NOME3 applied it first, giving {}", v.value, nome3))
+      .fixit(x.range, fmt::format("-({})", c.sources().text(operand.range)), "add parentheses to keep this meaning");
+}
+
+// An operation whose operands are lowered (`kids`, in order).
+ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, std::span<const ir::ExprId> kids) {
+  ir::Expr e;
+  e.range = x.range;
+  switch (x.kind) {
+    case ast::ExprKind::Unary: {
+      e.kind = ir::ExprKind::Unary;
+      e.op = x.op;
+      e.lhs = kids[0];
+      ir::ExprId id = add(c, std::move(e));
+      const ast::Expr& operand = a.expr(x.lhs);
+      if (c.dialect() == Dialect::Nome3 && x.op == '-' && operand.kind == ast::ExprKind::Binary && operand.op == '^' &&
+          c.module().expr(kids[0]).kind == ir::ExprKind::Binary) {
+        warn_unary_minus_power(c, a, x, id, kids[0]);
+      }
+      return id;
+    }
+    case ast::ExprKind::Binary:
+      e.kind = ir::ExprKind::Binary;
+      e.op = x.op;
+      e.lhs = kids[0];
+      e.rhs = kids[1];
+      return add(c, std::move(e));
+    case ast::ExprKind::Call: {
+      std::optional<ir::Func> f = ir::func_by_name(x.text);
+      if (!f) {
+        std::vector<std::string> names(ir::func_names().begin(), ir::func_names().end());
+        std::string hint = closest_match(x.text, names);
+        auto d = c.diags().emit(DiagKind::UnknownFunction, x.range,
+                                fmt::format("unknown function `{}`{}", x.text, hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+        if (!hint.empty()) {
+          d.fixit(SourceRange{x.range.file, x.range.begin, static_cast<uint32_t>(x.range.begin + x.text.size())}, hint,
+                  fmt::format("replace with `{}`", hint));
+        }
+        return error_expr(c, x.range);
+      }
+      const int arity = ir::func_arity(*f);
+      if ((arity >= 0 && static_cast<int>(kids.size()) != arity) || (arity < 0 && kids.empty())) {
+        c.diags().emit(DiagKind::FunctionArity, x.range,
+                       fmt::format("`{}` takes {} argument{}, got {}", x.text,
+                                   arity < 0 ? std::string("at least 1") : std::to_string(arity), arity == 1 ? "" : "s",
+                                   kids.size()));
+        return error_expr(c, x.range);
+      }
+      e.kind = ir::ExprKind::Call;
+      e.func = *f;
+      for (ir::ExprId k : kids) e.args.push_back(k);
+      return add(c, std::move(e));
+    }
+    default:
+      return error_expr(c, x.range);
+  }
+}
+
+// The operands of an operation in the syntax tree.
+SmallVec<ast::ExprId, 2> operands_of(const ast::Expr& x) {
+  SmallVec<ast::ExprId, 2> out;
+  switch (x.kind) {
+    case ast::ExprKind::Unary: out.push_back(x.lhs); break;
+    case ast::ExprKind::Binary:
+      out.push_back(x.lhs);
+      out.push_back(x.rhs);
+      break;
+    case ast::ExprKind::Call: out = x.args; break;
+    default: break;
+  }
+  return out;
+}
+
+ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Scope& scope) {
+  // Post-order: a frame is a syntax expression and how many of its operands are lowered;
+  // the lowered operands wait on `done` until their operation is built.
+  struct Frame {
+    ast::ExprId id;
+    int depth;
+    uint32_t next;
+  };
+  std::vector<Frame> stack{{root, 0, 0}};
+  std::vector<ir::ExprId> done;
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    const ast::Expr& x = a.expr(top.id);
+    if (top.depth > kMaxExprDepth) {
+      if (!c.reported_deep_expr) {
+        c.reported_deep_expr = true;
+        c.diags().emit(DiagKind::NestingTooDeep, x.range,
+                       fmt::format("expression nests more than {} operations deep; split it into sliders or points", kMaxExprDepth));
+      }
+      done.push_back(error_expr(c, x.range));
+      stack.pop_back();
+      continue;
+    }
+    const SmallVec<ast::ExprId, 2> kids = operands_of(x);
+    const bool is_operation = x.kind == ast::ExprKind::Unary || x.kind == ast::ExprKind::Binary || x.kind == ast::ExprKind::Call;
+    if (!is_operation) {
+      done.push_back(lower_leaf(c, x, scope));
+      stack.pop_back();
+      continue;
+    }
+    if (top.next < kids.size()) {
+      const ast::ExprId child = kids[top.next++];
+      const int depth = top.depth + 1;
+      stack.push_back({child, depth, 0});
+      continue;
+    }
+    std::vector<ir::ExprId> lowered(done.end() - kids.size(), done.end());
+    done.resize(done.size() - kids.size());
+    done.push_back(lower_operation(c, a, x, lowered));
+    stack.pop_back();
+  }
+  return done.back();
+}
+
+ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope) {
+  ir::ExprId out = lower_tree(c, a, id, scope);
+  if (!scope.variables.empty()) return out;  // a function is evaluated where it is used
+  ir::EvalResult r = ir::evaluate(c.module(), out);
+  if (!r.ok && !r.problem.empty()) {
+    c.diags().emit(DiagKind::ExpressionDomain, r.where.is_valid() ? r.where : a.expr(id).range, r.problem);
+    return error_expr(c, a.expr(id).range);
+  }
+  return out;
+}
+
+}  // namespace
+
+ir::ExprId error_expr(Context& c, SourceRange r) {
+  ir::Expr e;
+  e.kind = ir::ExprKind::Error;
+  e.range = r;
+  return add(c, std::move(e));
+}
+
+ir::ExprId lower_expr(Context& c, const ast::Ast& a, ast::ExprId id, bool constant) {
+  return lower_checked(c, a, id, Scope{constant, {}});
+}
+
+ir::ExprId scalar_of_item(Context& c, const ast::Ast& a, const ast::Item& it, bool constant) {
+  switch (it.kind) {
+    case ItemKind::Value:
+      return lower_expr(c, a, it.expr, constant);
+    case ItemKind::List: {
+      const ast::ParenList& l = a.list(it.list);
+      if (l.elems.size() == 1) return lower_expr(c, a, l.elems[0], constant);
+      c.diags().emit(DiagKind::ListArity, l.range,
+                     fmt::format("expected one value, got a list of {}{}", l.elems.size(), c.split_text(a, l)));
+      return error_expr(c, l.range);
+    }
+    case ItemKind::Word: {
+      // A bare `bank.param` word as a value.
+      ir::NodeId p = lookup_param_text(c, std::string(it.text));
+      if (p.is_valid() && !constant) return param_expr(c, p, it.range);
+      c.diags().emit(DiagKind::ExpectedNumber, it.range, fmt::format("expected a number, found `{}`", it.text));
+      return error_expr(c, it.range);
+    }
+    default:
+      return error_expr(c, it.range);
+  }
+}
+
+ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars) {
+  const ast::Expr& x = a.expr(raw);
+  // The function's own syntax tree lives as long as the check.
+  c.fragments.push_back(std::make_unique<ast::Ast>());
+  ast::Ast& fn = *c.fragments.back();
+  fn.file = x.range.file;
+  ast::ExprId root = parse_function_text(c.sources().text(x.range.file), x.range.file, x.range, fn, c.diags());
+  return lower_checked(c, fn, root, Scope{false, vars});
+}
+
+}  // namespace nomec::check

@@ -1,0 +1,174 @@
+// Generator statements, driven by the generator catalogue (see handlers.h): the positional
+// list of the dialect (arity, counts), the options of the generator, function texts lowered
+// to expressions of their variables, and the catalogue's argument-domain rules on every
+// value known at check time, so `--check` rejects what the backend would.
+#include <cmath>
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+
+namespace nomec::check {
+
+namespace {
+
+bool is_counted(ir::ArgType t) { return t == ir::ArgType::Count || t == ir::ArgType::Whole; }
+
+void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what) {
+  ir::EvalResult v = ir::evaluate(c.module(), e);
+  if (v.ok && std::fabs(v.value - std::round(v.value)) > 1e-9) {
+    c.diags().emit(DiagKind::NonIntegerCount, r,
+                   fmt::format("`{}` is a count but has the value {}; it will be rounded to {}", what, v.value, std::round(v.value)));
+  }
+}
+
+// A generator statement being read: its node, its catalogue entry, its bindings so far.
+struct GenReader {
+  Context& c;
+  const ast::Ast& a;
+  const ast::Stmt& s;
+  ir::NodeId id;
+  const ir::GeneratorInfo& info;
+  std::vector<ir::GenArgBinding> bindings;
+
+  // The positional list; false when it has the wrong number of arguments.
+  bool read_positional(const ir::Signature& sig, const ast::Item& list_item) {
+    const ast::ParenList& list = a.list(list_item.list);
+    if (sig.is_point_list) {
+      ir::GenArgBinding b;
+      b.arg = sig.args[0];
+      b.refs = read_names(c, a, list_item, id, Ns::Point);
+      b.range = list.range;
+      bindings.push_back(b);
+      return true;
+    }
+    c.check_commas(a, list_item.list);
+    const size_t n = list.elems.size();
+    const size_t want = sig.args.size();
+    const bool ok = n == want || n == want + sig.optional.size();
+    if (!ok) report_arity(sig, list, n);
+    for (size_t i = 0; i < n; ++i) {
+      const SourceRange r = a.expr(list.elems[i]).range;
+      SmallVec<ir::ExprId, 4> exprs;
+      exprs.push_back(lower_expr(c, a, list.elems[i], false));
+      if (i >= sig.names.size()) continue;  // an extra argument: checked, reported above
+      const ir::ArgIndex arg = i < want ? sig.args[i] : sig.optional[i - want];
+      const std::string_view name = sig.names[i];
+      if (arg != ir::kNoArg && is_counted(info.args[arg].type)) check_count(c, exprs[0], r, name);
+      ir::GenArgBinding b;
+      b.arg = arg;
+      b.value = c.add_operand(id, name, std::move(exprs), r);
+      b.range = r;
+      bindings.push_back(b);
+    }
+    return ok;
+  }
+
+  void report_arity(const ir::Signature& sig, const ast::ParenList& list, size_t n) {
+    const size_t want = sig.args.size();
+    std::vector<std::string_view> args(sig.names.begin(), sig.names.begin() + static_cast<ptrdiff_t>(want));
+    std::vector<std::string_view> optional(sig.names.begin() + static_cast<ptrdiff_t>(want), sig.names.end());
+    std::string expect = optional.empty() ? fmt::format("{} arguments ({})", want, fmt::join(args, " "))
+                                          : fmt::format("{} or {} arguments ({} [{}])", want, want + optional.size(),
+                                                        fmt::join(args, " "), fmt::join(optional, " "));
+    auto d = c.diags().emit(DiagKind::ListArity, list.range,
+                            fmt::format("`{}` takes {}, got {}{}", info.keyword, expect, n, c.split_text(a, list)));
+    if (info.kind == ir::GenKind::Funnel) {
+      d.note(SourceRange{}, fmt::format("in the `{}` dialect the funnel arguments are ({})", dialect_name(c.dialect()),
+                                        fmt::join(args, " ")));
+    }
+  }
+
+  void option(const OptionValue& v) {
+    if (v.spec->key != Opt::GenArg || v.spec->arg == ir::kNoArg) return;  // display options
+    const ir::ArgInfo& arg = info.args[v.spec->arg];
+    ir::GenArgBinding b;
+    b.arg = v.spec->arg;
+    b.range = v.word;
+    switch (arg.type) {
+      case ir::ArgType::Function: {
+        std::span<const std::string_view> vars(info.variables);
+        SmallVec<ir::ExprId, 4> exprs;
+        exprs.push_back(lower_function(c, a, v.raw, vars));
+        b.value = c.add_operand(id, v.spec->name, std::move(exprs), v.value_range);
+        break;
+      }
+      case ir::ArgType::Points: b.refs = v.names; break;
+      case ir::ArgType::Path: b.ref = v.ref; break;
+      case ir::ArgType::Flag:
+        b.is_flag = true;
+        b.value = v.operand;
+        break;
+      default:
+        b.value = v.operand;
+        if (v.operand.is_valid() && is_counted(arg.type)) {
+          const ir::Operand& o = c.module().operand(v.operand);
+          if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name);
+        }
+        break;
+    }
+    bindings.push_back(b);
+  }
+
+  // The catalogue's domain rules on the values known now, with the message `--emit` gives.
+  void check_domain() {
+    const ir::Module& m = c.module();
+    std::vector<std::optional<double>> known(info.args.size());
+    for (const ir::GenArgBinding& b : bindings) {
+      if (b.arg == ir::kNoArg || !b.value.is_valid() || info.args[b.arg].type == ir::ArgType::Function) continue;
+      const ir::Operand& o = m.operand(b.value);
+      if (o.exprs.size() != 1) continue;
+      ir::EvalResult v = ir::evaluate(m, o.exprs[0]);
+      if (v.ok) known[b.arg] = v.value;
+    }
+    std::optional<ir::ArgProblem> problem = ir::check_arguments(info.kind, c.dialect(), known);
+    if (!problem) return;
+    SourceRange at = s.open_kw;
+    for (const ir::GenArgBinding& b : bindings) {
+      if (b.arg == problem->arg && b.range.is_valid()) at = b.range;
+    }
+    const std::string& name = m.node(id).name;
+    c.diags()
+        .emit(DiagKind::GeometryFailed, at,
+              fmt::format("`{}` `{}`: {}", ast::open_keyword(s.kind), name.substr(name.rfind('.') + 1), problem->message))
+        .note(SourceRange{}, problem->hint);
+  }
+};
+
+}  // namespace
+
+ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
+  const ir::GenKind gen = *generator_of(s);
+  const ir::GeneratorInfo& info = ir::generator(gen);
+  size_t pos = 0;
+  auto name = c.read_name(s, pos, fmt::format("{} g (…) end{}", ast::open_keyword(s.kind), ast::open_keyword(s.kind)));
+  ir::NodeId id = c.node_for(s, c.qualify(ctx, name.value_or("")), ctx);
+  c.module().get<ir::GeneratorData>(id).gen = gen;
+  if (gen == ir::GenKind::Tunnel && s.close_text == "endfunnel") {
+    c.diags()
+        .emit(DiagKind::TunnelEndfunnel, s.close_kw, "`tunnel` closed with `endfunnel` (NOME 2016 style)")
+        .fixit(s.close_kw, "endtunnel", "replace with `endtunnel`");
+  }
+  GenReader r{c, a, s, id, info, {}};
+  const ir::Signature* sig = info.signature(c.dialect());
+  bool took_args = false;
+  bool arity_ok = true;
+  auto positional = [&](const ast::Item& it) -> bool {
+    if (it.kind != ItemKind::List || sig == nullptr || took_args) return false;
+    took_args = true;
+    arity_ok = r.read_positional(*sig, it);
+    return true;
+  };
+  read_body(c, a, s, pos, id, generator_options(gen, c.dialect()), [&](const OptionValue& v) { r.option(v); }, positional);
+  if (sig != nullptr && !took_args && !sig->is_point_list) {
+    c.diags().emit(DiagKind::MissingArgument, name ? s.items[0].range : s.open_kw,
+                   fmt::format("`{}` needs its arguments `({})`", ast::open_keyword(s.kind),
+                               fmt::join(sig->names.begin(), sig->names.begin() + static_cast<ptrdiff_t>(sig->args.size()), " ")));
+  }
+  if (arity_ok) r.check_domain();
+  ir::Module& m = c.module();
+  m.get<ir::GeneratorData>(id).args = {static_cast<uint32_t>(m.gen_args.size()), static_cast<uint32_t>(r.bindings.size())};
+  m.gen_args.insert(m.gen_args.end(), r.bindings.begin(), r.bindings.end());
+  return id;
+}
+
+}  // namespace nomec::check

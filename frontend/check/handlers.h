@@ -1,0 +1,101 @@
+// The checker's concerns, one file each, as free functions over the Context: what each
+// file owns is written above its declarations. check.cpp runs them in the order of a scene
+// (dialect, banks, declarations, statements, dependencies).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "frontend/check/context.h"
+#include "frontend/check/options.h"
+
+namespace nomec::check {
+
+// ---- dialect.cpp: which dialect a file is written in, and the names its Tcl code makes ----
+std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& path);
+void collect_tcl(Context& c, const ast::Ast& a);
+
+// ---- banks.cpp: banks and sliders, saved values, `-D` overrides, `list` entries ----
+void collect_banks(Context& c, const ast::Ast& a);
+void apply_saved(Context& c, const ast::Ast& a);
+void apply_overrides(Context& c);
+void check_pending_lists(Context& c);
+/// The slider a reference names: `bank.param`, or `bank_param` with the longest declared
+/// bank prefix. Memoized (a scene refers to the same sliders over and over).
+ir::NodeId lookup_param_text(Context& c, const std::string& text);
+
+// ---- names.cpp: definitions and scopes, and resolving names to nodes ----
+void declare(Context& c, const ast::Ast& a, int order_base);
+void define(Context& c, Ns ns, const std::string& name, Symbol sym);
+ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order);
+ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
+ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use);
+ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange use);
+ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use);
+ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
+std::vector<std::string> names_in(const Context& c, Ns ns);
+
+// ---- vertex_refs.cpp: vertex references and deleted faces through instance paths ----
+/// A vertex of a face or polyline: a point of `mesh`, a global point, or a path through
+/// instances (`inst.v`, `.inst.sub.v`, 2016 `inst_sub_v`).
+ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh);
+/// A face named in a `delete` block (`cube1_c4`, `fun2_5`, `cf.fun2.5`).
+ir::DeletedFace resolve_deleted_face(Context& c, const std::string& text, SourceRange use);
+
+// ---- expressions.cpp: lowering expressions into the IR, with their checks ----
+/// Lowers a syntax expression and evaluates it once (a domain problem such as a division
+/// by zero is reported here). `constant`: slider values may not refer to sliders.
+ir::ExprId lower_expr(Context& c, const ast::Ast& a, ast::ExprId id, bool constant);
+/// One value item (`0.5`, `{expr …}`, `(0.5)`, a bare `bank.param` word) as an expression.
+ir::ExprId scalar_of_item(Context& c, const ast::Ast& a, const ast::Item& it, bool constant);
+ir::ExprId error_expr(Context& c, SourceRange r);
+/// The text of a function surface's `[ … ]` (`[cos(u)*v]`) as an expression of the
+/// variables `vars`; errors (unknown names and functions, syntax) are reported at their
+/// place inside the brackets.
+ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars);
+
+// ---- statements.cpp: top-level statements, dispatch by kind, includes ----
+void process(Context& c, const ast::Ast& a, int order_base);
+ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- meshes.cpp: points, faces, polylines, objects, meshes, sharps, deletes, saved work ----
+ir::NodeId handle_surface(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_point(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_vertex(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_controlpoint(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_polyline(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_face(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_object(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_mesh(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_sharp(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_delete(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+/// Resolves the faces named in `delete` blocks (once every instance is known).
+void resolve_pending_deletes(Context& c);
+/// Reads the vertex list `list_item` of a face, polyline or crease into the module.
+ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast::Item& list_item, ir::NodeId owner,
+                                       ir::NodeId mesh);
+/// Reads a list of names (`(f1 f2)`, `(p1 p2)`) into the module, adding edges to `owner`.
+ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item& list_item, ir::NodeId owner, Ns ns);
+
+// ---- instances.cpp: instances, groups, transforms ----
+ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_group(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_transform(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- generators.cpp: generator statements, driven by the catalogue ----
+ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- blocks.cpp: pipeline blocks, sweeps, zippers, scene set-up ----
+ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- dependencies.cpp: the finished graph ----
+/// Finalizes the dependency graph and reports a cycle in it.
+void finish_dependencies(Context& c);
+
+}  // namespace nomec::check

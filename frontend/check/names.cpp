@@ -1,0 +1,168 @@
+// Definitions and name resolution (see handlers.h): every named top-level definition is
+// declared before any statement is checked, so a use above its definition gets a precise
+// "used before its definition" in NOME (SLIDE binds late); uses resolve per namespace, and a
+// name found in another namespace is a kind error, not a typo.
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+
+namespace nomec::check {
+
+namespace {
+
+// The namespace a top-level definition goes to; nullopt for statements that define no name.
+std::optional<Ns> namespace_of(BlockKind kind) {
+  switch (kind) {
+    case BlockKind::Surface: return Ns::Surface;
+    case BlockKind::Point: return Ns::Point;
+    case BlockKind::Face:
+    case BlockKind::Facet: return Ns::Face;
+    case BlockKind::Camera:
+    case BlockKind::Light:
+    case BlockKind::Window:
+    case BlockKind::Viewport: return Ns::Scene;
+    case BlockKind::Bank:
+    case BlockKind::Instance:
+    case BlockKind::Delete:
+    case BlockKind::Sharp:
+    case BlockKind::Savedparameter:
+    case BlockKind::Consolidate:
+    case BlockKind::Render:
+    case BlockKind::Zipper:
+    case BlockKind::Vertex:
+    case BlockKind::Path:
+    case BlockKind::Transform:
+    case BlockKind::Lookat:
+    case BlockKind::Consolidateface: return std::nullopt;
+    default: return Ns::Shape;
+  }
+}
+
+void declare_stmt(Context& c, const ast::Stmt& s, int order) {
+  std::optional<Ns> ns = namespace_of(s.kind);
+  if (!ns) return;
+  if (s.items.empty() || s.items[0].kind != ItemKind::Word) return;  // reported later
+  std::string name(s.items[0].text);
+  ir::NodeId id = c.module().add_node(node_kind_for(s.kind), ast::open_keyword(s.kind), name, s.range);
+  define(c, *ns, name, Symbol{id, s.items[0].range, order, s.kind});
+  if (ir::NodeId* d = c.declared_slot(s)) *d = id;
+}
+
+}  // namespace
+
+void declare(Context& c, const ast::Ast& a, int order_base) {
+  c.reserve_for(a);
+  int order = order_base;
+  for (const ast::Item& it : a.top) {
+    ++order;
+    if (it.kind == ItemKind::Block) declare_stmt(c, a.stmt(it.block), order);
+  }
+}
+
+void define(Context& c, Ns ns, const std::string& name, Symbol sym) {
+  auto& table = c.scopes[static_cast<int>(ns)];
+  auto [it, inserted] = table.emplace(name, sym);
+  if (!inserted) {
+    c.diags()
+        .emit(DiagKind::DuplicateDefinition, sym.range,
+              fmt::format("`{}` is already defined as a {}", name, ast::open_keyword(it->second.kind)))
+        .note(it->second.range, "previous definition is here");
+  }
+}
+
+ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order) {
+  auto& table = c.scopes[static_cast<int>(ns)];
+  auto it = table.find(name);
+  if (it == table.end()) return ir::NodeId::None();
+  if (c.name_uses != nullptr) c.name_uses->push_back({use, it->second.node});
+  if (report_order && c.dialect() != Dialect::Slide && it->second.order > c.order && c.order < (1 << 20)) {
+    c.diags()
+        .emit(DiagKind::UseBeforeDefinition, use,
+              fmt::format("`{}` is used before its definition; NOME requires definitions above their uses", name))
+        .note(it->second.range, "defined here");
+  }
+  return it->second.node;
+}
+
+std::vector<std::string> names_in(const Context& c, Ns ns) {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : c.scopes[static_cast<int>(ns)]) out.push_back(k);
+  std::sort(out.begin(), out.end());  // "did you mean" prefers the first best match
+  return out;
+}
+
+ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
+  if (c.dialect() == Dialect::Slide && c.has_tcl) {
+    if (!c.first_tcl_report(name)) return ir::NodeId::None();
+    c.diags().emit(DiagKind::TclDefinedName, use,
+                   fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, "
+                               "which nomec does not evaluate yet",
+                               name));
+    return ir::NodeId::None();
+  }
+  std::string hint = closest_match(name, names_in(c, ns));
+  auto d = c.diags().emit(DiagKind::UnknownName, use,
+                          fmt::format("unknown {} `{}`{}", wanted, name, hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+  if (!hint.empty()) d.fixit(use, hint, fmt::format("replace with `{}`", hint));
+  return ir::NodeId::None();
+}
+
+ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
+  ir::NodeId id = lookup(c, ns, name, use, true);
+  if (id.is_valid()) return id;
+  // Same name in another namespace: a kind error, not a typo.
+  for (int other = 0; other < static_cast<int>(Ns::Count); ++other) {
+    if (other == static_cast<int>(ns)) continue;
+    auto& table = c.scopes[other];
+    if (auto it = table.find(name); it != table.end()) {
+      c.diags()
+          .emit(DiagKind::WrongKind, use,
+                fmt::format("`{}` is a {}, but {} is needed here", name, ast::open_keyword(it->second.kind), wanted))
+          .note(it->second.range, "defined here");
+      return ir::NodeId::None();
+    }
+  }
+  return report_unknown(c, ns, name, use, wanted);
+}
+
+ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use) {
+  for (Ns ns : {Ns::Shape, Ns::Point, Ns::Face, Ns::Surface, Ns::Scene}) {
+    ir::NodeId id = lookup(c, ns, name, use, true);
+    if (id.is_valid()) return id;
+  }
+  return report_unknown(c, Ns::Shape, name, use, "name");
+}
+
+ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange use) {
+  for (Ns ns : {Ns::Point, Ns::Shape}) {
+    ir::NodeId id = lookup(c, ns, name, use, true);
+    if (id.is_valid()) return id;
+  }
+  return report_unknown(c, Ns::Point, name, use, "point");
+}
+
+ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use) {
+  for (Ns ns : {Ns::Shape, Ns::Scene}) {
+    ir::NodeId id = lookup(c, ns, name, use, true);
+    if (id.is_valid()) return id;
+  }
+  for (Ns ns : {Ns::Point, Ns::Face, Ns::Surface}) {
+    auto& table = c.scopes[static_cast<int>(ns)];
+    if (auto it = table.find(name); it != table.end()) {
+      c.diags()
+          .emit(DiagKind::WrongKind, use,
+                fmt::format("`{}` is a {}; an instance needs a mesh, group, generator, curve or block", name,
+                            ast::open_keyword(it->second.kind)))
+          .note(it->second.range, "defined here");
+      return ir::NodeId::None();
+    }
+  }
+  if (name == "consolidatemesh" && (c.is_saved_work || c.base_loaded)) {
+    c.diags().emit(DiagKind::UnknownName, use, "`consolidatemesh` is defined by a `consolidate` block, and this scene has none");
+    return ir::NodeId::None();
+  }
+  return report_unknown(c, Ns::Shape, name, use, "mesh, group or generator");
+}
+
+}  // namespace nomec::check

@@ -1,0 +1,490 @@
+// Option tables per block kind and the statement-body reader (see options.h).
+#include "frontend/check/options.h"
+
+#include <algorithm>
+#include <array>
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+
+namespace nomec::check {
+
+namespace {
+
+// Display and UI options SLIDE attaches to many blocks; accepted, checked, not used.
+// (`tolerance` is read: a block's merge tolerance.)
+#define SLIDE_DISPLAY                                                                                    \
+  {"lod", Shape::Any, Opt::Ignored}, {"shading", Shape::Any, Opt::Ignored},                              \
+      {"drawcontrols", Shape::Any, Opt::Ignored}, {"drawcurrent", Shape::Any, Opt::Ignored},             \
+      {"drawvertices", Shape::Any, Opt::Ignored}, {"solid", Shape::Any, Opt::Ignored},                   \
+      {"errormetric", Shape::Any, Opt::Ignored}, {"uknots", Shape::Any, Opt::Ignored},                   \
+      {"uorder", Shape::Any, Opt::Ignored}, {"vknots", Shape::Any, Opt::Ignored},                        \
+      {"vorder", Shape::Any, Opt::Ignored}, {"tolerance", Shape::Scalar, Opt::Tolerance},                \
+      {"facetsmax", Shape::Any, Opt::Ignored}, {"meshtype", Shape::Any, Opt::Ignored},                   \
+      {"drawpath", Shape::Any, Opt::Ignored}, {"drawsweep", Shape::Any, Opt::Ignored}
+
+const OptSpec kDisplay[] = {SLIDE_DISPLAY};
+const OptSpec kSurface[] = {{"color", Shape::Vec3, Opt::Color}, {"reflectivity", Shape::Vec3, Opt::Reflectivity},
+                            {"exponent", Shape::Scalar, Opt::Exponent}, {"metallic", Shape::Scalar, Opt::Metallic},
+                            {"bitmap", Shape::Rest, Opt::Bitmap}};
+const OptSpec kPoint[] = {{"texture", Shape::Vec2, Opt::Texture}};
+const OptSpec kPolyline[] = {{"closed", Shape::FlagOrScalar, Opt::Closed},
+                             {"isloop", Shape::Flag, Opt::Closed},
+                             {"pointlist", Shape::PointNames, Opt::PointList}};
+const OptSpec kFace[] = {{"surface", Shape::Surface, Opt::Surface}};
+const OptSpec kObject[] = {{"surface", Shape::Surface, Opt::Surface}, SLIDE_DISPLAY};
+const OptSpec kInstance[] = {{"translate", Shape::Vec3, Opt::Translate}, {"rotate", Shape::Rotate, Opt::Rotate},
+                             {"scale", Shape::Vec3, Opt::Scale},         {"mirror", Shape::Vec4, Opt::Mirror},
+                             {"surface", Shape::Surface, Opt::Surface},  {"hidden", Shape::Flag, Opt::Hidden},
+                             {"id", Shape::Any, Opt::Id},                SLIDE_DISPLAY};
+const OptSpec kTransform[] = {{"translate", Shape::Vec3, Opt::Translate},
+                              {"rotate", Shape::Rotate, Opt::Rotate},
+                              {"scale", Shape::Vec3, Opt::Scale}};
+const OptSpec kSweep[] = {{"azimuth", Shape::Scalar, Opt::Azimuth}, {"twist", Shape::Scalar, Opt::Twist},
+                          {"mintorsion", Shape::Flag, Opt::Mintorsion}, SLIDE_DISPLAY};
+const OptSpec kCrosssection[] = {{"type", Shape::Any, Opt::Type},
+                                 {"polyline", Shape::Ref, Opt::Curve},
+                                 {"bsplinecurve", Shape::Ref, Opt::Curve},
+                                 {"beziercurve", Shape::Ref, Opt::Curve},
+                                 {"circle", Shape::Flag, Opt::Circle},
+                                 {"radius", Shape::Scalar, Opt::Radius},
+                                 {"slices", Shape::Scalar, Opt::Slices},
+                                 {"begincap", Shape::FlagOrScalar, Opt::BeginCap},
+                                 {"endcap", Shape::FlagOrScalar, Opt::EndCap},
+                                 {"reverse", Shape::Flag, Opt::Reverse},
+                                 SLIDE_DISPLAY};
+const OptSpec kPath[] = {{"mintorsion", Shape::Flag, Opt::Mintorsion},
+                         {"minimizetorsion", Shape::Scalar, Opt::MinimizeTorsion},
+                         {"azimuth", Shape::Scalar, Opt::Azimuth},
+                         {"twist", Shape::Scalar, Opt::Twist}};
+const OptSpec kControlpoint[] = {{"point", Shape::Ref, Opt::Point},
+                                 {"scale", Shape::Vec3, Opt::Scale},
+                                 {"rotate", Shape::Rotate, Opt::Rotate},
+                                 {"translate", Shape::Vec3, Opt::Translate}};
+const OptSpec kZipper[] = {{"border", Shape::Vertices, Opt::Border}, {"penalty", Shape::Scalar, Opt::Penalty}};
+const OptSpec kMerge[] = {{"tolerance", Shape::Scalar, Opt::Tolerance}};
+const OptSpec kSubdivision[] = {{"sd_type", Shape::Symbol, Opt::SubdivisionType},
+                                {"sd_level", Shape::Scalar, Opt::Levels},
+                                {"type", Shape::Symbol, Opt::SubdivisionType},
+                                {"subdivisions", Shape::Scalar, Opt::Levels},
+                                SLIDE_DISPLAY};
+const OptSpec kOffset[] = {{"offset_type", Shape::Symbol, Opt::OffsetType}, {"height", Shape::Scalar, Opt::Height},
+                           {"width", Shape::Scalar, Opt::Width},            {"type", Shape::Symbol, Opt::OffsetType},
+                           SLIDE_DISPLAY};
+const OptSpec kHandle[] = {{"faces", Shape::Names, Opt::Faces},         {"corners", Shape::Names, Opt::Corners},
+                           {"segments", Shape::Scalar, Opt::Segments},  {"weights", Shape::Vec2, Opt::Weights},
+                           {"twist", Shape::Scalar, Opt::Twist}};
+const OptSpec kRind[] = {{"thickness", Shape::Scalar, Opt::Thickness},
+                         {"punch", Shape::Names, Opt::Punch},
+                         {"peel", Shape::Names, Opt::Peel}};
+const OptSpec kSierpinski[] = {{"level", Shape::Scalar, Opt::Level}};
+const OptSpec kMenger[] = {{"level", Shape::Scalar, Opt::Level},
+                           {"thickness", Shape::Scalar, Opt::Thickness},
+                           {"collapse", Shape::Scalar, Opt::Collapse}};
+const OptSpec kScene[] = {{"", Shape::Rest, Opt::Rest}};
+#undef SLIDE_DISPLAY
+
+// The shape an argument of the catalogue is read with when given as an option.
+Shape shape_of(ir::ArgType t) {
+  switch (t) {
+    case ir::ArgType::Flag: return Shape::FlagOrScalar;
+    case ir::ArgType::Function: return Shape::Raw;
+    case ir::ArgType::Points: return Shape::PointNames;
+    case ir::ArgType::Path: return Shape::Ref;
+    case ir::ArgType::Count:
+    case ir::ArgType::Whole:
+    case ir::ArgType::Real:
+    case ir::ArgType::Length:
+    case ir::ArgType::Ratio:
+    case ir::ArgType::Angle: return Shape::Scalar;
+  }
+  return Shape::Scalar;
+}
+
+}  // namespace
+
+std::span<const OptSpec> options_for(BlockKind kind) {
+  switch (kind) {
+    case BlockKind::Surface: return kSurface;
+    case BlockKind::Point:
+    case BlockKind::Vertex: return kPoint;
+    case BlockKind::Polyline: return kPolyline;
+    case BlockKind::Face:
+    case BlockKind::Facet: return kFace;
+    case BlockKind::Object: return kObject;
+    case BlockKind::Group: return kObject;
+    case BlockKind::Instance: return kInstance;
+    case BlockKind::Transform: return kTransform;
+    case BlockKind::Sweep: return kSweep;
+    case BlockKind::Crosssection: return kCrosssection;
+    case BlockKind::Path: return kPath;
+    case BlockKind::Controlpoint: return kControlpoint;
+    case BlockKind::Zipper: return kZipper;
+    case BlockKind::Merge: return kMerge;
+    case BlockKind::Subdivision: return kSubdivision;
+    case BlockKind::Offset: return kOffset;
+    case BlockKind::Handle: return kHandle;
+    case BlockKind::Rind: return kRind;
+    case BlockKind::Sierpinski: return kSierpinski;
+    case BlockKind::Menger: return kMenger;
+    case BlockKind::Mirror: return kObject;
+    case BlockKind::Camera:
+    case BlockKind::Light:
+    case BlockKind::Window:
+    case BlockKind::Viewport:
+    case BlockKind::Render:
+    case BlockKind::Lookat: return kScene;
+    case BlockKind::Bank:
+    case BlockKind::Mesh:
+    case BlockKind::Delete:
+    case BlockKind::Sharp:
+    case BlockKind::Savedparameter:
+    case BlockKind::Consolidate:
+    case BlockKind::Consolidateface:
+    case BlockKind::Savedworkingmesh: return {};
+    case BlockKind::Funnel:
+    case BlockKind::Tunnel:
+    case BlockKind::Rimribbon:
+    case BlockKind::Circle:
+    case BlockKind::Sphere:
+    case BlockKind::Ellipsoid:
+    case BlockKind::Cylinder:
+    case BlockKind::Hyperboloid:
+    case BlockKind::Dupin:
+    case BlockKind::Mobiusstrip:
+    case BlockKind::Helix:
+    case BlockKind::Spiral:
+    case BlockKind::Torus:
+    case BlockKind::Torusknot:
+    case BlockKind::Beziercurve:
+    case BlockKind::Bspline:
+    case BlockKind::Bsplinecurve:
+    case BlockKind::Gencartesiansurf:
+    case BlockKind::Genparametricsurf:
+    case BlockKind::Genimplicitsurf:
+      if (auto gen = ir::generator_by_keyword(ast::open_keyword(kind))) return generator_options(*gen, Dialect::Nome);
+      return {};
+  }
+  return {};
+}
+
+std::span<const OptSpec> generator_options(ir::GenKind gen, Dialect dialect) {
+  // Built once per generator and dialect from the catalogue.
+  static const auto tables = [] {
+    std::array<std::array<std::vector<OptSpec>, 3>, ir::kGenKindCount> t;
+    for (const ir::GeneratorInfo& g : ir::generators()) {
+      for (Dialect d : {Dialect::Nome, Dialect::Nome3, Dialect::Slide}) {
+        std::vector<OptSpec>& v = t[static_cast<size_t>(g.kind)][static_cast<size_t>(d)];
+        for (const ir::OptionInfo& o : g.options) {
+          if ((o.dialects & dialect_bit(d)) == 0 || o.arg == ir::kNoArg) continue;
+          v.push_back(OptSpec{o.word, shape_of(g.args[o.arg].type), Opt::GenArg, o.arg});
+        }
+        // SLIDE attaches its display options to every shape.
+        if (d == Dialect::Slide) v.insert(v.end(), std::begin(kDisplay), std::end(kDisplay));
+      }
+    }
+    return t;
+  }();
+  return tables[static_cast<size_t>(gen)][static_cast<size_t>(dialect)];
+}
+
+bool is_option(std::span<const OptSpec> opts, std::string_view word) {
+  return std::any_of(opts.begin(), opts.end(), [&](const OptSpec& o) { return o.name == word; });
+}
+
+namespace {
+
+bool is_block_keyword(std::string_view word) {
+  const auto& kws = ast::all_open_keywords();
+  return std::find(kws.begin(), kws.end(), word) != kws.end();
+}
+
+void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, std::span<const OptSpec> opts) {
+  std::vector<std::string> names;
+  for (const OptSpec& o : opts) names.emplace_back(o.name);
+  std::string hint = closest_match(it.text, names);
+  auto d = c.diags().emit(DiagKind::UnknownArgument, it.range,
+                          fmt::format("unknown argument `{}` for `{}`{}", it.text, ast::open_keyword(s.kind),
+                                      hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+  if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
+}
+
+void check_color(Context& c, const ast::Ast& a, const ast::Item& list_item) {
+  for (ast::ExprId e : a.list(list_item.list).elems) {
+    // Evaluate through a throw-away IR expression (no new diagnostics).
+    DiagnosticEngine scratch;
+    std::swap(scratch, c.diags());
+    ir::ExprId ie = lower_expr(c, a, e, false);
+    std::swap(scratch, c.diags());
+    ir::EvalResult r = ir::evaluate(c.module(), ie);
+    if (r.ok && (r.value < 0 || r.value > 1)) {
+      c.diags().emit(DiagKind::ColorOutOfRange, a.expr(e).range,
+                     fmt::format("colour component {} is outside [0, 1]; colours are RGB fractions, e.g. `(1 0.5 0)`", r.value));
+    }
+  }
+}
+
+// The expressions of a list of `want` numbers, as an operand of node `id`.
+ir::OperandId read_vector(Context& c, const ast::Ast& a, ir::NodeId id, std::string_view name, const ast::Item& list_item,
+                          size_t want) {
+  const ast::ParenList& list = a.list(list_item.list);
+  c.check_commas(a, list_item.list);
+  if (list.elems.size() != want) {
+    c.diags().emit(DiagKind::ListArity, list.range,
+                   fmt::format("`{}` needs {} numbers, got {}{}", name, want, list.elems.size(), c.split_text(a, list)));
+  }
+  SmallVec<ir::ExprId, 4> exprs;
+  for (ast::ExprId e : list.elems) exprs.push_back(lower_expr(c, a, e, false));
+  return c.add_operand(id, name, std::move(exprs), list.range);
+}
+
+// `rotate (ax ay az) (deg)`: the axis and the angle as one operand of 4 expressions.
+bool read_rotate(Context& c, const ast::Ast& a, const ast::Stmt& s, const OptSpec& spec, const ast::Item& kw, size_t& pos,
+                 ir::NodeId id, OptionValue& v) {
+  auto next = [&]() -> const ast::Item* { return pos < s.items.size() ? &s.items[pos] : nullptr; };
+  auto missing = [&](std::string_view what) {
+    c.diags().emit(DiagKind::MissingArgument, kw.range, fmt::format("`{}` needs {}", spec.name, what));
+  };
+  const ast::Item* n = next();
+  if (n == nullptr || n->kind != ItemKind::List) {
+    missing("an axis `(x y z)` and an angle `(degrees)`");
+    return false;
+  }
+  ++pos;
+  const ast::ParenList& axis = a.list(n->list);
+  if (axis.elems.size() != 3) {
+    c.diags().emit(DiagKind::ListArity, axis.range,
+                   fmt::format("`rotate` axis needs 3 numbers, got {}{}", axis.elems.size(), c.split_text(a, axis)));
+  }
+  SmallVec<ir::ExprId, 4> exprs;
+  for (ast::ExprId e : axis.elems) exprs.push_back(lower_expr(c, a, e, false));
+  if (const ast::Item* ang = next(); ang && ang->kind == ItemKind::List) {
+    ++pos;
+    const ast::ParenList& al = a.list(ang->list);
+    if (al.elems.size() != 1) {
+      c.diags().emit(DiagKind::ListArity, al.range,
+                     fmt::format("`rotate` angle needs 1 number (degrees), got {}{}", al.elems.size(), c.split_text(a, al)));
+    }
+    for (ast::ExprId e : al.elems) exprs.push_back(lower_expr(c, a, e, false));
+  } else if (s.kind == BlockKind::Instance || s.kind == BlockKind::Transform) {
+    missing("an angle `(degrees)` after its axis");
+  }
+  v.operand = c.add_operand(id, spec.name, std::move(exprs), kw.range);
+  return true;
+}
+
+// Reads the value of option `spec` (its word `kw` is already consumed) into `v`; false when
+// the value is missing (reported).
+bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<const OptSpec> opts, const OptSpec& spec,
+                 const ast::Item& kw, size_t& pos, ir::NodeId id, OptionValue& v) {
+  auto next = [&]() -> const ast::Item* { return pos < s.items.size() ? &s.items[pos] : nullptr; };
+  auto missing = [&](std::string_view what) {
+    c.diags().emit(DiagKind::MissingArgument, kw.range, fmt::format("`{}` needs {}", spec.name, what));
+  };
+  v.spec = &spec;
+  v.word = kw.range;
+  v.value_range = kw.range;
+  switch (spec.shape) {
+    case Shape::Flag:
+      return true;
+    case Shape::FlagOrScalar:
+      if (const ast::Item* n = next(); n && n->kind == ItemKind::Value) {
+        SmallVec<ir::ExprId, 4> exprs;
+        exprs.push_back(scalar_of_item(c, a, *n, false));
+        v.operand = c.add_operand(id, spec.name, std::move(exprs), kw.range);
+        v.value_range = n->range;
+        ++pos;
+      }
+      return true;
+    case Shape::Scalar: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind == ItemKind::Block || (n->kind == ItemKind::Word && is_option(opts, n->text))) {
+        missing("a value");
+        return false;
+      }
+      SmallVec<ir::ExprId, 4> exprs;
+      exprs.push_back(scalar_of_item(c, a, *n, false));
+      v.operand = c.add_operand(id, spec.name, std::move(exprs), kw.range);
+      v.value_range = n->range;
+      ++pos;
+      return true;
+    }
+    case Shape::Vec2:
+    case Shape::Vec3:
+    case Shape::Vec4: {
+      const size_t want = spec.shape == Shape::Vec2 ? 2 : spec.shape == Shape::Vec3 ? 3 : 4;
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::List) {
+        missing(fmt::format("a list of {} numbers", want));
+        return false;
+      }
+      ++pos;
+      v.operand = read_vector(c, a, id, spec.name, *n, want);
+      v.value_range = n->range;
+      if (spec.key == Opt::Color) check_color(c, a, *n);
+      return true;
+    }
+    case Shape::Rotate:
+      return read_rotate(c, a, s, spec, kw, pos, id, v);
+    case Shape::Surface:
+    case Shape::Ref: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::Word) {
+        missing("a name");
+        return false;
+      }
+      ++pos;
+      v.ref = spec.shape == Shape::Surface ? resolve(c, Ns::Surface, std::string(n->text), n->range, "a surface")
+                                           : resolve_any(c, std::string(n->text), n->range);
+      if (v.ref.is_valid()) c.module().deps.add_edge(v.ref, id);
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Names:
+    case Shape::PointNames: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::List) {
+        missing("a list of names `(a b …)`");
+        return false;
+      }
+      ++pos;
+      v.names = read_names(c, a, *n, id, spec.shape == Shape::PointNames ? Ns::Point : Ns::Count);
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Vertices: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::List) {
+        missing("a list of vertices `(v1 v2 …)`");
+        return false;
+      }
+      ++pos;
+      v.vertices = read_vertices(c, a, *n, id, ir::NodeId::None());
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Symbol: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind == ItemKind::Block) {
+        missing("a value");
+        return false;
+      }
+      ++pos;
+      v.value_range = n->range;
+      if (n->kind == ItemKind::Word) {
+        v.symbol = n->text;
+      } else {
+        SmallVec<ir::ExprId, 4> exprs;
+        exprs.push_back(scalar_of_item(c, a, *n, false));
+        v.operand = c.add_operand(id, spec.name, std::move(exprs), n->range);
+      }
+      return true;
+    }
+    case Shape::Raw: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::Value || a.expr(n->expr).kind != ast::ExprKind::Raw) {
+        missing("a function in brackets, e.g. `[sin(u)*cos(v)]`");
+        return false;
+      }
+      ++pos;
+      v.raw = n->expr;
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Any: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind == ItemKind::Block) {
+        missing("a value");
+        return false;
+      }
+      ++pos;
+      v.value_range = n->range;
+      if (n->kind == ItemKind::Word) v.symbol = n->text;
+      if (n->kind == ItemKind::Value) scalar_of_item(c, a, *n, false);
+      return true;
+    }
+    case Shape::Rest:
+      while (pos < s.items.size() && s.items[pos].kind != ItemKind::Block) ++pos;
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir::NodeId id, std::span<const OptSpec> opts,
+               const OptionSink& sink, const PositionalHandler& positional) {
+  Ctx child_ctx{id, s.kind, false};
+  const bool rest = !opts.empty() && opts[0].shape == Shape::Rest && opts[0].name.empty();
+  while (pos < s.items.size()) {
+    const ast::Item& it = s.items[pos];
+    if (it.kind == ItemKind::Block) {
+      const ast::Stmt& child = a.stmt(it.block);
+      ir::NodeId cid = handle_stmt(c, a, child, child_ctx);
+      if (cid.is_valid() && child.kind != BlockKind::Instance && child.kind != BlockKind::Sharp) c.adopt(id, cid);
+      ++pos;
+      continue;
+    }
+    if (rest) {
+      ++pos;
+      continue;
+    }
+    if (it.kind == ItemKind::Word) {
+      const OptSpec* spec = nullptr;
+      for (const OptSpec& o : opts) {
+        if (o.name == it.text) {
+          spec = &o;
+          break;
+        }
+      }
+      if (spec != nullptr) {
+        ++pos;
+        OptionValue v;
+        if (read_option(c, a, s, opts, *spec, it, pos, id, v) && sink) sink(v);
+        continue;
+      }
+      if (positional && positional(it)) {
+        ++pos;
+        continue;
+      }
+      if (is_block_keyword(it.text)) {
+        // `point p (0 0 0)` followed by `point q … endpoint`: the first one's end keyword is
+        // missing, and the rest of this body belongs to the next statement.
+        c.diags()
+            .emit(DiagKind::MissingEndBeforeStatement, it.range,
+                  fmt::format("`{}` starts a new statement, but the `{}` above is not closed; is `{}` missing before it?",
+                              it.text, ast::open_keyword(s.kind), ast::close_keyword(s.kind)))
+            .note(s.open_kw, fmt::format("`{}` opened here", ast::open_keyword(s.kind)))
+            .fixit(SourceRange{it.range.file, it.range.begin, it.range.begin},
+                   fmt::format("{}\n", ast::close_keyword(s.kind)), fmt::format("insert `{}`", ast::close_keyword(s.kind)));
+        return;
+      }
+      report_unknown_word(c, s, it, opts);
+      ++pos;
+      continue;
+    }
+    if (positional && positional(it)) {
+      ++pos;
+      continue;
+    }
+    std::string what = it.kind == ItemKind::List ? "list" : "value";
+    c.diags().emit(DiagKind::UnexpectedItem, it.range,
+                   fmt::format("unexpected {} `{}` in `{}`", what, Context::clip(c.sources().text(it.range)),
+                               ast::open_keyword(s.kind)));
+    ++pos;
+  }
+}
+
+}  // namespace nomec::check
+
+namespace nomec {
+
+std::vector<std::string_view> option_words(ast::BlockKind kind) {
+  std::vector<std::string_view> out;
+  for (const check::OptSpec& o : check::options_for(kind)) {
+    if (!o.name.empty()) out.push_back(o.name);
+  }
+  return out;
+}
+
+}  // namespace nomec

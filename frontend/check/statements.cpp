@@ -1,0 +1,174 @@
+// Top-level statements and dispatch (see handlers.h): each statement goes to the handler of
+// its kind (a `switch` over block_kinds.def, compiled with -Wswitch); stray words and values
+// at the top level are explained; `include "file.slf"` is read, declared and checked in
+// place (an included file sees every definition of the including file: SLIDE binds late).
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+#include "frontend/parse/parse.h"
+
+namespace nomec::check {
+
+namespace {
+
+void report_stray(Context& c, const ast::Item& it) {
+  if (it.kind != ItemKind::Word) {
+    c.diags().emit(DiagKind::StrayTopLevelItem, it.range,
+                   "unexpected value at the top level; values belong inside a statement such as `point NAME (x y z) endpoint`");
+    return;
+  }
+  if (it.text == "set" || it.text == "list") {
+    c.diags().emit(DiagKind::StrayTopLevelItem, it.range,
+                   fmt::format("`{}` outside a bank; sliders are declared inside `bank NAME … endbank`", it.text));
+    return;
+  }
+  std::vector<std::string> kws;
+  for (std::string_view kw : ast::all_open_keywords()) kws.emplace_back(kw);
+  kws.emplace_back("include");
+  kws.emplace_back("tclinit");
+  std::string hint = closest_match(it.text, kws);
+  if (c.dialect() == Dialect::Slide && hint.empty()) {
+    // language.md §7: SLIDE statements nomec does not implement are named as such.
+    c.diags().emit(DiagKind::UnsupportedSlideSyntax, it.range,
+                   fmt::format("`{}` is SLIDE syntax that nomec does not support yet; the statement is skipped", it.text));
+    return;
+  }
+  auto d = c.diags().emit(DiagKind::StrayTopLevelItem, it.range,
+                          hint.empty() ? fmt::format("unexpected `{}` at the top level; statements start with a keyword such as "
+                                                     "`point`, `mesh` or `instance`",
+                                                     it.text)
+                                       : fmt::format("unknown statement `{}`; did you mean `{}`?", it.text, hint));
+  if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
+}
+
+void handle_include(Context& c, const ast::Ast& a, const ast::Item& it) {
+  std::string rel(it.text);
+  std::string_view including = c.sources().name(a.file);
+  const size_t slash = including.find_last_of('/');
+  std::string path = slash == std::string_view::npos || rel.starts_with("/") ? rel
+                                                                             : std::string(including.substr(0, slash + 1)) + rel;
+  if (rel.empty()) {
+    c.diags().emit(DiagKind::IncludeFailed, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
+    return;
+  }
+  if (c.include_depth >= 16) {
+    c.diags().emit(DiagKind::IncludeFailed, it.range,
+                   fmt::format("`include \"{}\"` nests more than 16 files deep; does a file include itself?", rel));
+    return;
+  }
+  std::optional<std::string> text;
+  if (c.options().read_file) text = c.options().read_file(path);
+  if (!text) {
+    c.diags().emit(DiagKind::IncludeFailed, it.range, fmt::format("cannot read included file `{}` (looked for `{}`)", rel, path));
+    return;
+  }
+  FileId f = c.sources().add_file(path, std::move(*text));
+  c.owned_asts.push_back(std::make_unique<ast::Ast>(parse_file(c.sources(), f, c.diags())));
+  const ast::Ast& inc = *c.owned_asts.back();
+  ++c.include_depth;
+  collect_tcl(c, inc);
+  collect_banks(c, inc);
+  // An included file sees every definition of the including file (SLIDE binds late).
+  const int base_order = (1 << 20) * c.include_depth;
+  declare(c, inc, base_order);
+  const int saved_order = c.order;
+  process(c, inc, base_order);
+  c.order = saved_order;
+  --c.include_depth;
+}
+
+}  // namespace
+
+void process(Context& c, const ast::Ast& a, int order_base) {
+  int order = order_base;
+  bool in_stray_run = false;
+  for (const ast::Item& it : a.top) {
+    ++order;
+    c.order = order;
+    if (it.kind != ItemKind::Block && it.kind != ItemKind::Tcl && it.kind != ItemKind::Include) {
+      if (!in_stray_run) report_stray(c, it);
+      in_stray_run = true;
+      continue;
+    }
+    in_stray_run = false;
+    if (it.kind == ItemKind::Include) {
+      handle_include(c, a, it);
+      continue;
+    }
+    if (it.kind != ItemKind::Block) continue;
+    ir::NodeId id = handle_stmt(c, a, a.stmt(it.block), Ctx{});
+    if (!id.is_valid()) continue;
+    const ir::Node& n = c.module().node(id);
+    // Top-level instances are drawn (unless hidden); NOME3 draws top-level blocks too.
+    const bool visible = (n.kind == ir::NodeKind::Instance && !n.as<ir::InstanceData>().is_hidden) ||
+                         (ir::is_block(n.kind) && c.dialect() == Dialect::Nome3);
+    if (visible) c.module().scene.push_back(id);
+  }
+}
+
+ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
+  switch (s.kind) {
+    case BlockKind::Bank:
+    case BlockKind::Savedparameter:
+      if (!ctx.top) c.misplaced(s, ctx);
+      return ir::NodeId::None();  // handled before everything else
+    case BlockKind::Surface: return handle_surface(c, a, s, ctx);
+    case BlockKind::Point: return handle_point(c, a, s, ctx);
+    case BlockKind::Vertex: return handle_vertex(c, a, s, ctx);
+    case BlockKind::Polyline: return handle_polyline(c, a, s, ctx);
+    case BlockKind::Face:
+    case BlockKind::Facet: return handle_face(c, a, s, ctx);
+    case BlockKind::Object: return handle_object(c, a, s, ctx);
+    case BlockKind::Mesh:
+    case BlockKind::Consolidate:
+    case BlockKind::Consolidateface:
+    case BlockKind::Savedworkingmesh: return handle_mesh(c, a, s, ctx);
+    case BlockKind::Group: return handle_group(c, a, s, ctx);
+    case BlockKind::Instance: return handle_instance(c, a, s, ctx);
+    case BlockKind::Transform: return handle_transform(c, a, s, ctx);
+    case BlockKind::Sweep: return handle_sweep(c, a, s, ctx);
+    case BlockKind::Crosssection:
+    case BlockKind::Path: return handle_sweep_part(c, a, s, ctx);
+    case BlockKind::Controlpoint: return handle_controlpoint(c, a, s, ctx);
+    case BlockKind::Delete: return handle_delete(c, a, s, ctx);
+    case BlockKind::Sharp: return handle_sharp(c, a, s, ctx);
+    case BlockKind::Zipper: return handle_zipper(c, a, s, ctx);
+    case BlockKind::Merge:
+    case BlockKind::Subdivision:
+    case BlockKind::Offset:
+    case BlockKind::Handle:
+    case BlockKind::Rind:
+    case BlockKind::Sierpinski:
+    case BlockKind::Menger:
+    case BlockKind::Mirror: return handle_block(c, a, s, ctx);
+    case BlockKind::Camera:
+    case BlockKind::Light:
+    case BlockKind::Window:
+    case BlockKind::Viewport:
+    case BlockKind::Render:
+    case BlockKind::Lookat: return handle_scene(c, a, s, ctx);
+    case BlockKind::Funnel:
+    case BlockKind::Tunnel:
+    case BlockKind::Rimribbon:
+    case BlockKind::Circle:
+    case BlockKind::Sphere:
+    case BlockKind::Ellipsoid:
+    case BlockKind::Cylinder:
+    case BlockKind::Hyperboloid:
+    case BlockKind::Dupin:
+    case BlockKind::Mobiusstrip:
+    case BlockKind::Helix:
+    case BlockKind::Spiral:
+    case BlockKind::Torus:
+    case BlockKind::Torusknot:
+    case BlockKind::Beziercurve:
+    case BlockKind::Bspline:
+    case BlockKind::Bsplinecurve:
+    case BlockKind::Gencartesiansurf:
+    case BlockKind::Genparametricsurf:
+    case BlockKind::Genimplicitsurf: return handle_generator(c, a, s, ctx);
+  }
+  return ir::NodeId::None();
+}
+
+}  // namespace nomec::check

@@ -1,0 +1,179 @@
+// Expression evaluation (see ir.h): the one evaluator of the project, for slider
+// expressions at check time, for the backend's operands, and for the functions of function
+// surfaces at every grid point. Iterative (an explicit stack), so no expression, however
+// deep, recurses on the C++ stack; errors are values that point at the sub-expression.
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "ir/ir.h"
+
+namespace nomec::ir {
+
+namespace {
+
+EvalResult value_of(double v) {
+  EvalResult r;
+  r.value = v;
+  return r;
+}
+
+EvalResult fail(std::string problem, SourceRange where) {
+  EvalResult r;
+  r.ok = false;
+  r.problem = std::move(problem);
+  r.where = where;
+  return r;
+}
+
+int child_count(const Expr& e) {
+  switch (e.kind) {
+    case ExprKind::Unary: return 1;
+    case ExprKind::Binary: return 2;
+    case ExprKind::Call: return static_cast<int>(e.args.size());
+    default: return 0;
+  }
+}
+
+ExprId child(const Expr& e, int i) {
+  switch (e.kind) {
+    case ExprKind::Unary: return e.lhs;
+    case ExprKind::Binary: return i == 0 ? e.lhs : e.rhs;
+    case ExprKind::Call: return e.args[static_cast<uint32_t>(i)];
+    default: return ExprId::None();
+  }
+}
+
+EvalResult binary(const Expr& e, double a, double b) {
+  switch (e.op) {
+    case '+': return value_of(a + b);
+    case '-': return value_of(a - b);
+    case '*': return value_of(a * b);
+    case '/':
+      if (b == 0) return fail(fmt::format("division by zero: {} / 0", a), e.range);
+      return value_of(a / b);
+    case 'i':
+      if (b == 0) return fail(fmt::format("division by zero: {} // 0", a), e.range);
+      return value_of(std::floor(a / b));
+    case '%':
+      if (b == 0) return fail(fmt::format("remainder by zero: {} % 0", a), e.range);
+      return value_of(std::fmod(a, b));
+    case '^': {
+      double r = std::pow(a, b);
+      if (std::isnan(r)) return fail(fmt::format("{} ^ {} has no real value", a, b), e.range);
+      return value_of(r);
+    }
+    default:
+      return fail("unknown operator", e.range);
+  }
+}
+
+EvalResult call(const Expr& e, std::span<const double> v) {
+  auto need = [&](bool ok, const char* what) -> std::optional<EvalResult> {
+    if (!ok) return fail(fmt::format("`{}({})`: {}", func_name(e.func), fmt::join(v, ", "), what), e.range);
+    return std::nullopt;
+  };
+  const double x = v.empty() ? 0 : v[0];
+  switch (e.func) {
+    case Func::Sin: return value_of(std::sin(x));
+    case Func::Cos: return value_of(std::cos(x));
+    case Func::Tan: return value_of(std::tan(x));
+    case Func::Asin:
+      if (auto f = need(x >= -1 && x <= 1, "argument outside [-1, 1]")) return *f;
+      return value_of(std::asin(x));
+    case Func::Acos:
+      if (auto f = need(x >= -1 && x <= 1, "argument outside [-1, 1]")) return *f;
+      return value_of(std::acos(x));
+    case Func::Atan: return value_of(std::atan(x));
+    case Func::Atan2: return value_of(std::atan2(v[0], v[1]));
+    case Func::Sinh: return value_of(std::sinh(x));
+    case Func::Cosh: return value_of(std::cosh(x));
+    case Func::Tanh: return value_of(std::tanh(x));
+    case Func::Sqrt:
+      if (auto f = need(x >= 0, "square root of a negative number")) return *f;
+      return value_of(std::sqrt(x));
+    case Func::Abs: return value_of(std::fabs(x));
+    case Func::Exp: return value_of(std::exp(x));
+    case Func::Log:
+    case Func::Ln:
+      if (auto f = need(x > 0, "logarithm of a number that is not positive")) return *f;
+      return value_of(std::log(x));
+    case Func::Log10:
+      if (auto f = need(x > 0, "logarithm of a number that is not positive")) return *f;
+      return value_of(std::log10(x));
+    case Func::Pow: {
+      double r = std::pow(v[0], v[1]);
+      if (auto f = need(!std::isnan(r), "no real value")) return *f;
+      return value_of(r);
+    }
+    case Func::Min: return value_of(*std::min_element(v.begin(), v.end()));
+    case Func::Max: return value_of(*std::max_element(v.begin(), v.end()));
+    case Func::Floor: return value_of(std::floor(x));
+    case Func::Ceil: return value_of(std::ceil(x));
+    case Func::Round: return value_of(std::round(x));
+    case Func::Sign: return value_of(static_cast<double>((x > 0) - (x < 0)));
+    case Func::Mod:
+      if (auto f = need(v[1] != 0, "remainder by zero")) return *f;
+      return value_of(std::fmod(v[0], v[1]));
+  }
+  return fail("unknown function", e.range);
+}
+
+// The value of a leaf (an expression without operands).
+EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variables) {
+  switch (e.kind) {
+    case ExprKind::Const: return value_of(e.value);
+    case ExprKind::Param: return value_of(m.param(e.param).value);
+    case ExprKind::Builtin: return value_of(e.name == "time" ? m.time : m.frame);
+    case ExprKind::Variable:
+      if (e.variable < variables.size()) return value_of(variables[e.variable]);
+      return fail(fmt::format("`{}` has no value here", e.name), e.range);
+    default: return fail("", e.range);
+  }
+}
+
+}  // namespace
+
+EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variables) {
+  if (!root.is_valid()) return fail("", SourceRange{});
+  // Post-order walk: a frame is an expression and how many of its operands are evaluated;
+  // the operands' values wait on `values` until their expression is computed.
+  struct Frame {
+    ExprId id;
+    int done;
+  };
+  SmallVec<Frame, 16> stack;
+  SmallVec<double, 16> values;
+  stack.push_back({root, 0});
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    const Expr& e = m.expr(top.id);
+    const int n = child_count(e);
+    if (e.kind == ExprKind::Error) return fail("", e.range);
+    if (top.done < n) {
+      const ExprId c = child(e, top.done++);
+      stack.push_back({c, 0});
+      continue;
+    }
+    EvalResult r;
+    if (n == 0) {
+      r = leaf(m, e, variables);
+    } else {
+      std::span<const double> operands(values.end() - n, static_cast<size_t>(n));
+      if (e.kind == ExprKind::Unary) {
+        r = value_of(e.op == '-' ? -operands[0] : operands[0]);
+      } else if (e.kind == ExprKind::Binary) {
+        r = binary(e, operands[0], operands[1]);
+      } else {
+        r = call(e, operands);
+      }
+      values.truncate(values.size() - static_cast<uint32_t>(n));
+    }
+    if (!r.ok) return r;
+    values.push_back(r.value);
+    stack.pop_back();
+  }
+  return value_of(values.back());
+}
+
+}  // namespace nomec::ir

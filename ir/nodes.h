@@ -1,0 +1,289 @@
+// The IR's nodes: the kinds of node_kinds.def, each with a typed payload that says what the
+// node means once the checker has resolved it (names to node IDs, symbols such as
+// `NOME_SD_CC_sharp` to enums, per-dialect argument orders to catalogue arguments), and the
+// pieces payloads are made of: operands (expressions with the Value node tracking the
+// sliders they read), vertex references, transforms, generator argument bindings.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "base/small_vec.h"
+#include "frontend/source/source_manager.h"
+#include "ir/dep_graph.h"
+#include "ir/generator_catalogue.h"
+#include "ir/ids.h"
+
+namespace nomec::ir {
+
+/// An argument given by expressions, e.g. `translate (0 0 {expr $fp_z})`: its expressions,
+/// where it is written, the node it belongs to, and the Value node that tracks the sliders
+/// it reads (none for constants). Every operand of a node is listed in `Node::operands`, in
+/// written order, so dumps, hover and the dependency graph see them without knowing the
+/// node's kind; the payload names the ones that mean something to the backend.
+struct Operand {
+  std::string_view name;  // as the file writes it: `translate`, `ro`, `sd_level` (static text)
+  SmallVec<ExprId, 4> exprs;
+  SourceRange range;
+  NodeId owner;
+  NodeId value_node;
+};
+
+/// A vertex reference in a face, polyline or consolidate block: either a point node, or a
+/// path through instances to a generated/mesh vertex (`fun3.hc3`, 2016 `cf_fun3_hc3`).
+struct VertexRef {
+  std::string text;               // as written
+  NodeId point;                   // resolved point, if it names a point
+  std::vector<NodeId> instances;  // resolved instance chain, outermost first
+  std::string vertex;             // vertex name inside the innermost instance target
+  SourceRange range;
+};
+
+/// A flag word, possibly with a value in SLIDE: `closed`, `closed 1`, `begincap 0`. Set when
+/// present and its value (if any) is not 0.
+struct FlagArg {
+  bool is_present = false;
+  OperandId value;  // SLIDE writes a number after the word
+  SourceRange range;
+};
+
+enum class TransformKind : uint8_t { Translate, Rotate, Scale, Mirror };
+/// One step of an instance's transform chain, e.g. `rotate (1 0 0) (90)`: its operand holds
+/// the axis and the angle in degrees (4 expressions); `mirror (a b c d)` the plane.
+struct TransformOp {
+  TransformKind kind = TransformKind::Translate;
+  OperandId args;
+};
+
+/// A generator argument as the file gives it, e.g. `ro` = `{expr $fp_ro}` of a funnel, or
+/// the control points of a curve: a value (numbers, a function, a flag's value), a named
+/// node (a path) or a list of nodes (points).
+struct GenArgBinding {
+  ArgIndex arg = kNoArg;
+  OperandId value;
+  NodeId ref;
+  Slice<NodeId> refs;
+  bool is_flag = false;  // a Flag argument given as a bare word
+  SourceRange range;
+};
+
+/// A face named by a `delete` block, e.g. `face cube1_c4 endface`: the instance chain that
+/// places it and which face of the instanced mesh (a face node) or generator (an index).
+struct DeletedFace {
+  std::string text;
+  SourceRange range;
+  NodeId scope;                   // the group or block the path starts in, if it names one
+  std::vector<NodeId> instances;  // outermost written first; outer instances may be omitted
+  NodeId face;                    // a face of the innermost instance's mesh, or
+  int32_t index = -1;             // the index of a face of its mesh or generator
+};
+
+// ---- Payloads, one per node kind ----
+
+/// `set n 8 3 10 1` in bank `fp`: the slider `fp.n`.
+struct ParamData {
+  double value = 0, min = 0, max = 0, step = 0;
+  std::string bank;
+};
+/// The value of one operand whose expressions read parameters (a node of the graph).
+struct ValueData {
+  OperandId operand;
+};
+/// `surface S color (1 0 0) endsurface`.
+struct SurfaceData {
+  OperandId color, reflectivity, exponent, metallic;
+};
+/// `point p (1 0 0) endpoint`, or a mesh's own point.
+struct PointData {
+  OperandId position, texture;
+};
+/// NOME3 `controlpoint cp point p scale (…) rotate (…) endcontrolpoint`.
+struct ControlPointData {
+  NodeId point;
+  OperandId scale, rotate, translate;
+};
+/// `polyline l (p1 p2 p3) closed endpolyline` (2016 `isloop`).
+struct PolylineData {
+  Slice<VertexRef> points;
+  Slice<NodeId> point_list;  // SLIDE `pointlist (…)`
+  FlagArg closed;
+};
+/// `face f (a b c) surface S endface`; also `facet` and a saved `consolidateface`.
+struct FaceData {
+  Slice<VertexRef> vertices;
+  NodeId surface;
+};
+enum class MeshForm : uint8_t { Mesh, Object, Consolidate, SavedWorkingMesh };
+/// `mesh m … endmesh`, `object o (f1 f2) endobject`, and the meshes of 2016 saved work.
+struct MeshData {
+  MeshForm form = MeshForm::Mesh;
+  Slice<NodeId> faces;  // an object's face list
+  NodeId surface;
+};
+/// A generator of the catalogue, e.g. `funnel fun (8 0.4 -0.2 0.2) endfunnel`.
+struct GeneratorData {
+  GenKind gen = GenKind::Funnel;
+  Slice<GenArgBinding> args;  // in written order
+};
+/// `sweep s crosssection c … path p … endsweep`: its own options; its cross section and path
+/// are child nodes (CrossSection, SweepPath).
+struct SweepData {
+  OperandId azimuth, twist;
+  bool mintorsion = false;
+};
+/// `path P [mintorsion] [azimuth E] [twist E] endpath` inside a sweep.
+struct SweepPathData {
+  NodeId curve;
+  SourceRange curve_range;
+  OperandId azimuth, twist, minimizetorsion;
+  bool mintorsion = false;
+};
+/// `crosssection C … endcrosssection`: a curve (by name inside a sweep, or SLIDE `type
+/// polyline P` / `polyline P`) or a SLIDE circle, with caps.
+struct CrossSectionData {
+  NodeId curve;
+  SourceRange curve_range;
+  bool is_circle = false;
+  OperandId radius, slices;
+  FlagArg begin_cap, end_cap;
+  bool reverse = false;
+};
+/// SLIDE `transform translate (…) endtransform`.
+struct TransformData {
+  Slice<TransformOp> ops;
+};
+/// `group g … endgroup`.
+struct GroupData {
+  NodeId surface;
+};
+/// `instance i target translate (…) rotate (…) (…) surface S endinstance`.
+struct InstanceData {
+  NodeId target;
+  Slice<TransformOp> transforms;  // in written order; the first written acts first
+  NodeId surface;
+  bool is_hidden = false;
+};
+/// `merge m [tolerance E] … endmerge`.
+struct MergeData {
+  OperandId tolerance;
+};
+enum class SubdivisionRule : uint8_t {
+  CatmullClarkSharp,  // NOME_SD_CC_sharp (the default): honour `sharp`
+  CatmullClark,       // NOME_SD_CatmullClark, NOME_SD_CC, SLF_SUBDIVISION_CATMULL_CLARK
+  DeRose,             // NOME_SD_DeRose
+};
+std::string_view subdivision_rule_name(SubdivisionRule r);
+/// `subdivision s [sd_type T] [sd_level E] … endsubdivision` (SLIDE `type T subdivisions E`).
+struct SubdivisionData {
+  SubdivisionRule rule = SubdivisionRule::CatmullClarkSharp;
+  OperandId levels;
+  OperandId rule_value;  // SLIDE `type {expr …}`: a Tcl value nomec cannot read yet
+  OperandId tolerance;   // merge tolerance
+};
+enum class OffsetKind : uint8_t {
+  Plain,  // the seed's offset (default)
+  Grid,   // NOME_OFFSET_GRID, SLF_OFFSET_PERFORATED: a lattice when `width` > 0
+};
+std::string_view offset_kind_name(OffsetKind k);
+/// `offset o [offset_type T] [height E] [width E] … endoffset`.
+struct OffsetData {
+  OffsetKind kind = OffsetKind::Plain;
+  OperandId height, width;
+  OperandId kind_value;  // SLIDE `type {expr …}`
+  OperandId tolerance;
+};
+/// `handle h faces (F1 F2) [corners (V1 V2)] [segments E] [weights (E E)] [twist E] … endhandle`.
+struct HandleData {
+  Slice<NodeId> faces, corners;
+  OperandId segments, weights, twist;
+};
+/// `rind r thickness E [punch (F…)] [peel (F…)] … endrind`.
+struct RindData {
+  OperandId thickness;
+  Slice<NodeId> punch, peel;
+};
+/// `sierpinski s level E … endsierpinski`.
+struct SierpinskiData {
+  OperandId level;
+};
+/// `menger m level E thickness E [collapse E] … endmenger`.
+struct MengerData {
+  OperandId level, thickness, collapse;
+};
+/// SLIDE `mirror m instance … endmirror`: reverses the orientation of its instances' faces.
+struct FaceReversalData {};
+/// `delete face cube1_c4 endface … enddelete`.
+struct DeleteData {
+  Slice<DeletedFace> faces;
+};
+/// `sharp 9 (v1 v2 v3) (v4 v5) endsharp` inside a mesh: crease chains.
+struct SharpData {
+  OperandId sharpness;
+  Slice<Slice<VertexRef>> chains;
+};
+/// `zipper z border (a.v0 a.v3) border (b.v0 b.v3) [penalty E] endzipper`.
+struct ZipperData {
+  Slice<VertexRef> borders[2];
+  int32_t border_count = 0;  // as written (the checker reports anything but 2)
+  OperandId penalty;
+};
+enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, Lookat };
+/// Viewing set-up (`camera`, `light`, `window`, `viewport`, `render`, `lookat`): kept, no
+/// geometry.
+struct SceneData {
+  SceneKind kind = SceneKind::Camera;
+};
+
+// ---- Nodes ----
+
+enum class NodeKind : uint8_t {
+#define NOMEC_IR_NODE(Kind, Payload, Name) Kind,
+#include "ir/node_kinds.def"
+};
+std::string_view node_kind_name(NodeKind kind);
+
+/// The payloads in node_kinds.def order: `data.index()` is always the node's kind.
+using Payload = std::variant<
+#define NOMEC_IR_NODE(Kind, Payload, Name) Payload,
+#include "ir/node_kinds.def"
+    std::monostate>;
+
+/// The default payload of `kind`.
+Payload payload_for(NodeKind kind);
+
+/// True for the pipeline blocks, whose children are the instances they work on (merge,
+/// subdivision, offset, handle, rind, sierpinski, menger, SLIDE mirror).
+bool is_block(NodeKind kind);
+
+/// One IR node. Examples: Param `fp.n`; Generator `fun` with GenKind::Funnel; Instance
+/// `cf.fun1` whose payload holds its target and transform chain.
+struct Node {
+  NodeKind kind = NodeKind::Value;
+  /// The statement's keyword as written (`facet`, `object`, `bsplinecurve`): for display in
+  /// hover, dumps and messages only; code decides by `kind` and the payload.
+  std::string_view keyword;
+  std::string name;  // qualified, e.g. "cubeMadeByFunnel.fun1"; "" if anonymous
+  SourceRange range;
+  NodeId parent;                // enclosing mesh/group/block
+  std::vector<NodeId> children; // mesh points/faces/sharps, group/block instances, sweep parts
+  SmallVec<OperandId, 2> operands;  // every operand, in written order
+  Payload data;
+
+  template <typename T>
+  const T& as() const {
+    return *std::get_if<T>(&data);
+  }
+  template <typename T>
+  T& as() {
+    return *std::get_if<T>(&data);
+  }
+  template <typename T>
+  bool is() const {
+    return std::holds_alternative<T>(data);
+  }
+};
+
+}  // namespace nomec::ir
