@@ -10,15 +10,17 @@
 // was split and suggest spellings. Keywords are contextual: any keyword can be used as a
 // name (rule `word`), except end keywords.
 //
-// Two token types are assigned after lexing by frontend/parse (not by this grammar), so the
+// Four token types are assigned after lexing by frontend/parse (not by this grammar), so the
 // grammar stays target-neutral:
+//  * K_GEN / E_GEN: a name that is a generator keyword of the catalogue, and its `end` form
+//    (see `generatorStmt`).
 //  * SPLUS / SMINUS: a `+`/`-` preceded by whitespace or `(` and directly followed by a
 //    non-space character. At the top level of a list or block body it starts a new element
 //    (language.md §3); inside parentheses, braces and call arguments it is an ordinary
 //    binary operator wherever that reading is possible.
 grammar Nome;
 
-tokens { SPLUS, SMINUS }
+tokens { SPLUS, SMINUS, K_GEN, E_GEN }
 
 // ---------------------------------------------------------------------------------------
 // Parser
@@ -89,29 +91,12 @@ sierpinskiStmt      : K_SIERPINSKI (block | item)* E_SIERPINSKI ;
 mengerStmt          : K_MENGER (block | item)* E_MENGER ;
 mirrorStmt          : K_MIRROR (block | item)* E_MIRROR ;
 
-// Generators. 2016 files close `tunnel` with `endfunnel`; the front end warns about it.
-generatorStmt
-  : K_FUNNEL item* E_FUNNEL
-  | K_TUNNEL item* (E_TUNNEL | E_FUNNEL)
-  | K_RIMRIBBON item* E_RIMRIBBON
-  | K_CIRCLE item* E_CIRCLE
-  | K_SPHERE item* E_SPHERE
-  | K_ELLIPSOID item* E_ELLIPSOID
-  | K_CYLINDER item* E_CYLINDER
-  | K_HYPERBOLOID item* E_HYPERBOLOID
-  | K_DUPIN item* E_DUPIN
-  | K_MOBIUSSTRIP item* E_MOBIUSSTRIP
-  | K_HELIX item* E_HELIX
-  | K_SPIRAL item* E_SPIRAL
-  | K_TORUS item* E_TORUS
-  | K_TORUSKNOT item* E_TORUSKNOT
-  | K_BEZIERCURVE item* E_BEZIERCURVE
-  | K_BSPLINE item* E_BSPLINE
-  | K_BSPLINECURVE item* E_BSPLINECURVE
-  | K_GENCARTESIANSURF item* E_GENCARTESIANSURF
-  | K_GENPARAMETRICSURF item* E_GENPARAMETRICSURF
-  | K_GENIMPLICITSURF item* E_GENIMPLICITSURF
-  ;
+// Generators. Their keywords are not lexer rules: the generator catalogue
+// (ir/generators.def) lists them, and frontend/parse retypes a name that is a catalogue
+// keyword to K_GEN and `end` + keyword to E_GEN, so a new generator needs no grammar change.
+// The front end checks that the end keyword closes the same generator (2016 files close
+// `tunnel` with `endfunnel`; it warns about that).
+generatorStmt : K_GEN item* E_GEN ;
 
 // ----- Items: the flat contents of a block body -----
 // Alternatives start with disjoint tokens, so no item needs more than one token of
@@ -174,10 +159,7 @@ word
   | K_TRANSFORM | K_LOOKAT | K_DELETE | K_SHARP | K_ZIPPER | K_MERGE | K_SUBDIVISION
   | K_OFFSET | K_HANDLE | K_RIND | K_SIERPINSKI | K_MENGER | K_MIRROR | K_SAVEDPARAMETER
   | K_CONSOLIDATE | K_CONSOLIDATEFACE | K_SAVEDWORKINGMESH | K_CAMERA | K_LIGHT | K_WINDOW
-  | K_VIEWPORT | K_RENDER | K_FUNNEL | K_TUNNEL | K_RIMRIBBON | K_CIRCLE | K_SPHERE
-  | K_ELLIPSOID | K_CYLINDER | K_HYPERBOLOID | K_DUPIN | K_MOBIUSSTRIP | K_HELIX | K_SPIRAL
-  | K_TORUS | K_TORUSKNOT | K_BEZIERCURVE | K_BSPLINE | K_BSPLINECURVE | K_GENCARTESIANSURF
-  | K_GENPARAMETRICSURF | K_GENIMPLICITSURF
+  | K_VIEWPORT | K_RENDER | K_GEN
   ;
 
 // ---------------------------------------------------------------------------------------
@@ -233,26 +215,6 @@ K_LIGHT : 'light' ;                   E_LIGHT : 'endlight' ;
 K_WINDOW : 'window' ;                 E_WINDOW : 'endwindow' ;
 K_VIEWPORT : 'viewport' ;             E_VIEWPORT : 'endviewport' ;
 K_RENDER : 'render' ;                 E_RENDER : 'endrender' ;
-K_FUNNEL : 'funnel' ;                 E_FUNNEL : 'endfunnel' ;
-K_TUNNEL : 'tunnel' ;                 E_TUNNEL : 'endtunnel' ;
-K_RIMRIBBON : 'rimribbon' ;           E_RIMRIBBON : 'endrimribbon' ;
-K_CIRCLE : 'circle' ;                 E_CIRCLE : 'endcircle' ;
-K_SPHERE : 'sphere' ;                 E_SPHERE : 'endsphere' ;
-K_ELLIPSOID : 'ellipsoid' ;           E_ELLIPSOID : 'endellipsoid' ;
-K_CYLINDER : 'cylinder' ;             E_CYLINDER : 'endcylinder' ;
-K_HYPERBOLOID : 'hyperboloid' ;       E_HYPERBOLOID : 'endhyperboloid' ;
-K_DUPIN : 'dupin' ;                   E_DUPIN : 'enddupin' ;
-K_MOBIUSSTRIP : 'mobiusstrip' ;       E_MOBIUSSTRIP : 'endmobiusstrip' ;
-K_HELIX : 'helix' ;                   E_HELIX : 'endhelix' ;
-K_SPIRAL : 'spiral' ;                 E_SPIRAL : 'endspiral' ;
-K_TORUS : 'torus' ;                   E_TORUS : 'endtorus' ;
-K_TORUSKNOT : 'torusknot' ;           E_TORUSKNOT : 'endtorusknot' ;
-K_BEZIERCURVE : 'beziercurve' ;       E_BEZIERCURVE : 'endbeziercurve' ;
-K_BSPLINE : 'bspline' ;               E_BSPLINE : 'endbspline' ;
-K_BSPLINECURVE : 'bsplinecurve' ;     E_BSPLINECURVE : 'endbsplinecurve' ;
-K_GENCARTESIANSURF : 'gencartesiansurf' ;   E_GENCARTESIANSURF : 'endgencartesiansurf' ;
-K_GENPARAMETRICSURF : 'genparametricsurf' ; E_GENPARAMETRICSURF : 'endgenparametricsurf' ;
-K_GENIMPLICITSURF : 'genimplicitsurf' ;     E_GENIMPLICITSURF : 'endgenimplicitsurf' ;
 
 NUMBER
   : DIGITS ('.' DIGITS?)? EXPONENT?

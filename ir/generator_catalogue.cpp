@@ -91,6 +91,7 @@ Catalogue build() {
     g.summary = Summary;                                                    \
   }
 #define NOMEC_GEN_KEYWORD(Kind, Keyword) info(GenKind::Kind).keywords.push_back(Keyword);
+#define NOMEC_GEN_END_KEYWORD(Kind, Keyword) info(GenKind::Kind).other_ends.push_back(Keyword);
 #define NOMEC_GEN_ARG(Kind, Name, Type, Aliases, Doc) \
   info(GenKind::Kind).args.push_back(ArgInfo{#Name, ArgType::Type, split_words(Aliases), Doc});
 #define NOMEC_GEN_POSITIONAL(Kind, Dialects, Args, Optional) \
@@ -169,6 +170,12 @@ std::optional<GenKind> generator_by_keyword(std::string_view keyword) {
 std::optional<GenKind> generator_by_end_keyword(std::string_view keyword) {
   if (!keyword.starts_with("end")) return std::nullopt;
   return generator_by_keyword(keyword.substr(3));
+}
+
+bool GeneratorInfo::closes_with(std::string_view open, std::string_view end) const {
+  if (std::find(other_ends.begin(), other_ends.end(), end) != other_ends.end()) return true;
+  return end.starts_with("end") && end.substr(3) == open &&
+         std::find(keywords.begin(), keywords.end(), open) != keywords.end();
 }
 
 const Signature* GeneratorInfo::signature(Dialect dialect) const {

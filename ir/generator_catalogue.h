@@ -95,6 +95,7 @@ struct GeneratorInfo {
   GenKind kind = GenKind::Funnel;
   std::string_view keyword;                  // e.g. `funnel`
   std::vector<std::string_view> keywords;    // `keyword` first, then other spellings
+  std::vector<std::string_view> other_ends;  // end keywords besides `end` + a keyword
   GenOutput output = GenOutput::Surface;
   std::string_view summary;
   std::vector<ArgInfo> args;
@@ -106,6 +107,9 @@ struct GeneratorInfo {
   /// Dialects its keyword is a detection signal of (e.g. NOME3 for `torus`).
   DialectSet signals = 0;
 
+  /// True when `end` closes this generator opened with keyword `open`: `end` + `open`, or
+  /// another end keyword old files use (2016's `tunnel … endfunnel`).
+  bool closes_with(std::string_view open, std::string_view end) const;
   /// The positional list in `dialect`, or null when the generator takes none there (SLIDE's
   /// `cylinder`, `rimribbon`).
   const Signature* signature(Dialect dialect) const;

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -13,26 +15,34 @@
 
 namespace nomec::ast {
 
-/// Every block statement kind, e.g. `BlockKind::Funnel` for `funnel fun (…) endfunnel`.
+/// Every block statement kind, e.g. `BlockKind::Mesh` for `mesh m … endmesh`; every
+/// generator (`funnel fun (…) endfunnel`) is `BlockKind::Generator`.
 enum class BlockKind : uint8_t {
-#define NOMEC_BLOCK(Kind, Open, Close, Category) Kind,
+#define NOMEC_BLOCK(Kind, Open, Category) Kind,
 #include "frontend/ast/block_kinds.def"
 #undef NOMEC_BLOCK
 };
 
 /// Number of block kinds in block_kinds.def.
 inline constexpr int kBlockKindCount = 0
-#define NOMEC_BLOCK(Kind, Open, Close, Category) +1
+#define NOMEC_BLOCK(Kind, Open, Category) +1
 #include "frontend/ast/block_kinds.def"
 #undef NOMEC_BLOCK
     ;
 
 enum class BlockCategory : uint8_t { Def, Gen, Pipe, Edit, Scene, Sub };
 
+/// The keyword opening a block of this kind, e.g. `mesh`; for `Generator`, which has one
+/// per generator, the word `generator` (messages that know the statement use its keyword).
 std::string_view open_keyword(BlockKind kind);
-std::string_view close_keyword(BlockKind kind);
 BlockCategory category(BlockKind kind);
-/// All opening keywords (for "did you mean" on misspelled statements).
+/// The kind a word opens (`mesh`, or a generator keyword of the catalogue such as `funnel`).
+std::optional<BlockKind> block_of_keyword(std::string_view word);
+/// The kind an end keyword closes (`endmesh`, `endfunnel`, …).
+std::optional<BlockKind> block_of_end_keyword(std::string_view word);
+/// The end keyword of an opening keyword: `end` + keyword.
+std::string end_keyword(std::string_view keyword);
+/// All opening keywords, generators' included (for "did you mean" on misspelled statements).
 const std::vector<std::string_view>& all_open_keywords();
 
 struct ExprTag;
@@ -90,6 +100,7 @@ struct Item {
 /// A block statement, e.g. `point p (1 2 3) endpoint`.
 struct Stmt {
   BlockKind kind;
+  std::string_view keyword;  // the opening keyword as written, e.g. `funnel` (views the source)
   SourceRange range;
   SourceRange open_kw;
   SourceRange close_kw;  // invalid when the parser had to recover without one

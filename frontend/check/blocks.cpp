@@ -121,7 +121,7 @@ void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
 
 ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
   size_t pos = 0;
-  std::string_view kw = ast::open_keyword(s.kind);
+  std::string_view kw = s.keyword;
   std::string name = c.read_name(s, pos, fmt::format("{} name … end{}", kw, kw)).value_or("");
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
   read_body(c, a, s, pos, id, options_for(s.kind), [&c, id](const OptionValue& v) { block_option(c, id, v); });
@@ -157,9 +157,13 @@ ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, 
     ir::NodeId curve = resolve(c, Ns::Shape, name, s.items[0].range, "a curve or polyline");
     if (curve.is_valid()) m.deps.add_edge(curve, id);
     if (is_path) {
-      m.get<ir::SweepPathData>(id) = ir::SweepPathData{.curve = curve, .curve_range = s.items[0].range};
+      auto& path = m.get<ir::SweepPathData>(id);
+      path.curve = curve;
+      path.curve_range = s.items[0].range;
     } else {
-      m.get<ir::CrossSectionData>(id) = ir::CrossSectionData{.curve = curve, .curve_range = s.items[0].range};
+      auto& section = m.get<ir::CrossSectionData>(id);
+      section.curve = curve;
+      section.curve_range = s.items[0].range;
     }
   }
   if (is_path) {
@@ -229,7 +233,7 @@ ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, cons
 ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
   if (s.kind != BlockKind::Lookat) {
     c.diags().emit(DiagKind::IgnoredStatement, s.open_kw,
-                   fmt::format("`{}` sets up viewing, which nomec does not render; accepted and ignored", ast::open_keyword(s.kind)));
+                   fmt::format("`{}` sets up viewing, which nomec does not render; accepted and ignored", s.keyword));
   }
   std::string name;
   if (!s.items.empty() && s.items[0].kind == ItemKind::Word && s.kind != BlockKind::Lookat) name = std::string(s.items[0].text);

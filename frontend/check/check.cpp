@@ -60,8 +60,8 @@ std::unique_ptr<ast::Ast> load_base(check::Context& c, const std::string& path, 
 }  // namespace
 
 std::optional<ir::GenKind> statement_generator(const ast::Stmt& s) {
-  if (ast::category(s.kind) != ast::BlockCategory::Gen || s.kind == ast::BlockKind::Sweep) return std::nullopt;
-  return ir::generator_by_keyword(ast::open_keyword(s.kind));
+  if (s.kind != ast::BlockKind::Generator) return std::nullopt;
+  return ir::generator_by_keyword(s.keyword);
 }
 
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,

@@ -58,9 +58,9 @@ struct CheckResult {
 /// The generator of the catalogue a statement is, if it is one (`funnel`, `bsplinecurve` …).
 std::optional<ir::GenKind> statement_generator(const ast::Stmt& s);
 
-/// The option words a block kind accepts, e.g. `translate`, `rotate`, `surface` for
-/// `instance` (for completion and highlighting in frontend/index).
-std::vector<std::string_view> option_words(ast::BlockKind kind);
+/// The option words the statement this keyword opens accepts, e.g. `translate`, `rotate`,
+/// `surface` for `instance` (for completion and highlighting in frontend/index).
+std::vector<std::string_view> option_words(std::string_view keyword);
 
 /// Parses and checks the file `path` whose text is `text`. Never throws.
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,

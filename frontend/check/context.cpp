@@ -46,26 +46,7 @@ ir::NodeKind node_kind_for(BlockKind kind) {
     case BlockKind::Mirror: return ir::NodeKind::FaceReversal;
     case BlockKind::Bank:
     case BlockKind::Savedparameter: return ir::NodeKind::Value;
-    case BlockKind::Funnel:
-    case BlockKind::Tunnel:
-    case BlockKind::Rimribbon:
-    case BlockKind::Circle:
-    case BlockKind::Sphere:
-    case BlockKind::Ellipsoid:
-    case BlockKind::Cylinder:
-    case BlockKind::Hyperboloid:
-    case BlockKind::Dupin:
-    case BlockKind::Mobiusstrip:
-    case BlockKind::Helix:
-    case BlockKind::Spiral:
-    case BlockKind::Torus:
-    case BlockKind::Torusknot:
-    case BlockKind::Beziercurve:
-    case BlockKind::Bspline:
-    case BlockKind::Bsplinecurve:
-    case BlockKind::Gencartesiansurf:
-    case BlockKind::Genparametricsurf:
-    case BlockKind::Genimplicitsurf: return ir::NodeKind::Generator;
+    case BlockKind::Generator: return ir::NodeKind::Generator;
   }
   return ir::NodeKind::Value;
 }
@@ -90,7 +71,7 @@ ir::NodeId* Context::declared_slot(const ast::Stmt& s) {
 
 ir::NodeId Context::node_for(const ast::Stmt& s, std::string name, const Ctx& ctx) {
   if (const ir::NodeId* d = declared_slot(s); d != nullptr && d->is_valid()) return *d;
-  return m_.add_node(node_kind_for(s.kind), ast::open_keyword(s.kind), std::move(name), s.range, ctx.parent);
+  return m_.add_node(node_kind_for(s.kind), s.keyword, std::move(name), s.range, ctx.parent);
 }
 
 std::string Context::qualify(const Ctx& ctx, const std::string& name) const {
@@ -155,13 +136,13 @@ ir::OperandId Context::add_operand(ir::NodeId owner, std::string_view name, Smal
 std::optional<std::string> Context::read_name(const ast::Stmt& s, size_t& pos, std::string_view example) {
   if (pos < s.items.size() && s.items[pos].kind == ItemKind::Word) return std::string(s.items[pos++].text);
   diags_.emit(DiagKind::MissingName, s.open_kw,
-              fmt::format("`{}` needs a name, e.g. `{}`", ast::open_keyword(s.kind), example));
+              fmt::format("`{}` needs a name, e.g. `{}`", s.keyword, example));
   return std::nullopt;
 }
 
 void Context::misplaced(const ast::Stmt& s, const Ctx& ctx) {
   diags_.emit(DiagKind::MisplacedStatement, s.open_kw,
-              fmt::format("`{}` cannot appear inside `{}`", ast::open_keyword(s.kind), ast::open_keyword(ctx.parent_kind)));
+              fmt::format("`{}` cannot appear inside `{}`", s.keyword, ctx.parent_keyword));
 }
 
 std::string Context::clip(std::string_view t) {

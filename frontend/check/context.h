@@ -36,13 +36,14 @@ struct Symbol {
   ir::NodeId node;
   SourceRange range;
   int order = 0;  // top-level statement index of the definition
-  BlockKind kind = BlockKind::Point;
+  std::string_view keyword;  // of the defining statement, e.g. `funnel` (for messages)
 };
 
 /// Where a statement is being checked: its enclosing node (a mesh, group, block …).
 struct Ctx {
   ir::NodeId parent;                        // enclosing mesh/group/pipeline node
   BlockKind parent_kind = BlockKind::Bank;  // Bank = top level
+  std::string_view parent_keyword;          // as written, e.g. `mesh` (empty at the top level)
   bool top = true;
 };
 

@@ -39,20 +39,20 @@ void statement_signals(const ast::Ast& a, Signals& sig) {
       case BlockKind::Consolidate:
       case BlockKind::Savedparameter:
       case BlockKind::Savedworkingmesh:
-        sig.nome(s.open_kw, fmt::format("`{}`", ast::open_keyword(s.kind)));
-        break;
-      case BlockKind::Tunnel:
-        if (s.close_text == "endfunnel") sig.nome(s.close_kw, "`tunnel … endfunnel`");
+        sig.nome(s.open_kw, fmt::format("`{}`", s.keyword));
         break;
       case BlockKind::Sweep:
       case BlockKind::Sharp:
-        sig.nome3(s.open_kw, fmt::format("NOME3 command `{}`", ast::open_keyword(s.kind)));
+        sig.nome3(s.open_kw, fmt::format("NOME3 command `{}`", s.keyword));
         break;
       default:
         if (std::optional<ir::GenKind> gen = generator_of(s)) {
           const ir::GeneratorInfo& g = ir::generator(*gen);
-          if ((g.signals & kNome3) != 0 && ast::open_keyword(s.kind) == g.keyword) {
+          if ((g.signals & kNome3) != 0 && s.keyword == g.keyword) {
             sig.nome3(s.open_kw, fmt::format("NOME3 command `{}`", g.keyword));
+          }
+          if (s.close_text != ast::end_keyword(s.keyword) && g.closes_with(s.keyword, s.close_text)) {
+            sig.nome(s.close_kw, fmt::format("`{} … {}`", s.keyword, s.close_text));
           }
         }
         break;

@@ -129,7 +129,7 @@ struct GenReader {
     const std::string& name = m.node(id).name;
     c.diags()
         .emit(DiagKind::GeometryFailed, at,
-              fmt::format("`{}` `{}`: {}", ast::open_keyword(s.kind), name.substr(name.rfind('.') + 1), problem->message))
+              fmt::format("`{}` `{}`: {}", s.keyword, name.substr(name.rfind('.') + 1), problem->message))
         .note(SourceRange{}, problem->hint);
   }
 };
@@ -140,7 +140,7 @@ ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, c
   const ir::GenKind gen = *generator_of(s);
   const ir::GeneratorInfo& info = ir::generator(gen);
   size_t pos = 0;
-  auto name = c.read_name(s, pos, fmt::format("{} g (…) end{}", ast::open_keyword(s.kind), ast::open_keyword(s.kind)));
+  auto name = c.read_name(s, pos, fmt::format("{} g (…) end{}", s.keyword, s.keyword));
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name.value_or("")), ctx);
   c.module().get<ir::GeneratorData>(id).gen = gen;
   if (gen == ir::GenKind::Tunnel && s.close_text == "endfunnel") {
@@ -161,7 +161,7 @@ ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, c
   read_body(c, a, s, pos, id, generator_options(gen, c.dialect()), [&](const OptionValue& v) { r.option(v); }, positional);
   if (sig != nullptr && !took_args && !sig->is_point_list) {
     c.diags().emit(DiagKind::MissingArgument, name ? s.items[0].range : s.open_kw,
-                   fmt::format("`{}` needs its arguments `({})`", ast::open_keyword(s.kind),
+                   fmt::format("`{}` needs its arguments `({})`", s.keyword,
                                fmt::join(sig->names.begin(), sig->names.begin() + static_cast<ptrdiff_t>(sig->args.size()), " ")));
   }
   if (arity_ok) r.check_domain();

@@ -81,7 +81,7 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
       c.diags()
           .emit(DiagKind::DuplicateInstanceName, s.items[0].range,
                 fmt::format("instance name `{}` is used twice in this {}; paths through `{}` will be ambiguous", head.name,
-                            ctx.top ? "file" : ast::open_keyword(ctx.parent_kind), head.name))
+                            ctx.top ? "file" : ctx.parent_keyword, head.name))
           .note(c.module().node(it->second).range, "first instance with this name");
     } else {
       scope[head.name] = id;

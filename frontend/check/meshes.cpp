@@ -259,7 +259,7 @@ ir::NodeId handle_mesh(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
     // `consolidate` defines the mesh `consolidatemesh` (language.md §6.5).
     if (!c.scopes[static_cast<int>(Ns::Shape)].contains(name)) {
       ir::NodeId id = c.node_for(s, name, ctx);
-      define(c, Ns::Shape, name, Symbol{id, s.open_kw, c.order, s.kind});
+      define(c, Ns::Shape, name, Symbol{id, s.open_kw, c.order, s.keyword});
       if (ir::NodeId* d = c.declared_slot(s)) *d = id;
     }
   }

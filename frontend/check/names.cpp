@@ -44,8 +44,8 @@ void declare_stmt(Context& c, const ast::Stmt& s, int order) {
   if (!ns) return;
   if (s.items.empty() || s.items[0].kind != ItemKind::Word) return;  // reported later
   std::string name(s.items[0].text);
-  ir::NodeId id = c.module().add_node(node_kind_for(s.kind), ast::open_keyword(s.kind), name, s.range);
-  define(c, *ns, name, Symbol{id, s.items[0].range, order, s.kind});
+  ir::NodeId id = c.module().add_node(node_kind_for(s.kind), s.keyword, name, s.range);
+  define(c, *ns, name, Symbol{id, s.items[0].range, order, s.keyword});
   if (ir::NodeId* d = c.declared_slot(s)) *d = id;
 }
 
@@ -66,7 +66,7 @@ void define(Context& c, Ns ns, const std::string& name, Symbol sym) {
   if (!inserted) {
     c.diags()
         .emit(DiagKind::DuplicateDefinition, sym.range,
-              fmt::format("`{}` is already defined as a {}", name, ast::open_keyword(it->second.kind)))
+              fmt::format("`{}` is already defined as a {}", name, it->second.keyword))
         .note(it->second.range, "previous definition is here");
   }
 }
@@ -118,7 +118,7 @@ ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, 
     if (auto it = table.find(name); it != table.end()) {
       c.diags()
           .emit(DiagKind::WrongKind, use,
-                fmt::format("`{}` is a {}, but {} is needed here", name, ast::open_keyword(it->second.kind), wanted))
+                fmt::format("`{}` is a {}, but {} is needed here", name, it->second.keyword, wanted))
           .note(it->second.range, "defined here");
       return ir::NodeId::None();
     }
@@ -153,7 +153,7 @@ ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use) 
       c.diags()
           .emit(DiagKind::WrongKind, use,
                 fmt::format("`{}` is a {}; an instance needs a mesh, group, generator, curve or block", name,
-                            ast::open_keyword(it->second.kind)))
+                            it->second.keyword))
           .note(it->second.range, "defined here");
       return ir::NodeId::None();
     }

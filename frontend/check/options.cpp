@@ -142,28 +142,7 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Consolidate:
     case BlockKind::Consolidateface:
     case BlockKind::Savedworkingmesh: return {};
-    case BlockKind::Funnel:
-    case BlockKind::Tunnel:
-    case BlockKind::Rimribbon:
-    case BlockKind::Circle:
-    case BlockKind::Sphere:
-    case BlockKind::Ellipsoid:
-    case BlockKind::Cylinder:
-    case BlockKind::Hyperboloid:
-    case BlockKind::Dupin:
-    case BlockKind::Mobiusstrip:
-    case BlockKind::Helix:
-    case BlockKind::Spiral:
-    case BlockKind::Torus:
-    case BlockKind::Torusknot:
-    case BlockKind::Beziercurve:
-    case BlockKind::Bspline:
-    case BlockKind::Bsplinecurve:
-    case BlockKind::Gencartesiansurf:
-    case BlockKind::Genparametricsurf:
-    case BlockKind::Genimplicitsurf:
-      if (auto gen = ir::generator_by_keyword(ast::open_keyword(kind))) return generator_options(*gen, Dialect::Nome);
-      return {};
+    case BlockKind::Generator: return {};  // per generator and dialect: generator_options
   }
   return {};
 }
@@ -204,7 +183,7 @@ void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, st
   for (const OptSpec& o : opts) names.emplace_back(o.name);
   std::string hint = closest_match(it.text, names);
   auto d = c.diags().emit(DiagKind::UnknownArgument, it.range,
-                          fmt::format("unknown argument `{}` for `{}`{}", it.text, ast::open_keyword(s.kind),
+                          fmt::format("unknown argument `{}` for `{}`{}", it.text, s.keyword,
                                       hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
   if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
 }
@@ -414,7 +393,7 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
 
 void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir::NodeId id, std::span<const OptSpec> opts,
                const OptionSink& sink, const PositionalHandler& positional) {
-  Ctx child_ctx{id, s.kind, false};
+  Ctx child_ctx{id, s.kind, s.keyword, false};
   const bool rest = !opts.empty() && opts[0].shape == Shape::Rest && opts[0].name.empty();
   while (pos < s.items.size()) {
     const ast::Item& it = s.items[pos];
@@ -453,10 +432,10 @@ void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir
         c.diags()
             .emit(DiagKind::MissingEndBeforeStatement, it.range,
                   fmt::format("`{}` starts a new statement, but the `{}` above is not closed; is `{}` missing before it?",
-                              it.text, ast::open_keyword(s.kind), ast::close_keyword(s.kind)))
-            .note(s.open_kw, fmt::format("`{}` opened here", ast::open_keyword(s.kind)))
+                              it.text, s.keyword, ast::end_keyword(s.keyword)))
+            .note(s.open_kw, fmt::format("`{}` opened here", s.keyword))
             .fixit(SourceRange{it.range.file, it.range.begin, it.range.begin},
-                   fmt::format("{}\n", ast::close_keyword(s.kind)), fmt::format("insert `{}`", ast::close_keyword(s.kind)));
+                   fmt::format("{}\n", ast::end_keyword(s.keyword)), fmt::format("insert `{}`", ast::end_keyword(s.keyword)));
         return;
       }
       report_unknown_word(c, s, it, opts);
@@ -470,7 +449,7 @@ void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir
     std::string what = it.kind == ItemKind::List ? "list" : "value";
     c.diags().emit(DiagKind::UnexpectedItem, it.range,
                    fmt::format("unexpected {} `{}` in `{}`", what, Context::clip(c.sources().text(it.range)),
-                               ast::open_keyword(s.kind)));
+                               s.keyword));
     ++pos;
   }
 }
@@ -479,9 +458,12 @@ void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir
 
 namespace nomec {
 
-std::vector<std::string_view> option_words(ast::BlockKind kind) {
+std::vector<std::string_view> option_words(std::string_view keyword) {
   std::vector<std::string_view> out;
-  for (const check::OptSpec& o : check::options_for(kind)) {
+  const std::optional<ast::BlockKind> kind = ast::block_of_keyword(keyword);
+  if (!kind) return out;
+  const std::optional<ir::GenKind> gen = ir::generator_by_keyword(keyword);
+  for (const check::OptSpec& o : gen ? check::generator_options(*gen, Dialect::Nome) : check::options_for(*kind)) {
     if (!o.name.empty()) out.push_back(o.name);
   }
   return out;

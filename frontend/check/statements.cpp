@@ -147,26 +147,7 @@ ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
     case BlockKind::Viewport:
     case BlockKind::Render:
     case BlockKind::Lookat: return handle_scene(c, a, s, ctx);
-    case BlockKind::Funnel:
-    case BlockKind::Tunnel:
-    case BlockKind::Rimribbon:
-    case BlockKind::Circle:
-    case BlockKind::Sphere:
-    case BlockKind::Ellipsoid:
-    case BlockKind::Cylinder:
-    case BlockKind::Hyperboloid:
-    case BlockKind::Dupin:
-    case BlockKind::Mobiusstrip:
-    case BlockKind::Helix:
-    case BlockKind::Spiral:
-    case BlockKind::Torus:
-    case BlockKind::Torusknot:
-    case BlockKind::Beziercurve:
-    case BlockKind::Bspline:
-    case BlockKind::Bsplinecurve:
-    case BlockKind::Gencartesiansurf:
-    case BlockKind::Genparametricsurf:
-    case BlockKind::Genimplicitsurf: return handle_generator(c, a, s, ctx);
+    case BlockKind::Generator: return handle_generator(c, a, s, ctx);
   }
   return ir::NodeId::None();
 }

@@ -175,10 +175,10 @@ class Builder {
       std::optional<ir::GenKind> gen = statement_generator(s);
       const ir::Signature* sig = gen ? ir::generator(*gen).signature(cr_.dialect) : nullptr;
       if (sig != nullptr) {
-        ix_.symbols_[me].detail = fmt::format("{} ({})", ast::open_keyword(s.kind),
+        ix_.symbols_[me].detail = fmt::format("{} ({})", s.keyword,
                                               fmt::join(sig->names.begin(), sig->names.begin() + static_cast<ptrdiff_t>(sig->args.size()), " "));
       } else {
-        ix_.symbols_[me].detail = std::string(ast::open_keyword(s.kind));
+        ix_.symbols_[me].detail = std::string(s.keyword);
       }
       if (s.kind == BlockKind::Point || s.kind == BlockKind::Vertex) {
         if (parent >= 0) member_points_.emplace(member_key(parent, s.items[0].text), me);

@@ -4,6 +4,7 @@
 // descriptions of the other keywords.
 #include "frontend/index/keywords.h"
 
+#include <deque>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -115,22 +116,20 @@ const std::unordered_map<std::string_view, std::string_view>& doc_map() {
 }
 
 struct Tables {
-  std::unordered_map<std::string_view, BlockKind> open, close;
   std::unordered_set<std::string_view> keywords;
+  std::deque<std::string> end_words;  // storage for the views below
   std::unordered_map<std::string_view, std::string> end_docs;
 };
 
 const Tables& tables() {
   static const Tables t = [] {
     Tables out;
-    for (int k = 0; k < ast::kBlockKindCount; ++k) {
-      auto kind = static_cast<BlockKind>(k);
-      out.open.emplace(ast::open_keyword(kind), kind);
-      out.close.emplace(ast::close_keyword(kind), kind);
-      out.keywords.insert(ast::open_keyword(kind));
-      out.keywords.insert(ast::close_keyword(kind));
-      out.end_docs.emplace(ast::close_keyword(kind), "closes `" + std::string(ast::open_keyword(kind)) + "`");
-      for (std::string_view w : option_words(kind)) out.keywords.insert(w);
+    for (std::string_view open : ast::all_open_keywords()) {
+      std::string_view close = out.end_words.emplace_back(ast::end_keyword(open));
+      out.keywords.insert(open);
+      out.keywords.insert(close);
+      out.end_docs.emplace(close, "closes `" + std::string(open) + "`");
+      for (std::string_view w : option_words(open)) out.keywords.insert(w);
     }
     for (std::string_view w : {"set", "list", "include", "expr", "tclinit"}) out.keywords.insert(w);
     return out;
@@ -152,19 +151,21 @@ std::string_view keyword_doc(std::string_view word) {
 bool is_keyword(std::string_view word) { return tables().keywords.contains(word); }
 
 bool block_by_open(std::string_view word, BlockKind* kind) {
-  const auto& m = tables().open;
-  auto it = m.find(word);
-  if (it == m.end()) return false;
-  *kind = it->second;
-  return true;
+  const std::optional<BlockKind> k = ast::block_of_keyword(word);
+  if (k) *kind = *k;
+  return k.has_value();
 }
 
 bool block_by_close(std::string_view word, BlockKind* kind) {
-  const auto& m = tables().close;
-  auto it = m.find(word);
-  if (it == m.end()) return false;
-  *kind = it->second;
-  return true;
+  const std::optional<BlockKind> k = ast::block_of_end_keyword(word);
+  if (k) *kind = *k;
+  return k.has_value();
+}
+
+bool closes(std::string_view open, std::string_view close) {
+  if (close == ast::end_keyword(open)) return true;
+  const std::optional<ir::GenKind> gen = ir::generator_by_keyword(open);
+  return gen && ir::generator(*gen).closes_with(open, close);
 }
 
 std::vector<BlockKind> child_blocks(BlockKind parent) {

@@ -20,6 +20,9 @@ bool is_keyword(std::string_view word);
 bool block_by_open(std::string_view word, ast::BlockKind* kind);
 /// The block kind closed by `word`, if it is an end keyword.
 bool block_by_close(std::string_view word, ast::BlockKind* kind);
+/// True when end keyword `close` closes a statement opened by `open` (`endfunnel` closes
+/// `funnel`, and 2016's `tunnel`).
+bool closes(std::string_view open, std::string_view close);
 /// Statement keywords that may appear inside a block of `parent` (e.g. `point`, `face`,
 /// `sharp` in a mesh), in a sensible order.
 std::vector<ast::BlockKind> child_blocks(ast::BlockKind parent);

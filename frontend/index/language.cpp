@@ -24,6 +24,7 @@ struct Context {
   bool in_comment_or_string = false;
   bool have_stmt = false;            // inside some statement
   BlockKind stmt = BlockKind::Bank;
+  std::string_view stmt_keyword;      // its keyword as written, e.g. `funnel`
   BlockKind outer = BlockKind::Bank;  // the statement enclosing `stmt`, if any
   bool have_outer = false;
   uint32_t outer_begin = 0;          // offset of the enclosing statement's keyword
@@ -77,6 +78,7 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   struct Open {
     BlockKind kind;
     size_t tok;
+    std::string_view keyword;
   };
   std::vector<Open> stack;
   for (size_t i = 0; i < toks.size(); ++i) {
@@ -86,7 +88,7 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
     BlockKind k;
     if (block_by_close(w, &k)) {
       for (size_t j = stack.size(); j-- > 0;) {
-        if (stack[j].kind == k || (k == BlockKind::Funnel && stack[j].kind == BlockKind::Tunnel)) {
+        if (stack[j].kind == k && closes(stack[j].keyword, w)) {
           stack.resize(j);
           break;
         }
@@ -97,10 +99,10 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
       // Option words that are also block keywords (`surface S`, `point p`, `polyline L`)
       // stay options inside a statement that accepts them.
       if (!stack.empty()) {
-        auto opts = option_words(stack.back().kind);
+        auto opts = option_words(stack.back().keyword);
         if (std::find(opts.begin(), opts.end(), w) != opts.end()) continue;
       }
-      stack.push_back({k, i});
+      stack.push_back({k, i, w});
     }
   }
   // Unclosed comment or string at the cursor?
@@ -117,6 +119,7 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   if (stack.empty()) return c;
   c.have_stmt = true;
   c.stmt = stack.back().kind;
+  c.stmt_keyword = stack.back().keyword;
   if (stack.size() >= 2) {
     c.have_outer = true;
     c.outer = stack[stack.size() - 2].kind;
@@ -189,10 +192,8 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
     return out;
   }
   if (!c.have_stmt) {
-    for (int k = 0; k < ast::kBlockKindCount; ++k) {
-      auto kind = static_cast<BlockKind>(k);
-      if (ast::category(kind) == ast::BlockCategory::Sub) continue;
-      add_keyword(ast::open_keyword(kind));
+    for (std::string_view kw : ast::all_open_keywords()) {
+      if (ast::category(*ast::block_of_keyword(kw)) != ast::BlockCategory::Sub) add_keyword(kw);
     }
     add_keyword("include");
     add_keyword("tclinit");
@@ -301,9 +302,9 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
     add_keyword("set");
     add_keyword("list");
   }
-  for (std::string_view w : option_words(c.stmt)) add_keyword(w);
+  for (std::string_view w : option_words(c.stmt_keyword)) add_keyword(w);
   for (BlockKind k : child_blocks(c.stmt)) add_keyword(ast::open_keyword(k));
-  add_keyword(ast::close_keyword(c.stmt));
+  add_keyword(ast::end_keyword(c.stmt_keyword));
   // A value after an option: sliders too.
   add_params(true);
   return out;
@@ -336,7 +337,7 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
       }
     }
   }
-  const std::optional<ir::GenKind> gen = ir::generator_by_keyword(ast::open_keyword(c.stmt));
+  const std::optional<ir::GenKind> gen = ir::generator_by_keyword(c.stmt_keyword);
   const ir::GeneratorInfo* info = gen ? &ir::generator(*gen) : nullptr;
   const ir::Signature* sig = info != nullptr ? info->signature(check_->dialect) : nullptr;
   // The signature's arguments with their meanings; the optional ones marked as such.
@@ -365,14 +366,14 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
     head = "color ";
     params = {{"r", "red in [0, 1]"}, {"g", "green in [0, 1]"}, {"b", "blue in [0, 1]"}};
   } else if ((c.stmt == BlockKind::Point || c.stmt == BlockKind::Vertex) && c.lists_before == 0) {
-    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    head = fmt::format("{} NAME ", c.stmt_keyword);
     params = {{"x", "x coordinate"}, {"y", "y coordinate"}, {"z", "z coordinate"}};
   } else if (sig != nullptr && c.lists_before == 0 && option.empty()) {
-    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    head = fmt::format("{} NAME ", c.stmt_keyword);
     add_arguments(true);
   } else if (sig != nullptr && c.lists_before == 0 && (c.items.size() >= 1)) {
     // `funnel f (` where the name happens to be an option word.
-    head = fmt::format("{} NAME ", ast::open_keyword(c.stmt));
+    head = fmt::format("{} NAME ", c.stmt_keyword);
     add_arguments(false);
   } else {
     return std::nullopt;

@@ -14,6 +14,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "ir/generator_catalogue.h"
+
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wall"
 #pragma GCC diagnostic ignored "-Wextra"
@@ -193,6 +195,8 @@ class WatchedTokenStream : public antlr4::CommonTokenStream {
 
 // Maps keyword token types to block kinds, derived from the lexer's literal names so the
 // grammar and block_kinds.def cannot drift apart silently (a missing keyword fails a test).
+// Every generator keyword is the one token type K_GEN (its end keyword E_GEN), assigned by
+// the token pass from the generator catalogue.
 struct KeywordTable {
   std::unordered_map<size_t, ast::BlockKind> open;
   std::unordered_map<size_t, ast::BlockKind> close;
@@ -204,27 +208,26 @@ const KeywordTable& keyword_table() {
     antlr4::ANTLRInputStream empty(std::string{});
     NomeLexer lexer(&empty);
     const antlr4::dfa::Vocabulary& vocab = lexer.getVocabulary();
-    std::unordered_map<std::string, size_t> by_literal;
     for (size_t type = 1; type <= vocab.getMaxTokenType(); ++type) {
       std::string lit = vocab.getLiteralName(type);
-      if (lit.size() > 2) {
-        by_literal[lit.substr(1, lit.size() - 2)] = type;
-      }
+      if (lit.size() <= 2) continue;
+      std::string word = lit.substr(1, lit.size() - 2);
+      if (auto kind = ast::block_of_keyword(word)) t.open[type] = *kind;
+      if (auto kind = ast::block_of_end_keyword(word)) t.close[type] = *kind;
     }
-    for (int k = 0; k < ast::kBlockKindCount; ++k) {
-      auto kind = static_cast<ast::BlockKind>(k);
-      std::string_view open = ast::open_keyword(kind);
-      if (auto it = by_literal.find(std::string(open)); it != by_literal.end()) {
-        t.open[it->second] = kind;
-      }
-      if (auto it = by_literal.find(std::string(ast::close_keyword(kind)));
-          it != by_literal.end()) {
-        t.close[it->second] = kind;
-      }
-    }
+    t.open[NomeParser::K_GEN] = ast::BlockKind::Generator;
+    t.close[NomeParser::E_GEN] = ast::BlockKind::Generator;
     return t;
   }();
   return table;
+}
+
+// The generator token type a name takes (K_GEN, E_GEN), or 0 when it is no generator keyword.
+size_t generator_token_type(std::string_view word) {
+  if (word.size() < 4) return 0;  // shorter than any generator keyword
+  if (ast::block_of_keyword(word) == ast::BlockKind::Generator) return NomeParser::K_GEN;
+  if (word.starts_with("end") && ast::block_of_end_keyword(word) == ast::BlockKind::Generator) return NomeParser::E_GEN;
+  return 0;
 }
 
 std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
@@ -234,6 +237,12 @@ std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
   std::string lit = vocab.getLiteralName(type);
   if (lit.size() > 2) {
     return fmt::format("`{}`", lit.substr(1, lit.size() - 2));
+  }
+  if (type == NomeParser::K_GEN) {
+    return "a generator keyword";
+  }
+  if (type == NomeParser::E_GEN) {
+    return "a generator's end keyword";
   }
   std::string sym = vocab.getSymbolicName(type);
   if (sym == "IDENT") {
@@ -300,9 +309,8 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
       return;
     }
     if (opener != nullptr) {
-      ast::BlockKind kind = keyword_table().open.at(opener->getType());
-      std::string open(ast::open_keyword(kind));
-      std::string close(ast::close_keyword(kind));
+      std::string open = opener->getText();
+      std::string close = ast::end_keyword(open);
       if (type == antlr4::Token::EOF) {
         diags_
             .emit(DiagKind::MissingEndKeyword, range_of(opener),
@@ -324,8 +332,7 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
     if (opener == nullptr && is_end_token(type)) {
       diags_.emit(DiagKind::UnmatchedEndKeyword, at,
                   fmt::format("`{}` closes nothing: no `{}` statement is open here",
-                              offending->getText(),
-                              ast::open_keyword(keyword_table().close.at(type))))
+                              offending->getText(), offending->getText().substr(3)))
           .fixit(at, "", fmt::format("remove `{}`", offending->getText()));
       return;
     }
@@ -433,6 +440,13 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
       }
       continue;
     }
+    if (type == NomeLexer::IDENT) {
+      if (size_t gen = generator_token_type(text.substr(start, offsets.local_of(tok->getStopIndex() + 1) - start))) {
+        if (auto* common = dynamic_cast<antlr4::CommonToken*>(tok.get())) common->setType(gen);
+        out.push_back(std::move(tok));
+        continue;
+      }
+    }
     if (type == NomeLexer::IDENT && tok->getText() == "tclinit") {
       diags.emit(DiagKind::UnclosedTclBlock, range(*tok),
                  "`tclinit` block is not enclosed in balanced braces `{ … }`");
@@ -495,8 +509,8 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
 class AstBuilder {
  public:
   AstBuilder(FileId file, std::string_view text, const Offsets& offsets, ast::Ast& out,
-             std::vector<int32_t>* unanchored)
-      : file_(file), text_(text), offsets_(offsets), ast_(out), unanchored_(unanchored) {}
+             std::vector<int32_t>* unanchored, DiagnosticEngine* diags)
+      : file_(file), text_(text), offsets_(offsets), ast_(out), unanchored_(unanchored), diags_(diags) {}
 
   /// The expression of a parse-tree context (a function text parsed with the `expr` rule).
   ast::ExprId build_expr(antlr4::ParserRuleContext* ctx) { return convert_expr(ctx); }
@@ -584,6 +598,7 @@ class AstBuilder {
     stmt.kind = open_it->second;
     stmt.range = ctx_range(ctx);
     stmt.open_kw = token_range(ctx->start);
+    stmt.keyword = view(stmt.open_kw);
     decltype(ast::Stmt::items) items;
     for (size_t i = 1; i < ctx->children.size(); ++i) {
       antlr4::tree::ParseTree* child = ctx->children[i];
@@ -612,12 +627,27 @@ class AstBuilder {
       }
     }
     stmt.items = std::move(items);
+    if (stmt.kind == ast::BlockKind::Generator) check_generator_end(stmt);
     ast_.stmts.push_back(std::move(stmt));
     ast::Item item;
     item.kind = ast::ItemKind::Block;
     item.range = ast_.stmts.back().range;
     item.block = ast::StmtId{static_cast<int32_t>(ast_.stmts.size() - 1)};
     return item;
+  }
+
+  // The grammar closes any generator with any generator's end keyword (they are one token
+  // type); the end keyword must close the generator that was opened, or be one the catalogue
+  // lists as another spelling (2016's `tunnel … endfunnel`).
+  void check_generator_end(const ast::Stmt& stmt) {
+    if (diags_ == nullptr || !stmt.close_kw.is_valid() || stmt.close_text == ast::end_keyword(stmt.keyword)) return;
+    const std::optional<ir::GenKind> gen = ir::generator_by_keyword(stmt.keyword);
+    if (gen && ir::generator(*gen).closes_with(stmt.keyword, stmt.close_text)) return;
+    const std::string close = ast::end_keyword(stmt.keyword);
+    diags_->emit(DiagKind::MismatchedEndKeyword, stmt.close_kw,
+                 fmt::format("`{}` does not close the open `{}`; expected `{}`", stmt.close_text, stmt.keyword, close))
+        .note(stmt.open_kw, fmt::format("`{}` opened here", stmt.keyword))
+        .fixit(stmt.close_kw, close, fmt::format("replace with `{}`", close));
   }
 
   std::optional<ast::Item> convert_item(antlr4::ParserRuleContext* ctx) {
@@ -819,6 +849,7 @@ class AstBuilder {
   const Offsets& offsets_;
   ast::Ast& ast_;
   std::vector<int32_t>* unanchored_;  // ids of error expressions placed at offset 0
+  DiagnosticEngine* diags_;           // syntax errors the grammar leaves to the builder
 };
 
 }  // namespace
@@ -904,7 +935,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   }
   if (tree != nullptr) {
     AstBuilder builder(file, text, offsets, result,
-                       info != nullptr ? &info->unanchored_exprs : nullptr);
+                       info != nullptr ? &info->unanchored_exprs : nullptr, &sinks.syntax);
     builder.build_file(tree);
   }
   return result;
@@ -966,7 +997,7 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
                            next->getText()));
     return error(raw);
   }
-  AstBuilder builder(file, text, offsets, out, nullptr);
+  AstBuilder builder(file, text, offsets, out, nullptr, &diags);
   return builder.build_expr(tree);
 }
 

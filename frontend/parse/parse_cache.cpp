@@ -35,24 +35,6 @@ bool is_id_start(char c) {
 }
 bool is_id_part(char c) { return is_id_start(c) || (c >= '0' && c <= '9'); }
 
-struct KeywordIndex {
-  std::unordered_map<std::string_view, ast::BlockKind> open;
-  std::unordered_map<std::string_view, ast::BlockKind> close;
-};
-
-const KeywordIndex& keywords() {
-  static const KeywordIndex index = [] {
-    KeywordIndex k;
-    for (int i = 0; i < ast::kBlockKindCount; ++i) {
-      auto kind = static_cast<ast::BlockKind>(i);
-      k.open.emplace(ast::open_keyword(kind), kind);
-      k.close.emplace(ast::close_keyword(kind), kind);
-    }
-    return k;
-  }();
-  return index;
-}
-
 // Which blocks the grammar lets `parent` contain (grammar/Nome.g4); any other opening
 // keyword inside it is a plain word. This only guides where pieces are cut: a wrong answer
 // makes a piece fail the self-containment test and be parsed with its neighbours, never a
@@ -106,7 +88,6 @@ bool scan_cuts(std::string_view t, size_t from, std::vector<uint32_t>& cuts, Sto
   std::vector<ast::BlockKind> open;
   int comment = 0, paren = 0, brace = 0, bracket = 0;
   bool pending = false;
-  const KeywordIndex& kw = keywords();
   size_t n = t.size();
   for (size_t i = from; i < n; ++i) {
     char c = t[i];
@@ -165,9 +146,9 @@ bool scan_cuts(std::string_view t, size_t from, std::vector<uint32_t>& cuts, Sto
     while (i + 1 < n && is_id_part(t[i + 1])) ++i;
     if (paren != 0 || brace != 0 || bracket != 0) continue;
     std::string_view word = t.substr(b, i + 1 - b);
-    if (auto it = kw.open.find(word); it != kw.open.end()) {
-      if (open.empty() || may_nest(open.back(), it->second)) open.push_back(it->second);
-    } else if (kw.close.contains(word) && !open.empty()) {
+    if (auto kind = ast::block_of_keyword(word)) {
+      if (open.empty() || may_nest(open.back(), *kind)) open.push_back(*kind);
+    } else if (!open.empty() && ast::block_of_end_keyword(word)) {
       open.pop_back();
       pending = open.empty();
     }
@@ -295,6 +276,7 @@ class Assembler {
       c.open_kw = range(s.open_kw);
       c.close_kw = range(s.close_kw);
       c.close_text = view(s.close_text);
+      c.keyword = view(s.keyword);
       for (ast::Item& i : c.items) item(i);
     }
     for (const ast::Item& i : piece.top) item(out_.top.emplace_back(i));

@@ -92,10 +92,14 @@ TEST_P(IndexCorpus, Invariants) {
     }
     ASSERT_TRUE(s.name_range.is_valid());
     ASSERT_LT(static_cast<size_t>(s.name_range.file.index), sm.file_count());
-    if (s.parent >= 0) EXPECT_LT(s.parent, s.id);
+    if (s.parent >= 0) {
+      EXPECT_LT(s.parent, s.id);
+    }
   }
   const bool nome_source = !path.ends_with(".sif");  // flat meshes define no names
-  if (nome_source) EXPECT_GT(syms.size(), 0u) << path;
+  if (nome_source) {
+    EXPECT_GT(syms.size(), 0u) << path;
+  }
 
   for (size_t f = 0; f < sm.file_count(); ++f) {
     FileId file{static_cast<int32_t>(f)};
@@ -104,7 +108,9 @@ TEST_P(IndexCorpus, Invariants) {
     for (size_t i = 0; i < toks.size(); ++i) {
       EXPECT_LT(toks[i].range.begin, toks[i].range.end);
       EXPECT_LE(toks[i].range.end, sm.text(file).size());
-      if (i > 0) EXPECT_LE(toks[i - 1].range.end, toks[i].range.begin) << path;
+      if (i > 0) {
+        EXPECT_LE(toks[i - 1].range.end, toks[i].range.begin) << path;
+      }
     }
     // Folding ranges: each pair nested or disjoint.
     auto folds = ix.folding_ranges(file);
@@ -121,7 +127,9 @@ TEST_P(IndexCorpus, Invariants) {
     auto top = ix.outline(file);
     for (size_t i = 0; i < top.size(); ++i) {
       EXPECT_EQ(syms[top[i]].parent, -1);
-      if (i > 0) EXPECT_LE(syms[top[i - 1]].full_range.begin, syms[top[i]].full_range.begin);
+      if (i > 0) {
+        EXPECT_LE(syms[top[i - 1]].full_range.begin, syms[top[i]].full_range.begin);
+      }
     }
   }
   // Hover on every definition works and names the symbol.
@@ -168,7 +176,9 @@ TEST_P(IndexCorpus, Invariants) {
     std::string dump2 = replace_all(ir::dump_ir(b.check->module, *b.sources), fresh, s.name);
     EXPECT_EQ(dump2, dump) << path << ": renaming `" << s.name << "` to `" << fresh << "`";
   }
-  if (nome_source) EXPECT_GT(occ_count, 0u);
+  if (nome_source) {
+    EXPECT_GT(occ_count, 0u);
+  }
 }
 
 std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
