@@ -3,7 +3,8 @@
 // ranges, latitudes, `c` < `a` for a Dupin cyclide …), e.g. `circle c (20 1)` → "`segs`
 // must be at least 3, got 1". One function per generator lists its rules in the dialect's
 // argument order; `--check` runs them on the values it knows and the backend on all values
-// before it builds anything.
+// before it builds anything. Rules that follow from an argument's declared type alone
+// (ir/generators.def) are applied to every generator by `type_rules`.
 #include <cmath>
 #include <string>
 
@@ -321,9 +322,33 @@ void rules_for(GenKind kind, Rules& r) {
 
 }  // namespace
 
+// What every argument of a type must satisfy, whatever the generator (after its own,
+// more specific rules, whose messages say more): numbers are finite, counts at least 1 and
+// at most kMaxCount, lengths positive, ratios above -1.
+void type_rules(GenKind kind, Rules& r) {
+  const GeneratorInfo& g = generator(kind);
+  for (ArgIndex i = 0; i < g.args.size() && !r.problem; ++i) {
+    switch (g.args[i].type) {
+      case ArgType::Count: r.count(i, 1); break;
+      case ArgType::Length: r.positive(i); break;
+      case ArgType::Ratio: r.above_minus_one(i); break;
+      case ArgType::Whole:
+      case ArgType::Real:
+      case ArgType::Angle:
+        if (const double* v = r.get(i)) r.finite(i, *v);
+        break;
+      case ArgType::Flag:
+      case ArgType::Function:
+      case ArgType::Points:
+      case ArgType::Path: break;
+    }
+  }
+}
+
 std::optional<ArgProblem> check_arguments(GenKind kind, Dialect dialect, KnownArgs known) {
   Rules r(kind, dialect, known);
   rules_for(kind, r);
+  type_rules(kind, r);
   return r.problem;
 }
 
