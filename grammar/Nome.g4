@@ -121,7 +121,7 @@ atom
   : NUMBER                                          # numberAtom
   | DOLLAR_REF                                      # dollarAtom
   | TCL_ARRAY_REF                                   # tclArrayAtom
-  | word LPAREN (expr (COMMA? expr)*)? RPAREN       # callAtom
+  | word LPAREN (expr (COMMA expr)*)? RPAREN        # callAtom
   | word                                            # nameAtom
   | LPAREN expr RPAREN                              # parenAtom
   | braceExpr                                       # braceAtom
@@ -129,6 +129,9 @@ atom
   | STRING                                          # stringAtom
   | PCT_RAW                                         # pctAtom
   ;
+
+// A function text parsed on its own (`funcX [ cos(u)*v ]`): one expression, nothing after.
+functionText : expr EOF ;
 
 // A value in a block body: like `listExpr` but never starting with a bare word or `(`
 // (those are the `word` and `parenList` items), which keeps `item` LL(1).

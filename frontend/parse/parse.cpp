@@ -265,6 +265,12 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   SyntaxErrorListener(FileId file, const Offsets& offsets, DiagnosticEngine& diags)
       : file_(file), offsets_(offsets), diags_(diags) {}
 
+  /// For a function text parsed on its own (`funcX [ … ]`): its end is the closing `]`.
+  void in_function() {
+    end_ = "the `]` that ends the function";
+    in_function_ = true;
+  }
+
   void syntaxError(antlr4::Recognizer* recognizer, antlr4::Token* offending, size_t, size_t,
                    const std::string&, std::exception_ptr) override {
     ++error_count_;
@@ -289,8 +295,7 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
     }
     antlr4::misc::IntervalSet expected = parser->getExpectedTokens();
     size_t type = offending->getType();
-    std::string shown = type == antlr4::Token::EOF ? std::string("the end of the file")
-                                                   : fmt::format("`{}`", offending->getText());
+    std::string shown = type == antlr4::Token::EOF ? end_ : fmt::format("`{}`", offending->getText());
     // An unclosed `(` or `{`: name the bracket, not the statement around it.
     for (auto [open_type, close_type, open_text, close_text] :
          {std::tuple{NomeParser::LPAREN, NomeParser::RPAREN, "(", ")"},
@@ -336,6 +341,30 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
           .fixit(at, "", fmt::format("remove `{}`", offending->getText()));
       return;
     }
+    if (in_function_) {
+      // A function is one expression: name what ended it early or what follows it.
+      antlr4::Token* before = previous_token(parser);
+      if (type == antlr4::Token::EOF && before != nullptr && is_operator(before->getType())) {
+        diags_.emit(DiagKind::SyntaxError, range_of(before),
+                    fmt::format("the function ends after `{}`: the value after it is missing", before->getText()));
+        return;
+      }
+      antlr4::Token* after = parser->getTokenStream()->LT(2);
+      if (is_operator(type) && after != nullptr && after->getType() == antlr4::Token::EOF) {
+        diags_.emit(DiagKind::SyntaxError, at,
+                    fmt::format("the function ends after `{}`: the value after it is missing", offending->getText()));
+        return;
+      }
+      if (type == NomeParser::LPAREN && !closes_before_end(parser)) {
+        diags_.emit(DiagKind::SyntaxError, at, fmt::format("`(` is never closed: expected `)` before {}", end_));
+        return;
+      }
+      if (type != antlr4::Token::EOF && expected.contains(static_cast<size_t>(antlr4::Token::EOF))) {
+        diags_.emit(DiagKind::SyntaxError, at,
+                    fmt::format("unexpected {} in the function; a function is one expression, e.g. `cos(u)*v`", shown));
+        return;
+      }
+    }
     std::vector<std::string> names;
     for (size_t t : expected.toList()) {
       if (t == NomeParser::SPLUS || t == NomeParser::SMINUS) {
@@ -350,7 +379,9 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
     if (!names.empty() && names.size() <= 6) {
       expect = "; expected " + fmt::format("{}", fmt::join(names, ", "));
     }
-    diags_.emit(DiagKind::SyntaxError, at, fmt::format("unexpected {}{}", shown, expect));
+    diags_.emit(DiagKind::SyntaxError, at,
+                type == antlr4::Token::EOF ? fmt::format("{} comes too early{}", end_, expect)
+                                           : fmt::format("unexpected {}{}", shown, expect));
   }
 
   int error_count() const { return error_count_; }
@@ -383,6 +414,37 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   const Offsets& offsets_;
   DiagnosticEngine& diags_;
   int error_count_ = 0;
+  std::string end_ = "the end of the file";
+  bool in_function_ = false;
+
+  static bool is_operator(size_t type) {
+    switch (type) {
+      case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
+      case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
+      case NomeParser::CARET: return true;
+      default: return false;
+    }
+  }
+  // True when the `(` at the parser's current token has its `)` before the end.
+  static bool closes_before_end(NomeParser* parser) {
+    int depth = 0;
+    for (ssize_t k = 1;; ++k) {
+      antlr4::Token* t = parser->getTokenStream()->LT(k);
+      if (t == nullptr || t->getType() == antlr4::Token::EOF) return false;
+      if (t->getType() == NomeParser::LPAREN) ++depth;
+      if (t->getType() == NomeParser::RPAREN && --depth == 0) return true;
+    }
+  }
+  // The last default-channel token before the parser's current one.
+  static antlr4::Token* previous_token(NomeParser* parser) {
+    auto* stream = dynamic_cast<antlr4::BufferedTokenStream*>(parser->getTokenStream());
+    if (stream == nullptr) return nullptr;
+    for (ssize_t i = static_cast<ssize_t>(stream->index()) - 1; i >= 0; --i) {
+      antlr4::Token* t = stream->get(static_cast<size_t>(i));
+      if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) return t;
+    }
+    return nullptr;
+  }
 };
 
 // Silences ANTLR's console output from the lexer (all characters are tokens, so the lexer
@@ -391,10 +453,12 @@ class SilentListener : public antlr4::BaseErrorListener {};
 
 // Token pass: diagnostics for stray characters and unclosed constructs, and the list-sign
 // rule. Returns the tokens the parser should see.
-// `stopped` is set when a limit made the pass stop reading the file.
+// `stopped` is set when a limit made the pass stop reading the text; `what` names the text
+// in messages (`file`, or `function` for a function text parsed on its own).
 std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     std::vector<std::unique_ptr<antlr4::Token>> tokens, std::string_view text,
-    const Offsets& offsets, FileId file, DiagnosticEngine& diags, bool& stopped) {
+    const Offsets& offsets, FileId file, DiagnosticEngine& diags, bool& stopped,
+    std::string_view what = "file") {
   std::vector<std::unique_ptr<antlr4::Token>> out;
   out.reserve(tokens.size());
   int brace_depth = 0;
@@ -432,8 +496,8 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     if (nesting > kMaxNesting || sign_run > kMaxNesting || caret_run > kMaxNesting) {
       diags.emit(DiagKind::NestingTooDeep, range(*tok),
                  fmt::format("brackets, signs or `^` nest more than {} levels deep here; nomec "
-                             "stops reading the file at this point",
-                             kMaxNesting));
+                             "stops reading the {} at this point",
+                             kMaxNesting, what));
       stopped = true;
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;
@@ -952,6 +1016,14 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
   if (e > b && file_text[b] == '[') ++b;
   if (e > b && file_text[e - 1] == ']') --e;
   const std::string_view text = file_text.substr(b, e - b);
+  if (std::all_of(text.begin(), text.end(), [](char ch) { return std::isspace(static_cast<unsigned char>(ch)) != 0; })) {
+    diags.emit(DiagKind::SyntaxError, raw, "the function is empty; write one expression of its variables, e.g. `cos(u)*v`");
+    ast::Expr x;
+    x.kind = ast::ExprKind::Error;
+    x.range = raw;
+    out.exprs.push_back(x);
+    return ast::ExprId(static_cast<int32_t>(out.exprs.size() - 1));
+  }
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
   offsets.base = b;
@@ -966,21 +1038,9 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
   bool stopped = false;
   DiagnosticEngine token_diags;
   std::vector<std::unique_ptr<antlr4::Token>> tokens =
-      prepare_tokens(std::move(raw_tokens), text, offsets, file, token_diags, stopped);
+      prepare_tokens(std::move(raw_tokens), text, offsets, file, token_diags, stopped, "function");
   const bool token_errors = token_diags.error_count() > 0;
   diags.append(std::move(token_diags));
-  antlr4::ListTokenSource source(std::move(tokens));
-  antlr4::CommonTokenStream stream(&source);
-  NomeParser parser(&stream);
-  parser.removeErrorListeners();
-  SyntaxErrorListener listener(file, offsets, diags);
-  parser.addErrorListener(&listener);
-  NomeParser::ExprContext* tree = nullptr;
-  try {
-    tree = parser.expr();
-  } catch (const std::exception&) {
-    tree = nullptr;
-  }
   auto error = [&](SourceRange at) {
     ast::Expr x;
     x.kind = ast::ExprKind::Error;
@@ -988,17 +1048,40 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
     out.exprs.push_back(x);
     return ast::ExprId(static_cast<int32_t>(out.exprs.size() - 1));
   };
-  if (tree == nullptr || listener.error_count() > 0 || token_errors || stopped) return error(raw);
-  antlr4::Token* next = stream.LT(1);
-  if (next != nullptr && next->getType() != antlr4::Token::EOF) {
-    const SourceRange at{file, offsets.byte_of(next->getStartIndex()), offsets.byte_of(next->getStopIndex() + 1)};
-    diags.emit(DiagKind::SyntaxError, at,
-               fmt::format("unexpected `{}` in the function; a function is one expression, e.g. `cos(u)*v`",
-                           next->getText()));
+  if (token_errors || stopped) return error(raw);  // one message: the parser would only echo it
+  antlr4::ListTokenSource source(std::move(tokens));
+  antlr4::CommonTokenStream stream(&source);
+  NomeParser parser(&stream);
+  parser.removeErrorListeners();
+  SyntaxErrorListener listener(file, offsets, diags);
+  listener.in_function();
+  // As for files: fast SLL prediction first (linear in the text), full LL with error
+  // reporting only when that fails.
+  parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::SLL);
+  parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
+  NomeParser::FunctionTextContext* tree = nullptr;
+  try {
+    tree = parser.functionText();
+  } catch (const std::exception&) {
+    tree = nullptr;
+  }
+  if (tree == nullptr) {
+    stream.seek(0);
+    parser.reset();
+    parser.addErrorListener(&listener);
+    parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+    parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::LL);
+    try {
+      tree = parser.functionText();
+    } catch (const std::exception&) {
+      tree = nullptr;
+    }
+  }
+  if (tree == nullptr || tree->expr() == nullptr || listener.error_count() > 0) {
     return error(raw);
   }
   AstBuilder builder(file, text, offsets, out, nullptr, &diags);
-  return builder.build_expr(tree);
+  return builder.build_expr(tree->expr());
 }
 
 }  // namespace nomec
