@@ -1,12 +1,15 @@
 // Topology summary of one output mesh (V, E, F, χ, orientability, borders, genus, closed,
 // bounding box, a position hash): the data behind `nomec --emit summary`, the session's
-// summaries and the language server's `nome/setParameter` answer. JSON-free; tools/ and
-// lsp/ turn it into JSON.
+// summaries and the language server's `nome/setParameter` answer; and the geometry each IR
+// node contributed (vertex and face counts, bounding box), which the language server shows
+// in hover. JSON-free; tools/ and lsp/ turn it into JSON.
 #pragma once
 
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <map>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "backend/evaluate.h"
@@ -34,5 +37,20 @@ struct MeshSummary {
 };
 
 MeshSummary summarize(const OutputMesh& mesh);
+
+/// What one IR node contributed to the output meshes: for a scene entry, its whole mesh;
+/// for an instance, the faces it placed (innermost instance only); for a mesh or generator,
+/// the faces made from it over all its placements.
+struct NodeFacts {
+  int64_t vertices = 0;
+  int64_t faces = 0;
+  int32_t placements = 0;  // definitions: how many placed copies contributed
+  double min[3] = {0, 0, 0};
+  double max[3] = {0, 0, 0};
+};
+
+/// The facts of every node that contributed to `meshes` (the result of evaluating
+/// `module`), by node index.
+std::map<int32_t, NodeFacts> node_facts(const ir::Module& module, std::span<const OutputMesh> meshes);
 
 }  // namespace nomec::backend

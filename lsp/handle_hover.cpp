@@ -10,7 +10,7 @@ namespace nomec::lsp {
 
 namespace {
 
-std::string facts_markdown(const GeometryFacts& f, const ir::Node& node) {
+std::string facts_markdown(const backend::NodeFacts& f, const ir::Node& node) {
   std::string where = node.kind == ir::NodeKind::Instance ? "placed by this instance" : "in the scene";
   std::string s = fmt::format("**Geometry** ({}): {} vertices, {} faces", where, f.vertices, f.faces);
   if (node.kind != ir::NodeKind::Instance && f.placements > 1) s += fmt::format(" over {} placements", f.placements);

@@ -10,25 +10,11 @@
 
 #include "backend/session.h"
 #include "lsp/handler.h"
-#include "tools/summary_json.h"
+#include "lsp/summary_json.h"
 
 namespace nomec::lsp {
 
 namespace {
-
-struct Held {
-  std::string uri;
-  int64_t version = 0;
-  std::shared_ptr<const Analysis> analysis;  // the IR the session was built from
-  std::unique_ptr<backend::Session> session;
-};
-
-// Rationale: requests are handled one at a time on the request thread, but the mutex keeps
-// this correct should that change. Only a few sessions are kept (most recent first), so
-// memory stays bounded over a long editing session.
-std::mutex g_mutex;
-std::vector<Held> g_sessions;
-constexpr size_t kMaxSessions = 4;
 
 json set_parameter(Context& ctx) {
   const json& p = ctx.params;
@@ -46,19 +32,20 @@ json set_parameter(Context& ctx) {
                      "the document has errors; fix them before moving sliders (" + d.message + ")");
     }
   }
-  std::lock_guard<std::mutex> lock(g_mutex);
-  auto it = std::find_if(g_sessions.begin(), g_sessions.end(), [&](const Held& h) { return h.uri == uri; });
-  if (it != g_sessions.end() && it->version != a->version) {
-    g_sessions.erase(it);
-    it = g_sessions.end();
+  SliderSessions& sessions = ctx.slider_sessions();
+  std::lock_guard<std::mutex> lock(sessions.mu);
+  auto it = std::find_if(sessions.held.begin(), sessions.held.end(), [&](const SliderSessions::Held& h) { return h.uri == uri; });
+  if (it != sessions.held.end() && it->version != a->version) {
+    sessions.held.erase(it);
+    it = sessions.held.end();
   }
   DiagnosticEngine diags;
-  if (it == g_sessions.end()) {
-    Held h{uri, a->version, a, std::make_unique<backend::Session>(a->module())};
+  if (it == sessions.held.end()) {
+    SliderSessions::Held h{uri, a->version, a, std::make_unique<backend::Session>(a->module())};
     h.session->build(diags);
-    g_sessions.insert(g_sessions.begin(), std::move(h));
-    if (g_sessions.size() > kMaxSessions) g_sessions.pop_back();
-    it = g_sessions.begin();
+    sessions.held.insert(sessions.held.begin(), std::move(h));
+    if (sessions.held.size() > SliderSessions::kMax) sessions.held.pop_back();
+    it = sessions.held.begin();
   }
   ctx.check_cancelled();
   diags = DiagnosticEngine();
@@ -69,7 +56,7 @@ json set_parameter(Context& ctx) {
   json geometry = json::array();
   for (const Diagnostic& d : diags.diagnostics()) geometry.push_back(diagnostic_json(*a, d));
   json meshes = json::array();
-  for (const backend::MeshSummary& m : it->session->summary()) meshes.push_back(tools::mesh_summary_json(m));
+  for (const backend::MeshSummary& m : it->session->summary()) meshes.push_back(lsp::mesh_summary_json(m));
   return {{"uri", uri},
           {"version", a->version},
           {"parameter", u.parameter},

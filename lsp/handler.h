@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "backend/session.h"
+#include "backend/summary.h"
 #include "frontend/check/check.h"
 #include "frontend/diagnostics/diagnostic.h"
 #include "frontend/index/index.h"
@@ -101,14 +103,20 @@ struct Analysis {
   std::string uri_of(FileId f) const;
 };
 
-/// Geometry facts of one IR node from the latest background evaluation, e.g. an instance
-/// of a funnel: its faces and vertices in the scene and its world-space bounding box.
-struct GeometryFacts {
-  int64_t vertices = 0;
-  int64_t faces = 0;
-  int32_t placements = 0;  // definitions: how many placed copies contributed
-  double min[3] = {0, 0, 0};
-  double max[3] = {0, 0, 0};
+/// The editing sessions of `nome/setParameter` (one per document and version, most recent
+/// first, at most kMax so memory stays bounded over a long editing session); owned by the
+/// server. Requests are handled one at a time on the request thread, but the mutex keeps
+/// this correct should that change.
+struct SliderSessions {
+  struct Held {
+    std::string uri;
+    int64_t version = 0;
+    std::shared_ptr<const Analysis> analysis;  // the IR the session was built from
+    std::unique_ptr<backend::Session> session;
+  };
+  static constexpr size_t kMax = 4;
+  std::mutex mu;
+  std::vector<Held> held;
 };
 
 /// The result of one background evaluation of one document version.
@@ -116,7 +124,7 @@ struct Geometry {
   int64_t version = 0;
   std::vector<Diagnostic> diagnostics;
   json diagnostics_json = json::array();
-  std::map<int32_t, GeometryFacts> facts;  // by IR node index
+  std::map<int32_t, backend::NodeFacts> facts;  // by IR node index
   double evaluate_ms = 0;
 };
 
@@ -138,6 +146,8 @@ class Context {
   /// check to finish if needed. Throws LspError for unknown documents or cancellation.
   std::shared_ptr<const Analysis> analysis();
   std::shared_ptr<const Analysis> analysis(const std::string& uri);
+  /// The server's `nome/setParameter` sessions.
+  SliderSessions& slider_sessions();
   /// The latest finished background evaluation of the document, if it matches `version`.
   std::shared_ptr<const Geometry> geometry(const std::string& uri, int64_t version) const;
   /// The byte offset of `params.position` in `a`.

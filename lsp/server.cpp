@@ -31,6 +31,8 @@ std::shared_ptr<const Analysis> Context::analysis() {
   return analysis(params.at("textDocument").at("uri").get<std::string>());
 }
 
+SliderSessions& Context::slider_sessions() { return server_.slider_sessions(); }
+
 std::shared_ptr<const Analysis> Context::analysis(const std::string& uri) {
   return server_.current_analysis(uri, id);
 }

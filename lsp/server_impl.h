@@ -69,6 +69,7 @@ class ServerImpl {
   std::shared_ptr<const Geometry> geometry_of(const std::string& uri, int64_t version) const;
   void send_notification(const std::string& method, json params);
   const ServerOptions& options() const { return options_; }
+  SliderSessions& slider_sessions() { return slider_sessions_; }
 
   /// Checks one version of a document (analysis.cpp), parsing it through `cache` (the
   /// document's ParseCache; may be null).
@@ -102,6 +103,7 @@ class ServerImpl {
   Server::Sink sink_;
   ServerOptions options_;
   Registry registry_;
+  SliderSessions slider_sessions_;  // request thread (nome/setParameter)
   std::mutex out_mu_;
 
   // Message queue and lifecycle (mu_). Lock order: docs_mu_ / geo_mu_ before mu_.

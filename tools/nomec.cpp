@@ -23,7 +23,7 @@
 #include "ir/ir.h"
 #include "tools/allocator.h"
 #include "tools/fmt_command.h"
-#include "tools/summary_json.h"
+#include "lsp/summary_json.h"
 #include "tools/what_if.h"
 #ifdef NOMEC_HAVE_LSP
 #include "lsp/server.h"
@@ -71,7 +71,7 @@ nlohmann::json diag_json(const nomec::SourceManager& sources, const nomec::Diagn
 nlohmann::json summary_json(const std::string& path, const std::vector<nomec::backend::OutputMesh>& meshes) {
   std::vector<nomec::backend::MeshSummary> s;
   for (const auto& m : meshes) s.push_back(nomec::backend::summarize(m));
-  return nomec::tools::summary_json(path, s);
+  return nomec::lsp::summary_json(path, s);
 }
 
 }  // namespace

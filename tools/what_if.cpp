@@ -6,9 +6,12 @@
 #include <nlohmann/json.hpp>
 
 #include "backend/session.h"
-#include "tools/summary_json.h"
+#include "lsp/summary_json.h"
 
 namespace nomec::tools {
+
+using lsp::round6;
+using lsp::summary_json;
 
 std::string parse_what_if(const std::string& text, WhatIf& out) {
   auto eq = text.find('=');

@@ -1,6 +1,6 @@
-// JSON form of backend::MeshSummary, shared by `nomec --emit summary`, `nomec --what-if`
-// and the language server's `nome/setParameter` (nlohmann-json lives only in tools/ and
-// lsp/, so the conversion is here rather than in backend/).
+// JSON form of backend::MeshSummary, shared by the language server's `nome/setParameter`
+// and the CLI's `nomec --emit summary` and `nomec --what-if` (nlohmann-json lives only in
+// lsp/ and tools/, and tools/ builds on lsp/, so the one conversion lives here).
 #pragma once
 
 #include <cmath>
@@ -11,7 +11,7 @@
 
 #include "backend/summary.h"
 
-namespace nomec::tools {
+namespace nomec::lsp {
 
 inline double round6(double x) { return std::round(x * 1e6) / 1e6; }
 
@@ -44,4 +44,4 @@ inline nlohmann::json summary_json(const std::string& path, const std::vector<ba
   return out;
 }
 
-}  // namespace nomec::tools
+}  // namespace nomec::lsp
