@@ -6,7 +6,10 @@
   emit-sites     every kind is emitted from at least one `emit(DiagKind::Kind` site in the
                  code; prints the kinds emitted from several sites
   readmes        every top-level folder that holds code has a README.md
-  nlohmann       only lsp/ and tools/ include nlohmann-json
+  layers         every #include is an edge ARCHITECTURE.md's `layers` block allows (folders
+                 and third-party headers such as ANTLR, nlohmann-json, <filesystem>)
+  layers-selftest  the layers check reports exactly the forbidden includes planted in
+                 tests/tidy/fixtures/layers/
   headers        every source file starts with a comment saying what it is for
                  (engineering.md §8)
 
@@ -140,20 +143,105 @@ def check_readmes(root):
     return ok
 
 
-def check_nlohmann(root):
-    ok = True
-    # The language server's own tests speak JSON-RPC too.
-    allowed = ("lsp" + os.sep, "tools" + os.sep, os.path.join("tests", "lsp") + os.sep)
-    include = re.compile(r"^\s*#\s*include\s*[<\"]nlohmann/", re.M)
-    for path in walk(root):
-        rel = os.path.relpath(path, root)
-        if rel.startswith(allowed) or not path.endswith((".cpp", ".cc", ".h", ".hpp")):
+def layer_rules(root):
+    """The `layers` block of ARCHITECTURE.md: {layer: allowed layers} and
+    [(header prefix, exact, allowed layers)]."""
+    with open(os.path.join(root, "ARCHITECTURE.md"), encoding="utf-8") as f:
+        text = f.read()
+    m = re.search(r"```layers\n(.*?)```", text, re.S)
+    if not m:
+        raise SystemExit("ARCHITECTURE.md has no ```layers block")
+    layers, external = {}, []
+    for line in m.group(1).splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
             continue
+        left, _, right = line.partition(":")
+        allowed = set(right.split())
+        if left.startswith("<"):
+            for h in left.split():
+                exact = h.endswith(">")
+                external.append((h.strip("<>"), exact, allowed))
+        else:
+            layers[left.strip()] = allowed
+    return layers, external
+
+
+def layer_of(rel, layers):
+    parts = rel.replace(os.sep, "/").split("/")
+    for n in range(len(parts), 0, -1):
+        name = "/".join(parts[:n])
+        if name in layers:
+            return name
+    return None
+
+
+INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*([<"])([^>"]+)[>"]', re.M)
+
+
+def layer_violations(root, scan_root):
+    """Forbidden includes of the C++ files under scan_root (paths relative to scan_root are
+    read as paths in the tree), with the rules of root's ARCHITECTURE.md."""
+    layers, external = layer_rules(root)
+    tops = {name.split("/")[0] for name in layers}
+    out = []
+    for path in walk(scan_root):
+        if not path.endswith((".cpp", ".cc", ".h", ".hpp")):
+            continue
+        rel = os.path.relpath(path, scan_root).replace(os.sep, "/")
+        if scan_root == root and rel.startswith("tests/tidy/fixtures/"):
+            continue
+        me = layer_of(rel, layers)
+        if me is None:
+            if rel.split("/")[0] in tops or "/" in rel:
+                out.append(f"{rel}: in no layer of ARCHITECTURE.md")
+            continue
+        allowed = layers[me]
         with open(path, encoding="utf-8", errors="replace") as f:
-            if include.search(f.read()):
-                ok = False
-                print(f"{rel} includes nlohmann-json; only lsp/ and tools/ may (ARCHITECTURE.md)")
-    return ok
+            text = f.read()
+        for m in INCLUDE.finditer(text):
+            kind, inc = m.group(1), m.group(2)
+            line = text.count("\n", 0, m.start()) + 1
+            target = layer_of(inc, layers) if kind == '"' and inc.split("/")[0] in tops else None
+            if target is not None:
+                if target != me and "*" not in allowed and target not in allowed:
+                    out.append(f"{rel}:{line}: {me} may not include {inc} ({target})")
+                continue
+            for prefix, exact, who in external:
+                if (inc == prefix) if exact else inc.startswith(prefix):
+                    if me not in who and "*" not in allowed:
+                        out.append(f"{rel}:{line}: {me} may not include <{inc}> (only {' '.join(sorted(who))})")
+                    break
+    return out
+
+
+def check_layers(root):
+    bad = layer_violations(root, root)
+    for v in bad:
+        print(v)
+    layers, _ = layer_rules(root)
+    print(f"{len(bad)} forbidden includes; {len(layers)} layers")
+    return not bad
+
+
+FIXTURE_EXPECTED = [
+    "backend/eval/reads_files.cpp:4: backend may not include <filesystem> (only base bench tests tools)",
+    "frontend/check/uses_backend.cpp:4: frontend/check may not include backend/generators/generators.h (backend/generators)",
+    "kernel/uses_ir.h:4: kernel may not include ir/ir.h (ir)",
+    "lsp/uses_tools.cpp:4: lsp may not include tools/what_if.h (tools)",
+    "tools/uses_kernel.cpp:4: tools may not include kernel/mesh.h (kernel)",
+]
+
+
+def check_layers_selftest(root):
+    got = sorted(layer_violations(root, os.path.join(root, "tests", "tidy", "fixtures", "layers")))
+    if got != FIXTURE_EXPECTED:
+        print("the layers check did not report the planted forbidden includes exactly:")
+        print("  expected:\n    " + "\n    ".join(FIXTURE_EXPECTED))
+        print("  got:\n    " + "\n    ".join(got))
+        return False
+    print(f"the layers check reports all {len(got)} planted forbidden includes")
+    return True
 
 
 HEADER_EXTS = (".cpp", ".cc", ".h", ".hpp", ".g4", ".def", ".py", ".sh", ".cmake")
@@ -182,7 +270,8 @@ CHECKS = {
     "kinds-covered": check_kinds_covered,
     "emit-sites": check_emit_sites,
     "readmes": check_readmes,
-    "nlohmann": check_nlohmann,
+    "layers": check_layers,
+    "layers-selftest": check_layers_selftest,
     "headers": check_headers,
 }
 
