@@ -8,7 +8,7 @@
 
 #include "frontend/index/index.h"
 #include "frontend/index/keywords.h"
-#include "frontend/index/lex.h"
+#include "frontend/parse/parse.h"
 
 namespace nomec::index {
 
@@ -31,7 +31,7 @@ std::vector<SemanticToken> Index::semantic_tokens(FileId file) const {
   std::vector<SemanticToken> out;
   if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return out;
   std::string_view text = sources_->text(file);
-  std::vector<Token> toks = lex(text);
+  std::vector<LexToken> toks = lex_file(text);
   out.reserve(toks.size());
   auto occ = std::lower_bound(occurrences_.begin(), occurrences_.end(), file.index,
                               [](const Occurrence& o, int32_t f) { return o.range.file.index < f; });
@@ -39,15 +39,23 @@ std::vector<SemanticToken> Index::semantic_tokens(FileId file) const {
     out.push_back({SourceRange{file, b, e}, t, def});
   };
   for (size_t i = 0; i < toks.size(); ++i) {
-    const Token& t = toks[i];
+    const LexToken& t = toks[i];
     while (occ != occurrences_.end() && occ->range.file == file && occ->range.begin < t.begin) ++occ;
     switch (t.kind) {
-      case Tok::Comment: emit(t.begin, t.end, TokenType::Comment, false); continue;
-      case Tok::String: emit(t.begin, t.end, TokenType::String, false); continue;
-      case Tok::Number: emit(t.begin, t.end, TokenType::Number, false); continue;
-      case Tok::Op: emit(t.begin, t.end, TokenType::Operator, false); continue;
-      case Tok::Word:
-      case Tok::Dollar: break;
+      case LexKind::LineComment:
+      case LexKind::BlockComment: emit(t.begin, t.end, TokenType::Comment, false); continue;
+      case LexKind::String:
+      case LexKind::Raw: emit(t.begin, t.end, TokenType::String, false); continue;
+      case LexKind::TclInit: {  // `tclinit` then its `{ … }` script
+        const uint32_t brace = static_cast<uint32_t>(std::min<size_t>(text.find('{', t.begin), t.end));
+        emit(t.begin, t.begin + 7, TokenType::Keyword, false);
+        emit(brace, t.end, TokenType::String, false);
+        continue;
+      }
+      case LexKind::Number: emit(t.begin, t.end, TokenType::Number, false); continue;
+      case LexKind::Operator: emit(t.begin, t.end, TokenType::Operator, false); continue;
+      case LexKind::Word:
+      case LexKind::DollarRef: break;
       default: continue;
     }
     bool any = false;
@@ -57,12 +65,12 @@ std::vector<SemanticToken> Index::semantic_tokens(FileId file) const {
       ++occ;
     }
     if (any) continue;
-    if (t.kind == Tok::Dollar) {
+    if (t.kind == LexKind::DollarRef) {
       emit(t.begin, t.end, TokenType::Parameter, false);
       continue;
     }
     std::string_view w = text.substr(t.begin, t.end - t.begin);
-    bool call = i + 1 < toks.size() && toks[i + 1].kind == Tok::Open && toks[i + 1].begin == t.end;
+    bool call = i + 1 < toks.size() && toks[i + 1].kind == LexKind::LParen && toks[i + 1].begin == t.end;
     if (call && is_function_name(w)) {
       emit(t.begin, t.end, TokenType::Function, false);
     } else if (is_keyword(w)) {
@@ -93,8 +101,8 @@ std::vector<FoldingRange> Index::folding_ranges(FileId file) const {
     }
   }
   std::string_view text = sources_->text(file);
-  for (const Token& t : lex(text)) {
-    if (t.kind == Tok::Comment && text.compare(t.begin, 2, "(*") == 0) add(SourceRange{file, t.begin, t.end}, true);
+  for (const LexToken& t : lex_file(text)) {
+    if (t.kind == LexKind::BlockComment) add(SourceRange{file, t.begin, t.end}, true);
   }
   std::sort(all.begin(), all.end(), [](const FoldingRange& a, const FoldingRange& b) {
     return a.range.begin != b.range.begin ? a.range.begin < b.range.begin : a.range.end > b.range.end;

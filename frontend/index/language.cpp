@@ -9,7 +9,7 @@
 #include "ir/generator_catalogue.h"
 #include "frontend/index/index.h"
 #include "frontend/index/keywords.h"
-#include "frontend/index/lex.h"
+#include "frontend/parse/parse.h"
 
 namespace nomec::index {
 
@@ -28,7 +28,7 @@ struct Context {
   BlockKind outer = BlockKind::Bank;  // the statement enclosing `stmt`, if any
   bool have_outer = false;
   uint32_t outer_begin = 0;          // offset of the enclosing statement's keyword
-  std::vector<Token> items;          // tokens of the statement after its keyword, before the prefix
+  std::vector<LexToken> items;          // tokens of the statement after its keyword, before the prefix
   int paren_depth = 0;               // unclosed `(` of this statement before the cursor
   size_t paren_open = 0;             // index in `items` of the innermost unclosed `(`
   int lists_before = 0;              // complete `( … )` lists at depth 0 before the cursor
@@ -65,13 +65,13 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   Context c;
   offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text.size()));
   uint32_t b = offset;
-  while (b > 0 && is_id_part(text[b - 1])) --b;
+  while (b > 0 && is_name_part(text[b - 1])) --b;
   if (b > 0 && text[b - 1] == '$') --b;
   c.prefix = text.substr(b, offset - b);
   c.prefix_begin = b;
   start = std::min(start, b);
-  std::vector<Token> toks = lex(text.substr(start, b - start));
-  for (Token& t : toks) {
+  std::vector<LexToken> toks = lex_file(text.substr(start, b - start));
+  for (LexToken& t : toks) {
     t.begin += start;
     t.end += start;
   }
@@ -82,8 +82,8 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   };
   std::vector<Open> stack;
   for (size_t i = 0; i < toks.size(); ++i) {
-    const Token& t = toks[i];
-    if (t.kind != Tok::Word) continue;
+    const LexToken& t = toks[i];
+    if (t.kind != LexKind::Word) continue;
     std::string_view w = text.substr(t.begin, t.end - t.begin);
     BlockKind k;
     if (block_by_close(w, &k)) {
@@ -107,8 +107,8 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   }
   // Unclosed comment or string at the cursor?
   if (!toks.empty()) {
-    const Token& last = toks.back();
-    if ((last.kind == Tok::Comment || last.kind == Tok::String) && last.end >= b) {
+    const LexToken& last = toks.back();
+    if ((is_comment(last.kind) || is_text_literal(last.kind)) && last.end >= b) {
       std::string_view t = text.substr(last.begin, last.end - last.begin);
       bool closed = (t.starts_with("(*") && t.ends_with("*)") && t.size() >= 4) ||
                     (t.starts_with("\"") && t.size() >= 2 && t.ends_with("\"")) ||
@@ -127,16 +127,16 @@ Context context_at(std::string_view text, uint32_t offset, uint32_t start) {
   }
   std::vector<size_t> opens;
   for (size_t i = stack.back().tok + 1; i < toks.size(); ++i) {
-    const Token& t = toks[i];
-    if (t.kind == Tok::Comment) continue;
+    const LexToken& t = toks[i];
+    if (is_comment(t.kind)) continue;
     c.items.push_back(t);
-    if (t.kind == Tok::Open) opens.push_back(c.items.size() - 1);
-    if (t.kind == Tok::Close && !opens.empty()) {
+    if (t.kind == LexKind::LParen) opens.push_back(c.items.size() - 1);
+    if (t.kind == LexKind::RParen && !opens.empty()) {
       opens.pop_back();
       if (opens.empty()) ++c.lists_before;
     }
-    if (t.kind == Tok::Word && opens.empty()) c.prev_word = text.substr(t.begin, t.end - t.begin);
-    if (t.kind != Tok::Word && t.kind != Tok::Close && opens.empty()) c.prev_word = {};
+    if (t.kind == LexKind::Word && opens.empty()) c.prev_word = text.substr(t.begin, t.end - t.begin);
+    if (t.kind != LexKind::Word && t.kind != LexKind::RParen && opens.empty()) c.prev_word = {};
   }
   c.paren_depth = static_cast<int>(opens.size());
   if (!opens.empty()) c.paren_open = opens.back();
@@ -254,11 +254,11 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
         }
         if (out.size() == before) {
           // The parser could not keep this unfinished mesh's points: read them from the text.
-          std::vector<Token> toks = lex(text.substr(c.outer_begin, c.prefix_begin - c.outer_begin));
+          std::vector<LexToken> toks = lex_file(text.substr(c.outer_begin, c.prefix_begin - c.outer_begin));
           for (size_t i = 0; i + 1 < toks.size(); ++i) {
             std::string_view w = text.substr(c.outer_begin + toks[i].begin, toks[i].end - toks[i].begin);
-            if (toks[i].kind == Tok::Word && toks[i + 1].kind == Tok::Word && (w == "point" || w == "vertex")) {
-              const Token& n = toks[i + 1];
+            if (toks[i].kind == LexKind::Word && toks[i + 1].kind == LexKind::Word && (w == "point" || w == "vertex")) {
+              const LexToken& n = toks[i + 1];
               add(std::string(text.substr(c.outer_begin + n.begin, n.end - n.begin)), SymbolKind::Point, false, "point");
             }
           }
@@ -283,7 +283,7 @@ std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const 
     }
     return out;
   }
-  if (c.stmt == BlockKind::Instance && dialect != Dialect::Slide && c.items.size() == 1 && c.items[0].kind == Tok::Word) {
+  if (c.stmt == BlockKind::Instance && dialect != Dialect::Slide && c.items.size() == 1 && c.items[0].kind == LexKind::Word) {
     add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block,
                  SymbolKind::Polyline},
                 true);
@@ -320,18 +320,18 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
   std::string head;
   // Which list: the word before the `(` (an option), or the statement's positional list.
   std::string_view option;
-  if (c.paren_open > 0 && c.items[c.paren_open - 1].kind == Tok::Word) {
-    const Token& w = c.items[c.paren_open - 1];
+  if (c.paren_open > 0 && c.items[c.paren_open - 1].kind == LexKind::Word) {
+    const LexToken& w = c.items[c.paren_open - 1];
     option = text.substr(w.begin, w.end - w.begin);
   }
   // `rotate (x y z) (deg)`: the second list is the angle.
-  bool rotate_angle = c.paren_open >= 2 && c.items[c.paren_open - 1].kind == Tok::Close;
+  bool rotate_angle = c.paren_open >= 2 && c.items[c.paren_open - 1].kind == LexKind::RParen;
   if (rotate_angle) {
     int depth = 0;
     for (size_t i = c.paren_open - 1; i-- > 0;) {
-      if (c.items[i].kind == Tok::Close) ++depth;
-      if (c.items[i].kind == Tok::Open && depth-- == 0) {
-        rotate_angle = i > 0 && c.items[i - 1].kind == Tok::Word &&
+      if (c.items[i].kind == LexKind::RParen) ++depth;
+      if (c.items[i].kind == LexKind::LParen && depth-- == 0) {
+        rotate_angle = i > 0 && c.items[i - 1].kind == LexKind::Word &&
                        text.substr(c.items[i - 1].begin, c.items[i - 1].end - c.items[i - 1].begin) == "rotate";
         break;
       }
@@ -399,15 +399,15 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
   bool have_operand = false;  // the current element has a complete operand
   int depth = 0;
   for (size_t i = c.paren_open + 1; i < c.items.size(); ++i) {
-    const Token& t = c.items[i];
-    bool opens = t.kind == Tok::Open || t.kind == Tok::LBrace;
-    bool closes = t.kind == Tok::Close || t.kind == Tok::RBrace;
+    const LexToken& t = c.items[i];
+    bool opens = t.kind == LexKind::LParen || t.kind == LexKind::LBrace;
+    bool closes = t.kind == LexKind::RParen || t.kind == LexKind::RBrace;
     if (depth > 0) {
       if (opens) ++depth;
       if (closes && --depth == 0) have_operand = true;
       continue;
     }
-    if (t.kind == Tok::Op) {
+    if (t.kind == LexKind::Operator) {
       char op = text[t.begin];
       bool space_before = t.begin > 0 && (text[t.begin - 1] == ' ' || text[t.begin - 1] == '\t' || text[t.begin - 1] == '\n');
       bool space_after = t.end < text.size() && (text[t.end] == ' ' || text[t.end] == '\t' || text[t.end] == '\n');
@@ -417,7 +417,7 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
       have_operand = false;
       continue;
     }
-    if (opens || t.kind == Tok::Number || t.kind == Tok::Word || t.kind == Tok::Dollar || t.kind == Tok::String) {
+    if (opens || t.kind == LexKind::Number || t.kind == LexKind::Word || t.kind == LexKind::DollarRef || is_text_literal(t.kind)) {
       if (have_operand) ++elem;
       if (opens) {
         depth = 1;
@@ -556,13 +556,13 @@ std::optional<Hover> Index::hover(FileId file, uint32_t offset) const {
   std::string_view text = sources_->text(file);
   if (offset > text.size()) return std::nullopt;
   uint32_t b = offset, e = offset;
-  while (b > 0 && (is_id_part(text[b - 1]) || text[b - 1] == '$')) --b;
-  while (e < text.size() && is_id_part(text[e])) ++e;
+  while (b > 0 && (is_name_part(text[b - 1]) || text[b - 1] == '$')) --b;
+  while (e < text.size() && is_name_part(text[e])) ++e;
   if (b > 0 && text[b - 1] == '$') --b;
   if (b == e) return std::nullopt;
   // Inside a comment or string: nothing.
-  for (const Token& t : lex(text.substr(0, e))) {
-    if ((t.kind == Tok::Comment || t.kind == Tok::String) && t.begin <= b && b < t.end) return std::nullopt;
+  for (const LexToken& t : lex_file(text.substr(0, e))) {
+    if ((is_comment(t.kind) || is_text_literal(t.kind)) && t.begin <= b && b < t.end) return std::nullopt;
   }
   std::string_view w = text.substr(b, e - b);
   SourceRange r{file, b, e};

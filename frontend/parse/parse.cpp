@@ -1105,9 +1105,17 @@ std::vector<LexToken> lex_file(std::string_view text) {
   auto push = [&](LexKind kind, size_t first_cp, size_t end_cp) {
     out.push_back(LexToken{kind, offsets.byte_of(first_cp), offsets.byte_of(end_cp)});
   };
+  // An unclosed string, `[` or `%{` is one token to the end of its line or of the text;
+  // the lexer's tokens inside it are skipped.
+  size_t skip_to = 0;
+  auto forgive = [&](LexKind kind, size_t begin, size_t end) {
+    push(kind, begin, end);
+    skip_to = end;
+  };
   for (const auto& tok : lexer.getAllTokens()) {
     size_t begin = tok->getStartIndex();
     size_t end = tok->getStopIndex() + 1;
+    if (begin < skip_to) continue;
     switch (tok->getType()) {
       case NomeLexer::WS:
         // Blanked block comments are whitespace here: find them in the original text.
@@ -1149,9 +1157,25 @@ std::vector<LexToken> lex_file(std::string_view text) {
       case NomeLexer::STAR:
       case NomeLexer::SLASH:
       case NomeLexer::DSLASH:
-      case NomeLexer::PERCENT:
       case NomeLexer::CARET: push(LexKind::Operator, begin, end); continue;
-      case NomeLexer::UNEXPECTED_CHAR: push(LexKind::Other, begin, end); continue;
+      case NomeLexer::UNEXPECTED_CHAR:
+        if (original[begin] == '"') {
+          size_t e = begin + 1;
+          while (e < original.size() && original[e] != '\n' && original[e] != '\r') ++e;
+          forgive(LexKind::String, begin, e);
+        } else if (original[begin] == '[') {
+          forgive(LexKind::Raw, begin, original.size());  // a balanced `[ … ]` would be BRACKET_RAW
+        } else {
+          push(LexKind::Other, begin, end);
+        }
+        continue;
+      case NomeLexer::PERCENT:
+        if (begin + 1 < original.size() && original[begin + 1] == '{') {  // `%{` with no `}%`
+          forgive(LexKind::Raw, begin, original.size());
+        } else {
+          push(LexKind::Operator, begin, end);
+        }
+        continue;
       default: push(LexKind::Word, begin, end); continue;  // IDENT and every keyword
     }
   }

@@ -91,8 +91,18 @@ struct LexToken {
   uint32_t end = 0;
 };
 
-/// Lexes `text` with the same lexer as `parse_file`, keeping comments as tokens. Never
-/// fails: problems are reported by `parse_file`, not here.
+/// Lexes `text` with the same lexer as `parse_file`, keeping comments as tokens: the one
+/// NOME lexer of the formatter and the editor features (semantic tokens, folding,
+/// completion). Never fails, and forgives what an editor buffer often holds: an unclosed
+/// `(*` comment or `[` function runs to the end of the text and an unclosed string to the
+/// end of its line, as they would once closed. Problems are reported by `parse_file`.
 std::vector<LexToken> lex_file(std::string_view text);
+
+inline bool is_comment(LexKind k) { return k == LexKind::LineComment || k == LexKind::BlockComment; }
+/// Strings, raw texts (`[ … ]`, `%{ … }%`) and whole `tclinit { … }` blocks.
+inline bool is_text_literal(LexKind k) { return k == LexKind::String || k == LexKind::Raw || k == LexKind::TclInit; }
+/// The characters of names (grammar/Nome.g4's ID_START and ID_PART).
+inline bool is_name_start(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' || c == '.'; }
+inline bool is_name_part(char c) { return is_name_start(c) || (c >= '0' && c <= '9'); }
 
 }  // namespace nomec

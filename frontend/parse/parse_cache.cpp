@@ -30,10 +30,6 @@ namespace nomec {
 
 namespace {
 
-bool is_id_start(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
-}
-bool is_id_part(char c) { return is_id_start(c) || (c >= '0' && c <= '9'); }
 
 // Which blocks the grammar lets `parent` contain (grammar/Nome.g4); any other opening
 // keyword inside it is a plain word. This only guides where pieces are cut: a wrong answer
@@ -133,17 +129,17 @@ bool scan_cuts(std::string_view t, size_t from, std::vector<uint32_t>& cuts, Sto
       case '[': ++bracket; continue;
       case ']': bracket = std::max(0, bracket - 1); continue;
       case '$':
-        while (i + 1 < n && is_id_part(t[i + 1])) ++i;
+        while (i + 1 < n && is_name_part(t[i + 1])) ++i;
         continue;
       default:
         break;
     }
-    if (!is_id_start(c)) {
-      while (i + 1 < n && is_id_part(t[i + 1])) ++i;  // a number, or one other character
+    if (!is_name_start(c)) {
+      while (i + 1 < n && is_name_part(t[i + 1])) ++i;  // a number, or one other character
       continue;
     }
     size_t b = i;
-    while (i + 1 < n && is_id_part(t[i + 1])) ++i;
+    while (i + 1 < n && is_name_part(t[i + 1])) ++i;
     if (paren != 0 || brace != 0 || bracket != 0) continue;
     std::string_view word = t.substr(b, i + 1 - b);
     if (auto kind = ast::block_of_keyword(word)) {
