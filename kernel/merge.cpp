@@ -43,7 +43,9 @@ struct CellKey {
 };
 struct CellHash {
   size_t operator()(const CellKey& k) const {
-    return size_t(k.x * 73856093) ^ size_t(k.y * 19349663) ^ size_t(k.z * 83492791);
+    // Unsigned arithmetic: far cells (1e12 / tolerance) would overflow a signed product.
+    return static_cast<size_t>(k.x) * 73856093u ^ static_cast<size_t>(k.y) * 19349663u ^
+           static_cast<size_t>(k.z) * 83492791u;
   }
 };
 
@@ -140,15 +142,16 @@ Mesh append_disjoint(std::span<const Mesh* const> meshes) {
         A::names(out)[vb + v] = m->vertex_name(VertexId(static_cast<int32_t>(v)));
       }
     }
+    // Optional arrays are empty in `out` when no mesh has them: no offset into them then.
     const auto& vs = A::vertex_sharpness(*m);
-    std::copy(vs.begin(), vs.end(), A::vertex_sharpness(out).begin() + vb);
+    if (!vs.empty()) std::copy(vs.begin(), vs.end(), A::vertex_sharpness(out).begin() + vb);
     shifted(A::edge_vertices(*m), A::edge_vertices(out), 2 * eb, v0);
     shifted(A::use_faces(*m), A::use_faces(out), 2 * eb, f0);
     shifted(A::next(*m), A::next(out), 2 * eb, 2 * e0);
     shifted(A::prev(*m), A::prev(out), 2 * eb, 2 * e0);
     std::copy(A::edge_flags(*m).begin(), A::edge_flags(*m).end(), A::edge_flags(out).begin() + eb);
     const auto& es = A::sharpness(*m);
-    std::copy(es.begin(), es.end(), A::sharpness(out).begin() + eb);
+    if (!es.empty()) std::copy(es.begin(), es.end(), A::sharpness(out).begin() + eb);
     shifted(A::face_uses(*m), A::face_uses(out), fb, 2 * e0);
     const auto& fs = A::face_sources(*m);
     std::copy(fs.begin(), fs.end(), A::face_sources(out).begin() + fb);
@@ -182,10 +185,14 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
   // Boundary edges per vertex (at most two in a manifold mesh).
   std::vector<EdgeId> boundary_at(2 * static_cast<size_t>(V), EdgeId::None());
   std::unordered_map<CellKey, std::vector<int32_t>, CellHash> grid;
-  auto key_of = [&](const glm::dvec3& p) {
-    return CellKey{int64_t(std::floor(p.x / cell)), int64_t(std::floor(p.y / cell)),
-                   int64_t(std::floor(p.z / cell))};
+  // Cell coordinates stay well inside int64 (so neighbours ±1 cannot overflow either),
+  // whatever the ratio of the coordinates to the cell size.
+  auto to_cell = [&](double v) {
+    const double c = std::floor(v / cell);
+    constexpr double kLimit = 4.0e18;
+    return c != c ? int64_t{0} : static_cast<int64_t>(std::clamp(c, -kLimit, kLimit));
   };
+  auto key_of = [&](const glm::dvec3& p) { return CellKey{to_cell(p.x), to_cell(p.y), to_cell(p.z)}; };
   for (int32_t e = 0; e < E; ++e) {
     if (!mesh.is_boundary(EdgeId(e))) {
       continue;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -57,12 +58,15 @@ class SourceManager {
  private:
   // Rationale: line starts are computed once per file when it is added; every position
   // query is then a binary search. Locations elsewhere stay 8 bytes (id + offset).
+  // A deque keeps every file (and its text, even one short enough to live inside the
+  // std::string) at a stable address when more files are added: syntax trees and
+  // diagnostics hold string_views into the texts (an `.anom` adds its base scene mid-check).
   struct File {
     std::string name;
     std::string text;
     std::vector<uint32_t> line_starts;
   };
-  std::vector<File> files_;
+  std::deque<File> files_;
 };
 
 }  // namespace nomec

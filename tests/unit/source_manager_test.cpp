@@ -68,3 +68,22 @@ TEST(FileKinds, ScenesAreChosenByExtension) {
 
 }  // namespace
 }  // namespace nomec
+
+namespace nomec {
+namespace {
+
+// Views into a file's text stay valid when more files are added (an `.anom` adds its base
+// scene while the syntax tree of the first file is in use), also for texts short enough to
+// live inside the std::string object itself.
+TEST(SourceManagerStability, TextViewsSurviveAddingFiles) {
+  SourceManager sm;
+  FileId first = sm.add_file("a.anom", "sp");
+  std::string_view view = sm.text(first);
+  const char* data = view.data();
+  for (int i = 0; i < 100; ++i) sm.add_file("b" + std::to_string(i) + ".nome", "point p (0 0 0) endpoint\n");
+  EXPECT_EQ(sm.text(first).data(), data);
+  EXPECT_EQ(view, "sp");
+}
+
+}  // namespace
+}  // namespace nomec
