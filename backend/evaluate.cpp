@@ -107,7 +107,7 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
   // Runs one step on `mesh`.
   auto run = [&](const Step& st, std::string_view flag, double* ms) -> bool {
     auto t1 = Clock::now();
-    auto r = run_steps(std::move(mesh), {st}, kernel_ops);
+    auto r = run_steps(std::move(mesh), {st}, kernel_ops, o.max_vertices);
     if (timings) *ms += ms_since(t1);
     if (auto* failed = std::get_if<StepFailure>(&r)) {
       fail(flag, failed->error);
@@ -147,7 +147,7 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
     say("subdivide");
     auto t1 = Clock::now();
     eval::ComponentMemo next;
-    auto r = run_steps_by_component(mesh, steps, memos->components, next, kernel_ops);
+    auto r = run_steps_by_component(mesh, steps, memos->components, next, kernel_ops, o.max_vertices);
     memos->components = std::move(next);
     if (timings) timings->subdivide_ms += ms_since(t1);
     if (auto* m = std::get_if<kernel::Mesh>(&r)) {
@@ -211,6 +211,8 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
   const int errors_before = diags.error_count();
   impl_->cache.recorder.begin_pass(diags);
   impl_->cache.invalidate(-1);  // values that reported a diagnostic report it again
+  impl_->vertex_limit = impl_->vertex_budget = pipeline_.max_vertices;
+  impl_->is_budget_exhausted = false;
   std::vector<std::shared_ptr<const OutputMesh>> out;
   for (ir::NodeId id : entries_) {
     if (auto m = eval::entry(*impl_, id)) out.push_back(std::move(m));
@@ -246,10 +248,12 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
 }
 
 std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
-                                       StageTimings* timings) {
+                                       StageTimings* timings, int64_t max_vertices) {
   std::vector<OutputMesh> out;
   {
-    SceneEvaluator ev(module, false);
+    PipelineOptions limits;
+    limits.max_vertices = max_vertices;
+    SceneEvaluator ev(module, false, limits);
     for (const auto& m : ev.evaluate(diags, timings)) {
       // A one-shot evaluator keeps no reference: these objects are ours to move from.
       out.push_back(std::move(const_cast<OutputMesh&>(*m)));

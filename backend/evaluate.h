@@ -35,6 +35,11 @@ struct OutputMesh {
   int32_t curve_count = 0;  // polylines and curves under this entry (no faces)
 };
 
+/// The most vertices one evaluation may build (`--max-vertices`): placed leaves and the
+/// results of subdivisions, so a scene that multiplies instances or subdivides too far is
+/// an error (`SceneTooLarge`) instead of exhausting memory. Some 2 GB of meshes.
+inline constexpr int64_t kDefaultMaxVertices = 20'000'000;
+
 /// The command line's whole-scene pipeline, e.g. `--merge --subdivide 2 --offset 0.1`.
 /// Subdividing or offsetting implies merging first (as the pipeline blocks do).
 struct PipelineOptions {
@@ -44,6 +49,8 @@ struct PipelineOptions {
   kernel::VertexRule rule = kernel::VertexRule::CatmullClark;
   double offset_height = 0;  // 0: no offset
   int32_t subdivide_after_levels = 0;
+  /// Not a pipeline step: the limit on what the evaluation (and the pipeline) may build.
+  int64_t max_vertices = kDefaultMaxVertices;
   bool any() const {
     return is_merge || subdivide_levels > 0 || offset_height > 0 || subdivide_after_levels > 0;
   }
@@ -123,7 +130,8 @@ class SceneEvaluator {
 /// statement. On failure, emits diagnostics and
 /// returns what it could; callers check `diags.error_count()`.
 std::vector<OutputMesh> evaluate_scene(const ir::Module& module, DiagnosticEngine& diags,
-                                       StageTimings* timings = nullptr);
+                                       StageTimings* timings = nullptr,
+                                       int64_t max_vertices = kDefaultMaxVertices);
 
 /// Applies the whole-scene pipeline: all meshes are concatenated into one (named after
 /// `name`), merged, subdivided, offset and subdivided again. Errors are emitted at

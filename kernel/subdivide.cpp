@@ -10,6 +10,8 @@
 // when a semi-sharp crease becomes smooth in the child level.
 #include "kernel/subdivide.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -372,7 +374,17 @@ Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
   std::vector<SubdivisionLevel> levels;
   levels.reserve(options.levels);
   for (int32_t i = 0; i < options.levels; ++i) {
-    levels.push_back(subdivide_once(i == 0 ? mesh : levels.back().mesh, options));
+    const Mesh& from = i == 0 ? mesh : levels.back().mesh;
+    const int64_t next_vertices = int64_t{from.vertex_count()} + from.edge_count() + from.face_count();
+    if (options.max_vertices > 0 && next_vertices > options.max_vertices) {
+      return KernelError{KernelError::Kind::InvalidArgument,
+                         fmt::format("subdivision level {} would have {} vertices, more than the {} allowed", i + 1,
+                                     next_vertices, options.max_vertices),
+                         {},
+                         {},
+                         {}};
+    }
+    levels.push_back(subdivide_once(from, options));
   }
   return levels;
 }

@@ -31,6 +31,9 @@ struct SubdivisionOptions {
   bool is_sharpness_honoured = true;
   /// Fill the child→parent face map of each level (4 bytes per child face).
   bool has_parent_maps = true;
+  /// Refuse (InvalidArgument) a level whose mesh would have more vertices than this; 0 is
+  /// no limit. Each level has V + E + F vertices of the level before.
+  int64_t max_vertices = 0;
 };
 
 /// What a child vertex was created from.
@@ -93,7 +96,7 @@ struct SubdivisionLevel {
 SubdivisionLevel subdivide_once(const Mesh& mesh, const SubdivisionOptions& options = {});
 
 /// `options.levels` levels; element i is level i + 1. Fails with `InvalidArgument` if
-/// levels is outside [0, 12].
+/// levels is outside [0, 12] or a level would exceed `options.max_vertices`.
 Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
                                                 const SubdivisionOptions& options);
 

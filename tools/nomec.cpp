@@ -145,6 +145,9 @@ int main(int argc, char** argv) {
   app.add_option("--subdivide-after", pipeline.subdivide_after_levels, "Catmull-Clark levels after the offset")
       ->check(CLI::Range(0, 12));
   app.add_flag("--time-report", time_report, "Print the time of each stage to stderr");
+  app.add_option("--max-vertices", pipeline.max_vertices,
+                 "Most vertices evaluation may build (placed geometry and subdivisions); default 20000000")
+      ->check(CLI::Range(int64_t{1}, int64_t{2'000'000'000}));
   app.add_option("--dialect", dialect, "Force the dialect instead of detecting it")
       ->check(CLI::IsMember({"nome", "nome3", "slide"}));
   app.add_option("-D", defines, "Override a slider: -D bank.param=value (repeatable)")
@@ -247,7 +250,7 @@ int main(int argc, char** argv) {
     be::StageTimings timings;
     nomec::DiagnosticEngine geo;
     say("evaluate");
-    std::vector<be::OutputMesh> meshes = be::evaluate_scene(module, geo, &timings);
+    std::vector<be::OutputMesh> meshes = be::evaluate_scene(module, geo, &timings, pipeline.max_vertices);
     if (geo.error_count() == 0 && pipeline.any()) {
       std::string stem = std::filesystem::path(path).stem().string();
       nomec::SourceRange where;

@@ -78,6 +78,9 @@ std::shared_ptr<const Collected> block_part(Context& c, kernel::Mesh result, boo
 
 // A block over its whole input at once: build, merge, then the steps (per connected
 // component when incremental). Reports kernel errors at the faces that caused them.
+// The most vertices a block's subdivision may make: what is left of the evaluation's budget.
+int64_t step_limit(const Context& c) { return std::max<int64_t>(c.vertex_budget, 1); }
+
 std::optional<BlockResult> run_block_whole(Context& c, ir::NodeId pid, Collected in, const BlockSetup& setup) {
   const ir::Node& p = c.m.node(pid);
   const bool any_color = std::any_of(in.has_color.begin(), in.has_color.end(), [](uint8_t b) { return b != 0; });
@@ -98,11 +101,12 @@ std::optional<BlockResult> run_block_whole(Context& c, ir::NodeId pid, Collected
   if (c.is_incremental) {
     BlockMemo& bm = c.block_memos[pid.index];
     ComponentMemo next;
-    ran = run_steps_by_component(merged->mesh, setup.steps, bm.components, next, c.counters.kernel_ops);
+    ran = run_steps_by_component(merged->mesh, setup.steps, bm.components, next, c.counters.kernel_ops,
+                                 step_limit(c));
     bm = BlockMemo{};
     bm.components = std::move(next);
   } else {
-    ran = run_steps(std::move(merged->mesh), setup.steps, c.counters.kernel_ops);
+    ran = run_steps(std::move(merged->mesh), setup.steps, c.counters.kernel_ops, step_limit(c));
   }
   if (auto* failed = std::get_if<StepFailure>(&ran)) {
     report(c, failed->error, soup, setup.step_range, short_name(p.name));
@@ -256,7 +260,8 @@ std::optional<BlockResult> run_block_by_clusters(Context& c, ir::NodeId pid, con
     auto merged = kernel::merge(*built, kernel::MergeOptions{tol});
     ++c.counters.kernel_ops;
     if (!merged) return std::nullopt;
-    auto ran = run_steps_by_component(merged->mesh, setup.steps, pool, cm.components, c.counters.kernel_ops);
+    auto ran = run_steps_by_component(merged->mesh, setup.steps, pool, cm.components, c.counters.kernel_ops,
+                                      step_limit(c));
     if (std::holds_alternative<StepFailure>(ran)) return std::nullopt;
     cm.result = block_part(c, std::move(std::get<kernel::Mesh>(ran)), any_color, curves);
     result.parts.push_back(cm.result);

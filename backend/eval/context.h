@@ -108,6 +108,11 @@ class Context {
   std::map<int32_t, EntryLayout> layouts;
   std::map<int32_t, BlockMemo> block_memos;
   std::map<int32_t, std::string> instance_paths;  // for messages about faces
+  /// Vertices this evaluation may still build (PipelineOptions::max_vertices), and whether
+  /// it ran out (reported once; nothing more is placed).
+  int64_t vertex_limit = kDefaultMaxVertices;
+  int64_t vertex_budget = kDefaultMaxVertices;
+  bool is_budget_exhausted = false;
 
   DiagnosticEngine& diags() { return cache.recorder.diags(); }
   /// True if `out` is the faces of the entry or block being collected part by part.
@@ -159,6 +164,9 @@ void instance(Context& c, ir::NodeId inst, const glm::dmat4& parent_t, std::opti
 void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int depth);
 /// Appends the parts collected so far to the sink's faces and stops deferring.
 void make_eager(Context& c);
+/// Takes `vertices` from the evaluation's vertex budget for placing `path`; false (and one
+/// SceneTooLarge error at `at`) when the budget is exhausted.
+bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_view path);
 
 // ---- deletes.cpp: faces named by `delete` blocks ----
 /// Marks the faces of `out` from `first_face` on that a `delete` names: they were placed by

@@ -11,8 +11,19 @@ namespace nomec::backend::eval {
 
 namespace {
 
-// Appends the leaf `tid` placed by `at` to `out` (uncached).
+void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collected& out);
+
+// Appends the leaf `tid` placed by `at` to `out` (uncached), within the vertex budget.
 void place_leaf(Context& c, ir::NodeId tid, const Placing& at, Collected& out) {
+  if (c.is_budget_exhausted) return;
+  const size_t before = out.soup.positions.size();
+  place_leaf_unbudgeted(c, tid, at, out);
+  // The leaf that crosses the limit is kept (its faces are whole); nothing after it is placed.
+  spend_vertices(c, static_cast<int64_t>(out.soup.positions.size() - before),
+                 c.m.node(at.inst.is_valid() ? at.inst : tid).range, at.path);
+}
+
+void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collected& out) {
   const ir::Node& tn = c.m.node(tid);
   const int32_t face_base = out.soup.face_count();
   switch (tn.kind) {
@@ -86,6 +97,20 @@ void place(Context& c, ir::NodeId tid, const Placing& at, Collected& out) {
 }
 
 }  // namespace
+
+bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_view path) {
+  if (c.is_budget_exhausted) return false;
+  c.vertex_budget -= vertices;
+  if (c.vertex_budget >= 0) return true;
+  c.is_budget_exhausted = true;
+  c.diags()
+      .emit(DiagKind::SceneTooLarge, at,
+            fmt::format("placing `{}` takes the scene past {} vertices, the limit; nomec stops placing geometry here",
+                        path, c.vertex_limit))
+      .note(SourceRange{}, "instances of groups multiply: lower counts or subdivision levels, or raise the limit "
+                           "with `--max-vertices N`");
+  return false;
+}
 
 void make_eager(Context& c) {
   if (!c.sink->is_deferred) return;

@@ -84,13 +84,15 @@ std::vector<kernel::PolygonSoup> split_components(const kernel::Mesh& mesh) {
 }  // namespace
 
 std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::vector<Step>& steps,
-                                                  int32_t& kernel_ops) {
+                                                  int32_t& kernel_ops, int64_t max_vertices) {
   for (size_t i = 0; i < steps.size(); ++i) {
     const Step& s = steps[i];
     if (s.kind == Step::Kind::Subdivide) {
       if (s.subdivision.levels <= 0) continue;
       ++kernel_ops;
-      auto r = kernel::subdivide(mesh, s.subdivision);
+      kernel::SubdivisionOptions options = s.subdivision;
+      options.max_vertices = max_vertices;
+      auto r = kernel::subdivide(mesh, options);
       if (!r) return StepFailure{r.error(), i};
       if (!r->empty()) mesh = std::move(r->back().mesh);
     } else {
@@ -108,11 +110,11 @@ std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::
 std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mesh& mesh,
                                                                const std::vector<Step>& steps,
                                                                ComponentMemo& pool, ComponentMemo& next,
-                                                               int32_t& kernel_ops) {
+                                                               int32_t& kernel_ops, int64_t max_vertices) {
   std::vector<kernel::PolygonSoup> parts = split_components(mesh);
   size_t used_vertices = 0;
   for (const auto& p : parts) used_vertices += p.positions.size();
-  if (used_vertices != static_cast<size_t>(mesh.vertex_count())) return run_steps(mesh, steps, kernel_ops);
+  if (used_vertices != static_cast<size_t>(mesh.vertex_count())) return run_steps(mesh, steps, kernel_ops, max_vertices);
   std::unordered_multimap<uint64_t, size_t> by_hash;
   for (size_t i = 0; i < pool.entries.size(); ++i) by_hash.emplace(pool.entries[i].hash, i);
   const size_t first = next.entries.size();
@@ -136,12 +138,12 @@ std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mes
     auto built = kernel::build_mesh(p);
     if (!built) {
       next.entries.resize(first);
-      return run_steps(mesh, steps, kernel_ops);
+      return run_steps(mesh, steps, kernel_ops, max_vertices);
     }
-    auto r = run_steps(std::move(*built), steps, kernel_ops);
+    auto r = run_steps(std::move(*built), steps, kernel_ops, max_vertices);
     if (std::holds_alternative<StepFailure>(r)) {
       next.entries.resize(first);
-      return run_steps(mesh, steps, kernel_ops);
+      return run_steps(mesh, steps, kernel_ops, max_vertices);
     }
     next.entries.push_back({h, std::move(p), steps, std::move(std::get<kernel::Mesh>(r))});
   }

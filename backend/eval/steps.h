@@ -34,8 +34,10 @@ struct StepFailure {
   size_t step = 0;
 };
 
-/// Runs `steps` in order on `mesh`; counts one kernel operation per step run.
-std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::vector<Step>& steps, int32_t& kernel_ops);
+/// Runs `steps` in order on `mesh`; counts one kernel operation per step run. A
+/// subdivision that would make more than `max_vertices` vertices (0: no limit) fails.
+std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::vector<Step>& steps, int32_t& kernel_ops,
+                                                  int64_t max_vertices = 0);
 
 /// The results of running steps on the connected components of one block's merged mesh,
 /// kept for the next evaluation of the block.
@@ -56,7 +58,7 @@ struct ComponentMemo {
 /// when a component fails or the mesh has vertices no face uses.
 std::variant<kernel::Mesh, StepFailure> run_steps_by_component(const kernel::Mesh& mesh, const std::vector<Step>& steps,
                                                                ComponentMemo& pool, ComponentMemo& next,
-                                                               int32_t& kernel_ops);
+                                                               int32_t& kernel_ops, int64_t max_vertices = 0);
 
 /// Merges `mesh` with `tol`; a negative tolerance means 1e-4 × the bounding-box diagonal.
 kernel::Result<kernel::MergeResult> merge_mesh(const kernel::Mesh& mesh, double tol);

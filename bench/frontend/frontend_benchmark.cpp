@@ -66,6 +66,35 @@ void BM_ParseCheck(benchmark::State& state) {
   state.counters["ir_nodes"] = static_cast<double>(nodes);
 }
 
+// The fixed cost of one check (what each fuzzer input pays before its size matters): a
+// one-statement file, and a kilobyte of typical statements with a few mistakes.
+void BM_CheckSmallFile(benchmark::State& state) {
+  static const std::string kTiny = "point p (0 0 0) endpoint\n";
+  static const std::string kKilobyte =
+      "bank fp set n 8 3 16 1 set ro 0.4 0.1 1 0.1 endbank\n"
+      "funnel fun ({expr $fp_n} {expr $fp_ro} -0.2 0.2) endfunnel\n"
+      "point p1 (0 0 0) endpoint point p2 (1 0 0) endpoint point p3 (0 1 0) endpoint\n"
+      "mesh m face f (p1 p2 p3) endface endmesh\n"
+      "group g instance a fun translate (0 0 1) rotate (0 0 1) (90) endinstance\n"
+      "  instance b m scale (2 2 2) endinstance endgroup\n"
+      "instance top g endinstance\n"
+      "torus t (1 0.3 360 0 360 12 8) endtorus\n"
+      "circle c (1 16) endcircle\n"
+      "funel typo (8 1 0 1) endfunel\n"
+      "instance bad nothere endinstance\n"
+      "point q (1 2) endpoint\n"
+      "genparametricsurf s funcX [cos(u)*v] funcY [sin(u)*v] funcZ [v] (0 6.28 0 1 16 4) endgenparametricsurf\n"
+      "subdivision sd type NOME_SD_CC subdivisions 1 instance i2 top endinstance endsubdivision\n";
+  const std::string& text = state.range(0) == 0 ? kTiny : kKilobyte;
+  for (auto _ : state) {
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::CheckResult r = nomec::check_source(sources, "small.nome", text, nomec::CheckOptions{}, diags);
+    benchmark::DoNotOptimize(r.module.nodes.size());
+  }
+  state.counters["file_bytes"] = static_cast<double>(text.size());
+}
+
 void BM_ParseOnly(benchmark::State& state) {
   const std::string& text = scene(static_cast<size_t>(state.range(0)));
   size_t stmts = 0;
@@ -363,6 +392,7 @@ BENCHMARK(BM_KeystrokeLargestCorpusFile)->UseManualTime()->Unit(benchmark::kMill
 BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheckCorpus)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CheckSmallFile)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

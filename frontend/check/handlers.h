@@ -35,7 +35,7 @@ ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use);
 ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange use);
 ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use);
 ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
-std::vector<std::string> names_in(const Context& c, Ns ns);
+std::vector<std::string_view> names_in(const Context& c, Ns ns);
 
 // ---- vertex_refs.cpp: vertex references and deleted faces through instance paths ----
 /// A vertex of a face or polyline: a point of `mesh`, a global point, or a path through

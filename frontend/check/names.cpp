@@ -85,8 +85,9 @@ ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, b
   return it->second.node;
 }
 
-std::vector<std::string> names_in(const Context& c, Ns ns) {
-  std::vector<std::string> out;
+std::vector<std::string_view> names_in(const Context& c, Ns ns) {
+  std::vector<std::string_view> out;
+  out.reserve(c.scopes[static_cast<int>(ns)].size());
   for (const auto& [k, v] : c.scopes[static_cast<int>(ns)]) out.push_back(k);
   std::sort(out.begin(), out.end());  // "did you mean" prefers the first best match
   return out;

@@ -179,8 +179,9 @@ bool is_block_keyword(std::string_view word) {
 }
 
 void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, std::span<const OptSpec> opts) {
-  std::vector<std::string> names;
-  for (const OptSpec& o : opts) names.emplace_back(o.name);
+  std::vector<std::string_view> names;
+  names.reserve(opts.size());
+  for (const OptSpec& o : opts) names.push_back(o.name);
   std::string hint = closest_match(it.text, names);
   auto d = c.diags().emit(DiagKind::UnknownArgument, it.range,
                           fmt::format("unknown argument `{}` for `{}`{}", it.text, s.keyword,

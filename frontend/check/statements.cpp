@@ -22,10 +22,12 @@ void report_stray(Context& c, const ast::Item& it) {
                    fmt::format("`{}` outside a bank; sliders are declared inside `bank NAME … endbank`", it.text));
     return;
   }
-  std::vector<std::string> kws;
-  for (std::string_view kw : ast::all_open_keywords()) kws.emplace_back(kw);
-  kws.emplace_back("include");
-  kws.emplace_back("tclinit");
+  static const std::vector<std::string_view> kws = [] {
+    std::vector<std::string_view> k = ast::all_open_keywords();
+    k.push_back("include");
+    k.push_back("tclinit");
+    return k;
+  }();
   std::string hint = closest_match(it.text, kws);
   if (c.dialect() == Dialect::Slide && hint.empty()) {
     // language.md §7: SLIDE statements nomec does not implement are named as such.

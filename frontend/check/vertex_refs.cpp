@@ -328,7 +328,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     }
     return ref;
   }
-  std::vector<std::string> cands = names_in(c, Ns::Point);
+  std::vector<std::string_view> cands = names_in(c, Ns::Point);
   if (mesh.is_valid()) {
     for (auto& [k, v] : c.mesh_points[mesh.index]) cands.push_back(k);
   }

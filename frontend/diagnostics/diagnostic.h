@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -90,5 +91,6 @@ std::string render_text(const SourceManager& sources, const Diagnostic& diag, bo
 /// Finds the closest candidate to `name` by edit distance, or "" if none is close enough
 /// to be a plausible misspelling.
 std::string closest_match(std::string_view name, const std::vector<std::string>& candidates);
+std::string closest_match(std::string_view name, std::span<const std::string_view> candidates);
 
 }  // namespace nomec

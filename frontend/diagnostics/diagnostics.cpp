@@ -1,5 +1,6 @@
 // Diagnostics engine, text rendering and "did you mean" suggestions.
 #include <algorithm>
+#include <array>
 #include <fmt/format.h>
 #include <tuple>
 
@@ -165,40 +166,63 @@ std::string render_text(const SourceManager& sources, const Diagnostic& diag, bo
 }
 
 namespace {
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> prev(b.size() + 1);
-  std::vector<size_t> cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) {
-    prev[j] = j;
-  }
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      size_t cost = (std::tolower(a[i - 1]) == std::tolower(b[j - 1])) ? 0 : 1;
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
+
+// Names longer than this get no suggestion (a third of them may differ: no real hint).
+constexpr size_t kMaxSuggestedLength = 64;
+
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// Case-insensitive edit distance of `a` and `b`, or a value above `bound` as soon as it is
+// certain to exceed it. No allocation: both are at most kMaxSuggestedLength long.
+size_t edit_distance(std::string_view a, std::string_view b, size_t bound) {
+  const size_t la = a.size(), lb = b.size();
+  if ((la > lb ? la - lb : lb - la) > bound) return bound + 1;
+  std::array<uint8_t, kMaxSuggestedLength + 1> prev{}, cur{};
+  for (size_t j = 0; j <= lb; ++j) prev[j] = static_cast<uint8_t>(j);
+  for (size_t i = 1; i <= la; ++i) {
+    cur[0] = static_cast<uint8_t>(i);
+    uint8_t row_min = cur[0];
+    const char ca = lower(a[i - 1]);
+    for (size_t j = 1; j <= lb; ++j) {
+      const uint8_t cost = ca == lower(b[j - 1]) ? 0 : 1;
+      cur[j] = std::min({static_cast<uint8_t>(prev[j] + 1), static_cast<uint8_t>(cur[j - 1] + 1),
+                         static_cast<uint8_t>(prev[j - 1] + cost)});
+      row_min = std::min(row_min, cur[j]);
     }
+    if (row_min > bound) return bound + 1;
     std::swap(prev, cur);
   }
-  return prev[b.size()];
+  return prev[lb];
 }
+
+template <typename Candidates>
+std::string closest(std::string_view name, const Candidates& candidates) {
+  std::string_view result;
+  if (name.empty() || name.size() > kMaxSuggestedLength) return {};
+  // Allow roughly one edit per three characters, at least one.
+  size_t best = std::max<size_t>(1, (name.size() + 2) / 3);
+  bool found = false;
+  for (const auto& candidate : candidates) {
+    const std::string_view c(candidate);
+    if (c == name || c.size() > kMaxSuggestedLength) continue;
+    const size_t d = edit_distance(name, c, best);
+    if (d < best || (d == best && !found)) {
+      best = d;
+      result = c;
+      found = true;
+    }
+  }
+  return std::string(result);
+}
+
 }  // namespace
 
 std::string closest_match(std::string_view name, const std::vector<std::string>& candidates) {
-  size_t best = std::string::npos;
-  std::string result;
-  // Allow roughly one edit per three characters, at least one.
-  size_t limit = std::max<size_t>(1, (name.size() + 2) / 3);
-  for (const std::string& c : candidates) {
-    if (c == name) {
-      continue;
-    }
-    size_t d = edit_distance(name, c);
-    if (d <= limit && d < best) {
-      best = d;
-      result = c;
-    }
-  }
-  return result;
+  return closest(name, candidates);
+}
+
+std::string closest_match(std::string_view name, std::span<const std::string_view> candidates) {
+  return closest(name, candidates);
 }
 
 }  // namespace nomec
