@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <glm/common.hpp>
 
 namespace nomec::kernel {
@@ -153,6 +154,42 @@ uint64_t position_hash(const Mesh& mesh, double quantum) {
     hash += h;
   }
   return hash;
+}
+
+std::string mesh_problem(const Mesh& m) {
+  const int32_t V = m.vertex_count(), E = m.edge_count(), F = m.face_count();
+  auto use_ok = [&](EdgeUse u) { return u.index >= 0 && u.index < 2 * E; };
+  for (int32_t v = 0; v < V; ++v) {
+    const glm::dvec3& p = m.position(VertexId(v));
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      return fmt::format("vertex {} has a non-finite position", v);
+    }
+  }
+  for (int32_t e = 0; e < E; ++e) {
+    for (int end = 0; end < 2; ++end) {
+      const VertexId v = m.edge_vertex(EdgeId(e), end);
+      if (v.index < 0 || v.index >= V) return fmt::format("edge {} has an out-of-range vertex", e);
+    }
+    const FaceId f = m.edge_face(EdgeId(e), 0);
+    if (!f.is_valid() || f.index >= F) return fmt::format("edge {} has no face", e);
+  }
+  for (int32_t f = 0; f < F; ++f) {
+    const EdgeUse first = m.face_use(FaceId(f));
+    if (!use_ok(first)) return fmt::format("face {} has an out-of-range first use", f);
+    EdgeUse u = first;
+    int32_t steps = 0;
+    do {
+      if (m.use_face(u) != FaceId(f)) return fmt::format("face {}: a use of its loop belongs to another face", f);
+      const EdgeUse n = m.next(u);
+      if (!use_ok(n) || !use_ok(m.prev(u))) return fmt::format("face {}: a use links out of range", f);
+      if (m.prev(n) != u) return fmt::format("face {}: prev(next(u)) is not u", f);
+      if (m.use_head(u) != m.use_tail(n)) return fmt::format("face {}: consecutive uses do not share a vertex", f);
+      u = n;
+      if (++steps > 2 * E) return fmt::format("face {}: its loop of uses does not close", f);
+    } while (u != first);
+    if (steps < 3) return fmt::format("face {} has {} sides", f, steps);
+  }
+  return {};
 }
 
 }  // namespace nomec::kernel

@@ -569,6 +569,69 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
   return out;
 }
 
+// One child of a parse-tree node: a rule context or a token (an error node is a token the
+// parser conjured or skipped). Told apart with one virtual call instead of dynamic_cast:
+// a failed dynamic_cast compares type names, which dominated the builder's time.
+struct Child {
+  antlr4::ParserRuleContext* rule = nullptr;
+  antlr4::tree::TerminalNode* terminal = nullptr;
+  bool is_error = false;
+  size_t rule_index() const { return rule != nullptr ? rule->getRuleIndex() : static_cast<size_t>(-1); }
+  size_t token_type() const {
+    return terminal != nullptr && !is_error ? terminal->getSymbol()->getType() : antlr4::Token::INVALID_TYPE;
+  }
+};
+
+class ChildProbe final : public antlr4::tree::ParseTreeVisitor {
+ public:
+  Child child;
+  antlrcpp::Any visit(antlr4::tree::ParseTree* tree) override { return tree->accept(this); }
+  // Generated contexts do not override `accept` (no visitor is generated), so every rule
+  // context arrives here.
+  antlrcpp::Any visitChildren(antlr4::tree::ParseTree* node) override {
+    child.rule = static_cast<antlr4::ParserRuleContext*>(node);
+    return {};
+  }
+  antlrcpp::Any visitTerminal(antlr4::tree::TerminalNode* node) override {
+    child.terminal = node;
+    return {};
+  }
+  antlrcpp::Any visitErrorNode(antlr4::tree::ErrorNode* node) override {
+    child.terminal = node;
+    child.is_error = true;
+    return {};
+  }
+};
+
+Child classify(antlr4::tree::ParseTree* tree) {
+  ChildProbe probe;
+  if (tree != nullptr) tree->accept(&probe);
+  return probe.child;
+}
+
+// Child `i` of `ctx`, classified (an empty Child when there is none).
+Child child(antlr4::ParserRuleContext* ctx, size_t i) {
+  return ctx != nullptr && i < ctx->children.size() ? classify(ctx->children[i]) : Child{};
+}
+
+// The first child of `ctx` that is a rule context with index `rule`.
+antlr4::ParserRuleContext* rule_child(antlr4::ParserRuleContext* ctx, size_t rule) {
+  for (antlr4::tree::ParseTree* t : ctx->children) {
+    Child c = classify(t);
+    if (c.rule != nullptr && c.rule_index() == rule) return c.rule;
+  }
+  return nullptr;
+}
+
+// The first token of type `type` among the children of `ctx`.
+antlr4::Token* token_child(antlr4::ParserRuleContext* ctx, size_t type) {
+  for (antlr4::tree::ParseTree* t : ctx->children) {
+    Child c = classify(t);
+    if (c.token_type() == type) return c.terminal->getSymbol();
+  }
+  return nullptr;
+}
+
 // Converts the parse tree into the AST.
 class AstBuilder {
  public:
@@ -580,43 +643,55 @@ class AstBuilder {
   ast::ExprId build_expr(antlr4::ParserRuleContext* ctx) { return convert_expr(ctx); }
 
   void build_file(NomeParser::FileContext* file) {
-    for (auto* top : file->topStmt()) {
-      if (top->TCLINIT() != nullptr) {
-        antlr4::Token* t = top->TCLINIT()->getSymbol();
+    for (antlr4::tree::ParseTree* t : file->children) {
+      Child top = classify(t);
+      if (top.rule == nullptr || top.rule_index() != NomeParser::RuleTopStmt) continue;
+      Child inner = child(top.rule, 0);
+      if (inner.token_type() == NomeParser::TCLINIT) {
         ast::Item item;
         item.kind = ast::ItemKind::Tcl;
-        item.range = token_range(t);
+        item.range = token_range(inner.terminal->getSymbol());
         item.text = view(item.range);
         ast_.top.push_back(item);
-      } else if (auto* inc = top->includeStmt()) {
-        ast::Item item;
-        item.kind = ast::ItemKind::Include;
-        item.range = ctx_range(inc);
-        if (inc->STRING() != nullptr) {
-          SourceRange s = token_range(inc->STRING()->getSymbol());
-          if (s.end >= s.begin + 2) {  // a conjured (missing) string has no text
-            item.text = view(SourceRange{file_, s.begin + 1, s.end - 1});
+        continue;
+      }
+      if (inner.rule == nullptr) continue;
+      switch (inner.rule_index()) {
+        case NomeParser::RuleIncludeStmt: {
+          ast::Item item;
+          item.kind = ast::ItemKind::Include;
+          item.range = ctx_range(inner.rule);
+          if (antlr4::Token* str = token_child(inner.rule, NomeParser::STRING)) {
+            SourceRange r = token_range(str);
+            if (r.end >= r.begin + 2) {  // a conjured (missing) string has no text
+              item.text = view(SourceRange{file_, r.begin + 1, r.end - 1});
+            }
           }
+          ast_.top.push_back(item);
+          break;
         }
-        ast_.top.push_back(item);
-      } else if (auto* block = top->block()) {
-        if (auto item = block_item(block)) {
-          ast_.top.push_back(*item);
+        case NomeParser::RuleBlock:
+          if (auto item = block_item(inner.rule)) ast_.top.push_back(*item);
+          break;
+        case NomeParser::RuleStrayItem: {
+          ast::Item item;
+          item.range = ctx_range(inner.rule);
+          Child what = child(inner.rule, 0);
+          if (what.rule_index() == NomeParser::RuleParenList) {
+            item.kind = ast::ItemKind::List;
+            item.list = convert_list(what.rule);
+          } else if (what.rule_index() == NomeParser::RuleItemExpr) {
+            item.kind = ast::ItemKind::Value;
+            item.expr = convert_expr(what.rule);
+          } else {
+            item.kind = ast::ItemKind::Word;
+            item.text = view(item.range);
+          }
+          ast_.top.push_back(item);
+          break;
         }
-      } else if (auto* stray = top->strayItem()) {
-        ast::Item item;
-        item.range = ctx_range(stray);
-        if (stray->parenList() != nullptr) {
-          item.kind = ast::ItemKind::List;
-          item.list = convert_list(stray->parenList());
-        } else if (stray->itemExpr() != nullptr) {
-          item.kind = ast::ItemKind::Value;
-          item.expr = convert_expr(stray->itemExpr());
-        } else {
-          item.kind = ast::ItemKind::Word;
-          item.text = view(item.range);
-        }
-        ast_.top.push_back(item);
+        default:
+          break;
       }
     }
   }
@@ -645,11 +720,8 @@ class AstBuilder {
   // A `block` wrapper or a concrete `xxxStmt` context -> Block item.
   std::optional<ast::Item> block_item(antlr4::ParserRuleContext* ctx) {
     if (ctx->getRuleIndex() == NomeParser::RuleBlock) {
-      if (ctx->children.empty()) {
-        return std::nullopt;
-      }
-      auto* inner = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]);
-      return inner != nullptr ? block_item(inner) : std::nullopt;
+      Child inner = child(ctx, 0);
+      return inner.rule != nullptr ? block_item(inner.rule) : std::nullopt;
     }
     if (ctx->start == nullptr) {
       return std::nullopt;
@@ -665,12 +737,12 @@ class AstBuilder {
     stmt.keyword = view(stmt.open_kw);
     decltype(ast::Stmt::items) items;
     for (size_t i = 1; i < ctx->children.size(); ++i) {
-      antlr4::tree::ParseTree* child = ctx->children[i];
-      if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
-        if (dynamic_cast<antlr4::tree::ErrorNode*>(child) != nullptr) {
+      Child c = classify(ctx->children[i]);
+      if (c.terminal != nullptr) {
+        if (c.is_error) {
           continue;
         }
-        antlr4::Token* t = term->getSymbol();
+        antlr4::Token* t = c.terminal->getSymbol();
         if (is_end_token(t->getType()) && t->getTokenIndex() != static_cast<size_t>(-1) &&
             t->getStartIndex() != static_cast<size_t>(-1) && t->getStopIndex() >= t->getStartIndex()) {
           stmt.close_kw = token_range(t);
@@ -678,7 +750,7 @@ class AstBuilder {
         }
         continue;
       }
-      auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child);
+      antlr4::ParserRuleContext* rule = c.rule;
       if (rule == nullptr) {
         continue;
       }
@@ -714,38 +786,39 @@ class AstBuilder {
         .fixit(stmt.close_kw, close, fmt::format("replace with `{}`", close));
   }
 
+  // `item`: a word, a parenthesised list or a value (its one child says which).
   std::optional<ast::Item> convert_item(antlr4::ParserRuleContext* ctx) {
     ast::Item item;
     item.range = ctx_range(ctx);
-    if (auto* w = dynamic_cast<NomeParser::WordItemContext*>(ctx)) {
-      item.kind = ast::ItemKind::Word;
-      item.range = ctx_range(w->word());
-      item.text = view(item.range);
-      return item;
+    Child what = child(ctx, 0);
+    switch (what.rule_index()) {
+      case NomeParser::RuleWord:
+        item.kind = ast::ItemKind::Word;
+        item.range = ctx_range(what.rule);
+        item.text = view(item.range);
+        return item;
+      case NomeParser::RuleParenList:
+        item.kind = ast::ItemKind::List;
+        item.list = convert_list(what.rule);
+        return item;
+      case NomeParser::RuleItemExpr:
+        item.kind = ast::ItemKind::Value;
+        item.expr = convert_expr(what.rule);
+        return item;
+      default:
+        return std::nullopt;
     }
-    if (auto* l = dynamic_cast<NomeParser::ListItemContext*>(ctx)) {
-      item.kind = ast::ItemKind::List;
-      item.list = convert_list(l->parenList());
-      return item;
-    }
-    if (auto* v = dynamic_cast<NomeParser::ValueItemContext*>(ctx)) {
-      item.kind = ast::ItemKind::Value;
-      item.expr = convert_expr(v->itemExpr());
-      return item;
-    }
-    return std::nullopt;
   }
 
-  ast::ListId convert_list(NomeParser::ParenListContext* ctx) {
+  ast::ListId convert_list(antlr4::ParserRuleContext* ctx) {
     ast::ParenList list;
     list.range = ctx_range(ctx);
-    for (auto* child : ctx->children) {
-      if (auto* e = dynamic_cast<NomeParser::ListExprContext*>(child)) {
-        list.elems.push_back(convert_expr(e));
-      } else if (auto* t = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
-        if (t->getSymbol()->getType() == NomeParser::COMMA) {
-          list.commas.push_back(token_range(t->getSymbol()));
-        }
+    for (antlr4::tree::ParseTree* t : ctx->children) {
+      Child c = classify(t);
+      if (c.rule_index() == NomeParser::RuleListExpr) {
+        list.elems.push_back(convert_expr(c.rule));
+      } else if (c.token_type() == NomeParser::COMMA) {
+        list.commas.push_back(token_range(c.terminal->getSymbol()));
       }
     }
     ast_.lists.push_back(std::move(list));
@@ -760,9 +833,10 @@ class AstBuilder {
   ast::ExprId error_expr(antlr4::ParserRuleContext* ctx) {
     ast::Expr e;
     e.kind = ast::ExprKind::Error;
-    e.range = ctx != nullptr ? ctx_range(ctx) : SourceRange{file_, 0, 0};
+    const bool anchored = ctx != nullptr && ctx->start != nullptr;
+    e.range = anchored ? ctx_range(ctx) : SourceRange{file_, 0, 0};
     ast::ExprId id = add(e);
-    if (ctx == nullptr && unanchored_ != nullptr) unanchored_->push_back(id.index);
+    if (!anchored && unanchored_ != nullptr) unanchored_->push_back(id.index);
     return id;
   }
 
@@ -806,11 +880,11 @@ class AstBuilder {
       case NomeParser::RuleItemMul:
       case NomeParser::RulePowExpr:
       case NomeParser::RuleItemPow: {
-        auto* first = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]);
-        ast::ExprId acc = convert_expr(first);
+        ast::ExprId acc = convert_expr(child(ctx, 0).rule);
         for (size_t i = 1; i + 1 < ctx->children.size(); i += 2) {
-          auto* op = dynamic_cast<antlr4::tree::TerminalNode*>(ctx->children[i]);
-          auto* rhs = dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[i + 1]);
+          Child o = child(ctx, i);
+          antlr4::ParserRuleContext* rhs = child(ctx, i + 1).rule;
+          antlr4::tree::TerminalNode* op = o.is_error ? nullptr : o.terminal;
           if (op == nullptr || rhs == nullptr) {
             return error_expr(ctx);
           }
@@ -819,26 +893,30 @@ class AstBuilder {
           e.op = op_of(op->getSymbol());
           e.lhs = acc;
           e.rhs = convert_expr(rhs);
-          e.range = SourceRange{file_, ast_.exprs[acc.index].range.begin,
-                                ast_.exprs[e.rhs.index].range.end};
+          // An operand the parser could not read may have no position (offset 0): the
+          // range never ends before it begins.
+          const SourceRange& l = ast_.exprs[acc.index].range;
+          const SourceRange& r = ast_.exprs[e.rhs.index].range;
+          e.range = SourceRange{file_, l.begin, std::max(l.end, r.end)};
           acc = add(e);
         }
         return acc;
       }
       case NomeParser::RuleUnaryExpr:
       case NomeParser::RuleItemUnary: {
-        if (auto* op = dynamic_cast<antlr4::tree::TerminalNode*>(ctx->children[0])) {
-          if (ctx->children.size() < 2) {
+        Child first = child(ctx, 0);
+        if (first.terminal != nullptr) {
+          if (ctx->children.size() < 2 || first.is_error) {
             return error_expr(ctx);
           }
           ast::Expr e;
           e.kind = ast::ExprKind::Unary;
-          e.op = op_of(op->getSymbol());
-          e.lhs = convert_expr(dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[1]));
+          e.op = op_of(first.terminal->getSymbol());
+          e.lhs = convert_expr(child(ctx, 1).rule);
           e.range = ctx_range(ctx);
           return add(e);
         }
-        return convert_expr(dynamic_cast<antlr4::ParserRuleContext*>(ctx->children[0]));
+        return convert_expr(first.rule);
       }
       default:
         break;
@@ -857,51 +935,48 @@ class AstBuilder {
     return add(e);
   }
 
-  ast::ExprId convert_brace(NomeParser::BraceExprContext* b) {
-    if (b->tclBraces() != nullptr) {
+  // `braceExpr`: `{expr …}` / `{…}` around an expression, or raw Tcl braces.
+  ast::ExprId convert_brace(antlr4::ParserRuleContext* b) {
+    if (antlr4::ParserRuleContext* tcl = rule_child(b, NomeParser::RuleTclBraces)) {
       ast::Expr e;
       e.kind = ast::ExprKind::Raw;
       e.in_braces = true;
-      e.range = ctx_range(b->tclBraces());
+      e.range = ctx_range(tcl);
       e.text = view(e.range);
       return add(e);
     }
-    ast::ExprId inner = convert_expr(b->expr());
+    ast::ExprId inner = convert_expr(rule_child(b, NomeParser::RuleExpr));
     ast_.exprs[inner.index].in_braces = true;
     return inner;
   }
 
+  // `atom` and `itemAtom`: each alternative starts with a different token or rule.
   ast::ExprId convert_atom(antlr4::ParserRuleContext* ctx) {
-    using P = NomeParser;
-    if (auto* a = dynamic_cast<P::NumberAtomContext*>(ctx)) return token_expr(ast::ExprKind::Number, a->NUMBER()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemNumberContext*>(ctx)) return token_expr(ast::ExprKind::Number, a->NUMBER()->getSymbol());
-    if (auto* a = dynamic_cast<P::DollarAtomContext*>(ctx)) return token_expr(ast::ExprKind::DollarRef, a->DOLLAR_REF()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemDollarContext*>(ctx)) return token_expr(ast::ExprKind::DollarRef, a->DOLLAR_REF()->getSymbol());
-    if (auto* a = dynamic_cast<P::TclArrayAtomContext*>(ctx)) return token_expr(ast::ExprKind::TclArrayRef, a->TCL_ARRAY_REF()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemTclArrayContext*>(ctx)) return token_expr(ast::ExprKind::TclArrayRef, a->TCL_ARRAY_REF()->getSymbol());
-    if (auto* a = dynamic_cast<P::RawAtomContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->BRACKET_RAW()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemRawContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->BRACKET_RAW()->getSymbol());
-    if (auto* a = dynamic_cast<P::PctAtomContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->PCT_RAW()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemPctContext*>(ctx)) return token_expr(ast::ExprKind::Raw, a->PCT_RAW()->getSymbol());
-    if (auto* a = dynamic_cast<P::StringAtomContext*>(ctx)) return token_expr(ast::ExprKind::String, a->STRING()->getSymbol());
-    if (auto* a = dynamic_cast<P::ItemStringContext*>(ctx)) return token_expr(ast::ExprKind::String, a->STRING()->getSymbol());
-    if (auto* a = dynamic_cast<P::BraceAtomContext*>(ctx)) return convert_brace(a->braceExpr());
-    if (auto* a = dynamic_cast<P::ItemBraceContext*>(ctx)) return convert_brace(a->braceExpr());
-    if (auto* a = dynamic_cast<P::ParenAtomContext*>(ctx)) return convert_expr(a->expr());
-    if (auto* a = dynamic_cast<P::NameAtomContext*>(ctx)) {
-      ast::Expr e;
-      e.kind = ast::ExprKind::Name;
-      e.range = ctx_range(a->word());
-      e.text = view(e.range);
-      return add(e);
+    Child first = child(ctx, 0);
+    switch (first.token_type()) {
+      case NomeParser::NUMBER: return token_expr(ast::ExprKind::Number, first.terminal->getSymbol());
+      case NomeParser::DOLLAR_REF: return token_expr(ast::ExprKind::DollarRef, first.terminal->getSymbol());
+      case NomeParser::TCL_ARRAY_REF: return token_expr(ast::ExprKind::TclArrayRef, first.terminal->getSymbol());
+      case NomeParser::BRACKET_RAW:
+      case NomeParser::PCT_RAW: return token_expr(ast::ExprKind::Raw, first.terminal->getSymbol());
+      case NomeParser::STRING: return token_expr(ast::ExprKind::String, first.terminal->getSymbol());
+      case NomeParser::LPAREN: return convert_expr(rule_child(ctx, NomeParser::RuleExpr));  // `( expr )`
+      default: break;
     }
-    if (auto* a = dynamic_cast<P::CallAtomContext*>(ctx)) {
+    if (first.rule_index() == NomeParser::RuleBraceExpr) return convert_brace(first.rule);
+    if (first.rule_index() == NomeParser::RuleWord) {
       ast::Expr e;
-      e.kind = ast::ExprKind::Call;
-      e.range = ctx_range(a);
-      e.text = view(ctx_range(a->word()));
-      for (auto* arg : a->expr()) {
-        e.args.push_back(convert_expr(arg));
+      e.text = view(ctx_range(first.rule));
+      if (child(ctx, 1).token_type() != NomeParser::LPAREN) {  // a name
+        e.kind = ast::ExprKind::Name;
+        e.range = ctx_range(first.rule);
+        return add(e);
+      }
+      e.kind = ast::ExprKind::Call;  // `word ( expr (, expr)* )`
+      e.range = ctx_range(ctx);
+      for (antlr4::tree::ParseTree* t : ctx->children) {
+        Child arg = classify(t);
+        if (arg.rule_index() == NomeParser::RuleExpr) e.args.push_back(convert_expr(arg.rule));
       }
       return add(e);
     }
@@ -1077,11 +1152,12 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
       tree = nullptr;
     }
   }
-  if (tree == nullptr || tree->expr() == nullptr || listener.error_count() > 0) {
+  antlr4::ParserRuleContext* expr = tree != nullptr ? rule_child(tree, NomeParser::RuleExpr) : nullptr;
+  if (expr == nullptr || listener.error_count() > 0) {
     return error(raw);
   }
   AstBuilder builder(file, text, offsets, out, nullptr, &diags);
-  return builder.build_expr(tree->expr());
+  return builder.build_expr(expr);
 }
 
 }  // namespace nomec

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 
+#include "kernel/topology.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -17,20 +18,9 @@ using testing::cube_soup;
 using testing::Glue;
 using testing::grid_soup;
 
-// Every wing is consistent: next/prev are inverse, consecutive uses share a vertex,
-// and each face's loop closes.
-void expect_consistent(const Mesh& m) {
-  for (int32_t f = 0; f < m.face_count(); ++f) {
-    m.for_each_face_use(FaceId(f), [&](EdgeUse u) {
-      EXPECT_EQ(m.use_face(u), FaceId(f));
-      EXPECT_EQ(m.prev(m.next(u)), u);
-      EXPECT_EQ(m.use_head(u), m.use_tail(m.next(u)));
-    });
-  }
-  for (int32_t e = 0; e < m.edge_count(); ++e) {
-    EXPECT_TRUE(m.edge_face(EdgeId(e), 0).is_valid());
-  }
-}
+// Every wing is consistent (kernel::mesh_problem: next/prev are inverse, consecutive uses
+// share a vertex, each face's loop closes, every edge has a face).
+void expect_consistent(const Mesh& m) { EXPECT_EQ(mesh_problem(m), ""); }
 
 TEST(MeshBuilder, CubeCountsAndWings) {
   auto mesh = build_mesh(cube_soup());
@@ -275,6 +265,39 @@ TEST(MeshTopology, SameTopologyIgnoresPositionsOnly) {
   sourced.set_face_source(FaceId(2), FaceSource{5, 1});
   EXPECT_FALSE(has_same_topology(a, sourced));
   EXPECT_FALSE(has_same_topology(a, *build_mesh(grid_soup(2, 2, Glue::None))));
+}
+
+}  // namespace
+}  // namespace nomec::kernel
+
+namespace nomec::kernel {
+namespace {
+
+// The invariant checker finds each kind of damage (and is quiet on a good mesh).
+TEST(MeshProblem, FindsBrokenWings) {
+  auto good = build_mesh(testing::cube_soup());
+  ASSERT_TRUE(good.has_value());
+  EXPECT_EQ(mesh_problem(*good), "");
+  {
+    Mesh m = *good;
+    std::swap(MeshAccess::next(m)[0], MeshAccess::next(m)[1]);
+    EXPECT_NE(mesh_problem(m), "");
+  }
+  {
+    Mesh m = *good;
+    MeshAccess::use_faces(m)[0] = FaceId(5 - MeshAccess::use_faces(m)[0].index);
+    EXPECT_NE(mesh_problem(m), "");
+  }
+  {
+    Mesh m = *good;
+    MeshAccess::positions(m)[3].y = std::nan("");
+    EXPECT_EQ(mesh_problem(m), "vertex 3 has a non-finite position");
+  }
+  {
+    Mesh m = *good;
+    MeshAccess::edge_vertices(m)[4] = VertexId(99);
+    EXPECT_EQ(mesh_problem(m), "edge 2 has an out-of-range vertex");
+  }
 }
 
 }  // namespace

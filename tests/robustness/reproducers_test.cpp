@@ -99,4 +99,21 @@ TEST(ReproducersDeathTest, DeeplyNestedCommentsAreCheap) {
       ::testing::ExitedWithCode(0), "");
 }
 
+// Found by the front-end fuzzer: a binary operation whose right operand the parser could
+// not read (`ns%{`, an unclosed brace) had a range ending at offset 0, before its start.
+TEST(Reproducers, RangesOfUnreadableOperandsStayOrdered) {
+  for (const char* path : {"repro.nome", "repro.nom", "repro.slf"}) {
+    for (const std::string text : {"bank b list (ns%{\n", "point p (1 + (* 2 0) endpoint\n", "point p (1*{ 0 0) endpoint"}) {
+      nomec::SourceManager sources;
+      nomec::DiagnosticEngine diags;
+      nomec::check_source(sources, path, text, nomec::CheckOptions{}, diags);
+      for (const nomec::Diagnostic& d : diags.diagnostics()) {
+        if (!d.range.is_valid()) continue;
+        EXPECT_LE(d.range.begin, d.range.end) << path << ": " << text << ": " << d.message;
+        EXPECT_LE(d.range.end, text.size()) << path << ": " << text << ": " << d.message;
+      }
+    }
+  }
+}
+
 }  // namespace
