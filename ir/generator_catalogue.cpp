@@ -16,6 +16,7 @@ std::string_view arg_type_name(ArgType t) {
     case ArgType::Real: return "number";
     case ArgType::Length: return "length";
     case ArgType::Ratio: return "ratio";
+    case ArgType::Fraction: return "fraction";
     case ArgType::Angle: return "angle";
     case ArgType::Flag: return "flag";
     case ArgType::Function: return "function";

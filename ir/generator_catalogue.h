@@ -34,7 +34,7 @@ inline constexpr int kGenKindCount = 0
 enum class GenOutput : uint8_t { Surface, Curve };
 
 /// What an argument holds (ir/generators.def explains each).
-enum class ArgType : uint8_t { Count, Whole, Real, Length, Ratio, Angle, Flag, Function, Points, Path };
+enum class ArgType : uint8_t { Count, Whole, Real, Length, Ratio, Fraction, Angle, Flag, Function, Points, Path };
 std::string_view arg_type_name(ArgType t);
 
 /// An argument's index among its generator's arguments (catalogue order).

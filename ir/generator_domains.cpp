@@ -109,6 +109,17 @@ class Rules {
     }
   }
 
+  /// A number in [0, 1].
+  template <typename E>
+  void fraction(E arg) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (*v < 0.0 || *v > 1.0) {
+      report(arg, q(arg) + " is a fraction and must be within [0, 1], got " + format_argument(*v),
+             "0 is the start, 1 the end; 0.5 is half way");
+    }
+  }
+
   template <typename E>
   void nonzero(E arg) {
     const double* v = get(arg);
@@ -317,6 +328,12 @@ void rules_for(GenKind kind, Rules& r) {
     case GenKind::Bspline:
       r.count(gen_arg::Bspline::order, 2);
       return;
+    case GenKind::Cone:
+      r.greater(gen_arg::Cone::zmin, gen_arg::Cone::zmax);
+      r.count(gen_arg::Cone::theta_segs, 3, " (a ring of fewer sides has no area)");
+      return;
+    default:
+      return;  // a generator whose arguments need only the rules of their kinds (type_rules)
   }
 }
 
@@ -332,6 +349,7 @@ void type_rules(GenKind kind, Rules& r) {
       case ArgType::Count: r.count(i, 1); break;
       case ArgType::Length: r.positive(i); break;
       case ArgType::Ratio: r.above_minus_one(i); break;
+      case ArgType::Fraction: r.fraction(i); break;
       case ArgType::Whole:
       case ArgType::Real:
       case ArgType::Angle:

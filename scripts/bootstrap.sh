@@ -3,9 +3,19 @@
 # project into build/ with CMake + Ninja. Safe to re-run: the apt step is skipped when every
 # package is already installed, and the build is incremental. Works from any directory.
 #
-# Usage (as root on a fresh Debian 12 machine):   scripts/bootstrap.sh
+# Usage (as root on a fresh Debian 12 machine):   scripts/bootstrap.sh [--sanitize]
 # Afterwards: build/tools/nomec --check FILE...   and   ctest --test-dir build
+# With --sanitize it builds build-sanitize/ instead: the `sanitize` preset (clang with
+# AddressSanitizer + UndefinedBehaviorSanitizer, and the libFuzzer targets).
 set -euo pipefail
+
+sanitize=0
+for arg in "$@"; do
+  case "$arg" in
+    --sanitize) sanitize=1 ;;
+    *) echo "bootstrap: unknown argument $arg (usage: scripts/bootstrap.sh [--sanitize])" >&2; exit 2 ;;
+  esac
+done
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
@@ -23,6 +33,7 @@ packages=(
   libjemalloc-dev                # allocator of nomec (language server speed on large files)
   admesh                         # STL sanity checks in tests
   cmake ninja-build g++ clang
+  libclang-rt-14-dev             # clang's sanitizer and libFuzzer runtimes (build-sanitize/)
   ca-certificates git python3
 )
 
@@ -61,5 +72,10 @@ if ! command -v node >/dev/null 2>&1; then
     || { "${node_sudo[@]}" apt-get update && DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends nodejs npm; }
 fi
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
-cmake --build build -j"$(nproc)"
+if ((sanitize)); then
+  cmake --preset sanitize
+  cmake --build build-sanitize -j"$(nproc)"
+else
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cmake --build build -j"$(nproc)"
+fi

@@ -121,6 +121,42 @@ Generated make_Cylinder(const ArgReader& a) {
   return g;
 }
 
+// SLIDE's cone: rings v{i}_0 (at zmin) and v{i}_1 (at zmax) of `thetaslices` vertices, v0_0
+// on +x; at zmax = 1 the top ring is the single apex vertex `v0_1`. The side faces point
+// away from the axis, a begincap faces −z and an endcap +z.
+Generated make_Cone(const ArgReader& a) {
+  using A = ir::gen_arg::Cone;
+  const double r = a.has(A::radius) ? a.positive(A::radius) : 1.0;
+  const double h = a.has(A::height) ? a.positive(A::height) : 1.0;
+  const double zmin = a.number_or(A::zmin, 0.0);
+  const double zmax = a.number_or(A::zmax, 1.0);
+  if (!(zmin < zmax)) fail(ir::arg_index(A::zmax), "`zmax` must be greater than `zmin`");
+  const int n = a.count_or(A::theta_segs, 3, 16);
+  check_size(2LL * n, ir::arg_index(A::theta_segs));
+  const bool apex = zmax >= 1.0;
+  Generated g;
+  auto ring = [&](double t, int j) {
+    std::vector<int32_t> out;
+    for (int i = 0; i < n; ++i) {
+      const double th = 2.0 * kPi * i / n;
+      out.push_back(g.soup.add_vertex(glm::dvec3(r * (1.0 - t) * std::cos(th), r * (1.0 - t) * std::sin(th), h * t),
+                                      "v" + std::to_string(i) + "_" + std::to_string(j)));
+    }
+    return out;
+  };
+  const std::vector<int32_t> bottom = ring(zmin, 0);
+  if (apex) {
+    const int32_t top = g.soup.add_vertex(glm::dvec3(0.0, 0.0, h), "v0_1");
+    for (int i = 0; i < n; ++i) g.soup.add_face({bottom[i], bottom[(i + 1) % n], top});
+  } else {
+    const std::vector<int32_t> top = ring(zmax, 1);
+    for (int i = 0; i < n; ++i) g.soup.add_face({bottom[i], bottom[(i + 1) % n], top[(i + 1) % n], top[i]});
+    if (a.flag(A::endcap)) g.soup.add_face(top);
+  }
+  if (a.flag(A::begincap)) g.soup.add_face(std::vector<int32_t>(bottom.rbegin(), bottom.rend()));
+  return g;
+}
+
 Generated make_Hyperboloid(const ArgReader& a) {
   using A = ir::gen_arg::Hyperboloid;
   const double ra = a.positive(A::a);

@@ -96,6 +96,7 @@ Shape shape_of(ir::ArgType t) {
     case ir::ArgType::Real:
     case ir::ArgType::Length:
     case ir::ArgType::Ratio:
+    case ir::ArgType::Fraction:
     case ir::ArgType::Angle: return Shape::Scalar;
   }
   return Shape::Scalar;

@@ -149,6 +149,48 @@ TEST(Cylinder, FullTurnIsAWeldedTube) {
             "height");
 }
 
+// SLIDE's cone (slide.md §4.1): fields as fractions of the height, caps as single polygons.
+TEST(Cone, DefaultsMakeAnOpenConeToTheApex) {
+  Generated g = run("cone", numbers({}, "slide"));
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.vertex_count, 17);  // 16 around the base and the apex
+  EXPECT_EQ(r.face_count, 16);
+  EXPECT_EQ(r.euler_characteristic, 1);  // a disk
+  EXPECT_EQ(r.border_loop_count, 1);
+  expect_near(named(g.soup, "v0_0"), {1, 0, 0});
+  expect_near(named(g.soup, "v0_1"), {0, 0, 1});
+}
+
+TEST(Cone, PyramidFrustumOfARealSlideFile) {
+  // `cone pyr radius 1.0 height 2.0 zmin 0.0 zmax 0.5 thetaslices 4 begincap 1 endcone`: the
+  // top ring sits at z = 0.5·2 with radius 0.5, corners on the axes; the base is covered.
+  Args a = numbers({{"radius", 1}, {"height", 2}, {"zmin", 0}, {"zmax", 0.5}, {"theta_segs", 4}, {"begincap", 1}},
+                   "slide");
+  Generated g = run("cone", a);
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.vertex_count, 8);
+  EXPECT_EQ(r.face_count, 5);
+  EXPECT_EQ(r.border_loop_count, 1);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  expect_near(named(g.soup, "v0_1"), {0.5, 0, 1});
+  expect_near(named(g.soup, "v1_1"), {0, 0.5, 1});
+  a.numbers.push_back({"endcap", 1});
+  kernel::TopologyReport closed = topo(run("cone", a).soup);
+  EXPECT_TRUE(closed.is_closed);
+  EXPECT_EQ(closed.euler_characteristic, 2);
+  EXPECT_TRUE(closed.is_orientable);
+  EXPECT_GT(signed_volume(run("cone", a).soup), 0);  // the caps face out like the sides
+}
+
+TEST(Cone, FractionsAreCheckedLikeEveryArgument) {
+  NamedError e = run_error("cone", numbers({{"zmin", 0.6}, {"zmax", 0.5}}, "slide"));
+  EXPECT_EQ(e.argument, "zmax");
+  e = run_error("cone", numbers({{"zmax", 1.5}}, "slide"));
+  EXPECT_EQ(e.argument, "zmax");
+  EXPECT_EQ(e.message, "`zmax` is a fraction and must be within [0, 1], got 1.5");
+  EXPECT_EQ(run_error("cone", numbers({{"theta_segs", 2}}, "slide")).argument, "thetaslices");
+}
+
 TEST(Hyperboloid, OneSheetIsAnAnnulus) {
   Generated g = run("hyperboloid", numbers({{"a", 1}, {"b", 1}, {"c", 1}, {"height", 2},
                                             {"theta_segs", 8}, {"height_segs", 4}}));

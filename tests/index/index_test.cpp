@@ -450,7 +450,7 @@ TEST(Index, BuildFromOwnCheck) {
   ASSERT_TRUE(o);
   EXPECT_EQ(ix->symbols()[o->symbol].name, "fun");
   // Rename re-checks with the given options: a clash made by the new name is refused.
-  auto ok = ix->rename(f, o->range.begin, "cone");
+  auto ok = ix->rename(f, o->range.begin, "spout");
   ASSERT_TRUE(std::holds_alternative<std::vector<TextEdit>>(ok)) << std::get<std::string>(ok);
   EXPECT_EQ(std::get<std::vector<TextEdit>>(ok).size(), 3u);
   // Without `record_names`, only definitions are known.

@@ -104,6 +104,12 @@ TEST(Catalogue, DomainRulesMatchDeclaredTypes) {
           EXPECT_FALSE(rejects(2)) << what << " rejects 2";
           EXPECT_TRUE(rejects(nan)) << what << " accepts NaN";
           break;
+        case ArgType::Fraction:
+          EXPECT_TRUE(rejects(-0.1)) << what << " accepts -0.1";
+          EXPECT_TRUE(rejects(1.5)) << what << " accepts 1.5";
+          EXPECT_FALSE(rejects(0.5)) << what << " rejects 0.5";
+          EXPECT_TRUE(rejects(nan)) << what << " accepts NaN";
+          break;
         case ArgType::Angle:
         case ArgType::Real:
         case ArgType::Whole:
@@ -171,6 +177,18 @@ TEST(Catalogue, EditorGrammarListsEveryKeyword) {
   updated += text.substr(last);
   EXPECT_GE(seen, 3) << "the grammar's keyword lists were not found";
   if (updating() && updated != text) write_text(path, updated);
+}
+
+// The fuzzers' dictionary holds every opening and end keyword, so mutations can make any
+// statement.
+TEST(Catalogue, FuzzDictionaryListsEveryKeyword) {
+  const std::string dict = read_text(kRoot + "/fuzz/nome.dict");
+  ASSERT_FALSE(dict.empty());
+  for (std::string_view k : ast::all_open_keywords()) {
+    EXPECT_NE(dict.find("=\"" + std::string(k) + "\""), std::string::npos) << "fuzz/nome.dict lacks `" << k << "`";
+    EXPECT_NE(dict.find("=\"" + ast::end_keyword(k) + "\""), std::string::npos)
+        << "fuzz/nome.dict lacks `" << ast::end_keyword(k) << "`";
+  }
 }
 
 // ---- docs/generators.md's reference section ----

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# run.sh: runs the libFuzzer targets of a fuzzing build for a while each, seeded from the
+# examples and (when it is beside the repository) the shared corpus, with the input size
+# each target is meant for. Prints each run's executions and executions per second, and
+# fails on any finding (a crash, a sanitizer report, a timeout, an out-of-memory input),
+# leaving the input in DIR/fuzz-artifacts/TARGET/ and the log in DIR/fuzz-TARGET.log.
+#
+# Usage: fuzz/run.sh [--build DIR] [--seconds N] [TARGET...]
+#   DIR: a build with -DNOMEC_FUZZ=ON (default build-sanitize, the `sanitize` preset)
+#   N: seconds per target (default 60); TARGET: frontend_fuzzer, pipeline_fuzzer (both)
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="$repo/build-sanitize"
+seconds=60
+targets=()
+while (($#)); do
+  case "$1" in
+    --build) build="$(cd "$2" && pwd)"; shift 2 ;;
+    --seconds) seconds="$2"; shift 2 ;;
+    -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
+    *) targets+=("$1"); shift ;;
+  esac
+done
+((${#targets[@]})) || targets=(frontend_fuzzer pipeline_fuzzer)
+
+seeds=("$repo/examples")
+for d in nome1 nome3 slide; do
+  if [[ -d "$repo/../shared/corpus/$d" ]]; then seeds+=("$repo/../shared/corpus/$d"); fi
+done
+# No allocation stacks (a finding is re-run to see them): allocation is most of the cost.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
+
+for t in "${targets[@]}"; do
+  # The front end is fuzzed on short texts (a few statements: fast, and where the grammar's
+  # corners are); the pipeline on longer ones, which its own limits keep fast.
+  case "$t" in
+    frontend_fuzzer) max_len=128 ;;
+    pipeline_fuzzer) max_len=1024 ;;
+    *) echo "run.sh: unknown target $t" >&2; exit 2 ;;
+  esac
+  binary="$build/fuzz/$t"
+  [[ -x "$binary" ]] || { echo "run.sh: $binary is not built (configure with the sanitize preset)" >&2; exit 2; }
+  work="$build/fuzz-corpus/$t"
+  artifacts="$build/fuzz-artifacts/$t/"
+  log="$build/fuzz-$t.log"
+  mkdir -p "$work" "$artifacts"
+  if ! "$binary" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
+      -dict="$repo/fuzz/nome.dict" -artifact_prefix="$artifacts" -print_final_stats=1 \
+      "$work" "${seeds[@]}" >"$log" 2>&1; then
+    echo "run.sh: $t found a problem; input in $artifacts, log $log" >&2
+    grep -E "ERROR|SUMMARY|==[0-9]+==" "$log" | head -20 >&2 || true
+    exit 1
+  fi
+  runs="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)"
+  echo "run.sh: $t: $runs executions in $seconds s ($((runs / seconds)) per second), corpus $work"
+done
