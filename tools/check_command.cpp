@@ -1,0 +1,82 @@
+// `nomec FILE…`: checks each file and shows its diagnostics, then does what `--emit` or
+// `--what-if` asks for on a file without errors (see cli.h). Exit codes: 0 clean, 1 errors,
+// 2 usage or unreadable input.
+#include <chrono>
+#include <fmt/format.h>
+#include <iostream>
+#include <unistd.h>
+
+#include "base/file_io.h"
+#include "tools/cli.h"
+#include "tools/emit.h"
+#include "tools/what_if.h"
+
+namespace nomec::tools {
+
+namespace {
+
+// What follows the check of one file; returns the errors it adds.
+int after_check(const Cli& cli, const std::string& path, const SourceManager& sources, CheckResult& result,
+                double check_ms, DiagnosticOutput& out, const WhatIf& what_if) {
+  if (cli.emit == "ir") {
+    std::cout << ir::dump_ir(result.module, sources);
+    return 0;
+  }
+  if (cli.emit == "deps") {
+    std::cout << ir::dump_deps_dot(result.module);
+    return 0;
+  }
+  if (cli.emit == "nome") return emit_nome(cli, path, sources, result.module);
+  if (cli.emits_mesh()) return emit_meshes(cli, path, sources, result.module, check_ms, out);
+  if (cli.what_if.empty()) return 0;
+  DiagnosticEngine geo;
+  int errors = run_what_if(path, std::move(result.module), what_if, cli.pipeline, cli.allow_out_of_range, geo, std::cout);
+  geo.sort_and_dedupe();
+  out.show(sources, geo);
+  return errors + geo.error_count();
+}
+
+}  // namespace
+
+int run_check_command(const Cli& cli) {
+  CheckOptions options;
+  WhatIf what_if;
+  std::string problem = check_options(cli, options);
+  if (problem.empty() && !cli.what_if.empty()) problem = parse_what_if(cli.what_if, what_if);
+  if (!problem.empty()) {
+    std::cerr << "nomec: " << problem << "\n";
+    return 2;
+  }
+  const bool color = cli.color == "always" || (cli.color == "auto" && isatty(STDERR_FILENO) != 0);
+  DiagnosticOutput out(cli.format == "json", cli.werror, color);
+  int errors = 0;
+  for (const std::string& path : cli.files) {
+    std::optional<std::string> text = read_file_bytes(path);
+    if (!text) {
+      std::cerr << fmt::format("nomec: cannot read `{}`\n", path);
+      return 2;
+    }
+    SourceManager sources;
+    DiagnosticEngine diags;
+    const auto start = std::chrono::steady_clock::now();
+    CheckResult result = check_source(sources, path, std::move(*text), options, diags);
+    const double check_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    diags.sort_and_dedupe();
+    out.begin_file(path, dialect_name(result.dialect));
+    out.show(sources, diags);
+    const int file_errors = diags.error_count() + (cli.werror ? diags.warning_count() : 0);
+    errors += file_errors;
+    if (cli.verbose) {
+      std::cerr << fmt::format("{}: dialect {} ({}){}; {} error(s), {} warning(s); {} IR nodes\n", path,
+                               dialect_name(result.dialect), result.dialect_reason,
+                               result.base_file.empty() ? "" : "; base " + result.base_file, diags.error_count(),
+                               diags.warning_count(), result.module.nodes.size());
+    }
+    const bool dumps = cli.emit == "ir" || cli.emit == "deps";  // shown even for files with errors
+    if (dumps || file_errors == 0) errors += after_check(cli, path, sources, result, check_ms, out, what_if);
+  }
+  out.finish(std::cout);
+  return errors > 0 ? 1 : 0;
+}
+
+}  // namespace nomec::tools

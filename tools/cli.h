@@ -1,0 +1,54 @@
+// The `nomec` command line as data: every option of the check/emit command (`nomec FILE…`)
+// and of `nomec fmt`, read by CLI11 in cli.cpp; and the one-file-per-command entry points
+// that main (nomec.cpp) dispatches to.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "backend/evaluate.h"
+#include "frontend/check/check.h"
+#include "tools/fmt_command.h"
+
+namespace nomec::tools {
+
+struct Cli {
+  std::vector<std::string> files;
+  bool check_only = false;
+  std::string emit;  // ir, deps, stl, obj, ply, summary, nome; empty: check only
+  std::string dialect;
+  std::vector<std::string> defines;  // -D bank.param=value
+  bool werror = false;
+  bool verbose = false;
+  bool allow_out_of_range = false;
+  std::string format = "text";  // diagnostics: text or json
+  std::string base;
+  std::string color = "auto";
+  double time = 0;
+  double frame = 0;
+  std::string output;  // -o
+  bool stl_ascii = false;
+  bool time_report = false;
+  backend::PipelineOptions pipeline;
+  std::string rule = "catmull-clark";
+  std::string what_if;  // --what-if bank.param=value
+  bool is_fmt = false;  // the `fmt` subcommand was given
+  FmtCommand fmt;
+
+  bool emits_mesh() const { return emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary"; }
+};
+
+/// Reads the command line into `cli`. Returns -1 to go on, or the exit code to return now
+/// (0 after `--help`/`--version`, 2 on a usage error, with its message printed).
+int parse_command_line(int argc, char** argv, Cli& cli);
+
+/// The check options the command line asks for; "" or a usage error message.
+std::string check_options(const Cli& cli, CheckOptions& out);
+
+/// `nomec FILE…` with `--check` or `--emit` (check_command.cpp). Returns the exit code.
+int run_check_command(const Cli& cli);
+
+/// `nomec --lsp [--stdio] [--clientProcessId=N]` (lsp_command.cpp).
+int run_lsp_command(int argc, char** argv);
+
+}  // namespace nomec::tools
