@@ -167,100 +167,95 @@ Mesh append_disjoint(std::span<const Mesh* const> meshes) {
   return out;
 }
 
-Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
-  using Kind = KernelError::Kind;
-  if (!(options.tolerance >= 0.0)) {
-    return KernelError{Kind::InvalidArgument,
-                       fmt::format("merge tolerance {} is negative", options.tolerance),
-                       {},
-                       {},
-                       {}};
-  }
-  const int32_t V = mesh.vertex_count();
-  const int32_t E = mesh.edge_count();
-  const double tol = options.tolerance;
-  const double tol2 = tol * tol;
-  const double cell = std::max(tol, 1e-12);
+namespace {
 
-  // Boundary edges per vertex (at most two in a manifold mesh).
-  std::vector<EdgeId> boundary_at(2 * static_cast<size_t>(V), EdgeId::None());
-  std::unordered_map<CellKey, std::vector<int32_t>, CellHash> grid;
-  // Cell coordinates stay well inside int64 (so neighbours ±1 cannot overflow either),
-  // whatever the ratio of the coordinates to the cell size.
-  auto to_cell = [&](double v) {
-    const double c = std::floor(v / cell);
-    constexpr double kLimit = 4.0e18;
-    return c != c ? int64_t{0} : static_cast<int64_t>(std::clamp(c, -kLimit, kLimit));
-  };
-  auto key_of = [&](const glm::dvec3& p) { return CellKey{to_cell(p.x), to_cell(p.y), to_cell(p.z)}; };
-  for (int32_t e = 0; e < E; ++e) {
-    if (!mesh.is_boundary(EdgeId(e))) {
-      continue;
-    }
-    for (int end = 0; end < 2; ++end) {
-      const int32_t v = mesh.edge_vertex(EdgeId(e), end).index;
-      EdgeId* slot = &boundary_at[2 * v];
-      if (!slot[0].is_valid()) {
-        slot[0] = EdgeId(e);
-        grid[key_of(mesh.position(VertexId(v)))].push_back(v);
-      } else {
-        slot[1] = EdgeId(e);
+using Kind = KernelError::Kind;
+
+// The boundary vertices of a mesh in a spatial hash of cells as large as the tolerance,
+// with each one's (at most two) boundary edges.
+class BoundaryGrid {
+ public:
+  BoundaryGrid(const Mesh& mesh, double tolerance)
+      : mesh_(mesh), tol2_(tolerance * tolerance), cell_(std::max(tolerance, 1e-12)),
+        boundary_at_(2 * static_cast<size_t>(mesh.vertex_count()), EdgeId::None()) {
+    for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+      if (!mesh.is_boundary(EdgeId(e))) continue;
+      for (int end = 0; end < 2; ++end) {
+        const int32_t v = mesh.edge_vertex(EdgeId(e), end).index;
+        EdgeId* slot = &boundary_at_[2 * v];
+        if (!slot[0].is_valid()) {
+          slot[0] = EdgeId(e);
+          grid_[key_of(mesh.position(VertexId(v)))].push_back(v);
+        } else {
+          slot[1] = EdgeId(e);
+        }
       }
     }
   }
-  // Boundary vertices coinciding with v (including v itself).
-  auto near = [&](int32_t v, std::vector<int32_t>& out) {
+
+  /// Boundary edge `k` (0 or 1) at vertex `v`, or None.
+  EdgeId boundary_edge(int32_t v, int k) const { return boundary_at_[2 * v + k]; }
+  bool coincide(const glm::dvec3& a, const glm::dvec3& b) const {
+    const glm::dvec3 d = a - b;
+    return glm::dot(d, d) <= tol2_;
+  }
+
+  /// Boundary vertices coinciding with v (including v itself).
+  void near(int32_t v, std::vector<int32_t>& out) const {
     out.clear();
-    const glm::dvec3& p = mesh.position(VertexId(v));
+    const glm::dvec3& p = mesh_.position(VertexId(v));
     const CellKey k = key_of(p);
     for (int64_t dx = -1; dx <= 1; ++dx) {
       for (int64_t dy = -1; dy <= 1; ++dy) {
         for (int64_t dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find(CellKey{k.x + dx, k.y + dy, k.z + dz});
-          if (it == grid.end()) {
-            continue;
-          }
+          auto it = grid_.find(CellKey{k.x + dx, k.y + dy, k.z + dz});
+          if (it == grid_.end()) continue;
           for (int32_t w : it->second) {
-            const glm::dvec3 d = mesh.position(VertexId(w)) - p;
-            if (glm::dot(d, d) <= tol2) {
-              out.push_back(w);
-            }
+            if (coincide(mesh_.position(VertexId(w)), p)) out.push_back(w);
           }
         }
       }
     }
-  };
+  }
 
-  // Match boundary edges.
-  std::vector<EdgeId> match(E, EdgeId::None());
+ private:
+  // Cell coordinates stay well inside int64 (so neighbours ±1 cannot overflow either),
+  // whatever the ratio of the coordinates to the cell size.
+  int64_t to_cell(double v) const {
+    const double c = std::floor(v / cell_);
+    constexpr double kLimit = 4.0e18;
+    return c != c ? int64_t{0} : static_cast<int64_t>(std::clamp(c, -kLimit, kLimit));
+  }
+  CellKey key_of(const glm::dvec3& p) const { return CellKey{to_cell(p.x), to_cell(p.y), to_cell(p.z)}; }
+
+  const Mesh& mesh_;
+  double tol2_;
+  double cell_;
+  std::vector<EdgeId> boundary_at_;
+  std::unordered_map<CellKey, std::vector<int32_t>, CellHash> grid_;
+};
+
+// Matches every boundary edge with the one other boundary edge (of another face) whose ends
+// coincide with its ends, uniting the coinciding vertices in `uf`. Returns the edges that
+// coincide with more than one; counts the joined pairs in `joined`.
+std::vector<EdgeId> match_boundary_edges(const Mesh& mesh, const BoundaryGrid& grid, UnionFind& uf, int32_t& joined) {
   std::vector<EdgeId> conflicts;
   std::vector<int32_t> near_a;
-  int32_t joined = 0;
-  UnionFind uf(V);
-  for (int32_t e = 0; e < E; ++e) {
-    if (!mesh.is_boundary(EdgeId(e))) {
-      continue;
-    }
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    if (!mesh.is_boundary(EdgeId(e))) continue;
     const int32_t a = mesh.edge_vertex(EdgeId(e), 0).index;
     const int32_t b = mesh.edge_vertex(EdgeId(e), 1).index;
-    const glm::dvec3& pb = mesh.position(VertexId(b));
-    near(a, near_a);
+    grid.near(a, near_a);
     int32_t found = 0;
     EdgeId partner;
     int32_t partner_a = -1, partner_b = -1;
     for (int32_t a2 : near_a) {
       for (int k = 0; k < 2; ++k) {
-        const EdgeId e2 = boundary_at[2 * a2 + k];
-        if (!e2.is_valid() || e2.index == e) {
-          continue;
-        }
-        if (mesh.edge_face(e2, 0) == mesh.edge_face(EdgeId(e), 0)) {
-          continue;
-        }
+        const EdgeId e2 = grid.boundary_edge(a2, k);
+        if (!e2.is_valid() || e2.index == e || mesh.edge_face(e2, 0) == mesh.edge_face(EdgeId(e), 0)) continue;
         const int32_t x = mesh.edge_vertex(e2, 0).index;
         const int32_t b2 = x == a2 ? mesh.edge_vertex(e2, 1).index : x;
-        const glm::dvec3 d = mesh.position(VertexId(b2)) - pb;
-        if (glm::dot(d, d) <= tol2 && b2 != a2) {
+        if (b2 != a2 && grid.coincide(mesh.position(VertexId(b2)), mesh.position(VertexId(b)))) {
           ++found;
           partner = e2;
           partner_a = a2;
@@ -271,104 +266,102 @@ Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
     if (found > 1) {
       conflicts.push_back(EdgeId(e));
     } else if (found == 1) {
-      match[e] = partner;
-      if (e < partner.index) {
-        ++joined;
-      }
+      if (e < partner.index) ++joined;
       uf.unite(a, partner_a);
       uf.unite(b, partner_b);
     }
   }
-  if (!conflicts.empty()) {
-    KernelError error{Kind::NonManifoldMerge, {}, conflicts, {}, {}};
-    for (EdgeId e : conflicts) {
-      error.faces.push_back(mesh.edge_face(e, 0));
-    }
-    error.message = fmt::format(
-        "{} boundary edge(s) coincide with more than one other boundary edge, first joins "
-        "vertices {} and {}; joining them would put three or more faces on one edge",
-        conflicts.size(), mesh.edge_vertex(conflicts[0], 0).index,
-        mesh.edge_vertex(conflicts[0], 1).index);
-    return error;
-  }
+  return conflicts;
+}
 
-  // Merged vertices: one per union-find class, numbered by first appearance.
-  MergeResult result;
-  result.joined_edge_count = joined;
-  result.vertex_map.assign(V, VertexId::None());
-  PolygonSoup soup = to_soup(mesh);
+KernelError conflict_error(const Mesh& mesh, const std::vector<EdgeId>& conflicts) {
+  KernelError error{Kind::NonManifoldMerge, {}, conflicts, {}, {}};
+  for (EdgeId e : conflicts) error.faces.push_back(mesh.edge_face(e, 0));
+  error.message = fmt::format(
+      "{} boundary edge(s) coincide with more than one other boundary edge, first joins vertices {} and {}; "
+      "joining them would put three or more faces on one edge",
+      conflicts.size(), mesh.edge_vertex(conflicts[0], 0).index, mesh.edge_vertex(conflicts[0], 1).index);
+  return error;
+}
+
+// The soup with one vertex per union-find class (numbered by first appearance, at the
+// class's average position); `vertex_map` gets each input vertex's merged vertex.
+PolygonSoup merged_soup(PolygonSoup soup, UnionFind& uf, std::vector<VertexId>& vertex_map) {
+  const int32_t V = soup.vertex_count();
+  vertex_map.assign(V, VertexId::None());
   PolygonSoup merged;
   std::vector<int32_t> class_size;
   for (int32_t v = 0; v < V; ++v) {
     const int32_t root = uf.find(v);
     if (root == v) {
-      result.vertex_map[v] = VertexId(merged.vertex_count());
+      vertex_map[v] = VertexId(merged.vertex_count());
       merged.positions.push_back(glm::dvec3(0.0));
-      if (!soup.names.empty()) {
-        merged.names.push_back(soup.names[v]);
-      }
+      if (!soup.names.empty()) merged.names.push_back(soup.names[v]);
       class_size.push_back(0);
     } else {
-      result.vertex_map[v] = result.vertex_map[root];
+      vertex_map[v] = vertex_map[root];
     }
-    merged.positions[result.vertex_map[v].index] += soup.positions[v];
-    ++class_size[result.vertex_map[v].index];
+    merged.positions[vertex_map[v].index] += soup.positions[v];
+    ++class_size[vertex_map[v].index];
   }
-  for (size_t i = 0; i < merged.positions.size(); ++i) {
-    merged.positions[i] /= double(class_size[i]);
-  }
+  for (size_t i = 0; i < merged.positions.size(); ++i) merged.positions[i] /= double(class_size[i]);
   merged.face_sizes = std::move(soup.face_sizes);
   merged.face_vertices.reserve(soup.face_vertices.size());
-  for (int32_t v : soup.face_vertices) {
-    merged.face_vertices.push_back(result.vertex_map[v].index);
-  }
+  for (int32_t v : soup.face_vertices) merged.face_vertices.push_back(vertex_map[v].index);
   merged.face_sources = std::move(soup.face_sources);
   merged.face_colors = std::move(soup.face_colors);
   // Corners and creases: keep the larger sharpness when merged elements both carry one
   // (corners are sorted by sharpness so the builder, which keeps the last, keeps the max).
   for (PolygonSoup::Corner c : soup.corners) {
-    c.vertex = result.vertex_map[c.vertex].index;
+    c.vertex = vertex_map[c.vertex].index;
     merged.corners.push_back(c);
   }
-  std::sort(merged.corners.begin(), merged.corners.end(),
-            [](const PolygonSoup::Corner& x, const PolygonSoup::Corner& y) {
-              return x.vertex != y.vertex ? x.vertex < y.vertex : x.sharpness < y.sharpness;
-            });
-  {
-    std::unordered_map<uint64_t, size_t> seen;
-    for (PolygonSoup::Crease c : soup.creases) {
-      c.a = result.vertex_map[c.a].index;
-      c.b = result.vertex_map[c.b].index;
-      const uint64_t key =
-          (uint64_t(uint32_t(std::min(c.a, c.b))) << 32) | uint32_t(std::max(c.a, c.b));
-      auto [it, is_new] = seen.emplace(key, merged.creases.size());
-      if (is_new) {
-        merged.creases.push_back(c);
-      } else {
-        merged.creases[it->second].sharpness =
-            std::max(merged.creases[it->second].sharpness, c.sharpness);
-      }
+  std::sort(merged.corners.begin(), merged.corners.end(), [](const PolygonSoup::Corner& x, const PolygonSoup::Corner& y) {
+    return x.vertex != y.vertex ? x.vertex < y.vertex : x.sharpness < y.sharpness;
+  });
+  std::unordered_map<uint64_t, size_t> seen;
+  for (PolygonSoup::Crease c : soup.creases) {
+    c.a = vertex_map[c.a].index;
+    c.b = vertex_map[c.b].index;
+    const uint64_t key = (uint64_t(uint32_t(std::min(c.a, c.b))) << 32) | uint32_t(std::max(c.a, c.b));
+    auto [it, is_new] = seen.emplace(key, merged.creases.size());
+    if (is_new) {
+      merged.creases.push_back(c);
+    } else {
+      merged.creases[it->second].sharpness = std::max(merged.creases[it->second].sharpness, c.sharpness);
     }
   }
+  return merged;
+}
 
-  auto built = build_mesh(merged);
-  if (!built.has_value()) {
-    KernelError error = built.error();
-    // Report input vertices rather than merged ones.
-    std::vector<VertexId> inputs;
-    for (VertexId merged_v : error.vertices) {
-      for (int32_t v = 0; v < V; ++v) {
-        if (result.vertex_map[v] == merged_v) {
-          inputs.push_back(VertexId(v));
-        }
-      }
+// The builder's refusal of the merged soup, about the input's vertices.
+KernelError refused(KernelError error, const std::vector<VertexId>& vertex_map) {
+  std::vector<VertexId> inputs;
+  for (VertexId merged_v : error.vertices) {
+    for (size_t v = 0; v < vertex_map.size(); ++v) {
+      if (vertex_map[v] == merged_v) inputs.push_back(VertexId(static_cast<int32_t>(v)));
     }
-    error.vertices = std::move(inputs);
-    error.edges.clear();
-    error.message = "merge refused: " + error.message;
-    error.kind = Kind::NonManifoldMerge;
-    return error;
   }
+  error.vertices = std::move(inputs);
+  error.edges.clear();
+  error.message = "merge refused: " + error.message;
+  error.kind = Kind::NonManifoldMerge;
+  return error;
+}
+
+}  // namespace
+
+Result<MergeResult> merge(const Mesh& mesh, const MergeOptions& options) {
+  if (!(options.tolerance >= 0.0)) {
+    return KernelError{Kind::InvalidArgument, fmt::format("merge tolerance {} is negative", options.tolerance), {}, {}, {}};
+  }
+  const BoundaryGrid grid(mesh, options.tolerance);
+  UnionFind uf(mesh.vertex_count());
+  MergeResult result;
+  const std::vector<EdgeId> conflicts = match_boundary_edges(mesh, grid, uf, result.joined_edge_count);
+  if (!conflicts.empty()) return conflict_error(mesh, conflicts);
+  auto built = build_mesh(merged_soup(to_soup(mesh), uf, result.vertex_map));
+  if (!built.has_value()) return refused(built.error(), result.vertex_map);
   result.mesh = std::move(*built);
   return result;
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 
 namespace nomec::kernel {
 
@@ -253,83 +254,93 @@ std::string vertex_label(const PolygonSoup& soup, int32_t v) {
   return fmt::format("v{}", v);
 }
 
-}  // namespace
 
-Result<Mesh> build_mesh(const PolygonSoup& soup) {
-  using Kind = KernelError::Kind;
+using Kind = KernelError::Kind;
+
+// The soup's arrays agree in length, every face index is a vertex, and no face is
+// degenerate (fewer than 3 vertices, or one repeated in a row), so later passes can trust
+// the indices.
+std::optional<KernelError> check_soup(const PolygonSoup& soup) {
   const int32_t vertex_count = soup.vertex_count();
   const int32_t face_count = soup.face_count();
-  const size_t use_count = soup.face_vertices.size();
-  if (std::accumulate(soup.face_sizes.begin(), soup.face_sizes.end(), size_t(0)) != use_count ||
+  if (std::accumulate(soup.face_sizes.begin(), soup.face_sizes.end(), size_t(0)) != soup.face_vertices.size() ||
       (!soup.face_sources.empty() && soup.face_sources.size() != size_t(face_count)) ||
       (!soup.face_colors.empty() && soup.face_colors.size() != size_t(face_count)) ||
       (!soup.names.empty() && soup.names.size() != size_t(vertex_count))) {
-    return KernelError{
-        Kind::InvalidArgument, "polygon soup arrays have inconsistent lengths", {}, {}, {}};
+    return KernelError{Kind::InvalidArgument, "polygon soup arrays have inconsistent lengths", {}, {}, {}};
   }
-
-  // Validate faces first so that later passes can trust the indices.
-  {
-    KernelError degenerate{Kind::DegenerateFace, {}, {}, {}, {}};
-    size_t offset = 0;
-    for (int32_t f = 0; f < face_count; ++f) {
-      const int32_t n = soup.face_sizes[f];
-      const int32_t* fv = soup.face_vertices.data() + offset;
-      offset += n;
-      for (int32_t i = 0; i < n; ++i) {
-        if (fv[i] < 0 || fv[i] >= vertex_count) {
-          return KernelError{Kind::UnknownVertex,
-                             fmt::format("face {} references vertex index {} but the mesh "
-                                         "has {} vertices",
-                                         f, fv[i], vertex_count),
-                             {},
-                             {FaceId(f)},
-                             {}};
-        }
-      }
-      bool is_degenerate = n < 3;
-      for (int32_t i = 0; i < n && !is_degenerate; ++i) {
-        is_degenerate = fv[i] == fv[(i + 1) % n];
-      }
-      if (is_degenerate) {
-        degenerate.faces.push_back(FaceId(f));
+  KernelError degenerate{Kind::DegenerateFace, {}, {}, {}, {}};
+  size_t offset = 0;
+  for (int32_t f = 0; f < face_count; ++f) {
+    const int32_t n = soup.face_sizes[f];
+    const int32_t* fv = soup.face_vertices.data() + offset;
+    offset += n;
+    for (int32_t i = 0; i < n; ++i) {
+      if (fv[i] < 0 || fv[i] >= vertex_count) {
+        return KernelError{Kind::UnknownVertex,
+                           fmt::format("face {} references vertex index {} but the mesh has {} vertices", f, fv[i],
+                                       vertex_count),
+                           {},
+                           {FaceId(f)},
+                           {}};
       }
     }
-    if (!degenerate.faces.empty()) {
-      degenerate.message =
-          fmt::format("{} face(s) have fewer than 3 vertices or repeat a vertex, first is face {}",
-                      degenerate.faces.size(), degenerate.faces[0].index);
-      return degenerate;
-    }
+    bool is_degenerate = n < 3;
+    for (int32_t i = 0; i < n && !is_degenerate; ++i) is_degenerate = fv[i] == fv[(i + 1) % n];
+    if (is_degenerate) degenerate.faces.push_back(FaceId(f));
   }
+  if (degenerate.faces.empty()) return std::nullopt;
+  degenerate.message = fmt::format("{} face(s) have fewer than 3 vertices or repeat a vertex, first is face {}",
+                                   degenerate.faces.size(), degenerate.faces[0].index);
+  return degenerate;
+}
 
-  Mesh m;
-  auto& positions = MeshAccess::positions(m);
-  auto& vertex_edges = MeshAccess::vertex_edges(m);
+// The error for edges that a third (or later) face uses: (edge, extra face) pairs.
+KernelError non_manifold_edges(const PolygonSoup& soup, const Mesh& m,
+                               std::vector<std::pair<int32_t, int32_t>> extra_faces) {
+  const auto& edge_vertices = MeshAccess::edge_vertices(m);
+  const auto& use_faces = MeshAccess::use_faces(m);
+  KernelError error{Kind::NonManifoldEdge, {}, {}, {}, {}};
+  std::sort(extra_faces.begin(), extra_faces.end());
+  std::string listing;
+  for (size_t i = 0; i < extra_faces.size(); ++i) {
+    const int32_t e = extra_faces[i].first;
+    if (i > 0 && extra_faces[i - 1].first == e) {
+      error.faces.push_back(FaceId(extra_faces[i].second));
+      listing += fmt::format(", {}", extra_faces[i].second);
+      continue;
+    }
+    if (!listing.empty()) listing += "; ";
+    error.edges.push_back(EdgeId(e));
+    error.vertices.push_back(edge_vertices[2 * e]);
+    error.vertices.push_back(edge_vertices[2 * e + 1]);
+    error.faces.push_back(use_faces[2 * e]);
+    error.faces.push_back(use_faces[2 * e + 1]);
+    error.faces.push_back(FaceId(extra_faces[i].second));
+    listing += fmt::format("edge `{}`-`{}` in faces {}, {}, {}", vertex_label(soup, edge_vertices[2 * e].index),
+                           vertex_label(soup, edge_vertices[2 * e + 1].index), use_faces[2 * e].index,
+                           use_faces[2 * e + 1].index, extra_faces[i].second);
+  }
+  error.message = fmt::format("{} edge(s) are shared by more than two faces: {}", error.edges.size(), listing);
+  return error;
+}
+
+// One edge per vertex pair that faces share (the first face's use is side 0, the second's
+// side 1; the same direction in both marks a Möbius edge); `uses` gets each corner's use.
+std::optional<KernelError> make_edges(const PolygonSoup& soup, Mesh& m, std::vector<EdgeUse>& uses) {
   auto& edge_vertices = MeshAccess::edge_vertices(m);
   auto& use_faces = MeshAccess::use_faces(m);
-  auto& next = MeshAccess::next(m);
-  auto& prev = MeshAccess::prev(m);
   auto& flags = MeshAccess::edge_flags(m);
-  auto& sharpness = MeshAccess::sharpness(m);
-  auto& face_uses = MeshAccess::face_uses(m);
-  auto& face_sources = MeshAccess::face_sources(m);
-
-  positions = soup.positions;
-  vertex_edges.assign(vertex_count, EdgeId::None());
+  const size_t use_count = soup.face_vertices.size();
   const size_t expected_edges = use_count / 2 + 8;
   edge_vertices.reserve(2 * expected_edges);
   use_faces.reserve(2 * expected_edges);
   flags.reserve(expected_edges);
-  face_uses.resize(face_count);
-
   const std::vector<int32_t> first = first_uses(soup);
-  std::vector<EdgeUse> uses(use_count);
-  // Edges with a third (or later) face: edge index -> extra faces.
-  std::vector<std::pair<int32_t, int32_t>> extra_faces;
-
+  uses.assign(use_count, EdgeUse::None());
+  std::vector<std::pair<int32_t, int32_t>> extra_faces;  // edge index -> a third face
   size_t offset = 0;
-  for (int32_t f = 0; f < face_count; ++f) {
+  for (int32_t f = 0; f < soup.face_count(); ++f) {
     const int32_t n = soup.face_sizes[f];
     const int32_t* fv = soup.face_vertices.data() + offset;
     for (int32_t i = 0; i < n; ++i) {
@@ -343,160 +354,128 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
         use_faces.push_back(FaceId(f));
         use_faces.push_back(FaceId::None());
         flags.push_back(0);
-        uses[offset + i] = EdgeUse(EdgeId(e), 0);
-      } else {
-        const int32_t e = uses[first[k]].edge().index;
-        if (use_faces[2 * e + 1].is_valid()) {
-          extra_faces.emplace_back(e, f);
-          uses[offset + i] = EdgeUse::None();
-          continue;
-        }
-        use_faces[2 * e + 1] = FaceId(f);
-        // Same direction as F_a means the faces have opposite orientations.
-        if (edge_vertices[2 * e].index == a) {
-          flags[e] |= MeshAccess::mobius_flag();
-        }
-        uses[offset + i] = EdgeUse(EdgeId(e), 1);
+        uses[k] = EdgeUse(EdgeId(e), 0);
+        continue;
       }
+      const int32_t e = uses[first[k]].edge().index;
+      if (use_faces[2 * e + 1].is_valid()) {
+        extra_faces.emplace_back(e, f);
+        continue;
+      }
+      use_faces[2 * e + 1] = FaceId(f);
+      // Same direction as the first face means the faces have opposite orientations.
+      if (edge_vertices[2 * e].index == a) flags[e] |= MeshAccess::mobius_flag();
+      uses[k] = EdgeUse(EdgeId(e), 1);
     }
     offset += n;
   }
+  if (!extra_faces.empty()) return non_manifold_edges(soup, m, std::move(extra_faces));
+  return std::nullopt;
+}
 
-  if (!extra_faces.empty()) {
-    KernelError error{Kind::NonManifoldEdge, {}, {}, {}, {}};
-    std::sort(extra_faces.begin(), extra_faces.end());
-    std::string listing;
-    for (size_t i = 0; i < extra_faces.size(); ++i) {
-      const int32_t e = extra_faces[i].first;
-      if (i > 0 && extra_faces[i - 1].first == e) {
-        error.faces.push_back(FaceId(extra_faces[i].second));
-        listing += fmt::format(", {}", extra_faces[i].second);
-        continue;
-      }
-      if (!listing.empty()) {
-        listing += "; ";
-      }
-      error.edges.push_back(EdgeId(e));
-      error.vertices.push_back(edge_vertices[2 * e]);
-      error.vertices.push_back(edge_vertices[2 * e + 1]);
-      error.faces.push_back(use_faces[2 * e]);
-      error.faces.push_back(use_faces[2 * e + 1]);
-      error.faces.push_back(FaceId(extra_faces[i].second));
-      listing += fmt::format(
-          "edge `{}`-`{}` in faces {}, {}, {}", vertex_label(soup, edge_vertices[2 * e].index),
-          vertex_label(soup, edge_vertices[2 * e + 1].index), use_faces[2 * e].index,
-          use_faces[2 * e + 1].index, extra_faces[i].second);
-    }
-    error.message = fmt::format("{} edge(s) are shared by more than two faces: {}",
-                                error.edges.size(), listing);
-    return error;
-  }
-
-  const int32_t edge_count = static_cast<int32_t>(flags.size());
-  next.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
-  prev.assign(2 * static_cast<size_t>(edge_count), EdgeUse::None());
-  if (!soup.creases.empty()) {
-    sharpness.assign(edge_count, 0.0f);
-  }
-
-  // Wings: link each face's uses into its cyclic loop.
-  offset = 0;
-  for (int32_t f = 0; f < face_count; ++f) {
+// Wings: each face's uses linked into its cyclic loop.
+void link_wings(const PolygonSoup& soup, Mesh& m, const std::vector<EdgeUse>& uses) {
+  auto& next = MeshAccess::next(m);
+  auto& prev = MeshAccess::prev(m);
+  auto& face_uses = MeshAccess::face_uses(m);
+  const size_t edge_count = MeshAccess::edge_flags(m).size();
+  next.assign(2 * edge_count, EdgeUse::None());
+  prev.assign(2 * edge_count, EdgeUse::None());
+  face_uses.resize(soup.face_count());
+  size_t offset = 0;
+  for (int32_t f = 0; f < soup.face_count(); ++f) {
     const int32_t n = soup.face_sizes[f];
     const EdgeUse* fu = uses.data() + offset;
     face_uses[f] = fu[0];
     for (int32_t i = 0; i < n; ++i) {
-      EdgeUse u = fu[i];
-      EdgeUse w = fu[(i + 1) % n];
-      next[u.index] = w;
-      prev[w.index] = u;
+      next[fu[i].index] = fu[(i + 1) % n];
+      prev[fu[(i + 1) % n].index] = fu[i];
     }
     offset += n;
   }
+}
 
-  // Vertex anchors: any incident edge, preferring boundary edges.
-  for (int32_t e = 0; e < edge_count; ++e) {
+// Vertex anchors: any incident edge, preferring boundary edges.
+void anchor_vertices(Mesh& m) {
+  auto& vertex_edges = MeshAccess::vertex_edges(m);
+  const auto& edge_vertices = MeshAccess::edge_vertices(m);
+  const auto& use_faces = MeshAccess::use_faces(m);
+  vertex_edges.assign(m.vertex_count(), EdgeId::None());
+  for (int32_t e = 0; e < m.edge_count(); ++e) {
     const bool is_boundary = !use_faces[2 * e + 1].is_valid();
     for (int end = 0; end < 2; ++end) {
       EdgeId& anchor = vertex_edges[edge_vertices[2 * e + end].index];
-      if (!anchor.is_valid() || (is_boundary && !m.is_boundary(anchor))) {
-        anchor = EdgeId(e);
-      }
+      if (!anchor.is_valid() || (is_boundary && !m.is_boundary(anchor))) anchor = EdgeId(e);
     }
   }
+}
 
-  // Manifold vertices: the single fan found by traversal must hold every corner.
-  {
-    std::vector<int32_t> corner_count(vertex_count, 0);
-    for (int32_t v : soup.face_vertices) {
-      ++corner_count[v];
-    }
-    std::vector<int32_t> boundary_count(vertex_count, 0);
-    for (int32_t e = 0; e < edge_count; ++e) {
-      if (!use_faces[2 * e + 1].is_valid()) {
-        ++boundary_count[edge_vertices[2 * e].index];
-        ++boundary_count[edge_vertices[2 * e + 1].index];
-      }
-    }
-    KernelError error{Kind::NonManifoldVertex, {}, {}, {}, {}};
-    for (int32_t v = 0; v < vertex_count; ++v) {
-      if (corner_count[v] == 0) {
-        continue;
-      }
-      int32_t walked = 0;
-      m.for_each_vertex_corner(VertexId(v), [&](const VertexCorner&) { ++walked; });
-      if (walked != corner_count[v] || boundary_count[v] > 2) {
-        error.vertices.push_back(VertexId(v));
-      }
-    }
-    if (!error.vertices.empty()) {
-      error.message =
-          fmt::format("{} vertex(es) join faces that do not form a single fan, first is `{}`",
-                      error.vertices.size(), vertex_label(soup, error.vertices[0].index));
-      return error;
+// Manifold vertices: the single fan found by traversal must hold every corner, and a
+// vertex lies on at most two boundary edges.
+std::optional<KernelError> check_vertex_fans(const PolygonSoup& soup, const Mesh& m) {
+  const int32_t vertex_count = soup.vertex_count();
+  const auto& edge_vertices = MeshAccess::edge_vertices(m);
+  const auto& use_faces = MeshAccess::use_faces(m);
+  std::vector<int32_t> corner_count(vertex_count, 0);
+  for (int32_t v : soup.face_vertices) ++corner_count[v];
+  std::vector<int32_t> boundary_count(vertex_count, 0);
+  for (int32_t e = 0; e < m.edge_count(); ++e) {
+    if (!use_faces[2 * e + 1].is_valid()) {
+      ++boundary_count[edge_vertices[2 * e].index];
+      ++boundary_count[edge_vertices[2 * e + 1].index];
     }
   }
+  KernelError error{Kind::NonManifoldVertex, {}, {}, {}, {}};
+  for (int32_t v = 0; v < vertex_count; ++v) {
+    if (corner_count[v] == 0) continue;
+    int32_t walked = 0;
+    m.for_each_vertex_corner(VertexId(v), [&](const VertexCorner&) { ++walked; });
+    if (walked != corner_count[v] || boundary_count[v] > 2) error.vertices.push_back(VertexId(v));
+  }
+  if (error.vertices.empty()) return std::nullopt;
+  error.message = fmt::format("{} vertex(es) join faces that do not form a single fan, first is `{}`",
+                              error.vertices.size(), vertex_label(soup, error.vertices[0].index));
+  return error;
+}
 
-  // Properties.
+// Face sources and colours, vertex names, crease and corner sharpness.
+std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m) {
+  const int32_t vertex_count = soup.vertex_count();
+  auto& face_sources = MeshAccess::face_sources(m);
   if (soup.face_sources.empty()) {
-    face_sources.resize(face_count);
-    for (int32_t f = 0; f < face_count; ++f) {
-      face_sources[f].source_face = f;
-    }
+    face_sources.resize(soup.face_count());
+    for (int32_t f = 0; f < soup.face_count(); ++f) face_sources[f].source_face = f;
   } else {
     face_sources = soup.face_sources;
   }
   MeshAccess::face_colors(m) = soup.face_colors;
-  if (!soup.names.empty()) {
-    MeshAccess::names(m) = soup.names;
-  }
+  if (!soup.names.empty()) MeshAccess::names(m) = soup.names;
+  auto& sharpness = MeshAccess::sharpness(m);
+  if (!soup.creases.empty()) sharpness.assign(m.edge_count(), 0.0f);
   for (const PolygonSoup::Crease& c : soup.creases) {
     if (c.a < 0 || c.a >= vertex_count || c.b < 0 || c.b >= vertex_count) {
       return KernelError{Kind::UnknownVertex,
-                         fmt::format("crease references vertex index {} or {} but the mesh "
-                                     "has {} vertices",
-                                     c.a, c.b, vertex_count),
+                         fmt::format("crease references vertex index {} or {} but the mesh has {} vertices", c.a,
+                                     c.b, vertex_count),
                          {},
                          {},
                          {}};
     }
-    EdgeId e = m.find_edge(VertexId(c.a), VertexId(c.b));
+    const EdgeId e = m.find_edge(VertexId(c.a), VertexId(c.b));
     if (!e.is_valid()) {
       return KernelError{Kind::InvalidArgument,
-                         fmt::format("crease `{}`-`{}` is not an edge of the mesh",
-                                     vertex_label(soup, c.a), vertex_label(soup, c.b)),
+                         fmt::format("crease `{}`-`{}` is not an edge of the mesh", vertex_label(soup, c.a),
+                                     vertex_label(soup, c.b)),
                          {},
                          {},
                          {VertexId(c.a), VertexId(c.b)}};
     }
     sharpness[e.index] = std::max(c.sharpness, 0.0f);
   }
-
   for (const PolygonSoup::Corner& c : soup.corners) {
     if (c.vertex < 0 || c.vertex >= vertex_count) {
       return KernelError{Kind::UnknownVertex,
-                         fmt::format("sharp corner references vertex index {} but the mesh "
-                                     "has {} vertices",
+                         fmt::format("sharp corner references vertex index {} but the mesh has {} vertices",
                                      c.vertex, vertex_count),
                          {},
                          {},
@@ -504,7 +483,21 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
     }
     m.set_vertex_sharpness(VertexId(c.vertex), std::max(c.sharpness, 0.0f));
   }
+  return std::nullopt;
+}
 
+}  // namespace
+
+Result<Mesh> build_mesh(const PolygonSoup& soup) {
+  if (auto e = check_soup(soup)) return *e;
+  Mesh m;
+  MeshAccess::positions(m) = soup.positions;
+  std::vector<EdgeUse> uses;
+  if (auto e = make_edges(soup, m, uses)) return *e;
+  link_wings(soup, m, uses);
+  anchor_vertices(m);
+  if (auto e = check_vertex_fans(soup, m)) return *e;
+  if (auto e = copy_properties(soup, m)) return *e;
   MeshAccess::link_borders(m);
   return m;
 }
