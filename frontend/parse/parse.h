@@ -62,6 +62,7 @@ class ParseCache {
 
  private:
   struct Impl;
+  struct Steps;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -321,62 +321,82 @@ class Assembler {
 
 }  // namespace
 
-ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
-  Impl& m = *impl_;
-  using Use = Impl::Use;
-  ++m.generation;
-  m.stats = Stats{};
-  std::string_view text = sources.text(file);
+namespace {
 
-  // The edit since the previous version: text[0, prefix) is unchanged, and so is
-  // text[tail, size) (it was old[tail - delta, old size)). Without a previous version
-  // nothing is kept and everything below is the full computation.
-  std::string_view old = m.have_prev ? std::string_view(m.prev_text) : std::string_view();
-  const std::vector<uint32_t>& old_ends = m.prev_ends;
-  const std::vector<Use>& old_uses = m.prev_uses;
-  size_t prefix = 0, suffix = 0;
-  if (m.have_prev) {
-    prefix = common_prefix(old, text);
-    suffix = common_suffix(old, text, std::min(old.size(), text.size()) - prefix);
+// Where a version differs from the previous one: text[0, prefix) is unchanged, and so is
+// text[tail, size) (it was old[tail - delta, old size)). Without a previous version nothing
+// is kept and every step below is the full computation.
+struct Edit {
+  std::string_view text, old;
+  size_t prefix = 0;
+  size_t tail = 0;
+  int64_t delta = 0;
+};
+
+// The chunk ends of a version (the last is the text size, cut or not) and how many of the
+// old ones it kept before the edit.
+struct Chunks {
+  std::vector<uint32_t> ends;
+  bool last_is_cut = false;
+  size_t kept_cuts = 0;
+};
+
+}  // namespace
+
+// The cached steps of `ParseCache::parse`.
+struct ParseCache::Steps {
+  using Use = Impl::Use;
+  Impl& m;
+
+  Edit edit_since_previous(std::string_view text) const {
+    Edit e;
+    e.text = text;
+    e.old = m.have_prev ? std::string_view(m.prev_text) : std::string_view();
+    size_t suffix = 0;
+    if (m.have_prev) {
+      e.prefix = common_prefix(e.old, text);
+      suffix = common_suffix(e.old, text, std::min(e.old.size(), text.size()) - e.prefix);
+    }
+    e.tail = text.size() - suffix;
+    e.delta = static_cast<int64_t>(text.size()) - static_cast<int64_t>(e.old.size());
+    return e;
   }
-  const size_t tail = text.size() - suffix;
-  const int64_t delta = static_cast<int64_t>(text.size()) - static_cast<int64_t>(old.size());
 
   // 1. Chunk ends. The cuts up to `prefix` are the old ones; scanning resumes at the last of
   // them and stops at the first cut in the unchanged tail that was also an old cut: from
   // there on the old cuts, shifted, are the new ones.
-  const size_t old_cuts =
-      m.have_prev ? old_ends.size() - (m.prev_last_is_cut ? 0 : 1) : 0;
-  const size_t kept_cuts = static_cast<size_t>(
-      std::upper_bound(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(old_cuts),
-                       prefix) -
-      old_ends.begin());
-  std::vector<uint32_t> ends;
-  ends.reserve(old_ends.size() + 16);
-  ends.assign(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(kept_cuts));
-  const size_t scan_from = ends.empty() ? 0 : ends.back();
-  size_t scan_to = text.size();
-  bool last_is_cut = false;
-  bool joined = scan_cuts(text, scan_from, ends, [&](uint32_t e) {
-    if (e < tail || e >= text.size()) return false;
-    const auto old_e = static_cast<uint32_t>(static_cast<int64_t>(e) - delta);
-    auto it = std::lower_bound(old_ends.begin() + static_cast<ptrdiff_t>(kept_cuts),
-                               old_ends.begin() + static_cast<ptrdiff_t>(old_cuts), old_e);
-    if (it == old_ends.begin() + static_cast<ptrdiff_t>(old_cuts) || *it != old_e) return false;
-    for (++it; it != old_ends.end(); ++it) {
-      ends.push_back(static_cast<uint32_t>(static_cast<int64_t>(*it) + delta));
+  Chunks chunk_ends(const Edit& edit) const {
+    const std::vector<uint32_t>& old_ends = m.prev_ends;
+    const std::string_view text = edit.text;
+    const size_t old_cuts = m.have_prev ? old_ends.size() - (m.prev_last_is_cut ? 0 : 1) : 0;
+    Chunks c;
+    c.kept_cuts = static_cast<size_t>(
+        std::upper_bound(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(old_cuts), edit.prefix) -
+        old_ends.begin());
+    c.ends.reserve(old_ends.size() + 16);
+    c.ends.assign(old_ends.begin(), old_ends.begin() + static_cast<ptrdiff_t>(c.kept_cuts));
+    const size_t scan_from = c.ends.empty() ? 0 : c.ends.back();
+    size_t scan_to = text.size();
+    const bool joined = scan_cuts(text, scan_from, c.ends, [&](uint32_t e) {
+      if (e < edit.tail || e >= text.size()) return false;
+      const auto old_e = static_cast<uint32_t>(static_cast<int64_t>(e) - edit.delta);
+      auto it = std::lower_bound(old_ends.begin() + static_cast<ptrdiff_t>(c.kept_cuts),
+                                 old_ends.begin() + static_cast<ptrdiff_t>(old_cuts), old_e);
+      if (it == old_ends.begin() + static_cast<ptrdiff_t>(old_cuts) || *it != old_e) return false;
+      for (++it; it != old_ends.end(); ++it) c.ends.push_back(static_cast<uint32_t>(static_cast<int64_t>(*it) + edit.delta));
+      scan_to = e;
+      return true;
+    });
+    if (joined) {
+      c.last_is_cut = m.prev_last_is_cut;
+    } else {
+      c.last_is_cut = !c.ends.empty() && c.ends.back() == text.size();
+      if (!c.last_is_cut) c.ends.push_back(static_cast<uint32_t>(text.size()));
     }
-    scan_to = e;
-    return true;
-  });
-  if (joined) {
-    last_is_cut = m.prev_last_is_cut;
-  } else {
-    last_is_cut = !ends.empty() && ends.back() == text.size();
-    if (!last_is_cut) ends.push_back(static_cast<uint32_t>(text.size()));
+    m.stats.scanned_bytes = scan_to - scan_from;
+    m.stats.chunks = c.ends.size();
+    return c;
   }
-  m.stats.scanned_bytes = scan_to - scan_from;
-  m.stats.chunks = ends.size();
 
   // 2. Runs. Building them is a left-to-right process over the chunk texts (a run may be
   // extended backwards over the one before it, and the chunks a step looks at never go
@@ -387,115 +407,133 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   // end was never undone by the runs after it, which therefore depend only on the chunks
   // after it; so once the new process has pushed a run that ends where an old run ended,
   // at a cut in the unchanged tail, the rest are the old runs, shifted.
-  const size_t n = ends.size();
-  const size_t old_n = m.have_prev ? old_ends.size() : 0;
-  const int64_t chunk_delta = static_cast<int64_t>(n) - static_cast<int64_t>(old_n);
-  const size_t same_chunks = std::min({kept_cuts, old_n == 0 ? 0 : old_n - 1, n - 1});
-  std::vector<Use> uses;
-  uses.reserve(old_uses.size() + 16);
-  {
-    auto keep = std::partition_point(old_uses.begin(), old_uses.end(),
+  std::vector<Use> runs(const Edit& edit, const Chunks& chunks) const {
+    const std::vector<uint32_t>& ends = chunks.ends;
+    const size_t n = ends.size();
+    const size_t old_n = m.have_prev ? m.prev_ends.size() : 0;
+    const size_t same_chunks = std::min({chunks.kept_cuts, old_n == 0 ? 0 : old_n - 1, n - 1});
+    std::vector<Use> uses;
+    uses.reserve(m.prev_uses.size() + 16);
+    auto keep = std::partition_point(m.prev_uses.begin(), m.prev_uses.end(),
                                      [&](const Use& u) { return u.last < same_chunks; });
-    uses.assign(old_uses.begin(), keep);
+    uses.assign(m.prev_uses.begin(), keep);
+    size_t min_last = 0;  // a run starting at `i` must reach at least this chunk
+    for (size_t i = uses.empty() ? 0 : uses.back().last + 1; i < n;) {
+      const uint32_t begin = i == 0 ? 0 : ends[i - 1];
+      bool joined_old = false;
+      for (size_t span = std::max<size_t>(1, min_last + 1 - std::min(min_last + 1, i));; span *= 2) {
+        const size_t j = std::min(n - 1, i + span - 1);
+        auto [key, piece] = m.get(edit.text.substr(begin, ends[j] - begin));
+        if (i > 0 && !piece->info.starts_cleanly) {
+          // This run cannot start here: extend the previous run over it instead.
+          const Use prev = uses.back();
+          uses.pop_back();
+          min_last = j;
+          i = prev.first;
+          break;
+        }
+        if (piece->info.self_contained || j == n - 1) {
+          const bool has_diags = !piece->comments.diagnostics().empty() || !piece->tokens.diagnostics().empty() ||
+                                 !piece->syntax.diagnostics().empty();
+          uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j), has_diags});
+          min_last = 0;
+          i = j + 1;
+          joined_old = join_old(edit, ends, i, uses);
+          break;
+        }
+      }
+      if (joined_old) break;
+    }
+    for (const Use& u : uses) u.piece->used = m.generation;
+    return uses;
   }
+
   // After a run was pushed and the next starts at `i`: appends the old runs from there on
   // if the new process is now where the old one was. Returns whether it did.
-  auto join_old = [&](size_t i) {
-    if (i >= n || ends[i - 1] < tail) return false;
+  bool join_old(const Edit& edit, const std::vector<uint32_t>& ends, size_t i, std::vector<Use>& uses) const {
+    const size_t n = ends.size();
+    const size_t old_n = m.have_prev ? m.prev_ends.size() : 0;
+    const int64_t chunk_delta = static_cast<int64_t>(n) - static_cast<int64_t>(old_n);
+    if (i >= n || ends[i - 1] < edit.tail) return false;
     const int64_t old_i = static_cast<int64_t>(i) - chunk_delta;
     if (old_i < 1 || old_i >= static_cast<int64_t>(old_n)) return false;
-    if (static_cast<int64_t>(old_ends[static_cast<size_t>(old_i) - 1]) !=
-        static_cast<int64_t>(ends[i - 1]) - delta) {
+    if (static_cast<int64_t>(m.prev_ends[static_cast<size_t>(old_i) - 1]) != static_cast<int64_t>(ends[i - 1]) - edit.delta) {
       return false;
     }
-    auto it = std::partition_point(old_uses.begin(), old_uses.end(), [&](const Use& u) {
-      return static_cast<int64_t>(u.first) < old_i;
-    });
-    if (it == old_uses.end() || static_cast<int64_t>(it->first) != old_i) return false;
-    for (; it != old_uses.end(); ++it) {
+    auto it = std::partition_point(m.prev_uses.begin(), m.prev_uses.end(),
+                                   [&](const Use& u) { return static_cast<int64_t>(u.first) < old_i; });
+    if (it == m.prev_uses.end() || static_cast<int64_t>(it->first) != old_i) return false;
+    for (; it != m.prev_uses.end(); ++it) {
       Use u = *it;
-      u.at = static_cast<uint32_t>(static_cast<int64_t>(u.at) + delta);
+      u.at = static_cast<uint32_t>(static_cast<int64_t>(u.at) + edit.delta);
       u.first = static_cast<uint32_t>(static_cast<int64_t>(u.first) + chunk_delta);
       u.last = static_cast<uint32_t>(static_cast<int64_t>(u.last) + chunk_delta);
       uses.push_back(u);
     }
     return true;
-  };
-  size_t min_last = 0;  // a run starting at `i` must reach at least this chunk
-  for (size_t i = uses.empty() ? 0 : uses.back().last + 1; i < n;) {
-    uint32_t begin = i == 0 ? 0 : ends[i - 1];
-    bool joined_old = false;
-    for (size_t span = std::max<size_t>(1, min_last + 1 - std::min(min_last + 1, i));;
-         span *= 2) {
-      size_t j = std::min(n - 1, i + span - 1);
-      auto [key, piece] = m.get(text.substr(begin, ends[j] - begin));
-      if (i > 0 && !piece->info.starts_cleanly) {
-        // This run cannot start here: extend the previous run over it instead.
-        Use prev = uses.back();
-        uses.pop_back();
-        min_last = j;
-        i = prev.first;
-        break;
-      }
-      if (piece->info.self_contained || j == n - 1) {
-        bool has_diags = !piece->comments.diagnostics().empty() ||
-                         !piece->tokens.diagnostics().empty() ||
-                         !piece->syntax.diagnostics().empty();
-        uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j),
-                        has_diags});
-        min_last = 0;
-        i = j + 1;
-        joined_old = join_old(i);
-        break;
-      }
-    }
-    if (joined_old) break;
   }
-  for (const Use& u : uses) u.piece->used = m.generation;
 
-  ast::Ast out;
-  out.file = file;
-  size_t exprs = 0, lists = 0, stmts = 0, top = 0;
-  for (const Use& u : uses) {
-    exprs += u.piece->ast.exprs.size();
-    lists += u.piece->ast.lists.size();
-    stmts += u.piece->ast.stmts.size();
-    top += u.piece->ast.top.size();
+  // 3. The file's AST and diagnostics from the runs' pieces, in order.
+  static ast::Ast assemble(const std::vector<Use>& uses, std::string_view text, FileId file, DiagnosticEngine& diags) {
+    ast::Ast out;
+    out.file = file;
+    size_t exprs = 0, lists = 0, stmts = 0, top = 0;
+    for (const Use& u : uses) {
+      exprs += u.piece->ast.exprs.size();
+      lists += u.piece->ast.lists.size();
+      stmts += u.piece->ast.stmts.size();
+      top += u.piece->ast.top.size();
+    }
+    out.exprs.reserve(exprs);
+    out.lists.reserve(lists);
+    out.stmts.reserve(stmts);
+    out.top.reserve(top);
+    Assembler assembler(out, text, file);
+    for (const Use& u : uses) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
+    std::vector<const Use*> reporting;
+    for (const Use& u : uses) {
+      if (u.has_diags) reporting.push_back(&u);
+    }
+    for (const Use* u : reporting) assembler.append_diags(u->piece->comments, u->key, u->at, diags);
+    for (const Use* u : reporting) assembler.append_diags(u->piece->tokens, u->key, u->at, diags);
+    for (const Use* u : reporting) assembler.append_diags(u->piece->syntax, u->key, u->at, diags);
+    return out;
   }
-  out.exprs.reserve(exprs);
-  out.lists.reserve(lists);
-  out.stmts.reserve(stmts);
-  out.top.reserve(top);
-  Assembler assembler(out, text, file);
-  for (const Use& u : uses) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
-  std::vector<const Use*> reporting;
-  for (const Use& u : uses) {
-    if (u.has_diags) reporting.push_back(&u);
+
+  // 4. Keep what this version and the one before used (an undo finds its pieces again);
+  // the sweep visits every cached piece, so it runs only once the cache holds twice as many
+  // pieces as this version uses or three times the text's bytes (plus some slack), keeping
+  // memory proportional to the document without a full pass per keystroke.
+  void sweep(size_t text_size) const {
+    if (m.pieces.size() > 2 * m.prev_uses.size() + 64 || m.cached_bytes > 3 * text_size + (64u << 10)) {
+      std::erase_if(m.pieces, [&](const auto& kv) {
+        if (kv.second.used + 1 >= m.generation) return false;
+        m.cached_bytes -= kv.first.size();
+        return true;
+      });
+    }
+    m.stats.cached_pieces = m.pieces.size();
+    m.stats.cached_bytes = m.cached_bytes;
   }
-  for (const Use* u : reporting) assembler.append_diags(u->piece->comments, u->key, u->at, diags);
-  for (const Use* u : reporting) assembler.append_diags(u->piece->tokens, u->key, u->at, diags);
-  for (const Use* u : reporting) assembler.append_diags(u->piece->syntax, u->key, u->at, diags);
+};
+
+ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
+  Impl& m = *impl_;
+  ++m.generation;
+  m.stats = Stats{};
+  const std::string_view text = sources.text(file);
+  Steps steps{m};
+  const Edit edit = steps.edit_since_previous(text);
+  Chunks chunks = steps.chunk_ends(edit);
+  std::vector<Impl::Use> uses = steps.runs(edit, chunks);
+  ast::Ast out = Steps::assemble(uses, text, file, diags);
   m.stats.pieces = uses.size();
   m.have_prev = true;
   m.prev_text.assign(text);
-  m.prev_ends = std::move(ends);
-  m.prev_last_is_cut = last_is_cut;
+  m.prev_ends = std::move(chunks.ends);
+  m.prev_last_is_cut = chunks.last_is_cut;
   m.prev_uses = std::move(uses);
-
-  // Keep what this version and the one before used (an undo finds its pieces again); the
-  // sweep visits every cached piece, so it runs only once the cache holds twice as many
-  // pieces as this version uses or three times the text's bytes (plus some slack), keeping
-  // memory proportional to the document without a full pass per keystroke.
-  if (m.pieces.size() > 2 * m.prev_uses.size() + 64 ||
-      m.cached_bytes > 3 * text.size() + (64u << 10)) {
-    std::erase_if(m.pieces, [&](const auto& kv) {
-      if (kv.second.used + 1 >= m.generation) return false;
-      m.cached_bytes -= kv.first.size();
-      return true;
-    });
-  }
-  m.stats.cached_pieces = m.pieces.size();
-  m.stats.cached_bytes = m.cached_bytes;
+  steps.sweep(text.size());
   return out;
 }
 
