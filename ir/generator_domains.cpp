@@ -190,7 +190,8 @@ void spheroid(Rules& r) {
   }
 }
 
-void rules_for(GenKind kind, Rules& r) {
+// Ring generators and ribbons.
+void ring_rules(GenKind kind, Rules& r) {
   switch (kind) {
     case GenKind::Funnel:
       funnel_or_tunnel<gen_arg::Funnel>(r);
@@ -222,6 +223,14 @@ void rules_for(GenKind kind, Rules& r) {
     case GenKind::Rimribbon:
       r.nonzero(gen_arg::Rimribbon::width);
       return;
+    default:
+      return;
+  }
+}
+
+// Surfaces of revolution, cyclides and tori.
+void quadric_rules(GenKind kind, Rules& r) {
+  switch (kind) {
     case GenKind::Sphere:
       r.positive(gen_arg::Sphere::radius);
       spheroid<gen_arg::Sphere>(r);
@@ -239,6 +248,10 @@ void rules_for(GenKind kind, Rules& r) {
       r.count(A::height_segs, 1);
       return;
     }
+    case GenKind::Cone:
+      r.greater(gen_arg::Cone::zmin, gen_arg::Cone::zmax);
+      r.count(gen_arg::Cone::theta_segs, 3, " (a ring of fewer sides has no area)");
+      return;
     case GenKind::Hyperboloid: {
       using A = gen_arg::Hyperboloid;
       for (A a : {A::a, A::b, A::c, A::height}) r.positive(a);
@@ -283,6 +296,14 @@ void rules_for(GenKind kind, Rules& r) {
       r.count(A::sweep_segs, 3, " along the closed knot");
       return;
     }
+    default:
+      return;
+  }
+}
+
+// Curves.
+void curve_rules(GenKind kind, Rules& r) {
+  switch (kind) {
     case GenKind::Helix:
       r.positive(gen_arg::Helix::radius);
       r.nonzero(gen_arg::Helix::turns);
@@ -293,6 +314,20 @@ void rules_for(GenKind kind, Rules& r) {
       r.nonzero(gen_arg::Spiral::turns);
       r.count(gen_arg::Spiral::segs, 1);
       return;
+    case GenKind::Beziercurve:
+      r.count(gen_arg::Beziercurve::segs, 1);
+      return;
+    case GenKind::Bspline:
+      r.count(gen_arg::Bspline::order, 2);
+      return;
+    default:
+      return;
+  }
+}
+
+// Function surfaces.
+void function_rules(GenKind kind, Rules& r) {
+  switch (kind) {
     case GenKind::Genparametricsurf: {
       using A = gen_arg::Genparametricsurf;
       r.greater(A::u_min, A::u_max);
@@ -322,22 +357,19 @@ void rules_for(GenKind kind, Rules& r) {
       }
       return;
     }
-    case GenKind::Beziercurve:
-      r.count(gen_arg::Beziercurve::segs, 1);
-      return;
-    case GenKind::Bspline:
-      r.count(gen_arg::Bspline::order, 2);
-      return;
-    case GenKind::Cone:
-      r.greater(gen_arg::Cone::zmin, gen_arg::Cone::zmax);
-      r.count(gen_arg::Cone::theta_segs, 3, " (a ring of fewer sides has no area)");
-      return;
     default:
-      return;  // a generator whose arguments need only the rules of their kinds (type_rules)
+      return;
   }
 }
 
-}  // namespace
+// The rules of `kind` beyond those of its arguments' kinds (see `type_rules`). A generator
+// with none needs no case.
+void rules_for(GenKind kind, Rules& r) {
+  ring_rules(kind, r);
+  quadric_rules(kind, r);
+  curve_rules(kind, r);
+  function_rules(kind, r);
+}
 
 // What every argument of a type must satisfy, whatever the generator (after its own,
 // more specific rules, whose messages say more): numbers are finite, counts at least 1 and
@@ -362,6 +394,8 @@ void type_rules(GenKind kind, Rules& r) {
     }
   }
 }
+
+}  // namespace
 
 std::optional<ArgProblem> check_arguments(GenKind kind, Dialect dialect, KnownArgs known) {
   Rules r(kind, dialect, known);

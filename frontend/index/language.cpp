@@ -149,166 +149,256 @@ std::string fmt_num(double v) { return fmt::format("{}", v); }
 
 }  // namespace
 
-std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const {
-  std::vector<CompletionItem> out;
-  if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return out;
-  std::string_view text = sources_->text(file);
-  Context c = context_at(text, offset, scan_start(*check_, file, offset));
-  if (c.in_comment_or_string) return out;
-  const Dialect dialect = check_->dialect;
-  auto add = [&](std::string label, SymbolKind kind, bool kw, std::string detail) {
-    if (!starts_with(label, c.prefix)) return;
+namespace {
+
+// Completion items for one cursor position, by what surrounds it (see `Index::complete`).
+class Completer {
+ public:
+  Completer(const Index& ix, const CheckResult& check, std::string_view text, FileId file, const Context& c)
+      : ix_(ix), symbols_(ix.symbols()), check_(check), text_(text), file_(file), c_(c) {}
+
+  std::vector<CompletionItem> run() {
+    if (c_.in_comment_or_string) return std::move(out_);
+    if (starts_with(c_.prefix, "$")) {
+      add_params(true);
+    } else if (!c_.have_stmt) {
+      statement_keywords();
+    } else if (c_.paren_depth > 0) {
+      in_list();
+    } else {
+      in_body();
+    }
+    return std::move(out_);
+  }
+
+ private:
+  void add(std::string label, SymbolKind kind, bool kw, std::string detail) {
+    if (!starts_with(label, c_.prefix)) return;
     CompletionItem it;
     it.insert_text = label;
     it.label = std::move(label);
     it.kind = kind;
     it.is_keyword = kw;
     it.detail = std::move(detail);
-    out.push_back(std::move(it));
-  };
-  auto add_params = [&](bool dollar) {
+    out_.push_back(std::move(it));
+  }
+  void add_params(bool dollar) {
     for (const Symbol& s : symbols_) {
       if (s.kind != SymbolKind::Parameter || s.parent < 0) continue;
       const std::string& bank = symbols_[s.parent].name;
-      std::string name = dialect == Dialect::Nome ? bank + "_" + s.name : bank + "." + s.name;
+      const std::string name = check_.dialect == Dialect::Nome ? bank + "_" + s.name : bank + "." + s.name;
       add((dollar ? "$" : "") + name, SymbolKind::Parameter, false, s.detail);
     }
     if (dollar) {
       add("$time", SymbolKind::Parameter, false, "built-in: the animation time (--time)");
       add("$frame", SymbolKind::Parameter, false, "built-in: the animation frame (--frame)");
     }
-  };
-  auto add_symbols = [&](std::initializer_list<SymbolKind> kinds, bool top_only) {
+  }
+  void add_symbols(std::initializer_list<SymbolKind> kinds, bool top_only) {
     for (const Symbol& s : symbols_) {
       if (top_only && s.parent >= 0) continue;
       if (std::find(kinds.begin(), kinds.end(), s.kind) == kinds.end()) continue;
       add(s.name, s.kind, false, s.detail);
     }
-  };
-  auto add_keyword = [&](std::string_view kw) { add(std::string(kw), SymbolKind::Other, true, std::string(keyword_doc(kw))); };
-
-  if (starts_with(c.prefix, "$")) {
-    add_params(true);
-    return out;
   }
-  if (!c.have_stmt) {
+  void add_keyword(std::string_view kw) { add(std::string(kw), SymbolKind::Other, true, std::string(keyword_doc(kw))); }
+
+  // Outside any statement: the statements that may start here.
+  void statement_keywords() {
     for (std::string_view kw : ast::all_open_keywords()) {
       if (ast::category(*ast::block_of_keyword(kw)) != ast::BlockCategory::Sub) add_keyword(kw);
     }
     add_keyword("include");
     add_keyword("tclinit");
-    return out;
   }
-  const bool vertex_list = c.stmt == BlockKind::Face || c.stmt == BlockKind::Facet || c.stmt == BlockKind::Polyline ||
-                           c.stmt == BlockKind::Sharp || c.stmt == BlockKind::Zipper ||
-                           c.stmt == BlockKind::Consolidateface;
-  if (c.paren_depth > 0) {
-    if (c.stmt == BlockKind::Object) {
+
+  // Inside `( … )`: faces of an object, vertices of a face-like list, or values.
+  void in_list() {
+    const BlockKind k = c_.stmt;
+    if (k == BlockKind::Object) {
       add_symbols({SymbolKind::Face}, true);
-      return out;
+      return;
     }
+    const bool vertex_list = k == BlockKind::Face || k == BlockKind::Facet || k == BlockKind::Polyline ||
+                             k == BlockKind::Sharp || k == BlockKind::Zipper || k == BlockKind::Consolidateface;
     if (vertex_list) {
-      // A path through instances: complete the part after the last `.`.
-      if (auto dot = c.prefix.rfind('.'); dot != std::string_view::npos) {
-        std::string_view path = c.prefix.substr(0, dot);
-        if (starts_with(path, ".")) path.remove_prefix(1);
-        SymbolId cur = -1;
-        size_t at = 0;
-        while (true) {
-          size_t d = path.find('.', at);
-          std::string_view part = path.substr(at, d == std::string_view::npos ? std::string_view::npos : d - at);
-          SymbolId next = -1;
-          for (const Symbol& s : symbols_) {
-            if (s.kind != SymbolKind::Instance || s.name != part) continue;
-            if (cur < 0 ? s.parent < 0 : s.parent == cur) {
-              next = s.id;
-              break;
-            }
-          }
-          if (next < 0) return out;
-          // Continue inside the instance's target.
-          const ir::Node& n = check_->module.node(symbols_[next].node);
-          cur = n.kind == ir::NodeKind::Instance ? symbol_of(n.as<ir::InstanceData>().target) : -1;
-          if (cur < 0 || d == std::string_view::npos) break;
-          at = d + 1;
-        }
-        if (cur < 0) return out;
-        std::string base(c.prefix.substr(0, dot + 1));
-        for (const Symbol& s : symbols_) {
-          if (s.parent != cur || (s.kind != SymbolKind::Instance && s.kind != SymbolKind::Point)) continue;
-          add(base + s.name, s.kind, false, s.detail);
-        }
-        return out;
-      }
-      add_symbols({SymbolKind::Point}, true);
-      add_symbols({SymbolKind::Instance}, true);
-      // Points of the mesh being written (found by where its keyword is: the mesh may be
-      // unfinished, so its parsed range can end before the cursor).
-      if (c.have_outer && c.outer == BlockKind::Mesh) {
-        size_t before = out.size();
-        for (const Symbol& s : symbols_) {
-          if (s.kind == SymbolKind::Point && s.parent >= 0 && s.full_range.file == file &&
-              symbols_[s.parent].full_range.begin == c.outer_begin) {
-            add(s.name, s.kind, false, s.detail);
-          }
-        }
-        if (out.size() == before) {
-          // The parser could not keep this unfinished mesh's points: read them from the text.
-          std::vector<LexToken> toks = lex_file(text.substr(c.outer_begin, c.prefix_begin - c.outer_begin));
-          for (size_t i = 0; i + 1 < toks.size(); ++i) {
-            std::string_view w = text.substr(c.outer_begin + toks[i].begin, toks[i].end - toks[i].begin);
-            if (toks[i].kind == LexKind::Word && toks[i + 1].kind == LexKind::Word && (w == "point" || w == "vertex")) {
-              const LexToken& n = toks[i + 1];
-              add(std::string(text.substr(c.outer_begin + n.begin, n.end - n.begin)), SymbolKind::Point, false, "point");
-            }
-          }
-        }
-      }
-      return out;
+      vertices();
+      return;
     }
     // A value list: sliders, functions, constants.
     add_params(true);
     for (const FunctionDoc& f : functions()) add(std::string(f.name), SymbolKind::Other, false, std::string(f.signature));
     add("pi", SymbolKind::Other, false, "3.14159…");
-    return out;
   }
-  // Typing the name right after the keyword: a new name, nothing to offer — except where
-  // that word refers to something (SLIDE instance targets, sweep paths).
-  const bool after_keyword = c.items.empty();
-  if (after_keyword) {
-    if (c.stmt == BlockKind::Instance && dialect == Dialect::Slide) {
-      add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block}, true);
-    } else if (c.stmt == BlockKind::Path || (c.stmt == BlockKind::Crosssection && c.have_outer)) {
-      add_symbols({SymbolKind::Generator, SymbolKind::Polyline, SymbolKind::Other}, true);
+
+  // A vertex: a point, an instance path, or a point of the mesh being written.
+  void vertices() {
+    if (auto dot = c_.prefix.rfind('.'); dot != std::string_view::npos) {
+      instance_path(dot);
+      return;
     }
-    return out;
+    add_symbols({SymbolKind::Point}, true);
+    add_symbols({SymbolKind::Instance}, true);
+    if (c_.have_outer && c_.outer == BlockKind::Mesh) points_of_enclosing_mesh();
   }
-  if (c.stmt == BlockKind::Instance && dialect != Dialect::Slide && c.items.size() == 1 && c.items[0].kind == LexKind::Word) {
-    add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block,
-                 SymbolKind::Polyline},
-                true);
-    return out;
+
+  // A path through instances: complete the part after the last `.`.
+  void instance_path(size_t dot) {
+    std::string_view path = c_.prefix.substr(0, dot);
+    if (starts_with(path, ".")) path.remove_prefix(1);
+    SymbolId cur = -1;
+    size_t at = 0;
+    while (true) {
+      const size_t d = path.find('.', at);
+      const std::string_view part = path.substr(at, d == std::string_view::npos ? std::string_view::npos : d - at);
+      SymbolId next = -1;
+      for (const Symbol& s : symbols_) {
+        if (s.kind == SymbolKind::Instance && s.name == part && (cur < 0 ? s.parent < 0 : s.parent == cur)) {
+          next = s.id;
+          break;
+        }
+      }
+      if (next < 0) return;
+      // Continue inside the instance's target.
+      const ir::Node& n = check_.module.node(symbols_[next].node);
+      cur = n.kind == ir::NodeKind::Instance ? ix_.symbol_of(n.as<ir::InstanceData>().target) : -1;
+      if (cur < 0 || d == std::string_view::npos) break;
+      at = d + 1;
+    }
+    if (cur < 0) return;
+    const std::string base(c_.prefix.substr(0, dot + 1));
+    for (const Symbol& s : symbols_) {
+      if (s.parent != cur || (s.kind != SymbolKind::Instance && s.kind != SymbolKind::Point)) continue;
+      add(base + s.name, s.kind, false, s.detail);
+    }
   }
-  if (c.prev_word == "surface") {
-    add_symbols({SymbolKind::Surface}, true);
-    return out;
+
+  // Points of the mesh being written (found by where its keyword is: the mesh may be
+  // unfinished, so its parsed range can end before the cursor).
+  void points_of_enclosing_mesh() {
+    const size_t before = out_.size();
+    for (const Symbol& s : symbols_) {
+      if (s.kind == SymbolKind::Point && s.parent >= 0 && s.full_range.file == file_ &&
+          symbols_[s.parent].full_range.begin == c_.outer_begin) {
+        add(s.name, s.kind, false, s.detail);
+      }
+    }
+    if (out_.size() != before) return;
+    // The parser could not keep this unfinished mesh's points: read them from the text.
+    const std::vector<LexToken> toks = lex_file(text_.substr(c_.outer_begin, c_.prefix_begin - c_.outer_begin));
+    for (size_t i = 0; i + 1 < toks.size(); ++i) {
+      const std::string_view w = text_.substr(c_.outer_begin + toks[i].begin, toks[i].end - toks[i].begin);
+      if (toks[i].kind == LexKind::Word && toks[i + 1].kind == LexKind::Word && (w == "point" || w == "vertex")) {
+        const LexToken& n = toks[i + 1];
+        add(std::string(text_.substr(c_.outer_begin + n.begin, n.end - n.begin)), SymbolKind::Point, false, "point");
+      }
+    }
   }
-  if (c.prev_word == "point" || c.prev_word == "polyline" || c.prev_word == "path" ||
-      c.prev_word == "bsplinecurve" || c.prev_word == "beziercurve") {
-    add_symbols({SymbolKind::Point, SymbolKind::Polyline, SymbolKind::Generator}, true);
-    return out;
+
+  // In a statement's body, outside brackets.
+  void in_body() {
+    const BlockKind k = c_.stmt;
+    const Dialect dialect = check_.dialect;
+    // Typing the name right after the keyword: a new name, nothing to offer — except where
+    // that word refers to something (SLIDE instance targets, sweep paths).
+    if (c_.items.empty()) {
+      if (k == BlockKind::Instance && dialect == Dialect::Slide) {
+        add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block},
+                    true);
+      } else if (k == BlockKind::Path || (k == BlockKind::Crosssection && c_.have_outer)) {
+        add_symbols({SymbolKind::Generator, SymbolKind::Polyline, SymbolKind::Other}, true);
+      }
+      return;
+    }
+    if (k == BlockKind::Instance && dialect != Dialect::Slide && c_.items.size() == 1 &&
+        c_.items[0].kind == LexKind::Word) {
+      add_symbols({SymbolKind::Mesh, SymbolKind::Object, SymbolKind::Group, SymbolKind::Generator, SymbolKind::Block,
+                   SymbolKind::Polyline},
+                  true);
+      return;
+    }
+    if (c_.prev_word == "surface") {
+      add_symbols({SymbolKind::Surface}, true);
+      return;
+    }
+    if (c_.prev_word == "point" || c_.prev_word == "polyline" || c_.prev_word == "path" ||
+        c_.prev_word == "bsplinecurve" || c_.prev_word == "beziercurve") {
+      add_symbols({SymbolKind::Point, SymbolKind::Polyline, SymbolKind::Generator}, true);
+      return;
+    }
+    if (k == BlockKind::Bank) {
+      add_keyword("set");
+      add_keyword("list");
+    }
+    for (std::string_view w : option_words(c_.stmt_keyword)) add_keyword(w);
+    for (BlockKind child : child_blocks(k)) add_keyword(ast::open_keyword(child));
+    add_keyword(ast::end_keyword(c_.stmt_keyword));
+    // A value after an option: sliders too.
+    add_params(true);
   }
-  if (c.stmt == BlockKind::Bank) {
-    add_keyword("set");
-    add_keyword("list");
-  }
-  for (std::string_view w : option_words(c.stmt_keyword)) add_keyword(w);
-  for (BlockKind k : child_blocks(c.stmt)) add_keyword(ast::open_keyword(k));
-  add_keyword(ast::end_keyword(c.stmt_keyword));
-  // A value after an option: sliders too.
-  add_params(true);
-  return out;
+
+  const Index& ix_;
+  const std::vector<Symbol>& symbols_;
+  const CheckResult& check_;
+  std::string_view text_;
+  FileId file_;
+  const Context& c_;
+  std::vector<CompletionItem> out_;
+};
+
+}  // namespace
+
+std::vector<CompletionItem> Index::complete(FileId file, uint32_t offset) const {
+  if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return {};
+  const std::string_view text = sources_->text(file);
+  const Context c = context_at(text, offset, scan_start(*check_, file, offset));
+  return Completer(*this, *check_, text, file, c).run();
 }
+
+namespace {
+
+// The element of the innermost open list the cursor is in: elements of the list before the
+// cursor, counted by the sign rule (`1 -2` is two elements, `1 - 2` and `1-2` one).
+int active_element(const Context& c, std::string_view text) {
+  int elem = 0;
+  bool have_operand = false;  // the current element has a complete operand
+  int depth = 0;
+  for (size_t i = c.paren_open + 1; i < c.items.size(); ++i) {
+    const LexToken& t = c.items[i];
+    bool opens = t.kind == LexKind::LParen || t.kind == LexKind::LBrace;
+    bool closes = t.kind == LexKind::RParen || t.kind == LexKind::RBrace;
+    if (depth > 0) {
+      if (opens) ++depth;
+      if (closes && --depth == 0) have_operand = true;
+      continue;
+    }
+    if (t.kind == LexKind::Operator) {
+      char op = text[t.begin];
+      bool space_before = t.begin > 0 && (text[t.begin - 1] == ' ' || text[t.begin - 1] == '\t' || text[t.begin - 1] == '\n');
+      bool space_after = t.end < text.size() && (text[t.end] == ' ' || text[t.end] == '\t' || text[t.end] == '\n');
+      if ((op == '+' || op == '-') && have_operand && space_before && !space_after) {
+        ++elem;
+      }
+      have_operand = false;
+      continue;
+    }
+    if (opens || t.kind == LexKind::Number || t.kind == LexKind::Word || t.kind == LexKind::DollarRef || is_text_literal(t.kind)) {
+      if (have_operand) ++elem;
+      if (opens) {
+        depth = 1;
+        have_operand = false;
+      } else {
+        have_operand = true;
+      }
+    }
+  }
+  // After a complete element and a space, the cursor starts the next one.
+  uint32_t b = c.prefix_begin;
+  if (c.prefix.empty() && have_operand && b > 0 && (text[b - 1] == ' ' || text[b - 1] == '\t')) ++elem;
+  return elem;
+}
+
+}  // namespace
 
 std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset) const {
   if (!file.is_valid() || file.index >= static_cast<int32_t>(sources_->file_count())) return std::nullopt;
@@ -393,44 +483,7 @@ std::optional<SignatureHelp> Index::signature_help(FileId file, uint32_t offset)
     h.parameter_docs.push_back(std::move(doc));
   }
   h.label += ")";
-  // Active element: count elements of the list before the cursor (the sign rule: `1 -2` is
-  // two elements, `1 - 2` and `1-2` one).
-  int elem = 0;
-  bool have_operand = false;  // the current element has a complete operand
-  int depth = 0;
-  for (size_t i = c.paren_open + 1; i < c.items.size(); ++i) {
-    const LexToken& t = c.items[i];
-    bool opens = t.kind == LexKind::LParen || t.kind == LexKind::LBrace;
-    bool closes = t.kind == LexKind::RParen || t.kind == LexKind::RBrace;
-    if (depth > 0) {
-      if (opens) ++depth;
-      if (closes && --depth == 0) have_operand = true;
-      continue;
-    }
-    if (t.kind == LexKind::Operator) {
-      char op = text[t.begin];
-      bool space_before = t.begin > 0 && (text[t.begin - 1] == ' ' || text[t.begin - 1] == '\t' || text[t.begin - 1] == '\n');
-      bool space_after = t.end < text.size() && (text[t.end] == ' ' || text[t.end] == '\t' || text[t.end] == '\n');
-      if ((op == '+' || op == '-') && have_operand && space_before && !space_after) {
-        ++elem;
-      }
-      have_operand = false;
-      continue;
-    }
-    if (opens || t.kind == LexKind::Number || t.kind == LexKind::Word || t.kind == LexKind::DollarRef || is_text_literal(t.kind)) {
-      if (have_operand) ++elem;
-      if (opens) {
-        depth = 1;
-        have_operand = false;
-      } else {
-        have_operand = true;
-      }
-    }
-  }
-  // After a complete element and a space, the cursor starts the next one.
-  uint32_t b = c.prefix_begin;
-  if (c.prefix.empty() && have_operand && b > 0 && (text[b - 1] == ' ' || text[b - 1] == '\t')) ++elem;
-  h.active_parameter = std::min<int>(elem, static_cast<int>(params.size()) - 1);
+  h.active_parameter = std::min<int>(active_element(c, text), static_cast<int>(params.size()) - 1);
   return h;
 }
 
