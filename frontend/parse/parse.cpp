@@ -448,6 +448,32 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   }
 };
 
+// ANTLR's recovery with the same decisions, but without composing its English error
+// messages (nomec's listener words its own): each report goes to the listeners with an
+// empty message. Building those strings was most of the cost of a file with errors.
+class QuietErrorStrategy : public antlr4::DefaultErrorStrategy {
+ protected:
+  void reportNoViableAlternative(antlr4::Parser* parser, const antlr4::NoViableAltException& e) override {
+    parser->notifyErrorListeners(e.getOffendingToken(), std::string(), nullptr);
+  }
+  void reportInputMismatch(antlr4::Parser* parser, const antlr4::InputMismatchException& e) override {
+    parser->notifyErrorListeners(e.getOffendingToken(), std::string(), nullptr);
+  }
+  void reportFailedPredicate(antlr4::Parser* parser, const antlr4::FailedPredicateException& e) override {
+    parser->notifyErrorListeners(e.getOffendingToken(), std::string(), nullptr);
+  }
+  void reportUnwantedToken(antlr4::Parser* parser) override {
+    if (inErrorRecoveryMode(parser)) return;
+    beginErrorCondition(parser);
+    parser->notifyErrorListeners(parser->getCurrentToken(), std::string(), nullptr);
+  }
+  void reportMissingToken(antlr4::Parser* parser) override {
+    if (inErrorRecoveryMode(parser)) return;
+    beginErrorCondition(parser);
+    parser->notifyErrorListeners(parser->getCurrentToken(), std::string(), nullptr);
+  }
+};
+
 // Silences ANTLR's console output from the lexer (all characters are tokens, so the lexer
 // itself has nothing to report).
 class SilentListener : public antlr4::BaseErrorListener {};
@@ -1056,7 +1082,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     stream.seek(0);
     parser.reset();
     parser.addErrorListener(&listener);
-    parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+    parser.setErrorHandler(std::make_shared<QuietErrorStrategy>());
     parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
         antlr4::atn::PredictionMode::SLL);
     try {
@@ -1147,7 +1173,7 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
     stream.seek(0);
     parser.reset();
     parser.addErrorListener(&listener);
-    parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
+    parser.setErrorHandler(std::make_shared<QuietErrorStrategy>());
     parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(antlr4::atn::PredictionMode::SLL);
     try {
       tree = parser.functionText();
