@@ -111,12 +111,20 @@ item
 parenList : LPAREN (listExpr | COMMA)* RPAREN ;
 
 // ----- Expressions -----
-// Loosest to tightest: `+ -`; `* / % //`; unary `+ -`; `^` (right-assoc); atoms.
-expr      : mulExpr ((PLUS | MINUS | SPLUS | SMINUS) mulExpr)* ;   // nested contexts
-listExpr  : mulExpr ((PLUS | MINUS) mulExpr)* ;                    // list elements
-mulExpr   : unaryExpr ((STAR | SLASH | DSLASH | PERCENT) unaryExpr)* ;
-unaryExpr : (PLUS | MINUS | SPLUS | SMINUS) unaryExpr | powExpr ;
-powExpr   : atom (CARET unaryExpr)? ;
+// An expression is a flat run of operands and operators: `sign* atom (op sign* atom)*`.
+// The AST builder applies the precedence (loosest to tightest: `+ -`; `* / % //`; unary
+// `+ -`; `^`, right-associative, whose right operand may carry signs: `-2^2` is −4, `2^-1`
+// is 0.5), so the parse tree holds two nodes per operand instead of one per level.
+// `expr` (nested contexts: calls, parentheses, braces) also takes `SPLUS`/`SMINUS` as
+// binary operators; a list element (`listExpr`) ends before one (the sign rule).
+expr
+  : (PLUS | MINUS | SPLUS | SMINUS)* atom
+    ((PLUS | MINUS | SPLUS | SMINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  ;
+listExpr
+  : (PLUS | MINUS | SPLUS | SMINUS)* atom
+    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  ;
 atom
   : NUMBER                                          # numberAtom
   | DOLLAR_REF                                      # dollarAtom
@@ -135,10 +143,10 @@ functionText : expr EOF ;
 
 // A value in a block body: like `listExpr` but never starting with a bare word or `(`
 // (those are the `word` and `parenList` items), which keeps `item` LL(1).
-itemExpr  : itemMul ((PLUS | MINUS) mulExpr)* ;
-itemMul   : itemUnary ((STAR | SLASH | DSLASH | PERCENT) unaryExpr)* ;
-itemUnary : (PLUS | MINUS | SPLUS | SMINUS) unaryExpr | itemPow ;
-itemPow   : itemAtom (CARET unaryExpr)? ;
+itemExpr
+  : ((PLUS | MINUS | SPLUS | SMINUS)+ atom | itemAtom)
+    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  ;
 itemAtom
   : NUMBER          # itemNumber
   | DOLLAR_REF      # itemDollar

@@ -890,65 +890,106 @@ class AstBuilder {
     }
   }
 
-  // Generic conversion over the expression rules; the rule shapes are:
-  //   chains (expr, listExpr, mulExpr, itemExpr, itemMul): operand (op operand)*
-  //   unary (unaryExpr, itemUnary): op unaryExpr | pow
-  //   pow (powExpr, itemPow): atom (^ unaryExpr)?
+  // The expression rules (`expr`, `listExpr`, `itemExpr`) are flat runs
+  // `sign* atom (op sign* atom)*`; this applies the precedence, loosest to tightest:
+  // `+ -`; `* / % //`; unary signs; `^` (right-associative; its right operand may carry
+  // signs). An atom (`atom`, `itemAtom`) converts directly.
   ast::ExprId convert_expr(antlr4::ParserRuleContext* ctx) {
     if (ctx == nullptr || ctx->children.empty() || ctx->exception != nullptr) {
       return error_expr(ctx);
     }
-    size_t rule = ctx->getRuleIndex();
-    switch (rule) {
+    switch (ctx->getRuleIndex()) {
       case NomeParser::RuleExpr:
       case NomeParser::RuleListExpr:
-      case NomeParser::RuleMulExpr:
-      case NomeParser::RuleItemExpr:
-      case NomeParser::RuleItemMul:
-      case NomeParser::RulePowExpr:
-      case NomeParser::RuleItemPow: {
-        ast::ExprId acc = convert_expr(child(ctx, 0).rule);
-        for (size_t i = 1; i + 1 < ctx->children.size(); i += 2) {
-          Child o = child(ctx, i);
-          antlr4::ParserRuleContext* rhs = child(ctx, i + 1).rule;
-          antlr4::tree::TerminalNode* op = o.is_error ? nullptr : o.terminal;
-          if (op == nullptr || rhs == nullptr) {
-            return error_expr(ctx);
-          }
-          ast::Expr e;
-          e.kind = ast::ExprKind::Binary;
-          e.op = op_of(op->getSymbol());
-          e.lhs = acc;
-          e.rhs = convert_expr(rhs);
-          // An operand the parser could not read may have no position (offset 0): the
-          // range never ends before it begins.
-          const SourceRange& l = ast_.exprs[acc.index].range;
-          const SourceRange& r = ast_.exprs[e.rhs.index].range;
-          e.range = SourceRange{file_, l.begin, std::max(l.end, r.end)};
-          acc = add(e);
+      case NomeParser::RuleItemExpr: {
+        Run run{ctx, {}, 0};
+        run.items.reserve(ctx->children.size());
+        for (antlr4::tree::ParseTree* t : ctx->children) {
+          Child c = classify(t);
+          if (c.is_error) return error_expr(ctx);
+          run.items.push_back(c);
         }
-        return acc;
-      }
-      case NomeParser::RuleUnaryExpr:
-      case NomeParser::RuleItemUnary: {
-        Child first = child(ctx, 0);
-        if (first.terminal != nullptr) {
-          if (ctx->children.size() < 2 || first.is_error) {
-            return error_expr(ctx);
-          }
-          ast::Expr e;
-          e.kind = ast::ExprKind::Unary;
-          e.op = op_of(first.terminal->getSymbol());
-          e.lhs = convert_expr(child(ctx, 1).rule);
-          e.range = ctx_range(ctx);
-          return add(e);
-        }
-        return convert_expr(first.rule);
+        ast::ExprId e = binary(run, 1);
+        return run.pos == run.items.size() ? e : error_expr(ctx);
       }
       default:
-        break;
+        return convert_atom(ctx);
     }
-    return convert_atom(ctx);
+  }
+
+  // A flat expression being read (see convert_expr).
+  struct Run {
+    antlr4::ParserRuleContext* ctx;
+    std::vector<Child> items;
+    size_t pos;
+    const Child* peek() const { return pos < items.size() ? &items[pos] : nullptr; }
+  };
+
+  static int binary_level(size_t type) {
+    switch (type) {
+      case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS: return 1;
+      case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT: return 2;
+      default: return 0;
+    }
+  }
+
+  ast::ExprId binary_expr(antlr4::Token* op, ast::ExprId lhs, ast::ExprId rhs) {
+    ast::Expr e;
+    e.kind = ast::ExprKind::Binary;
+    e.op = op_of(op);
+    e.lhs = lhs;
+    e.rhs = rhs;
+    // An operand the parser could not read may have no position (offset 0): the range
+    // never ends before it begins.
+    const SourceRange& l = ast_.exprs[lhs.index].range;
+    const SourceRange& r = ast_.exprs[rhs.index].range;
+    e.range = SourceRange{file_, l.begin, std::max(l.end, r.end)};
+    return add(e);
+  }
+
+  // Operators of level `min` and looser-binding ones' operands: left-associative.
+  ast::ExprId binary(Run& run, int min) {
+    ast::ExprId lhs = unary(run);
+    while (const Child* op = run.peek()) {
+      const int level = op->terminal != nullptr ? binary_level(op->token_type()) : 0;
+      if (level == 0 || level < min) break;
+      ++run.pos;
+      ast::ExprId rhs = binary(run, level + 1);
+      lhs = binary_expr(op->terminal->getSymbol(), lhs, rhs);
+    }
+    return lhs;
+  }
+
+  // Signs, then a power.
+  ast::ExprId unary(Run& run) {
+    const Child* sign = run.peek();
+    if (sign == nullptr || sign->terminal == nullptr) return power(run);
+    const size_t type = sign->token_type();
+    if (type != NomeParser::PLUS && type != NomeParser::MINUS && type != NomeParser::SPLUS &&
+        type != NomeParser::SMINUS) {
+      return error_expr(run.ctx);
+    }
+    ++run.pos;
+    ast::Expr e;
+    e.kind = ast::ExprKind::Unary;
+    e.op = op_of(sign->terminal->getSymbol());
+    e.lhs = unary(run);
+    e.range = SourceRange{file_, token_range(sign->terminal->getSymbol()).begin, ast_.exprs[e.lhs.index].range.end};
+    if (e.range.end < e.range.begin) e.range.end = e.range.begin;
+    return add(e);
+  }
+
+  // An atom, and `^` with its (signed) right operand.
+  ast::ExprId power(Run& run) {
+    const Child* operand = run.peek();
+    if (operand == nullptr || operand->rule == nullptr) return error_expr(run.ctx);
+    ++run.pos;
+    ast::ExprId base = convert_expr(operand->rule);
+    const Child* caret = run.peek();
+    if (caret == nullptr || caret->token_type() != NomeParser::CARET) return base;
+    ++run.pos;
+    ast::ExprId exponent = unary(run);
+    return binary_expr(caret->terminal->getSymbol(), base, exponent);
   }
 
   ast::ExprId token_expr(ast::ExprKind kind, antlr4::Token* t) {

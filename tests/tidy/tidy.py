@@ -5,7 +5,8 @@
                  golden file under tests/ (the diagnostic-kind coverage test)
   emit-sites     every kind is emitted from at least one `emit(DiagKind::Kind` site in the
                  code; prints the kinds emitted from several sites
-  readmes        every top-level folder that holds code has a README.md
+  readmes        every top-level folder that holds code, and every code folder of the library,
+                 tools and editor client, has a README.md
   layers         every #include is an edge ARCHITECTURE.md's `layers` block allows (folders
                  and third-party headers such as ANTLR, nlohmann-json, <filesystem>)
   layers-selftest  the layers check reports exactly the forbidden includes planted in
@@ -123,6 +124,13 @@ def check_emit_sites(root):
     return ok
 
 
+# Folders below these whose own files include code need a README.md too (the code folders
+# of the library, the tools and the editor client; tests and build outputs are not).
+NESTED_README_TOPS = ("base", "frontend", "ir", "backend", "kernel", "lsp", "tools", "grammar", "fuzz", "bench",
+                      os.path.join("editors", "vscode", "src"))
+SOURCE_EXTS = {".cpp", ".cc", ".h", ".hpp", ".g4", ".ts", ".def"}
+
+
 def check_readmes(root):
     ok = True
     for name in sorted(os.listdir(root)):
@@ -140,6 +148,12 @@ def check_readmes(root):
             print(f"{name}/ now has a README.md; remove it from KNOWN_MISSING_README in tidy.py")
         if has_code and not has_readme and name in KNOWN_MISSING_README:
             print(f"known gap: {name}/ holds code but has no README.md")
+    for top in NESTED_README_TOPS:
+        for dirpath, dirnames, filenames in os.walk(os.path.join(root, top)):
+            dirnames[:] = [d for d in dirnames if d not in SKIP_DIRS and not is_build_dir(d) and d != "out"]
+            if any(os.path.splitext(f)[1] in SOURCE_EXTS for f in filenames) and "README.md" not in filenames:
+                ok = False
+                print(f"{os.path.relpath(dirpath, root)}/ holds code but has no README.md saying what it owns")
     return ok
 
 
