@@ -5,18 +5,21 @@
 # fails on any finding (a crash, a sanitizer report, a timeout, an out-of-memory input),
 # leaving the input in DIR/fuzz-artifacts/TARGET/ and the log in DIR/fuzz-TARGET.log.
 #
-# Usage: fuzz/run.sh [--build DIR] [--seconds N] [TARGET...]
+# Usage: fuzz/run.sh [--build DIR] [--seconds N] [--jobs J] [TARGET...]
 #   DIR: a build with -DNOMEC_FUZZ=ON (default build-sanitize, the `sanitize` preset)
-#   N: seconds per target (default 60); TARGET: frontend_fuzzer, pipeline_fuzzer (both)
+#   N: seconds per target (default 60); J: fuzzing processes (libFuzzer's -fork=J; default
+#   1, one process); TARGET: frontend_fuzzer, pipeline_fuzzer (default both)
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$repo/build-sanitize"
 seconds=60
+jobs=1
 targets=()
 while (($#)); do
   case "$1" in
     --build) build="$(cd "$2" && pwd)"; shift 2 ;;
     --seconds) seconds="$2"; shift 2 ;;
+    --jobs) jobs="$2"; shift 2 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -44,13 +47,20 @@ for t in "${targets[@]}"; do
   artifacts="$build/fuzz-artifacts/$t/"
   log="$build/fuzz-$t.log"
   mkdir -p "$work" "$artifacts"
-  if ! "$binary" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
+  fork=()
+  if ((jobs > 1)); then fork=(-fork="$jobs"); fi
+  if ! "$binary" "${fork[@]}" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
       -dict="$repo/fuzz/nome.dict" -artifact_prefix="$artifacts" -print_final_stats=1 \
       "$work" "${seeds[@]}" >"$log" 2>&1; then
     echo "run.sh: $t found a problem; input in $artifacts, log $log" >&2
     grep -E "ERROR|SUMMARY|==[0-9]+==" "$log" | head -20 >&2 || true
     exit 1
   fi
-  runs="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)"
+  # One process prints its final stats; with -fork the parent's last `#N:` line is the total.
+  runs="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1 || true)"
+  if ((jobs > 1)) || [[ -z "$runs" ]]; then
+    runs="$(grep -oE '^#[0-9]+:' "$log" | tail -1 | tr -d '#:' || true)"
+  fi
+  runs="${runs:-0}"
   echo "run.sh: $t: $runs executions in $seconds s ($((runs / seconds)) per second), corpus $work"
 done
