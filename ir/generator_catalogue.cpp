@@ -51,8 +51,12 @@ struct Catalogue {
 };
 
 Catalogue build() {
-  constexpr DialectSet NOME = kNome, NOME3 = kNome3, SLIDE = kSlide, ALL = kAllDialects;
+  // NOME is the 2016 family (NOME 2016 and NOME2); NOME2016 and NOME2 name one of them.
+  constexpr DialectSet NOME = kNome | kNome2, NOME2016 = kNome, NOME2 = kNome2, NOME3 = kNome3, SLIDE = kSlide,
+                       ALL = kAllDialects;
   (void)NOME;
+  (void)NOME2016;
+  (void)NOME2;
   (void)NOME3;
   (void)SLIDE;
   (void)ALL;

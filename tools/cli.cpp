@@ -59,7 +59,7 @@ void add_check_options(CLI::App& app, Cli& cli) {
   app.add_option("files", cli.files, "Input files (.nome, .nom, .slf, .anom)");
   app.add_flag("--check", cli.check_only, "Check the files and report diagnostics (default)");
   app.add_option("--dialect", cli.dialect, "Force the dialect instead of detecting it")
-      ->check(CLI::IsMember({"nome", "nome3", "slide"}));
+      ->check(CLI::IsMember({"nome", "nome2", "nome3", "slide"}));
   app.add_option("-D", cli.defines, "Override a slider: -D bank.param=value (repeatable)")
       ->allow_extra_args(false);  // one value per -D: the files that follow stay files
   app.add_flag("--werror", cli.werror, "Treat warnings as errors");

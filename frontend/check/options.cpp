@@ -151,9 +151,9 @@ std::span<const OptSpec> options_for(BlockKind kind) {
 std::span<const OptSpec> generator_options(ir::GenKind gen, Dialect dialect) {
   // Built once per generator and dialect from the catalogue.
   static const auto tables = [] {
-    std::array<std::array<std::vector<OptSpec>, 3>, ir::kGenKindCount> t;
+    std::array<std::array<std::vector<OptSpec>, std::size(kDialects)>, ir::kGenKindCount> t;
     for (const ir::GeneratorInfo& g : ir::generators()) {
-      for (Dialect d : {Dialect::Nome, Dialect::Nome3, Dialect::Slide}) {
+      for (Dialect d : kDialects) {
         std::vector<OptSpec>& v = t[static_cast<size_t>(g.kind)][static_cast<size_t>(d)];
         for (const ir::OptionInfo& o : g.options) {
           if ((o.dialects & dialect_bit(d)) == 0 || o.arg == ir::kNoArg) continue;

@@ -59,7 +59,7 @@ TEST(Catalogue, BuildsWithoutProblems) {
     for (const ir::ArgInfo& a : g.args) EXPECT_FALSE(a.doc.empty()) << g.keyword << " " << a.name;
     // Every dialect that has the keyword can set every argument a function or point list
     // needs; a generator without a positional list in a dialect takes options there.
-    for (Dialect d : {Dialect::Nome, Dialect::Nome3, Dialect::Slide}) {
+    for (Dialect d : kDialects) {
       if (g.signature(d) == nullptr && g.option_words(d).empty()) {
         ADD_FAILURE() << g.keyword << " takes neither a list nor options in " << dialect_name(d);
       }
@@ -195,7 +195,7 @@ TEST(Catalogue, FuzzDictionaryListsEveryKeyword) {
 
 std::string dialects_text(DialectSet set) {
   std::vector<std::string> names;
-  for (Dialect d : {Dialect::Nome, Dialect::Nome3, Dialect::Slide}) {
+  for (Dialect d : kDialects) {
     if ((set & dialect_bit(d)) != 0) names.emplace_back(dialect_name(d));
   }
   std::string out;
