@@ -186,6 +186,9 @@ fragment TCL_BRACES : '{' ( TCL_BRACES | '\\' . | ~[{}\\] )* '}' ;
 BLOCK_COMMENT : '(*' ( BLOCK_COMMENT | . )*? '*)' -> channel(HIDDEN) ;
 LINE_COMMENT  : '#' ~[\r\n]* -> channel(HIDDEN) ;
 WS            : [ \t\r\n\f\u000B]+ -> channel(HIDDEN) ;
+// U+00A0 (no-break space) separates tokens like a space: real files have it inside number
+// lists, and every original tool skipped it (compat.md §B1). The front end warns.
+NBSP          : '\u00A0'+ -> channel(HIDDEN) ;
 
 K_EXPR : 'expr' ;
 K_INCLUDE : 'include' ;

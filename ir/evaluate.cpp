@@ -68,6 +68,18 @@ EvalResult binary(const Expr& e, double a, double b) {
   }
 }
 
+// Tcl 8.6's `srand(seed)`: seeds its Park–Miller generator (seed = 16807·seed mod 2³¹−1,
+// Schrage's method) with the whole number `seed`, and returns the first `rand()` of it.
+double tcl_srand(double seed) {
+  constexpr int64_t kIa = 16807, kIm = 2147483647, kIq = 127773, kIr = 2836;
+  int64_t s = static_cast<int64_t>(std::fmod(seed, 9.2e18)) & 0x7fffffff;
+  if (s == 0 || s == 0x7fffffff) s ^= 123459876;
+  const int64_t tmp = s / kIq;
+  s = kIa * (s - tmp * kIq) - kIr * tmp;
+  if (s < 0) s += kIm;
+  return static_cast<double>(s) * (1.0 / static_cast<double>(kIm));
+}
+
 EvalResult call(const Expr& e, std::span<const double> v) {
   auto need = [&](bool ok, const char* what) -> std::optional<EvalResult> {
     if (!ok) return fail(fmt::format("`{}({})`: {}", func_name(e.func), fmt::join(v, ", "), what), e.range);
@@ -115,6 +127,20 @@ EvalResult call(const Expr& e, std::span<const double> v) {
     case Func::Mod:
       if (auto f = need(v[1] != 0, "remainder by zero")) return *f;
       return value_of(std::fmod(v[0], v[1]));
+    case Func::Double: return value_of(x);
+    case Func::Int:
+    case Func::Wide:
+      // Tcl truncates toward zero; a value beyond 64 bits has no integer (Tcl: "integer
+      // value too large to represent").
+      if (auto f = need(std::isfinite(x) && std::fabs(x) < 9.2e18, "no integer value")) return *f;
+      return value_of(std::trunc(x));
+    case Func::Fmod:
+      if (auto f = need(v[1] != 0, "remainder by zero")) return *f;
+      return value_of(std::fmod(v[0], v[1]));
+    case Func::Hypot: return value_of(std::hypot(v[0], v[1]));
+    case Func::Srand:
+      if (auto f = need(std::isfinite(x) && x == std::trunc(x), "the seed must be a whole number")) return *f;
+      return value_of(tcl_srand(x));
   }
   return fail("unknown function", e.range);
 }

@@ -29,9 +29,13 @@ namespace nomec::ir {
 enum class Func : uint8_t {
   Sin, Cos, Tan, Asin, Acos, Atan, Atan2, Sinh, Cosh, Tanh, Sqrt, Abs, Exp, Log, Ln, Log10,
   Pow, Min, Max, Floor, Ceil, Round, Sign, Mod,
+  // Tcl's `expr` functions that the list above lacks (SLIDE `{expr …}` values only):
+  Double, Int, Wide, Fmod, Hypot, Srand,
 };
 std::string_view func_name(Func f);
 std::optional<Func> func_by_name(std::string_view name);
+/// True for the functions only Tcl's `expr` has (`double`, `int`, …): SLIDE files only.
+bool func_is_tcl_only(Func f);
 /// Number of arguments; -1 for variadic (min, max take at least one).
 int func_arity(Func f);
 /// Every function name, for "did you mean" hints.

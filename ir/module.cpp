@@ -13,6 +13,7 @@ struct FuncInfo {
   Func func;
   std::string_view name;
   int arity;
+  bool tcl_only = false;
 };
 constexpr FuncInfo kFuncs[] = {
     {Func::Sin, "sin", 1},     {Func::Cos, "cos", 1},     {Func::Tan, "tan", 1},
@@ -23,10 +24,13 @@ constexpr FuncInfo kFuncs[] = {
     {Func::Log10, "log10", 1}, {Func::Pow, "pow", 2},     {Func::Min, "min", -1},
     {Func::Max, "max", -1},    {Func::Floor, "floor", 1}, {Func::Ceil, "ceil", 1},
     {Func::Round, "round", 1}, {Func::Sign, "sign", 1},   {Func::Mod, "mod", 2},
+    {Func::Double, "double", 1, true}, {Func::Int, "int", 1, true}, {Func::Wide, "wide", 1, true},
+    {Func::Fmod, "fmod", 2, true},     {Func::Hypot, "hypot", 2, true}, {Func::Srand, "srand", 1, true},
 };
 constexpr std::string_view kFuncNames[] = {
     "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "abs",
     "exp", "log", "ln", "log10", "pow", "min", "max", "floor", "ceil", "round", "sign", "mod",
+    "double", "int", "wide", "fmod", "hypot", "srand",
 };
 static_assert(std::size(kFuncs) == std::size(kFuncNames));
 
@@ -34,6 +38,7 @@ static_assert(std::size(kFuncs) == std::size(kFuncNames));
 
 std::string_view func_name(Func f) { return kFuncs[static_cast<int>(f)].name; }
 int func_arity(Func f) { return kFuncs[static_cast<int>(f)].arity; }
+bool func_is_tcl_only(Func f) { return kFuncs[static_cast<int>(f)].tcl_only; }
 std::span<const std::string_view> func_names() { return kFuncNames; }
 std::optional<Func> func_by_name(std::string_view name) {
   for (const FuncInfo& info : kFuncs) {

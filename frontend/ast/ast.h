@@ -69,7 +69,8 @@ enum class ExprKind : uint8_t {
 struct Expr {
   ExprKind kind = ExprKind::Error;
   char op = 0;
-  bool in_braces = false;  // written as `{expr …}` or `{…}`
+  bool in_braces = false;      // written as `{expr …}` or `{…}`
+  bool parenthesized = false;  // written as `( … )`; the range is inside the parentheses
   SourceRange range;
   std::string_view text;  // name, reference, raw text (views the source)
   double number = 0;
@@ -98,8 +99,17 @@ struct Item {
 };
 
 /// A block statement, e.g. `point p (1 2 3) endpoint`.
+/// How the end of a single-line NOME 2016 statement was found (frontend/parse: statements
+/// that end at the end of their line, compat.md §B2).
+enum class CloseRepair : uint8_t {
+  None,      // closed by its own end keyword as written (or not closed: a syntax error)
+  Replaced,  // a wrong or misspelt end keyword ending its line was taken as its end
+  Inserted,  // no end keyword: the statement ends at the end of its line (close_kw is empty there)
+};
+
 struct Stmt {
   BlockKind kind;
+  CloseRepair close_repair = CloseRepair::None;
   std::string_view keyword;  // the opening keyword as written, e.g. `funnel` (views the source)
   SourceRange range;
   SourceRange open_kw;

@@ -185,8 +185,87 @@ void warn_unary_minus_power(Context& c, const ast::Ast& a, const ast::Expr& x, i
       .fixit(x.range, fmt::format("-({})", c.sources().text(operand.range)), "add parentheses to keep this meaning");
 }
 
+// A `^` written without parentheses or braces around it.
+bool is_bare_power(const ast::Expr& x) {
+  return x.kind == ast::ExprKind::Binary && x.op == '^' && !x.parenthesized && !x.in_braces;
+}
+
+ir::ExprId power_node(Context& c, ir::ExprId base, ir::ExprId exponent, SourceRange r) {
+  ir::Expr e;
+  e.kind = ir::ExprKind::Binary;
+  e.op = '^';
+  e.lhs = base;
+  e.rhs = exponent;
+  e.range = r;
+  return add(c, std::move(e));
+}
+
+// `(… (b^c)^…)^z` (the lowered right operand, left-associative, `levels` powers deep) with
+// `a` grafted in as the innermost base: `((a^b)^c)^…`.
+ir::ExprId graft_base(Context& c, ir::ExprId a, ir::ExprId chain, int levels, SourceRange r) {
+  const ir::Expr node = c.module().expr(chain);
+  if (levels == 0 || node.kind != ir::ExprKind::Binary || node.op != '^') return power_node(c, a, chain, r);
+  return power_node(c, graft_base(c, a, node.lhs, levels - 1, r), node.rhs, node.range);
+}
+
+// `a^b^c` in a NOME3 file: NOME3's grammar made `^` left-associative (compat.md §C2), so it
+// means `(a^b)^c`, which is what the file's author saw. Build that, and warn where the
+// usual reading `a^(b^c)` (every other dialect's) gives another value. `warn` is false for
+// the inner links of a longer chain (the outermost power warns once for all of it).
+ir::ExprId lower_nome3_power_chain(Context& c, const ast::Ast& a, const ast::Expr& x, ir::ExprId base, ir::ExprId rhs,
+                                   bool warn) {
+  // The operands as written (`a`, `b`, `c`, …); the right operand holds `levels` bare powers
+  // and was lowered left-associative already.
+  std::vector<const ast::Expr*> written{&a.expr(x.lhs)};
+  int levels = 0;
+  const ast::Expr* r = &a.expr(x.rhs);
+  for (; is_bare_power(*r); r = &a.expr(r->rhs)) {
+    ++levels;
+    written.push_back(&a.expr(r->lhs));
+  }
+  written.push_back(r);
+  const ir::ExprId out = graft_base(c, base, rhs, levels, x.range);
+  if (!warn) return out;
+  // The operands' values, from the lowered chain: ((a^b)^c)^… walked down its left side.
+  std::vector<double> values(written.size());
+  ir::ExprId k = out;
+  for (size_t i = written.size() - 1; i > 0; --i) {
+    if (c.module().expr(k).kind != ir::ExprKind::Binary) return out;
+    ir::EvalResult v = ir::evaluate(c.module(), c.module().expr(k).rhs);
+    if (!v.ok) return out;
+    values[i] = v.value;
+    k = c.module().expr(k).lhs;
+  }
+  ir::EvalResult first = ir::evaluate(c.module(), k), nome3 = ir::evaluate(c.module(), out);
+  if (!first.ok || !nome3.ok) return out;
+  values[0] = first.value;
+  double usual = values.back();
+  for (size_t i = values.size() - 1; i-- > 0;) usual = std::pow(values[i], usual);
+  if (usual == nome3.value || (std::isnan(usual) && std::isnan(nome3.value))) return out;
+  auto text_of = [&](const ast::Expr* e) {
+    std::string t(c.sources().text(e->range));
+    return e->parenthesized || e->in_braces || e->kind == ast::ExprKind::Unary || e->kind == ast::ExprKind::Binary
+               ? "(" + t + ")"
+               : t;
+  };
+  std::string grouped = text_of(written[0]);
+  for (size_t i = 1; i < written.size(); ++i) {
+    grouped = (i == 1 ? grouped : "(" + grouped + ")") + "^" + text_of(written[i]);
+  }
+  c.diags()
+      .emit(DiagKind::PowerAssociativity, x.range,
+            fmt::format("NOME3 grouped `^` from the left: this is `{}` = {}; read from the right, as in the other "
+                        "dialects and in mathematics, it would be {}",
+                        grouped, nome3.value, usual))
+      .fixit(x.range, grouped, "add parentheses to make the grouping explicit");
+  return out;
+}
+
 // An operation whose operands are lowered (`kids`, in order).
-ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, std::span<const ir::ExprId> kids) {
+// `chain_link` is true when `x` is the bare right operand of a `^` (a link of a longer chain);
+// `left_power` when `^` groups from the left (NOME3 expressions outside function texts).
+ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, std::span<const ir::ExprId> kids,
+                           bool chain_link, bool left_power) {
   ir::Expr e;
   e.range = x.range;
   switch (x.kind) {
@@ -196,18 +275,23 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
       e.lhs = kids[0];
       ir::ExprId id = add(c, std::move(e));
       const ast::Expr& operand = a.expr(x.lhs);
-      if (c.dialect() == Dialect::Nome3 && x.op == '-' && operand.kind == ast::ExprKind::Binary && operand.op == '^' &&
+      // Only a bare `^` operand reads differently: `-(a^b)` is one operand in NOME3 too.
+      if (c.dialect() == Dialect::Nome3 && x.op == '-' && is_bare_power(operand) &&
           c.module().expr(kids[0]).kind == ir::ExprKind::Binary) {
         warn_unary_minus_power(c, a, x, id, kids[0]);
       }
       return id;
     }
-    case ast::ExprKind::Binary:
+    case ast::ExprKind::Binary: {
+      if (left_power && x.op == '^' && is_bare_power(a.expr(x.rhs))) {
+        return lower_nome3_power_chain(c, a, x, kids[0], kids[1], !chain_link);
+      }
       e.kind = ir::ExprKind::Binary;
       e.op = x.op;
       e.lhs = kids[0];
       e.rhs = kids[1];
       return add(c, std::move(e));
+    }
     case ast::ExprKind::Call: {
       std::optional<ir::Func> f = ir::func_by_name(x.text);
       if (!f) {
@@ -219,6 +303,13 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
           d.fixit(SourceRange{x.range.file, x.range.begin, static_cast<uint32_t>(x.range.begin + x.text.size())}, hint,
                   fmt::format("replace with `{}`", hint));
         }
+        return error_expr(c, x.range);
+      }
+      if (ir::func_is_tcl_only(*f) && c.dialect() != Dialect::Slide) {
+        c.diags().emit(DiagKind::UnknownFunction, x.range,
+                       fmt::format("`{}` is a function of Tcl's `expr`, known in SLIDE (`.slf`) files only; this file is "
+                                   "checked as `{}`",
+                                   x.text, dialect_name(c.dialect())));
         return error_expr(c, x.range);
       }
       const int arity = ir::func_arity(*f);
@@ -264,6 +355,9 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
   };
   std::vector<Frame> stack{{root, 0, 0}};
   std::vector<ir::ExprId> done;
+  // NOME3's grammar grouped `^` from the left (compat.md §C2). A function text (`funcX [ … ]`,
+  // evaluated at variables) was not read by that grammar and keeps the usual grouping.
+  const bool left_power = c.dialect() == Dialect::Nome3 && scope.variables.empty();
   while (!stack.empty()) {
     Frame& top = stack.back();
     const ast::Expr& x = a.expr(top.id);
@@ -292,7 +386,12 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
     }
     std::vector<ir::ExprId> lowered(done.end() - kids.size(), done.end());
     done.resize(done.size() - kids.size());
-    done.push_back(lower_operation(c, a, x, lowered));
+    bool chain_link = false;
+    if (stack.size() >= 2) {
+      const ast::Expr& parent = a.expr(stack[stack.size() - 2].id);
+      chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs == top.id;
+    }
+    done.push_back(lower_operation(c, a, x, lowered, chain_link, left_power));
     stack.pop_back();
   }
   return done.back();

@@ -35,11 +35,44 @@ struct TransformChain {
 struct InstanceHead {
   std::string name;
   const ast::Item* target = nullptr;
+  size_t id_at = 0;  // the position of SLIDE's `id` word, when the statement has one
 };
+
+// The position of an `id NAME` pair after the first word, or 0.
+size_t slide_id_pair(const ast::Stmt& s) {
+  for (size_t i = 1; i + 1 < s.items.size(); ++i) {
+    if (s.items[i].kind == ItemKind::Word && s.items[i].text == "id" && s.items[i + 1].kind == ItemKind::Word) return i;
+  }
+  return 0;
+}
+
+// `instance TARGET … id NAME` in a NOME file: SLIDE's order. Say so, offer the NOME order,
+// and read it as meant so the rest of the statement is checked.
+InstanceHead read_slide_head_in_nome(Context& c, const ast::Stmt& s, size_t id_at, size_t& pos) {
+  const ast::Item& target = s.items[0];
+  const ast::Item& name = s.items[id_at + 1];
+  std::string middle;
+  if (id_at > 1) {
+    middle = " " + std::string(c.sources().text(SourceRange{s.open_kw.file, s.items[1].range.begin, s.items[id_at - 1].range.end}));
+  }
+  const std::string nome_order = fmt::format("{} {}{}", name.text, target.text, middle);
+  c.diags()
+      .emit(DiagKind::SlideSyntaxInNome, SourceRange{s.open_kw.file, target.range.begin, name.range.end},
+            fmt::format("`instance {} … id {}` is SLIDE's form; in a {} file the instance's name comes first: "
+                        "`instance {} endinstance`",
+                        target.text, name.text, dialect_name(c.dialect()), nome_order))
+      .note(s.open_kw, "to check the file as SLIDE, give it the `.slf` extension (or pass `--dialect slide`)")
+      .fixit(SourceRange{s.open_kw.file, target.range.begin, name.range.end}, nome_order, "write it in NOME's order");
+  pos = 1;
+  return InstanceHead{std::string(name.text), &target, id_at};
+}
 
 InstanceHead read_head(Context& c, const ast::Stmt& s, size_t& pos) {
   InstanceHead h;
   if (c.dialect() != Dialect::Slide) {
+    if (size_t id_at = slide_id_pair(s); id_at != 0 && s.items[0].kind == ItemKind::Word) {
+      return read_slide_head_in_nome(c, s, id_at, pos);
+    }
     if (auto n = c.read_name(s, pos, "instance i mesh_name endinstance")) h.name = *n;
     if (pos < s.items.size() && s.items[pos].kind == ItemKind::Word && !is_option(options_for(s.kind), s.items[pos].text)) {
       h.target = &s.items[pos++];
@@ -97,6 +130,9 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
     } else if (v.spec->key == Opt::Hidden) {
       d.is_hidden = true;
     }
+  }, [&head, &s](const ast::Item& it) {
+    // The `id NAME` of a SLIDE-order instance in a NOME file was read with its head.
+    return head.id_at != 0 && (&it == &s.items[head.id_at] || &it == &s.items[head.id_at + 1]);
   });
   c.module().get<ir::InstanceData>(id).transforms = chain.store(c.module());
   c.adopt(ctx.parent, id);

@@ -179,11 +179,24 @@ bool is_block_keyword(std::string_view word) {
   return std::find(kws.begin(), kws.end(), word) != kws.end();
 }
 
+// NOME 2016 read an `instance` line token by token and skipped the tokens it did not know
+// (compat.md §B2): in `nome` files they are warnings.
+bool ignores_unknown_tokens(const Context& c, const ast::Stmt& s) {
+  return c.dialect() == Dialect::Nome && s.kind == BlockKind::Instance;
+}
+
 void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, std::span<const OptSpec> opts) {
   std::vector<std::string_view> names;
   names.reserve(opts.size());
   for (const OptSpec& o : opts) names.push_back(o.name);
   std::string hint = closest_match(it.text, names);
+  if (ignores_unknown_tokens(c, s)) {
+    auto d = c.diags().emit(DiagKind::IgnoredInstanceToken, it.range,
+                            fmt::format("unknown word `{}` on this `instance` line is ignored, as NOME 2016 ignored it{}",
+                                        it.text, hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+    if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
+    return;
+  }
   auto d = c.diags().emit(DiagKind::UnknownArgument, it.range,
                           fmt::format("unknown argument `{}` for `{}`{}", it.text, s.keyword,
                                       hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
@@ -449,6 +462,13 @@ void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir
       continue;
     }
     std::string what = it.kind == ItemKind::List ? "list" : "value";
+    if (ignores_unknown_tokens(c, s)) {
+      c.diags().emit(DiagKind::IgnoredInstanceToken, it.range,
+                     fmt::format("unexpected {} `{}` on this `instance` line is ignored, as NOME 2016 ignored it", what,
+                                 Context::clip(c.sources().text(it.range))));
+      ++pos;
+      continue;
+    }
     c.diags().emit(DiagKind::UnexpectedItem, it.range,
                    fmt::format("unexpected {} `{}` in `{}`", what, Context::clip(c.sources().text(it.range)),
                                s.keyword));

@@ -79,6 +79,33 @@ void handle_include(Context& c, const ast::Ast& a, const ast::Item& it) {
   --c.include_depth;
 }
 
+// A single-line statement whose end the parser found at the end of its line (frontend/parse,
+// compat.md §B2): NOME 2016 read it so, and in its files that is a warning; elsewhere the
+// end keyword is missing or wrong.
+void report_line_end(Context& c, const ast::Stmt& s) {
+  const std::string expected = ast::end_keyword(s.keyword);
+  const bool nome2016 = c.dialect() == Dialect::Nome;
+  if (s.close_repair == ast::CloseRepair::Inserted) {
+    auto d = nome2016 ? c.diags().emit(DiagKind::EndOfLineStatement, s.open_kw,
+                                       fmt::format("`{}` has no `{}`; it ends at the end of its line, as in NOME 2016",
+                                                   s.keyword, expected))
+                      : c.diags().emit(DiagKind::MissingEndKeyword, s.open_kw,
+                                       fmt::format("`{}` is not closed: `{}` is missing at the end of its line",
+                                                   s.keyword, expected));
+    d.fixit(s.close_kw, " " + expected, fmt::format("insert `{}`", expected));
+    return;
+  }
+  const bool is_end_keyword = ast::block_of_end_keyword(s.close_text).has_value();
+  const std::string what = is_end_keyword ? fmt::format("`{}` does not close `{}`", s.close_text, s.keyword)
+                                          : fmt::format("`{}` is not an end keyword", s.close_text);
+  auto d = nome2016 ? c.diags().emit(DiagKind::EndOfLineStatement, s.close_kw,
+                                     fmt::format("{}; `{}` ends at the end of its line, as in NOME 2016", what, s.keyword))
+                    : c.diags().emit(is_end_keyword ? DiagKind::MismatchedEndKeyword : DiagKind::MissingEndKeyword,
+                                     s.close_kw, fmt::format("{}; expected `{}`", what, expected));
+  d.note(s.open_kw, fmt::format("`{}` opened here", s.keyword));
+  d.fixit(s.close_kw, expected, fmt::format("replace with `{}`", expected));
+}
+
 }  // namespace
 
 void process(Context& c, const ast::Ast& a, int order_base) {
@@ -109,6 +136,7 @@ void process(Context& c, const ast::Ast& a, int order_base) {
 }
 
 ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
+  if (s.close_repair != ast::CloseRepair::None) report_line_end(c, s);
   switch (s.kind) {
     case BlockKind::Bank:
     case BlockKind::Savedparameter:

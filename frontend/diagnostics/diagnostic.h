@@ -78,6 +78,9 @@ class DiagnosticEngine {
   int warning_count() const;
   /// Moves every diagnostic of `other` into this engine.
   void append(DiagnosticEngine&& other);
+  /// Moves every diagnostic of `other` into this engine, both in position order (by start
+  /// offset; this engine's first on ties), keeping that order.
+  void merge_in_order(DiagnosticEngine&& other);
 
  private:
   std::vector<Diagnostic> diags_;

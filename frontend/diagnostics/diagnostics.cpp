@@ -8,6 +8,17 @@
 
 namespace nomec {
 
+void DiagnosticEngine::merge_in_order(DiagnosticEngine&& other) {
+  std::vector<Diagnostic> merged;
+  merged.reserve(diags_.size() + other.diags_.size());
+  std::merge(std::make_move_iterator(diags_.begin()), std::make_move_iterator(diags_.end()),
+             std::make_move_iterator(other.diags_.begin()), std::make_move_iterator(other.diags_.end()),
+             std::back_inserter(merged),
+             [](const Diagnostic& a, const Diagnostic& b) { return a.range.begin < b.range.begin; });
+  diags_ = std::move(merged);
+  other.diags_.clear();
+}
+
 namespace {
 struct KindInfo {
   std::string_view name;

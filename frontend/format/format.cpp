@@ -213,6 +213,18 @@ Parsed parse_text(std::string_view text) {
       break;
     }
   }
+  // A statement the parser ended at the end of its line (NOME 2016 leniency) depends on
+  // where the line breaks are, which is what a formatter changes: ask for its end keyword.
+  if (p.error.empty()) {
+    for (const ast::Stmt& s : p.tree.stmts) {
+      if (s.close_repair != ast::CloseRepair::Inserted) continue;
+      LineCol lc = sources.line_col(file, s.open_kw.begin);
+      p.error = fmt::format("{}:{}: `{}` has no `{}` and ends at the end of its line; add the end keyword "
+                            "(`nomec --check` offers it as a fix-it) before formatting",
+                            lc.line, lc.column, s.keyword, ast::end_keyword(s.keyword));
+      break;
+    }
+  }
   return p;
 }
 

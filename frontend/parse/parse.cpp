@@ -14,6 +14,7 @@
 #include <optional>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "ir/generator_catalogue.h"
 
@@ -578,12 +579,24 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
       }
       continue;
     }
+    if (type == NomeLexer::NBSP) {
+      const SourceRange r = range(*tok);
+      diags
+          .emit(DiagKind::NonBreakingSpace, r,
+                "a no-break space (U+00A0) here is read as a space; it is invisible in most editors and other "
+                "tools may read it as part of a name or number")
+          .fixit(r, std::string((r.end - r.begin) / 2, ' '), "replace with a plain space");
+      out.push_back(std::move(tok));
+      continue;
+    }
     if ((type == NomeLexer::PLUS || type == NomeLexer::MINUS) &&
         tok->getChannel() == antlr4::Token::DEFAULT_CHANNEL) {
+      // U+00A0 is C2 A0 in UTF-8 and separates like a space.
+      auto nbsp_at = [&](size_t i) { return i + 1 < text.size() && text[i] == '\xC2' && text[i + 1] == '\xA0'; };
       bool before = start == 0 || std::isspace(static_cast<unsigned char>(text[start - 1])) ||
-                    text[start - 1] == '(';
+                    text[start - 1] == '(' || (start >= 2 && nbsp_at(start - 2));
       bool after = start + 1 < text.size() &&
-                   !std::isspace(static_cast<unsigned char>(text[start + 1]));  // ASCII sign
+                   !std::isspace(static_cast<unsigned char>(text[start + 1])) && !nbsp_at(start + 1);  // ASCII sign
       if (before && after) {
         auto* common = dynamic_cast<antlr4::CommonToken*>(tok.get());
         if (common != nullptr) {
@@ -594,6 +607,291 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     out.push_back(std::move(tok));
   }
   return out;
+}
+
+// A zero-width token of `type` at code point `at` (a repair the parser reads as written).
+std::unique_ptr<antlr4::Token> conjured_token(size_t type, const antlr4::Token& near, size_t at) {
+  // With the lexer and input as its source, like every other token: ANTLR's recovery copies
+  // them into the tokens it conjures.
+  auto t = std::make_unique<antlr4::CommonToken>(
+      std::pair<antlr4::TokenSource*, antlr4::CharStream*>{near.getTokenSource(), near.getInputStream()}, type,
+      antlr4::Token::DEFAULT_CHANNEL, at, at - 1);
+  t->setLine(near.getLine());
+  t->setCharPositionInLine(near.getCharPositionInLine());
+  return t;
+}
+
+// `point p 0 0 0) endpoint`: a `)` that closes nothing, after a run of values (or of names
+// after a statement's own name) on its line, is missing its `(`. One error with the fix-it,
+// and a `(` is put before the run so the statement is read as meant.
+void insert_missing_open_parens(std::vector<std::unique_ptr<antlr4::Token>>& tokens, const Offsets& offsets,
+                                FileId file, DiagnosticEngine& diags) {
+  auto real = [&](size_t i) {
+    return tokens[i]->getChannel() == antlr4::Token::DEFAULT_CHANNEL && tokens[i]->getType() != antlr4::Token::EOF;
+  };
+  auto is_value = [](size_t t) {
+    switch (t) {
+      case NomeParser::NUMBER: case NomeParser::DOLLAR_REF: case NomeParser::TCL_ARRAY_REF:
+      case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
+      case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
+      case NomeParser::CARET: return true;
+      default: return false;
+    }
+  };
+  std::vector<std::pair<size_t, size_t>> inserts;  // (position in `tokens` to insert before, code point)
+  int depth = 0;
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    if (!real(i)) continue;
+    const size_t type = tokens[i]->getType();
+    if (type == NomeParser::LPAREN) ++depth;
+    if (type != NomeParser::RPAREN) continue;
+    if (depth > 0) {
+      --depth;
+      continue;
+    }
+    // Walk back over the values on the `)`'s line (a `{…}` group counts as one value).
+    const size_t line = tokens[i]->getLine();
+    size_t first = i;
+    int braces = 0;
+    for (size_t k = i; k-- > 0;) {
+      if (!real(k)) continue;
+      const antlr4::Token& t = *tokens[k];
+      if (t.getLine() != line && braces == 0) break;
+      if (t.getType() == NomeParser::RBRACE) ++braces;
+      else if (t.getType() == NomeParser::LBRACE && braces > 0) --braces;
+      else if (braces == 0 && !is_value(t.getType())) break;
+      if (braces == 0) first = k;
+    }
+    if (first == i) {
+      // Names: `face f a b c)`; the run starts after the statement's keyword and name.
+      size_t names = i, keyword = i;
+      for (size_t k = i; k-- > 0;) {
+        if (!real(k)) continue;
+        const antlr4::Token& t = *tokens[k];
+        if (t.getLine() != line) break;
+        if (keyword_table().open.contains(t.getType())) {
+          keyword = k;
+          break;
+        }
+        if (t.getType() != NomeParser::IDENT) break;
+        names = k;
+      }
+      if (keyword == i) continue;
+      size_t after_name = keyword + 1;
+      while (after_name < i && !real(after_name)) ++after_name;
+      ++after_name;  // past the statement's own name
+      while (after_name < i && !real(after_name)) ++after_name;
+      if (after_name >= i || names > after_name) continue;
+      first = after_name;
+    }
+    const size_t at = tokens[first]->getStartIndex();
+    const uint32_t byte = offsets.byte_of(at);
+    const uint32_t close_at = offsets.byte_of(tokens[i]->getStartIndex());
+    diags
+        .emit(DiagKind::SyntaxError, SourceRange{file, close_at, close_at + 1},
+              fmt::format("`)` closes nothing here: the list it ends is missing its `(`"))
+        .note(SourceRange{file, byte, byte}, "the list would start here")
+        .fixit(SourceRange{file, byte, byte}, "(", "insert `(`");
+    inserts.emplace_back(first, at);
+  }
+  if (inserts.empty()) return;
+  std::vector<std::unique_ptr<antlr4::Token>> out;
+  out.reserve(tokens.size() + inserts.size());
+  size_t next = 0;
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    while (next < inserts.size() && inserts[next].first == i) {
+      out.push_back(conjured_token(NomeParser::LPAREN, *tokens[i], inserts[next].second));
+      ++next;
+    }
+    out.push_back(std::move(tokens[i]));
+  }
+  tokens = std::move(out);
+}
+
+// NOME 2016 read `point`, `face`, `polyline`, `instance`, `funnel` and `tunnel` statements a
+// line at a time: the statement ended at its end keyword or at the end of its line, and a
+// wrong or misspelt end keyword there went unnoticed (compat.md §B2). So that such a file
+// parses as its author saw it, a statement of these kinds that is not closed on its first
+// line gets its end at the end of that line, in every dialect: a wrong end keyword
+// or a misspelt one (`endinstnace`) that ends the line is taken as its end, and where none
+// is there and the statement does not go on to its end keyword on later lines (the next
+// line starts another statement, or ends an enclosing one), an end is inserted. The parser
+// then reads the rest of the file as it is; the checker warns in `nome` files and reports
+// an error in the others (ast::CloseRepair says which repair was made).
+struct LineEndRepairs {
+  // By the start (code point) of the end token: those inserted (zero width) and those retyped.
+  std::unordered_set<size_t> inserted, replaced;
+};
+
+bool is_open_type(size_t type) { return keyword_table().open.contains(type); }
+
+// The end token type of a single-line statement opened by `type` (with its text `word`),
+// or 0 when the statement is not one of them.
+size_t line_statement_end(size_t type, std::string_view word) {
+  switch (type) {
+    case NomeParser::K_POINT: return NomeParser::E_POINT;
+    case NomeParser::K_FACE: return NomeParser::E_FACE;
+    case NomeParser::K_POLYLINE: return NomeParser::E_POLYLINE;
+    case NomeParser::K_INSTANCE: return NomeParser::E_INSTANCE;
+    case NomeParser::K_GEN: return word == "funnel" || word == "tunnel" ? NomeParser::E_GEN : 0;
+    default: return 0;
+  }
+}
+
+// A block the statement may contain on later lines (`instance … lookat … endlookat …`).
+bool nests_in(size_t open, size_t inner) {
+  return (open == NomeParser::K_INSTANCE && inner == NomeParser::K_LOOKAT) ||
+         (open == NomeParser::K_FACE && inner == NomeParser::K_VERTEX);
+}
+
+// A keyword that is also an option word of these statements (`surface RED`, the 2016
+// instance transform `mirror (…)`), so a line it starts may continue the statement.
+bool is_option_keyword(size_t type) { return type == NomeParser::K_SURFACE || type == NomeParser::K_MIRROR; }
+
+void end_line_statements(std::vector<std::unique_ptr<antlr4::Token>>& tokens, std::string_view text,
+                         const Offsets& offsets, LineEndRepairs& repairs) {
+  // The default-channel tokens, by position in `tokens`.
+  std::vector<size_t> real;
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    if (tokens[i]->getChannel() == antlr4::Token::DEFAULT_CHANNEL && tokens[i]->getType() != antlr4::Token::EOF) {
+      real.push_back(i);
+    }
+  }
+  auto tok = [&](size_t r) -> antlr4::Token& { return *tokens[real[r]]; };
+  auto word = [&](size_t r) {
+    const size_t b = offsets.local_of(tok(r).getStartIndex()), e = offsets.local_of(tok(r).getStopIndex() + 1);
+    return text.substr(b, e - b);
+  };
+  auto line = [&](size_t r) { return tok(r).getLine(); };
+  auto first_on_line = [&](size_t r) { return r == 0 || line(r - 1) != line(r); };
+  struct Insert {
+    size_t after;  // position in `tokens` of the token the end follows
+    size_t type;
+  };
+  std::vector<Insert> inserts;
+  // Where a statement may start, judged from the tokens before it, never from line breaks
+  // (the formatter moves statements onto lines of their own and must not change how they
+  // are read): at the start of the text, after an end keyword (or an end inserted here),
+  // after a `tclinit` block or an `include "…"`, or first in the body of a block that holds
+  // statements (`group g instance …`, `mesh m face …`).
+  std::unordered_set<size_t> ended;  // real positions an end was inserted after
+  auto holds_statements = [](size_t t) {
+    switch (t) {
+      case NomeParser::K_MESH: case NomeParser::K_GROUP: case NomeParser::K_DELETE: case NomeParser::K_CONSOLIDATE:
+      case NomeParser::K_CONSOLIDATEFACE: case NomeParser::K_SAVEDWORKINGMESH: case NomeParser::K_MERGE:
+      case NomeParser::K_SUBDIVISION: case NomeParser::K_OFFSET: case NomeParser::K_HANDLE: case NomeParser::K_RIND:
+      case NomeParser::K_SIERPINSKI: case NomeParser::K_MENGER: case NomeParser::K_MIRROR: case NomeParser::K_SWEEP:
+        return true;
+      default: return false;
+    }
+  };
+  auto may_start = [&](size_t r) {
+    if (r == 0) return true;
+    const size_t prev = tok(r - 1).getType();
+    if (is_end_token(prev) || ended.contains(r - 1) || prev == NomeParser::TCLINIT || prev == NomeParser::STRING ||
+        holds_statements(prev)) {
+      return true;
+    }
+    return r >= 2 && holds_statements(tok(r - 2).getType()) &&
+           (prev == NomeParser::IDENT || is_open_type(prev) || prev == NomeParser::K_GEN);
+  };
+  int depth = 0;  // of `(` and `{`
+  for (size_t r = 0; r < real.size(); ++r) {
+    const size_t type = tok(r).getType();
+    const bool at_start = depth == 0 && may_start(r);
+    if (type == NomeParser::LPAREN || type == NomeParser::LBRACE) ++depth;
+    if ((type == NomeParser::RPAREN || type == NomeParser::RBRACE) && depth > 0) --depth;
+    const size_t end_type = at_start ? line_statement_end(type, word(r)) : 0;
+    if (end_type == 0) continue;
+    // The rest of its line, at its own bracket depth.
+    size_t last = r;
+    bool closed = false;
+    int d = 0;
+    size_t foreign = 0;  // a token on the line that ends an enclosing statement
+    for (size_t k = r + 1; k < real.size() && line(k) == line(r); ++k) {
+      const size_t t = tok(k).getType();
+      last = k;
+      if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++d;
+      if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && d > 0) --d;
+      if (d != 0 || foreign != 0 || closed) continue;
+      if (t == end_type) {
+        closed = true;
+        // `funnel … endtunnel`: one token type closes every generator; the checker decides.
+        const std::optional<ir::GenKind> gen = ir::generator_by_keyword(word(r));
+        if (t == NomeParser::E_GEN && gen && !ir::generator(*gen).closes_with(word(r), word(k))) {
+          repairs.replaced.insert(tok(k).getStartIndex());
+        }
+      } else if (is_end_token(t)) {
+        foreign = k;
+      }
+    }
+    // Closed on its line, or a bracket left open there (another error, reported as such).
+    if (closed || d != 0) continue;
+    const std::string expected = ast::end_keyword(word(r));
+    if (foreign != 0) {
+      // A wrong end keyword of this family that ends the line is this statement's end; any
+      // other (`endmesh`) closes an enclosing block, and this statement ends before it.
+      const std::string_view w = word(foreign);
+      const bool family = w == "endpoint" || w == "endface" || w == "endpolyline" || w == "endinstance" ||
+                          tok(foreign).getType() == NomeParser::E_GEN;
+      if (family && foreign == last) {
+        static_cast<antlr4::CommonToken&>(tok(foreign)).setType(end_type);
+        repairs.replaced.insert(tok(foreign).getStartIndex());
+      } else {
+        inserts.push_back({real[foreign - 1], end_type});
+        ended.insert(foreign - 1);
+      }
+      continue;
+    }
+    if (last != r && tok(last).getType() == NomeParser::IDENT && word(last).starts_with("end") &&
+        !closest_match(word(last), std::vector<std::string>{expected}).empty()) {
+      static_cast<antlr4::CommonToken&>(tok(last)).setType(end_type);  // `endinstnace`
+      repairs.replaced.insert(tok(last).getStartIndex());
+      continue;
+    }
+    // Not closed on its line: does it go on to its end keyword before the next statement?
+    bool continues = false;
+    for (size_t k = last + 1, dd = 0, inner = 0; k < real.size(); ++k) {
+      const size_t t = tok(k).getType();
+      if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++dd;
+      if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && dd > 0) --dd;
+      if (dd != 0) continue;
+      if (t == end_type && inner == 0) {
+        continues = true;
+        break;
+      }
+      if (nests_in(type, t)) {  // `face` … `vertex v endvertex` …
+        ++inner;
+        continue;
+      }
+      if (is_end_token(t)) {
+        if (inner == 0) break;
+        --inner;
+        continue;
+      }
+      if (first_on_line(k) && (is_open_type(t) || t == NomeParser::K_GEN) && !is_option_keyword(t)) break;
+    }
+    if (!continues) {
+      inserts.push_back({real[last], end_type});
+      ended.insert(last);
+    }
+  }
+  if (inserts.empty()) return;
+  std::vector<std::unique_ptr<antlr4::Token>> out;
+  out.reserve(tokens.size() + inserts.size());
+  size_t next = 0;
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    out.push_back(std::move(tokens[i]));
+    while (next < inserts.size() && inserts[next].after == i) {
+      const antlr4::Token& before = *out.back();
+      // A zero-width token right after the last token of the line.
+      const size_t at = before.getStopIndex() + 1;
+      repairs.inserted.insert(at);
+      out.push_back(conjured_token(inserts[next].type, before, at));
+      ++next;
+    }
+  }
+  tokens = std::move(out);
 }
 
 // One child of a parse-tree node: a rule context or a token (an error node is a token the
@@ -771,9 +1069,19 @@ class AstBuilder {
         }
         antlr4::Token* t = c.terminal->getSymbol();
         if (is_end_token(t->getType()) && t->getTokenIndex() != static_cast<size_t>(-1) &&
-            t->getStartIndex() != static_cast<size_t>(-1) && t->getStopIndex() >= t->getStartIndex()) {
-          stmt.close_kw = token_range(t);
-          stmt.close_text = view(stmt.close_kw);
+            t->getStartIndex() != static_cast<size_t>(-1)) {
+          const size_t start = t->getStartIndex();
+          if (t->getStopIndex() + 1 == start) {  // zero width: inserted, or conjured by recovery
+            if (repairs_ != nullptr && repairs_->inserted.contains(start)) {
+              const uint32_t at = offsets_.byte_of(start);
+              stmt.close_kw = SourceRange{file_, at, at};
+              stmt.close_repair = ast::CloseRepair::Inserted;
+            }
+          } else if (t->getStopIndex() >= start) {
+            stmt.close_kw = token_range(t);
+            stmt.close_text = view(stmt.close_kw);
+            if (repairs_ != nullptr && repairs_->replaced.contains(start)) stmt.close_repair = ast::CloseRepair::Replaced;
+          }
         }
         continue;
       }
@@ -804,6 +1112,7 @@ class AstBuilder {
   // lists as another spelling (2016's `tunnel … endfunnel`).
   void check_generator_end(const ast::Stmt& stmt) {
     if (diags_ == nullptr || !stmt.close_kw.is_valid() || stmt.close_text == ast::end_keyword(stmt.keyword)) return;
+    if (stmt.close_repair != ast::CloseRepair::None) return;  // the checker explains it, by dialect
     const std::optional<ir::GenKind> gen = ir::generator_by_keyword(stmt.keyword);
     if (gen && ir::generator(*gen).closes_with(stmt.keyword, stmt.close_text)) return;
     const std::string close = ast::end_keyword(stmt.keyword);
@@ -1028,7 +1337,11 @@ class AstBuilder {
       case NomeParser::BRACKET_RAW:
       case NomeParser::PCT_RAW: return token_expr(ast::ExprKind::Raw, first.terminal->getSymbol());
       case NomeParser::STRING: return token_expr(ast::ExprKind::String, first.terminal->getSymbol());
-      case NomeParser::LPAREN: return convert_expr(rule_child(ctx, NomeParser::RuleExpr));  // `( expr )`
+      case NomeParser::LPAREN: {  // `( expr )`
+        ast::ExprId inner = convert_expr(rule_child(ctx, NomeParser::RuleExpr));
+        ast_.exprs[inner.index].parenthesized = true;
+        return inner;
+      }
       default: break;
     }
     if (first.rule_index() == NomeParser::RuleBraceExpr) return convert_brace(first.rule);
@@ -1057,6 +1370,9 @@ class AstBuilder {
   ast::Ast& ast_;
   std::vector<int32_t>* unanchored_;  // ids of error expressions placed at offset 0
   DiagnosticEngine* diags_;           // syntax errors the grammar leaves to the builder
+
+ public:
+  const LineEndRepairs* repairs_ = nullptr;  // ends found for single-line statements
 };
 
 }  // namespace
@@ -1080,15 +1396,26 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   input.lexer_ = nullptr;
   // Only the trailing whitespace may have looked at the end of the text (see DecodedInput).
   bool lexer_contained = raw.empty() ? input.eof_touch_start_ == static_cast<size_t>(-1)
-                                     : raw.back()->getType() == NomeLexer::WS &&
+                                     : (raw.back()->getType() == NomeLexer::WS || raw.back()->getType() == NomeLexer::NBSP) &&
                                            input.eof_touch_start_ >= raw.back()->getStartIndex();
   // getAllTokens() stops before EOF; add it so the parser sees a proper end.
   raw.push_back(lexer.getTokenFactory()->create(
       {&lexer, &input}, antlr4::Token::EOF, "<EOF>", antlr4::Token::DEFAULT_CHANNEL,
       input.size(), input.size() - 1, 0, 0));
   bool stopped = false;
+  DiagnosticEngine token_diags;
   std::vector<std::unique_ptr<antlr4::Token>> tokens =
-      prepare_tokens(std::move(raw), text, offsets, file, sinks.tokens, stopped);
+      prepare_tokens(std::move(raw), text, offsets, file, token_diags, stopped);
+  // Repairs only where the whole text was read (a limit may have cut it short). Their
+  // diagnostics join the token pass's in position order, as a piece of the file reports them.
+  LineEndRepairs repairs;
+  if (!stopped) {
+    DiagnosticEngine repair_diags;
+    insert_missing_open_parens(tokens, offsets, file, repair_diags);
+    token_diags.merge_in_order(std::move(repair_diags));
+    end_line_statements(tokens, text, offsets, repairs);
+  }
+  sinks.tokens.append(std::move(token_diags));
   antlr4::Token* last_real = nullptr;
   size_t first_type = antlr4::Token::EOF;
   for (const auto& t : tokens) {
@@ -1145,6 +1472,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   if (tree != nullptr) {
     AstBuilder builder(file, text, offsets, result,
                        info != nullptr ? &info->unanchored_exprs : nullptr, &sinks.syntax);
+    builder.repairs_ = &repairs;
     builder.build_file(tree);
   }
   return result;
@@ -1254,6 +1582,7 @@ std::vector<LexToken> lex_file(std::string_view text) {
   // An unclosed string, `[` or `%{` is one token to the end of its line or of the text;
   // the lexer's tokens inside it are skipped.
   size_t skip_to = 0;
+  int brace_depth = 0;
   auto forgive = [&](LexKind kind, size_t begin, size_t end) {
     push(kind, begin, end);
     skip_to = end;
@@ -1283,6 +1612,7 @@ std::vector<LexToken> lex_file(std::string_view text) {
           i = stop - 1;
         }
         continue;
+      case NomeLexer::NBSP: continue;  // whitespace (the checker warns)
       case NomeLexer::LINE_COMMENT: push(LexKind::LineComment, begin, end); continue;
       // Not blanked when it follows a `#` comment ended by a lone `\r`; ANTLR lexes it whole.
       case NomeLexer::BLOCK_COMMENT: push(LexKind::BlockComment, begin, end); continue;
@@ -1295,8 +1625,14 @@ std::vector<LexToken> lex_file(std::string_view text) {
       case NomeLexer::PCT_RAW: push(LexKind::Raw, begin, end); continue;
       case NomeLexer::LPAREN: push(LexKind::LParen, begin, end); continue;
       case NomeLexer::RPAREN: push(LexKind::RParen, begin, end); continue;
-      case NomeLexer::LBRACE: push(LexKind::LBrace, begin, end); continue;
-      case NomeLexer::RBRACE: push(LexKind::RBrace, begin, end); continue;
+      case NomeLexer::LBRACE:
+        ++brace_depth;
+        push(LexKind::LBrace, begin, end);
+        continue;
+      case NomeLexer::RBRACE:
+        if (brace_depth > 0) --brace_depth;
+        push(LexKind::RBrace, begin, end);
+        continue;
       case NomeLexer::COMMA: push(LexKind::Comma, begin, end); continue;
       case NomeLexer::PLUS:
       case NomeLexer::MINUS:
@@ -1309,8 +1645,10 @@ std::vector<LexToken> lex_file(std::string_view text) {
           size_t e = begin + 1;
           while (e < original.size() && original[e] != '\n' && original[e] != '\r') ++e;
           forgive(LexKind::String, begin, e);
-        } else if (original[begin] == '[') {
-          forgive(LexKind::Raw, begin, original.size());  // a balanced `[ … ]` would be BRACKET_RAW
+        } else if (original[begin] == '[' && brace_depth == 0) {
+          // A balanced `[ … ]` would be BRACKET_RAW. Inside braces (Tcl text) the parser reads
+          // a lone `[` as one character, and so does this lexer (the formatter relies on it).
+          forgive(LexKind::Raw, begin, original.size());
         } else {
           push(LexKind::Other, begin, end);
         }

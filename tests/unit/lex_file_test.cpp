@@ -56,6 +56,13 @@ TEST(LexFile, ForgivesWhatAnEditorBufferHolds) {
   EXPECT_EQ(tokens("include \"v.slf\nq"), (V{"W:include", "S:\"v.slf", "W:q"}));
   EXPECT_EQ(tokens("a %{ raw"), (V{"W:a", "R:%{ raw"}));
   EXPECT_EQ(tokens("a % b"), (V{"W:a", "O:%", "W:b"}));
+  // Inside braces (Tcl text) a lone `[` is one character, as the parser reads it, not the
+  // start of a function that runs to the end of the text.
+  EXPECT_EQ(tokens("({si[1} 0)"), (V{"(:(", "{:{", "W:si", "?:[", "N:1", "}:}", "N:0", "):)"}));
+}
+
+TEST(LexFile, NoBreakSpaceSeparatesLikeASpace) {
+  EXPECT_EQ(tokens("(1\xc2\xa0-2)"), (V{"(:(", "N:1", "O:-", "N:2", "):)"}));
 }
 
 }  // namespace
