@@ -70,10 +70,20 @@ TEST(Check, DialectDecidesFunnelArgumentOrder) {
   auto nome = check("f.nome", text);
   EXPECT_EQ(nome->result.dialect, Dialect::Nome);
   EXPECT_DOUBLE_EQ(field_value(*nome, "f", "n", 0), 8);
-  auto nome3 = check("f.nom", text);
+  // All generations saved `.nom`: only the 2016 order makes these numbers a funnel.
+  auto by_content = check("f.nom", text);
+  EXPECT_EQ(by_content->result.dialect, Dialect::Nome);
+  EXPECT_DOUBLE_EQ(field_value(*by_content, "f", "n", 0), 8);
+  auto nome3 = check("f.nom", "bank b list (x) set x 1 0 2 1 endbank\nfunnel f (0.5 0.2 1 8) endfunnel\n");
   EXPECT_EQ(nome3->result.dialect, Dialect::Nome3);
-  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "n", 0), 1);
-  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "radius", 0), 8);
+  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "n", 0), 8);
+  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "radius", 0), 0.5);
+  EXPECT_FALSE(has(*nome3, DiagKind::ArgumentOrder));
+  // The same funnel in the 2016 order, in a NOME3 file: read in that order, with a warning.
+  auto swapped = check("f.nom", "bank b list (x) set x 1 0 2 1 endbank\n" + text);
+  EXPECT_EQ(swapped->result.dialect, Dialect::Nome3);
+  EXPECT_TRUE(has(*swapped, DiagKind::ArgumentOrder));
+  EXPECT_DOUBLE_EQ(field_value(*swapped, "f", "n", 0), 8);
 }
 
 TEST(Check, OverridesAndTheirRange) {
