@@ -58,6 +58,31 @@ std::vector<std::optional<double>> list_values(Context& c, const ast::Ast& a, co
   return out;
 }
 
+// The text of each element of a list as written, with the braces of an `{expr …}` (an
+// expression's range holds only what is inside them).
+std::vector<std::string_view> element_texts(Context& c, const ast::Ast& a, const ast::ParenList& list) {
+  std::vector<std::string_view> out;
+  const std::string_view all = c.sources().text(list.range);  // `( … )`
+  const uint32_t base = list.range.begin;
+  for (ast::ExprId e : list.elems) {
+    const ast::Expr& x = a.expr(e);
+    size_t from = x.range.begin - base, to = x.range.end - base;
+    if (x.in_braces) {
+      // Back over `expr` and spaces to `{`, forward over spaces to `}`.
+      size_t f = from;
+      while (f > 0 && all[f - 1] != '{' && all[f - 1] != '(') --f;
+      size_t t = to;
+      while (t < all.size() && (all[t] == ' ' || all[t] == '\t')) ++t;
+      if (f > 0 && all[f - 1] == '{' && t < all.size() && all[t] == '}') {
+        from = f - 1;
+        to = t + 1;
+      }
+    }
+    out.push_back(all.substr(from, to - from));
+  }
+  return out;
+}
+
 // Does reading the list in order `sig` make every count argument a valid count (a whole
 // number ≥ 3)? nullopt when a count's value is not known now.
 std::optional<bool> counts_valid(const ir::GeneratorInfo& info, const ir::Signature& sig,
@@ -139,10 +164,11 @@ struct GenReader {
     const std::vector<std::optional<double>> values = list_values(c, a, list);
     if (counts_valid(info, sig, values) != false || counts_valid(info, *other, values) != true) return sig;
     // The same values in the dialect's order, from their source text.
+    const std::vector<std::string_view> written = element_texts(c, a, list);
     std::vector<std::string_view> texts;
     for (size_t i = 0; i < sig.args.size(); ++i) {
       for (size_t j = 0; j < other->args.size(); ++j) {
-        if (other->args[j] == sig.args[i]) texts.push_back(c.sources().text(a.expr(list.elems[j]).range));
+        if (other->args[j] == sig.args[i]) texts.push_back(written[j]);
       }
     }
     const std::string reordered = fmt::format("({})", fmt::join(texts, " "));
