@@ -501,11 +501,9 @@ void retype_block_instance_names(std::vector<std::unique_ptr<antlr4::Token>>& to
     const size_t after = next(name);
     if (after >= toks.size() || toks[name]->getType() != NomeLexer::IDENT) continue;
     const size_t t = toks[after]->getType();
-    const std::string word = t == NomeLexer::IDENT ? toks[after]->getText() : std::string();
-    const bool continues = t == NomeLexer::K_INSTANCE || t == NomeLexer::E_SUBDIVISION || t == NomeLexer::E_OFFSET ||
-                           t == NomeLexer::E_MERGE || word == "type" || word == "subdivisions" || word == "min" ||
-                           word == "max" || word == "step" || word == "epsilon";
-    if (!continues) continue;
+    const bool is_word = t == NomeLexer::IDENT || t == NomeLexer::K_INSTANCE || t == NomeLexer::E_SUBDIVISION ||
+                         t == NomeLexer::E_OFFSET || t == NomeLexer::E_MERGE;
+    if (!is_word || !continues_block_after_instance_name(toks[after]->getText())) continue;
     if (auto* common = dynamic_cast<antlr4::CommonToken*>(toks[i].get())) common->setType(NomeLexer::IDENT);
   }
 }
