@@ -66,6 +66,10 @@ std::vector<std::string_view> element_texts(Context& c, const ast::Ast& a, const
   const uint32_t base = list.range.begin;
   for (ast::ExprId e : list.elems) {
     const ast::Expr& x = a.expr(e);
+    if (x.range.file != list.range.file || x.range.begin < base || x.range.end > list.range.end) {
+      out.push_back(c.sources().text(x.range));
+      continue;
+    }
     size_t from = x.range.begin - base, to = x.range.end - base;
     if (x.in_braces) {
       // Back over `expr` and spaces to `{`, forward over spaces to `}`.
