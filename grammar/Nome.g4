@@ -45,7 +45,7 @@ block
   | zipperStmt | mergeStmt | subdivisionStmt | offsetStmt | handleStmt | rindStmt
   | sierpinskiStmt | mengerStmt | mirrorStmt | savedparameterStmt | consolidateStmt
   | consolidatefaceStmt | savedworkingmeshStmt | cameraStmt | lightStmt | windowStmt
-  | viewportStmt | renderStmt | generatorStmt
+  | viewportStmt | renderStmt | displayStmt | generatorStmt
   ;
 
 // Blocks whose body is only items.
@@ -68,6 +68,12 @@ lightStmt           : K_LIGHT item* E_LIGHT ;
 windowStmt          : K_WINDOW item* E_WINDOW ;
 viewportStmt        : K_VIEWPORT item* E_VIEWPORT ;
 renderStmt          : K_RENDER item* E_RENDER ;
+// NOME2 (2018) display colours.
+displayStmt
+  : K_FOREGROUND item* E_FOREGROUND | K_BACKGROUND item* E_BACKGROUND
+  | K_INSIDEFACES item* E_INSIDEFACES | K_OUTSIDEFACES item* E_OUTSIDEFACES
+  | K_OFFSETFACES item* E_OFFSETFACES
+  ;
 
 // Blocks with nested blocks.
 faceStmt            : K_FACE (vertexStmt | item)* E_FACE ;        // `.anom` faces list vertices
@@ -171,6 +177,7 @@ word
   | K_OFFSET | K_HANDLE | K_RIND | K_SIERPINSKI | K_MENGER | K_MIRROR | K_SAVEDPARAMETER
   | K_CONSOLIDATE | K_CONSOLIDATEFACE | K_SAVEDWORKINGMESH | K_CAMERA | K_LIGHT | K_WINDOW
   | K_VIEWPORT | K_RENDER | K_GEN
+  | K_FOREGROUND | K_BACKGROUND | K_INSIDEFACES | K_OUTSIDEFACES | K_OFFSETFACES
   ;
 
 // ---------------------------------------------------------------------------------------
@@ -229,6 +236,11 @@ K_LIGHT : 'light' ;                   E_LIGHT : 'endlight' ;
 K_WINDOW : 'window' ;                 E_WINDOW : 'endwindow' ;
 K_VIEWPORT : 'viewport' ;             E_VIEWPORT : 'endviewport' ;
 K_RENDER : 'render' ;                 E_RENDER : 'endrender' ;
+K_FOREGROUND : 'foreground' ;         E_FOREGROUND : 'endforeground' ;
+K_BACKGROUND : 'background' ;         E_BACKGROUND : 'endbackground' ;
+K_INSIDEFACES : 'insidefaces' ;       E_INSIDEFACES : 'endinsidefaces' ;
+K_OUTSIDEFACES : 'outsidefaces' ;     E_OUTSIDEFACES : 'endoutsidefaces' ;
+K_OFFSETFACES : 'offsetfaces' ;       E_OFFSETFACES : 'endoffsetfaces' ;
 
 NUMBER
   : DIGITS ('.' DIGITS?)? EXPONENT?

@@ -217,7 +217,8 @@ class NodeLines {
     for (const GenArgBinding& b : m_.refs(g.args)) {
       std::string_view name = b.value.is_valid() ? m_.operand(b.value).name : info.display_name(b.arg, m_.dialect);
       if (b.value.is_valid()) {
-        line(name, operand_text(m_, m_.operand(b.value)));
+        const std::string text = operand_text(m_, m_.operand(b.value));
+        line(name, b.is_truncated ? text + " (truncated)" : text);
       } else if (b.ref.is_valid()) {
         line(name, node_ref(m_, b.ref));
       } else if (!b.refs.empty()) {
@@ -298,6 +299,7 @@ std::string dump_ir(const Module& m, const SourceManager& sources) {
       const InstanceData& inst = n.as<InstanceData>();
       if (inst.target.is_valid()) out += " -> " + node_ref(m, inst.target);
       if (inst.is_hidden) out += " hidden";
+      if (inst.is_reversed) out += " reversed";
     }
     out += loc + "\n";
     lines.payload(NodeId(static_cast<int32_t>(i)), n);

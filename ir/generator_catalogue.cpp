@@ -73,8 +73,15 @@ Catalogue build() {
     GenKind kind;
     DialectSet dialects;
     std::string_view args, optional;
+    bool is_order = false;
+    std::string_view era;
   };
   std::vector<Pending> signatures;
+  struct PendingDigits {
+    GenKind kind;
+    std::string_view prefix, arg;
+  };
+  std::vector<PendingDigits> digit_keywords;
   struct PendingOption {
     GenKind kind;
     DialectSet dialects;
@@ -101,6 +108,9 @@ Catalogue build() {
   info(GenKind::Kind).args.push_back(ArgInfo{#Name, ArgType::Type, split_words(Aliases), Doc});
 #define NOMEC_GEN_POSITIONAL(Kind, Dialects, Args, Optional) \
   signatures.push_back(Pending{GenKind::Kind, static_cast<DialectSet>(Dialects), Args, Optional});
+#define NOMEC_GEN_ORDER(Kind, Dialects, Args, Era) \
+  signatures.push_back(Pending{GenKind::Kind, static_cast<DialectSet>(Dialects), Args, "", true, Era});
+#define NOMEC_GEN_DIGIT_KEYWORD(Kind, Prefix, Arg) digit_keywords.push_back(PendingDigits{GenKind::Kind, Prefix, #Arg});
 #define NOMEC_GEN_OPTION(Kind, Dialects, Word, Arg) \
   options.push_back(PendingOption{GenKind::Kind, static_cast<DialectSet>(Dialects), Word, #Arg});
 #define NOMEC_GEN_VARIABLES(Kind, Names) info(GenKind::Kind).variables = split_words(Names);
@@ -122,12 +132,33 @@ Catalogue build() {
     }
     s.is_point_list = s.args.size() == 1 && s.optional.empty() && s.args[0] != kNoArg &&
                       g.args[s.args[0]].type == ArgType::Points;
-    for (const Signature& other : g.positional) {
+    s.era = p.era;
+    std::vector<Signature>& list = p.is_order ? g.orders : g.positional;
+    for (const Signature& other : list) {
       if ((other.dialects & s.dialects) != 0) {
-        c.problems.push_back(std::string(g.keyword) + ": two positional lists for one dialect");
+        c.problems.push_back(std::string(g.keyword) + ": two positional lists (or other orders) for one dialect");
       }
     }
-    g.positional.push_back(std::move(s));
+    if (p.is_order) {
+      // Another order holds the same arguments as the dialect's list, rearranged.
+      const Signature* base = nullptr;
+      for (const Signature& b : g.positional) {
+        if ((b.dialects & s.dialects) == s.dialects) base = &b;
+      }
+      std::vector<ArgIndex> want = base != nullptr ? base->args : std::vector<ArgIndex>{};
+      std::vector<ArgIndex> got = s.args;
+      std::sort(want.begin(), want.end());
+      std::sort(got.begin(), got.end());
+      if (base == nullptr || want != got) {
+        c.problems.push_back(std::string(g.keyword) + ": another order that is no rearrangement of a positional list");
+      }
+    }
+    list.push_back(std::move(s));
+  }
+  for (const PendingDigits& d : digit_keywords) {
+    GeneratorInfo& g = info(d.kind);
+    g.digit_prefix = d.prefix;
+    g.digit_arg = resolve(g, d.arg, "a digit keyword");
   }
   for (const PendingOption& o : options) {
     GeneratorInfo& g = info(o.kind);
@@ -168,8 +199,22 @@ std::optional<GenKind> generator_by_keyword(std::string_view keyword) {
     for (std::string_view k : g.keywords) {
       if (k == keyword) return g.kind;
     }
+    if (g.keyword_digits(keyword)) return g.kind;
   }
   return std::nullopt;
+}
+
+std::optional<int> GeneratorInfo::keyword_digits(std::string_view keyword) const {
+  if (digit_prefix.empty() || !keyword.starts_with(digit_prefix)) return std::nullopt;
+  const std::string_view digits = keyword.substr(digit_prefix.size());
+  // One or two digits: an order of 1 … 99 (B-spline orders beyond that mean nothing).
+  if (digits.empty() || digits.size() > 2) return std::nullopt;
+  int v = 0;
+  for (char ch : digits) {
+    if (ch < '0' || ch > '9') return std::nullopt;
+    v = v * 10 + (ch - '0');
+  }
+  return v;
 }
 
 std::optional<GenKind> generator_by_end_keyword(std::string_view keyword) {
@@ -180,7 +225,14 @@ std::optional<GenKind> generator_by_end_keyword(std::string_view keyword) {
 bool GeneratorInfo::closes_with(std::string_view open, std::string_view end) const {
   if (std::find(other_ends.begin(), other_ends.end(), end) != other_ends.end()) return true;
   return end.starts_with("end") && end.substr(3) == open &&
-         std::find(keywords.begin(), keywords.end(), open) != keywords.end();
+         (std::find(keywords.begin(), keywords.end(), open) != keywords.end() || keyword_digits(open));
+}
+
+const Signature* GeneratorInfo::other_order(Dialect dialect) const {
+  for (const Signature& s : orders) {
+    if ((s.dialects & dialect_bit(dialect)) != 0) return &s;
+  }
+  return nullptr;
 }
 
 const Signature* GeneratorInfo::signature(Dialect dialect) const {

@@ -70,6 +70,9 @@ struct Signature {
   std::vector<std::string_view> names;      // how the dialect writes `args`, then `optional`
   /// True when the list is a list of point names (a curve's control points).
   bool is_point_list = false;
+  /// For another order (NOMEC_GEN_ORDER): the era whose files are read in it first
+  /// (`JIPCAD`), or empty.
+  std::string_view era;
 };
 
 /// A named option, e.g. `funcX [ … ]` or `slices 12`.
@@ -100,6 +103,13 @@ struct GeneratorInfo {
   std::string_view summary;
   std::vector<ArgInfo> args;
   std::vector<Signature> positional;
+  /// Other orders of the positional arguments that files of older or newer eras use (the
+  /// ring generators' argument-order eras, compat.md A4).
+  std::vector<Signature> orders;
+  /// `digit_prefix` + digits is also a keyword of this generator, the digits setting
+  /// `digit_arg` (NOME2's `bspline3`); empty when not.
+  std::string_view digit_prefix;
+  ArgIndex digit_arg = kNoArg;
   std::vector<OptionInfo> options;
   std::vector<std::string_view> variables;   // of the Function arguments, e.g. `u v`
   std::vector<RingInfo> rings;
@@ -113,6 +123,10 @@ struct GeneratorInfo {
   /// The positional list in `dialect`, or null when the generator takes none there (SLIDE's
   /// `cylinder`, `rimribbon`).
   const Signature* signature(Dialect dialect) const;
+  /// The other order of the positional arguments in `dialect`, or null.
+  const Signature* other_order(Dialect dialect) const;
+  /// The number a digit keyword carries (`bspline3` → 3), or nullopt for other keywords.
+  std::optional<int> keyword_digits(std::string_view keyword) const;
   /// The argument set by option `word` in `dialect`.
   std::optional<ArgIndex> option(Dialect dialect, std::string_view word) const;
   /// The argument with this canonical name or alias.
@@ -126,7 +140,7 @@ struct GeneratorInfo {
 
 const GeneratorInfo& generator(GenKind kind);
 std::span<const GeneratorInfo> generators();
-/// The generator a keyword opens (`funnel`, `bsplinecurve` …).
+/// The generator a keyword opens (`funnel`, `bsplinecurve`, `bspline3` …).
 std::optional<GenKind> generator_by_keyword(std::string_view keyword);
 /// The generator an end keyword closes (`endfunnel`, `endbsplinecurve` …).
 std::optional<GenKind> generator_by_end_keyword(std::string_view keyword);

@@ -67,6 +67,9 @@ struct GenArgBinding {
   NodeId ref;
   Slice<NodeId> refs;
   bool is_flag = false;  // a Flag argument given as a bare word
+  /// A count written as a number in a NOME 2016 / NOME2 file: the original read it with
+  /// `stoi`, which truncates (`6.6` is 6), where an `{expr …}` count is rounded.
+  bool is_truncated = false;
   SourceRange range;
 };
 
@@ -165,8 +168,9 @@ struct InstanceData {
   Slice<TransformOp> transforms;  // in written order; the first written acts first
   NodeId surface;
   bool is_hidden = false;
+  bool is_reversed = false;  // NOME2's `reverse`: every face of the target turned around
 };
-/// `merge m [tolerance E] … endmerge`.
+/// `merge m [tolerance E] … endmerge`; NOME2's `merge epsilon E endmerge` (the whole scene).
 struct MergeData {
   OperandId tolerance;
 };
@@ -230,7 +234,7 @@ struct ZipperData {
   int32_t border_count = 0;  // as written (the checker reports anything but 2)
   OperandId penalty;
 };
-enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, Lookat };
+enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, Lookat, DisplayColor };
 /// Viewing set-up (`camera`, `light`, `window`, `viewport`, `render`, `lookat`): kept, no
 /// geometry.
 struct SceneData {

@@ -64,6 +64,8 @@ GeneratorInput input_of(Context& c, ir::NodeId gen_id, std::string_view inst_pat
         break;
       default:
         if (b.value.is_valid()) in.numbers[b.arg] = scalar(c, b.value, 0, 0);
+        // A NOME 2016 / NOME2 count written as a number: `stoi` truncated it.
+        if (b.is_truncated && in.numbers[b.arg]) in.numbers[b.arg] = std::trunc(*in.numbers[b.arg]);
         break;
     }
   }

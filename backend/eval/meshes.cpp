@@ -15,7 +15,11 @@ namespace {
 std::optional<glm::dvec3> position_among(Context& c, std::span<const ir::VertexRef> refs, const ir::VertexRef& ref,
                                          std::string_view inst_path) {
   for (const ir::VertexRef& r : refs) {
-    bool named = r.text == ref.vertex || (r.point.is_valid() && short_name(c.m.node(r.point).name) == ref.vertex);
+    // 2016/NOME2 meshes keep the names of the vertices they copy, with or without the
+    // leading `.` NOME2 wrote (`.c.bc3`, `c.bc3`).
+    auto bare = [](std::string_view t) { return t.starts_with('.') ? t.substr(1) : t; };
+    bool named = bare(r.text) == bare(ref.vertex) ||
+                 (r.point.is_valid() && short_name(c.m.node(r.point).name) == ref.vertex);
     if (named && &r != &ref && c.ref_depth < 16) {
       ++c.ref_depth;
       std::optional<glm::dvec3> p = ref_position(c, r, inst_path);

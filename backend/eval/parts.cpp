@@ -131,6 +131,19 @@ void transform_into(Collected& out, const Collected& c, const glm::dmat4& t) {
   out.curve_count += c.curve_count;
 }
 
+void reverse_faces(Collected& out, int32_t first_face) {
+  kernel::PolygonSoup& s = out.soup;
+  size_t at = 0;
+  for (int32_t f = 0; f < s.face_count(); ++f) {
+    const auto size = static_cast<size_t>(s.face_sizes[f]);
+    if (f >= first_face && size > 2) {
+      auto begin = s.face_vertices.begin() + static_cast<ptrdiff_t>(at);
+      std::reverse(begin + 1, begin + static_cast<ptrdiff_t>(size));
+    }
+    at += size;
+  }
+}
+
 bool same_but_positions(const Collected& a, const Collected& b) {
   const kernel::PolygonSoup& x = a.soup;
   const kernel::PolygonSoup& y = b.soup;

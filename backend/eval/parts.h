@@ -39,6 +39,8 @@ void append_soup(Collected& out, const kernel::PolygonSoup& part, const glm::dma
 void append_collected(Collected& out, const Collected& c);
 /// Appends `c` transformed by `t`, keeping its colour and deletion flags.
 void transform_into(Collected& out, const Collected& c, const glm::dmat4& t);
+/// Turns around every face of `out` from `first_face` on (NOME2's instance `reverse`).
+void reverse_faces(Collected& out, int32_t first_face);
 /// True if vertices `a` and `b` are consecutive in a face of `s`.
 bool is_soup_edge(const kernel::PolygonSoup& s, int32_t a, int32_t b);
 /// The soup of `c`, its colour array dropped when no face was given a colour.

@@ -135,9 +135,16 @@ void instance(Context& c, ir::NodeId inst, const glm::dmat4& parent_t, std::opti
   at.color = color;
   if (auto sc = surface_color(c, d.surface)) at.color = sc;
   at.inst = inst;
+  if (d.is_reversed && c.collects(out)) {
+    // The faces are turned around after they are placed: the entry is built whole.
+    make_eager(c);
+    c.sink->is_pure = false;
+  }
+  const int32_t face_base = out.soup.face_count();
   c.chain.push_back(inst.index);
   target(c, d.target, at, out, depth);
   c.chain.pop_back();
+  if (d.is_reversed) reverse_faces(out, face_base);
 }
 
 void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int depth) {

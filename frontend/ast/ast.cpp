@@ -54,15 +54,28 @@ BlockCategory category(BlockKind kind) { return kBlocks[static_cast<int>(kind)].
 
 std::string end_keyword(std::string_view keyword) { return "end" + std::string(keyword); }
 
+namespace {
+// A generator keyword made of a prefix and digits (NOME2's `bspline3`), which no table lists.
+bool is_digit_keyword(std::string_view word) {
+  if (word.empty() || word.back() < '0' || word.back() > '9') return false;
+  for (const ir::GeneratorInfo& g : ir::generators()) {
+    if (g.keyword_digits(word)) return true;
+  }
+  return false;
+}
+}  // namespace
+
 std::optional<BlockKind> block_of_keyword(std::string_view word) {
   const auto& open = keyword_maps().open;
   if (auto it = open.find(word); it != open.end()) return it->second;
+  if (is_digit_keyword(word)) return BlockKind::Generator;
   return std::nullopt;
 }
 
 std::optional<BlockKind> block_of_end_keyword(std::string_view word) {
   const auto& close = keyword_maps().close;
   if (auto it = close.find(word); it != close.end()) return it->second;
+  if (word.starts_with("end") && is_digit_keyword(word.substr(3))) return BlockKind::Generator;
   return std::nullopt;
 }
 

@@ -3,6 +3,7 @@
 // handlers.h). Symbolic option values (`sd_type NOME_SD_CC_sharp`, `offset_type
 // NOME_OFFSET_GRID`, SLIDE's `type SLF_…`) are resolved to the IR's enums here; a symbol
 // nomec does not know is an error with the closest known one as a hint.
+#include <algorithm>
 #include <fmt/format.h>
 
 #include "frontend/check/handlers.h"
@@ -52,8 +53,42 @@ std::optional<E> resolve_symbol(Context& c, const SymbolEntry<E> (&table)[N], co
   return std::nullopt;
 }
 
+// NOME2's `instance X` inside a block names a top-level instance: the block takes it over
+// (it is drawn through the block, no longer on its own).
+void take_instance(Context& c, ir::NodeId id, const OptionValue& v) {
+  if (v.symbol.empty()) return;  // the value was no name (reported by the reader)
+  const std::string name(v.symbol);
+  auto top = c.instance_scopes.find(0);
+  const ir::NodeId inst = top == c.instance_scopes.end() || !top->second.contains(name) ? ir::NodeId::None()
+                                                                                          : top->second.at(name);
+  if (!inst.is_valid()) {
+    std::vector<std::string_view> names;
+    if (top != c.instance_scopes.end()) {
+      for (const auto& [k, _] : top->second) names.push_back(k);
+    }
+    const std::string hint = closest_match(name, names);
+    c.diags().emit(DiagKind::UnknownName, v.value_range,
+                   fmt::format("`instance {}` in `{}` names no top-level instance{}", name, c.module().node(id).keyword,
+                               hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+    return;
+  }
+  std::vector<ir::NodeId>& scene = c.module().scene;
+  scene.erase(std::remove(scene.begin(), scene.end(), inst), scene.end());
+  c.adopt(id, inst);
+  // The block draws what it took over (in NOME 2016 files too, where top-level blocks are
+  // otherwise drawn only through an instance).
+  if (!c.module().node(id).parent.is_valid() && std::find(scene.begin(), scene.end(), id) == scene.end()) {
+    scene.push_back(id);
+  }
+  if (c.name_uses != nullptr) c.name_uses->push_back(NameUse{v.value_range, inst});
+}
+
 // Stores an option of a pipeline block into its payload.
 void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
+  if (v.spec->key == Opt::InstanceRef) {
+    take_instance(c, id, v);
+    return;
+  }
   ir::Node& n = c.module().node(id);
   switch (n.kind) {
     case ir::NodeKind::Merge:
@@ -122,11 +157,33 @@ void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
 ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
   size_t pos = 0;
   std::string_view kw = s.keyword;
-  std::string name = c.read_name(s, pos, fmt::format("{} name … end{}", kw, kw)).value_or("");
+  // NOME2's `merge epsilon E endmerge` has no name: it merges the whole scene.
+  const bool scene_merge = s.kind == BlockKind::Merge && !s.items.empty() && s.items[0].kind == ItemKind::Word &&
+                           s.items[0].text == "epsilon";
+  std::string name =
+      scene_merge ? std::string("merge") : c.read_name(s, pos, fmt::format("{} name … end{}", kw, kw)).value_or("");
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
   read_body(c, a, s, pos, id, options_for(s.kind), [&c, id](const OptionValue& v) { block_option(c, id, v); });
   if (ctx.parent.is_valid()) c.module().deps.add_edge(id, ctx.parent);
+  if (scene_merge && ctx.top) c.scene_merges.push_back(id);
   return id;
+}
+
+void finish_scene_merges(Context& c) {
+  if (c.scene_merges.empty()) return;
+  // The first `merge epsilon` takes every top-level instance; later ones merge nothing more.
+  const ir::NodeId merge = c.scene_merges.front();
+  std::vector<ir::NodeId>& scene = c.module().scene;
+  std::vector<ir::NodeId> kept;
+  for (ir::NodeId e : scene) {
+    if (c.module().node(e).kind == ir::NodeKind::Instance) {
+      c.adopt(merge, e);
+    } else if (e == merge || std::find(c.scene_merges.begin(), c.scene_merges.end(), e) == c.scene_merges.end()) {
+      kept.push_back(e);
+    }
+  }
+  if (std::find(kept.begin(), kept.end(), merge) == kept.end()) kept.push_back(merge);
+  scene = std::move(kept);
 }
 
 ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
@@ -230,7 +287,35 @@ ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, cons
   return id;
 }
 
+namespace {
+
+bool is_display_color(BlockKind k) {
+  return k == BlockKind::Foreground || k == BlockKind::Background || k == BlockKind::Insidefaces ||
+         k == BlockKind::Outsidefaces || k == BlockKind::Offsetfaces;
+}
+
+// NOME2's `foreground surface S endforeground` and its kin: the surface must exist; the
+// colour is the viewer's, which no output format carries.
+ir::NodeId handle_display_color(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
+  c.diags().emit(DiagKind::IgnoredStatement, s.open_kw,
+                 fmt::format("`{}` sets a display colour of NOME2's viewer, which nomec's output does not carry; "
+                             "accepted and ignored",
+                             s.keyword));
+  ir::NodeId id = c.node_for(s, c.qualify(ctx, ""), ctx);
+  c.module().get<ir::SceneData>(id).kind = ir::SceneKind::DisplayColor;
+  bool has_surface = false;
+  read_body(c, a, s, 0, id, options_for(s.kind), [&](const OptionValue& v) { has_surface = has_surface || v.spec->key == Opt::Surface; });
+  if (!has_surface) {
+    c.diags().emit(DiagKind::MissingArgument, s.open_kw,
+                   fmt::format("`{}` needs a surface: `{} surface S end{}`", s.keyword, s.keyword, s.keyword));
+  }
+  return id;
+}
+
+}  // namespace
+
 ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
+  if (is_display_color(s.kind)) return handle_display_color(c, a, s, ctx);
   if (s.kind != BlockKind::Lookat) {
     c.diags().emit(DiagKind::IgnoredStatement, s.open_kw,
                    fmt::format("`{}` sets up viewing, which nomec does not render; accepted and ignored", s.keyword));

@@ -108,6 +108,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   }
   check::declare(c, main_ast, 0);
   check::process(c, main_ast, 0);
+  check::finish_scene_merges(c);
   check::resolve_pending_deletes(c);
   check::finish_dependencies(c);
   if (options.record_names) {

@@ -32,7 +32,12 @@ ir::NodeKind node_kind_for(BlockKind kind) {
     case BlockKind::Light:
     case BlockKind::Window:
     case BlockKind::Viewport:
-    case BlockKind::Render: return ir::NodeKind::SceneSetup;
+    case BlockKind::Render:
+    case BlockKind::Foreground:
+    case BlockKind::Background:
+    case BlockKind::Insidefaces:
+    case BlockKind::Outsidefaces:
+    case BlockKind::Offsetfaces: return ir::NodeKind::SceneSetup;
     case BlockKind::Delete: return ir::NodeKind::Delete;
     case BlockKind::Sharp: return ir::NodeKind::Sharp;
     case BlockKind::Zipper: return ir::NodeKind::Zipper;

@@ -118,6 +118,7 @@ class Context {
   std::map<int32_t, std::map<std::string, ir::NodeId>> instance_scopes;
   std::vector<PendingList> pending_lists;
   std::vector<PendingDelete> pending_deletes;
+  std::vector<ir::NodeId> scene_merges;  // NOME2's `merge epsilon E endmerge` blocks
 
   // ---- SLIDE's Tcl ----
   std::set<std::string> tcl_vars;
@@ -133,6 +134,7 @@ class Context {
   int include_depth = 0;
   bool reported_deep_expr = false;
   bool is_saved_work = false;
+  bool is_jipcad = false;  // a NOME3 file with JIPCAD-only syntax (read in JIPCAD's tunnel order)
   bool base_loaded = false;
   std::vector<NameUse>* name_uses = nullptr;  // CheckOptions::record_names
   std::vector<std::unique_ptr<ast::Ast>> owned_asts;  // included files

@@ -13,12 +13,101 @@ namespace {
 
 bool is_counted(ir::ArgType t) { return t == ir::ArgType::Count || t == ir::ArgType::Whole; }
 
-void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what) {
+// A count written as a plain number in a NOME 2016 / NOME2 file, which the original read
+// with `stoi` (truncating) where it rounded an `{expr …}` count (compat.md D7).
+bool is_truncated_count(const Context& c, const ast::Ast& a, ast::ExprId e) {
+  if (!is_nome_family(c.dialect())) return false;
+  const ast::Expr* x = &a.expr(e);
+  if (x->kind == ast::ExprKind::Unary && !x->in_braces) x = &a.expr(x->lhs);
+  // A whole number reads the same either way: only a fraction is marked.
+  return x->kind == ast::ExprKind::Number && !x->in_braces && x->number != std::trunc(x->number);
+}
+
+void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what, bool truncated = false) {
   ir::EvalResult v = ir::evaluate(c.module(), e);
-  if (v.ok && std::fabs(v.value - std::round(v.value)) > 1e-9) {
+  if (!v.ok || std::fabs(v.value - std::round(v.value)) <= 1e-9) return;
+  if (truncated) {
+    const double t = std::trunc(v.value);
     c.diags().emit(DiagKind::NonIntegerCount, r,
-                   fmt::format("`{}` is a count but has the value {}; it will be rounded to {}", what, v.value, std::round(v.value)));
+                   fmt::format("`{}` is a count but has the value {}; it will be truncated to {}{}", what, v.value, t,
+                               t != std::round(v.value) ? fmt::format(", not rounded to {}", std::round(v.value)) : ""))
+        .note(SourceRange{}, "NOME 2016 and NOME2 read a count written as a number by cutting off its fraction, and "
+                             "rounded only a count given as `{expr …}`");
+    return;
   }
+  c.diags().emit(DiagKind::NonIntegerCount, r,
+                 fmt::format("`{}` is a count but has the value {}; it will be rounded to {}", what, v.value, std::round(v.value)));
+}
+
+// The value of each element of a positional list, where it is known now (scratch
+// diagnostics: the list is lowered again, with its diagnostics, when it is read).
+std::vector<std::optional<double>> list_values(Context& c, const ast::Ast& a, const ast::ParenList& list) {
+  std::vector<std::optional<double>> out;
+  DiagnosticEngine scratch;
+  std::swap(scratch, c.diags());
+  // The scratch expressions (and the names they record) are dropped again.
+  const size_t exprs = c.module().exprs.size();
+  const size_t uses = c.name_uses != nullptr ? c.name_uses->size() : 0;
+  for (ast::ExprId e : list.elems) {
+    ir::EvalResult v = ir::evaluate(c.module(), lower_expr(c, a, e, false));
+    out.push_back(v.ok ? std::optional<double>(v.value) : std::nullopt);
+  }
+  c.module().exprs.resize(exprs);
+  if (c.name_uses != nullptr) c.name_uses->resize(uses);
+  std::swap(scratch, c.diags());
+  return out;
+}
+
+// The text of each element of a list as written, with the braces of an `{expr …}` (an
+// expression's range holds only what is inside them).
+std::vector<std::string_view> element_texts(Context& c, const ast::Ast& a, const ast::ParenList& list) {
+  std::vector<std::string_view> out;
+  const std::string_view all = c.sources().text(list.range);  // `( … )`
+  const uint32_t base = list.range.begin;
+  for (ast::ExprId e : list.elems) {
+    const ast::Expr& x = a.expr(e);
+    if (x.range.file != list.range.file || x.range.begin < base || x.range.end > list.range.end) {
+      out.push_back(c.sources().text(x.range));
+      continue;
+    }
+    size_t from = x.range.begin - base, to = x.range.end - base;
+    if (x.in_braces) {
+      // Back over `expr` and spaces to `{`, forward over spaces to `}`.
+      size_t f = from;
+      while (f > 0 && all[f - 1] != '{' && all[f - 1] != '(') --f;
+      size_t t = to;
+      while (t < all.size() && (all[t] == ' ' || all[t] == '\t')) ++t;
+      if (f > 0 && all[f - 1] == '{' && t < all.size() && all[t] == '}') {
+        from = f - 1;
+        to = t + 1;
+      }
+    }
+    out.push_back(all.substr(from, to - from));
+  }
+  return out;
+}
+
+// Does reading the list in order `sig` make every count argument a valid count (a whole
+// number ≥ 3)? nullopt when a count's value is not known now.
+std::optional<bool> counts_valid(const ir::GeneratorInfo& info, const ir::Signature& sig,
+                                 const std::vector<std::optional<double>>& values) {
+  bool any = false;
+  for (size_t i = 0; i < sig.args.size() && i < values.size(); ++i) {
+    if (sig.args[i] == ir::kNoArg || info.args[sig.args[i]].type != ir::ArgType::Count) continue;
+    if (!values[i]) return std::nullopt;
+    any = true;
+    if (std::fabs(*values[i] - std::round(*values[i])) > 1e-9 || *values[i] < 3) return false;
+  }
+  return any ? std::optional<bool>(true) : std::nullopt;
+}
+
+std::string reading_text(const ir::Signature& sig, const std::vector<std::optional<double>>& values) {
+  std::vector<std::string> parts;
+  for (size_t i = 0; i < sig.args.size() && i < values.size(); ++i) {
+    parts.push_back(fmt::format("{} = {}", sig.names[i], values[i] ? ir::format_argument(*values[i]) : "?"));
+  }
+  return fmt::format("({}): {}", fmt::join(sig.names.begin(), sig.names.begin() + static_cast<ptrdiff_t>(sig.args.size()), " "),
+                     fmt::join(parts, ", "));
 }
 
 // A generator statement being read: its node, its catalogue entry, its bindings so far.
@@ -53,14 +142,54 @@ struct GenReader {
       if (i >= sig.names.size()) continue;  // an extra argument: checked, reported above
       const ir::ArgIndex arg = i < want ? sig.args[i] : sig.optional[i - want];
       const std::string_view name = sig.names[i];
-      if (arg != ir::kNoArg && is_counted(info.args[arg].type)) check_count(c, exprs[0], r, name);
       ir::GenArgBinding b;
+      if (arg != ir::kNoArg && is_counted(info.args[arg].type)) {
+        b.is_truncated = is_truncated_count(c, a, list.elems[i]);
+        check_count(c, exprs[0], r, name, b.is_truncated);
+      }
       b.arg = arg;
       b.value = c.add_operand(id, name, std::move(exprs), r);
       b.range = r;
       bindings.push_back(b);
     }
     return ok;
+  }
+
+  // The argument-order eras (compat.md A4): the list is read in the dialect's order
+  // unless that makes a count argument invalid while `other` makes every count valid; then
+  // it is read in `other` with a warning naming both readings and a fix-it that rewrites
+  // the list in the dialect's order.
+  const ir::Signature& choose_order(const ir::Signature& sig, const ir::Signature* other, const ast::Item& list_item) {
+    const ast::ParenList& list = a.list(list_item.list);
+    if (other == nullptr || sig.is_point_list || list.elems.size() != sig.args.size() ||
+        other->args.size() != sig.args.size()) {
+      return sig;
+    }
+    const std::vector<std::optional<double>> values = list_values(c, a, list);
+    if (counts_valid(info, sig, values) != false || counts_valid(info, *other, values) != true) return sig;
+    // The same values in the dialect's order, from their source text.
+    const std::vector<std::string_view> written = element_texts(c, a, list);
+    std::vector<std::string_view> texts;
+    for (size_t i = 0; i < sig.args.size(); ++i) {
+      for (size_t j = 0; j < other->args.size(); ++j) {
+        if (other->args[j] == sig.args[i]) texts.push_back(written[j]);
+      }
+    }
+    const std::string reordered = fmt::format("({})", fmt::join(texts, " "));
+    const std::string era = other->era.empty() ? std::string("another era's") : fmt::format("the {}", other->era);
+    const std::string& name = c.module().node(id).name;
+    auto names = [](const ir::Signature& g) {
+      return fmt::format("({})", fmt::join(g.names.begin(), g.names.begin() + static_cast<ptrdiff_t>(g.args.size()), " "));
+    };
+    auto d = c.diags().emit(DiagKind::ArgumentOrder, list.range,
+                            fmt::format("the arguments of `{}` `{}` seem to be in {} order: as {} they give no valid "
+                                        "count, as {} they do; reading them as {}",
+                                        s.keyword, name.substr(name.rfind('.') + 1), era, names(sig), names(*other),
+                                        names(*other)));
+    d.note(SourceRange{}, fmt::format("the `{}` reading {}", dialect_name(c.dialect()), reading_text(sig, values)));
+    d.note(SourceRange{}, fmt::format("the reading used {}", reading_text(*other, values)));
+    if (texts.size() == sig.args.size()) d.fixit(list.range, reordered, fmt::format("write the list in the `{}` order", dialect_name(c.dialect())));
+    return *other;
   }
 
   void report_arity(const ir::Signature& sig, const ast::ParenList& list, size_t n) {
@@ -76,6 +205,21 @@ struct GenReader {
       d.note(SourceRange{}, fmt::format("in the `{}` dialect the funnel arguments are ({})", dialect_name(c.dialect()),
                                         fmt::join(args, " ")));
     }
+  }
+
+  // The number a digit keyword carries (`bspline3`: order 3), as that argument's value.
+  void digit_argument(int k) {
+    ir::Expr e;
+    e.kind = ir::ExprKind::Const;
+    e.value = k;
+    e.range = s.open_kw;
+    SmallVec<ir::ExprId, 4> exprs;
+    exprs.push_back(c.module().add_expr(e));
+    ir::GenArgBinding b;
+    b.arg = info.digit_arg;
+    b.value = c.add_operand(id, info.args[info.digit_arg].name, std::move(exprs), s.open_kw);
+    b.range = s.open_kw;
+    bindings.push_back(b);
   }
 
   void option(const OptionValue& v) {
@@ -102,7 +246,8 @@ struct GenReader {
         b.value = v.operand;
         if (v.operand.is_valid() && is_counted(arg.type)) {
           const ir::Operand& o = c.module().operand(v.operand);
-          if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name);
+          b.is_truncated = v.value_expr.is_valid() && is_truncated_count(c, a, v.value_expr);
+          if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name, b.is_truncated);
         }
         break;
     }
@@ -118,7 +263,7 @@ struct GenReader {
       const ir::Operand& o = m.operand(b.value);
       if (o.exprs.size() != 1) continue;
       ir::EvalResult v = ir::evaluate(m, o.exprs[0]);
-      if (v.ok) known[b.arg] = v.value;
+      if (v.ok) known[b.arg] = b.is_truncated ? std::trunc(v.value) : v.value;
     }
     std::optional<ir::ArgProblem> problem = ir::check_arguments(info.kind, c.dialect(), known);
     if (!problem) return;
@@ -150,12 +295,16 @@ ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, c
   }
   GenReader r{c, a, s, id, info, {}};
   const ir::Signature* sig = info.signature(c.dialect());
+  const ir::Signature* other = info.other_order(c.dialect());
+  // A JIPCAD-era NOME3 file is read in JIPCAD's order first (its tunnel).
+  if (other != nullptr && other->era == "JIPCAD" && c.dialect() == Dialect::Nome3 && c.is_jipcad) std::swap(sig, other);
+  if (std::optional<int> k = info.keyword_digits(s.keyword); k && info.digit_arg != ir::kNoArg) r.digit_argument(*k);
   bool took_args = false;
   bool arity_ok = true;
   auto positional = [&](const ast::Item& it) -> bool {
     if (it.kind != ItemKind::List || sig == nullptr || took_args) return false;
     took_args = true;
-    arity_ok = r.read_positional(*sig, it);
+    arity_ok = r.read_positional(r.choose_order(*sig, other, it), it);
     return true;
   };
   read_body(c, a, s, pos, id, generator_options(gen, c.dialect()), [&](const OptionValue& v) { r.option(v); }, positional);

@@ -89,6 +89,8 @@ ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, c
 
 // ---- blocks.cpp: pipeline blocks, sweeps, zippers, scene set-up ----
 ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+/// Gives NOME2's `merge epsilon E endmerge` every top-level instance of the scene.
+void finish_scene_merges(Context& c);
 ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);

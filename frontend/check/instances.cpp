@@ -123,8 +123,16 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
   TransformChain chain;
   read_body(c, a, s, pos, id, options_for(s.kind), [&](const OptionValue& v) {
     ir::InstanceData& d = c.module().get<ir::InstanceData>(id);
-    if (auto t = transform_of(v.spec->key)) {
+    if (v.spec->key == Opt::Mirror && c.dialect() == Dialect::Nome2) {
+      // NOME2's bison parser reads `mirror (a b c d)` and drops it (compat.md A2).
+      c.diags()
+          .emit(DiagKind::IgnoredInDialect, v.word,
+                "NOME2 reads `mirror (a b c d)` on an instance but does not apply it; ignored as NOME2 did")
+          .fixit(SourceRange{v.word.file, v.word.begin, v.value_range.end}, "", "remove the `mirror`");
+    } else if (auto t = transform_of(v.spec->key)) {
       chain.ops.push_back({*t, v.operand});
+    } else if (v.spec->key == Opt::Reverse) {
+      d.is_reversed = true;
     } else if (v.spec->key == Opt::Surface) {
       d.surface = v.ref;
     } else if (v.spec->key == Opt::Hidden) {

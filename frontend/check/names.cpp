@@ -29,6 +29,11 @@ std::optional<Ns> namespace_of(BlockKind kind) {
     case BlockKind::Savedparameter:
     case BlockKind::Consolidate:
     case BlockKind::Render:
+    case BlockKind::Foreground:
+    case BlockKind::Background:
+    case BlockKind::Insidefaces:
+    case BlockKind::Outsidefaces:
+    case BlockKind::Offsetfaces:
     case BlockKind::Zipper:
     case BlockKind::Vertex:
     case BlockKind::Path:
@@ -43,6 +48,7 @@ void declare_stmt(Context& c, const ast::Stmt& s, int order) {
   std::optional<Ns> ns = namespace_of(s.kind);
   if (!ns) return;
   if (s.items.empty() || s.items[0].kind != ItemKind::Word) return;  // reported later
+  if (s.kind == BlockKind::Merge && s.items[0].text == "epsilon") return;  // NOME2's nameless scene merge
   std::string name(s.items[0].text);
   ir::NodeId id = c.module().add_node(node_kind_for(s.kind), s.keyword, name, s.range);
   define(c, *ns, name, Symbol{id, s.items[0].range, order, s.keyword});

@@ -36,7 +36,8 @@ const OptSpec kObject[] = {{"surface", Shape::Surface, Opt::Surface}, SLIDE_DISP
 const OptSpec kInstance[] = {{"translate", Shape::Vec3, Opt::Translate}, {"rotate", Shape::Rotate, Opt::Rotate},
                              {"scale", Shape::Vec3, Opt::Scale},         {"mirror", Shape::Vec4, Opt::Mirror},
                              {"surface", Shape::Surface, Opt::Surface},  {"hidden", Shape::Flag, Opt::Hidden},
-                             {"id", Shape::Any, Opt::Id},                SLIDE_DISPLAY};
+                             {"id", Shape::Any, Opt::Id},                {"reverse", Shape::Flag, Opt::Reverse},
+                             SLIDE_DISPLAY};
 const OptSpec kTransform[] = {{"translate", Shape::Vec3, Opt::Translate},
                               {"rotate", Shape::Rotate, Opt::Rotate},
                               {"scale", Shape::Vec3, Opt::Scale}};
@@ -62,14 +63,19 @@ const OptSpec kControlpoint[] = {{"point", Shape::Ref, Opt::Point},
                                  {"rotate", Shape::Rotate, Opt::Rotate},
                                  {"translate", Shape::Vec3, Opt::Translate}};
 const OptSpec kZipper[] = {{"border", Shape::Vertices, Opt::Border}, {"penalty", Shape::Scalar, Opt::Penalty}};
-const OptSpec kMerge[] = {{"tolerance", Shape::Scalar, Opt::Tolerance}};
+const OptSpec kMerge[] = {{"tolerance", Shape::Scalar, Opt::Tolerance},
+                          {"epsilon", Shape::Scalar, Opt::Tolerance},
+                          {"instance", Shape::Any, Opt::InstanceRef}};
 const OptSpec kSubdivision[] = {{"sd_type", Shape::Symbol, Opt::SubdivisionType},
                                 {"sd_level", Shape::Scalar, Opt::Levels},
                                 {"type", Shape::Symbol, Opt::SubdivisionType},
                                 {"subdivisions", Shape::Scalar, Opt::Levels},
+                                {"instance", Shape::Any, Opt::InstanceRef},
                                 SLIDE_DISPLAY};
 const OptSpec kOffset[] = {{"offset_type", Shape::Symbol, Opt::OffsetType}, {"height", Shape::Scalar, Opt::Height},
                            {"width", Shape::Scalar, Opt::Width},            {"type", Shape::Symbol, Opt::OffsetType},
+                           {"min", Shape::Scalar, Opt::Height},             {"max", Shape::Scalar, Opt::Ignored},
+                           {"step", Shape::Scalar, Opt::Ignored},           {"instance", Shape::Any, Opt::InstanceRef},
                            SLIDE_DISPLAY};
 const OptSpec kHandle[] = {{"faces", Shape::Names, Opt::Faces},         {"corners", Shape::Names, Opt::Corners},
                            {"segments", Shape::Scalar, Opt::Segments},  {"weights", Shape::Vec2, Opt::Weights},
@@ -82,6 +88,7 @@ const OptSpec kMenger[] = {{"level", Shape::Scalar, Opt::Level},
                            {"thickness", Shape::Scalar, Opt::Thickness},
                            {"collapse", Shape::Scalar, Opt::Collapse}};
 const OptSpec kScene[] = {{"", Shape::Rest, Opt::Rest}};
+const OptSpec kDisplayColor[] = {{"surface", Shape::Surface, Opt::Surface}};
 #undef SLIDE_DISPLAY
 
 // The shape an argument of the catalogue is read with when given as an option.
@@ -135,6 +142,11 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Viewport:
     case BlockKind::Render:
     case BlockKind::Lookat: return kScene;
+    case BlockKind::Foreground:
+    case BlockKind::Background:
+    case BlockKind::Insidefaces:
+    case BlockKind::Outsidefaces:
+    case BlockKind::Offsetfaces: return kDisplayColor;
     case BlockKind::Bank:
     case BlockKind::Mesh:
     case BlockKind::Delete:
@@ -300,6 +312,7 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
       exprs.push_back(scalar_of_item(c, a, *n, false));
       v.operand = c.add_operand(id, spec.name, std::move(exprs), kw.range);
       v.value_range = n->range;
+      if (n->kind == ItemKind::Value) v.value_expr = n->expr;
       ++pos;
       return true;
     }

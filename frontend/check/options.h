@@ -47,6 +47,7 @@ enum class Opt : uint8_t {
   Point, Border, Penalty, Tolerance,
   SubdivisionType, Levels, OffsetType, Height, Width,
   Faces, Corners, Segments, Weights, Thickness, Punch, Peel, Level, Collapse,
+  InstanceRef,  // NOME2's `instance X` inside a block: a top-level instance the block takes over
   Rest,
   GenArg,  // a generator argument of the catalogue (`OptSpec::arg`)
 };
@@ -70,6 +71,7 @@ struct OptionValue {
   std::string_view symbol;          // Symbol or Any given as a word
   SourceRange value_range;          // where the value is
   ast::ExprId raw;                  // Raw
+  ast::ExprId value_expr;           // Scalar: the value as written, when it is a value item
 };
 
 /// The options of a block kind (empty for kinds that take none). Generators take theirs

@@ -2,6 +2,7 @@
 // its kind (a `switch` over block_kinds.def, compiled with -Wswitch); stray words and values
 // at the top level are explained; `include "file.slf"` is read, declared and checked in
 // place (an included file sees every definition of the including file: SLIDE binds late).
+#include <algorithm>
 #include <fmt/format.h>
 
 #include "frontend/check/handlers.h"
@@ -128,10 +129,11 @@ void process(Context& c, const ast::Ast& a, int order_base) {
     ir::NodeId id = handle_stmt(c, a, a.stmt(it.block), Ctx{});
     if (!id.is_valid()) continue;
     const ir::Node& n = c.module().node(id);
-    // Top-level instances are drawn (unless hidden); NOME3 draws top-level blocks too.
+    // Top-level instances are drawn (unless hidden); NOME2 and NOME3 draw top-level blocks too.
     const bool visible = (n.kind == ir::NodeKind::Instance && !n.as<ir::InstanceData>().is_hidden) ||
-                         (ir::is_block(n.kind) && c.dialect() == Dialect::Nome3);
-    if (visible) c.module().scene.push_back(id);
+                         (ir::is_block(n.kind) && (c.dialect() == Dialect::Nome3 || c.dialect() == Dialect::Nome2));
+    std::vector<ir::NodeId>& scene = c.module().scene;
+    if (visible && std::find(scene.begin(), scene.end(), id) == scene.end()) scene.push_back(id);
   }
 }
 
@@ -176,7 +178,12 @@ ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
     case BlockKind::Window:
     case BlockKind::Viewport:
     case BlockKind::Render:
-    case BlockKind::Lookat: return handle_scene(c, a, s, ctx);
+    case BlockKind::Lookat:
+    case BlockKind::Foreground:
+    case BlockKind::Background:
+    case BlockKind::Insidefaces:
+    case BlockKind::Outsidefaces:
+    case BlockKind::Offsetfaces: return handle_scene(c, a, s, ctx);
     case BlockKind::Generator: return handle_generator(c, a, s, ctx);
   }
   return ir::NodeId::None();

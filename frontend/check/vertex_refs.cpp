@@ -43,12 +43,15 @@ long index_of(std::string_view digits) {
   return v;
 }
 
+std::string_view without_leading_dot(std::string_view s) { return s.starts_with('.') ? s.substr(1) : s; }
+
 // Does a mesh, polyline or one of its children write vertex `vertex` (a point name, or a
 // reference as written)?
 bool mentions_vertex(const ir::Module& m, ir::NodeId n, const std::string& vertex, int depth = 0) {
   const ir::Node& node = m.node(n);
   auto in = [&](ir::Slice<ir::VertexRef> s) {
-    return std::any_of(m.refs(s).begin(), m.refs(s).end(), [&](const ir::VertexRef& v) { return v.text == vertex; });
+    return std::any_of(m.refs(s).begin(), m.refs(s).end(),
+                       [&](const ir::VertexRef& v) { return without_leading_dot(v.text) == without_leading_dot(vertex); });
   };
   switch (node.kind) {
     case ir::NodeKind::Face:
@@ -138,6 +141,14 @@ std::string dotted(const ir::Module& m, const std::vector<ir::NodeId>& chain, co
   return fmt::format("{}", fmt::join(parts, "."));
 }
 
+// Is `inst` an instance of a mesh or object (whose vertices may carry dotted, inherited
+// names), rather than of a group or block that holds further instances?
+bool is_leaf_instance(Context& c, ir::NodeId inst) {
+  const ir::Module& m = c.module();
+  const ir::NodeId t = m.get<ir::InstanceData>(inst).target;
+  return t.is_valid() && m.node(t).kind == ir::NodeKind::Mesh;
+}
+
 // Decides whether the part after an instance chain names something of the innermost
 // instance's target (a vertex, or a face to delete).
 using LeafCheck = std::function<bool(ir::NodeId inst, const std::string& rest, std::string* why)>;
@@ -160,7 +171,11 @@ bool match_dotted(Context& c, const std::string& path, PathMatch& out, std::stri
   ir::NodeId cur = instance_in(c, parts[0], owner);
   if (!cur.is_valid()) return false;
   out.chain.push_back(cur);
-  for (size_t i = 1; i + 1 < parts.size(); ++i) {
+  size_t i = 1;
+  for (; i + 1 < parts.size(); ++i) {
+    // 2016/NOME2 meshes keep the names of the vertices they copy (`c.bc3`), so below an
+    // instance of a mesh the rest of the path is one vertex name (compat.md E4).
+    if (is_nome_family(c.dialect()) && is_leaf_instance(c, cur)) break;
     cur = child_instance(c, cur, parts[i]);
     if (!cur.is_valid()) {
       error = fmt::format("in `{}`: `{}` is not an instance inside `{}`", path, parts[i], parts[i - 1]);
@@ -168,7 +183,8 @@ bool match_dotted(Context& c, const std::string& path, PathMatch& out, std::stri
     }
     out.chain.push_back(cur);
   }
-  out.rest = parts.back();
+  out.rest = parts[i];
+  for (size_t j = i + 1; j < parts.size(); ++j) out.rest += "." + parts[j];
   std::string why;
   if (!leaf(cur, out.rest, &why)) error = fmt::format("in `{}`: {}", path, why);
   return true;
@@ -224,7 +240,9 @@ std::vector<PathMatch> match_underscored(Context& c, const std::string& text, co
   return matches;
 }
 
-// Reports a 2016 path that matches several instance chains.
+// Reports a 2016 path that matches several instance chains. In the NOME 2016 family the
+// original took the first match in file order (compat.md E4): `matches` are sorted so, the
+// first is used, and this is a warning; elsewhere it is an error.
 void report_ambiguous(Context& c, const std::vector<PathMatch>& matches, const std::string& text, SourceRange use) {
   std::set<std::vector<int32_t>> distinct;
   for (const PathMatch& mt : matches) {
@@ -232,11 +250,47 @@ void report_ambiguous(Context& c, const std::vector<PathMatch>& matches, const s
     for (ir::NodeId n : mt.chain) k.push_back(n.index);
     distinct.insert(k);
   }
-  if (distinct.size() > 1) {
-    c.diags().emit(DiagKind::AmbiguousName, use,
-                   fmt::format("`{}` matches {} instance paths; write it with dots to choose one, e.g. `{}`", text,
-                               distinct.size(), dotted(c.module(), matches[0].chain, matches[0].rest)));
+  if (distinct.size() <= 1) return;
+  const std::string first = dotted(c.module(), matches[0].chain, matches[0].rest);
+  if (is_nome_family(c.dialect())) {
+    // Shown with the groups the chains start in, which the reference left out.
+    auto full = [&](const PathMatch& mt) {
+      const std::string& outer = c.module().node(mt.chain.front()).name;
+      const std::string tail = dotted(c.module(), mt.chain, mt.rest);
+      return outer.substr(0, outer.rfind('.') + (outer.find('.') == std::string::npos ? 0 : 1)) + tail;
+    };
+    auto d = c.diags().emit(DiagKind::AmbiguousVertexPath, use,
+                            fmt::format("`{}` matches {} instance paths; taking the first in the file, `{}`, as {} did", text,
+                                        distinct.size(), full(matches[0]), c.dialect() == Dialect::Nome2 ? "NOME2" : "NOME 2016"));
+    d.note(c.module().node(matches[1].chain.front()).range, fmt::format("another match: `{}`", full(matches[1])));
+    return;
   }
+  c.diags().emit(DiagKind::AmbiguousName, use,
+                 fmt::format("`{}` matches {} instance paths; write it with dots to choose one, e.g. `{}`", text,
+                             distinct.size(), first));
+}
+
+// Sorts matches into file order: by the instances of their chains, outermost first.
+void sort_file_order(std::vector<PathMatch>& matches) {
+  std::stable_sort(matches.begin(), matches.end(), [](const PathMatch& x, const PathMatch& y) {
+    return std::lexicographical_compare(x.chain.begin(), x.chain.end(), y.chain.begin(), y.chain.end(),
+                                        [](ir::NodeId p, ir::NodeId q) { return p.index < q.index; });
+  });
+}
+
+// 2016/NOME2 dotted paths whose first instance is not at the top level: the instances of
+// enclosing groups may be left out (`a.b.v` for `g.a.b.v`), so the path may start in any
+// instance scope. Every match, in file order.
+std::vector<PathMatch> match_dotted_anywhere(Context& c, const std::string& path, const LeafCheck& leaf) {
+  std::vector<PathMatch> matches;
+  for (const auto& [owner, scope] : c.instance_scopes) {
+    if (owner == 0) continue;
+    PathMatch m;
+    std::string error;
+    if (match_dotted(c, path, m, error, leaf, ir::NodeId(owner - 1)) && error.empty()) matches.push_back(std::move(m));
+  }
+  sort_file_order(matches);
+  return matches;
 }
 
 // The faces of a mesh or object in the order the backend collects them (an object's face
@@ -307,13 +361,25 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
   if (path.find('.') != std::string::npos) {
     PathMatch match;
     std::string error;
-    if (match_dotted(c, path, match, error, has_vertex)) {
+    const bool at_top = match_dotted(c, path, match, error, has_vertex);
+    // 2016/NOME2: a path that does not resolve from the top level may leave out the
+    // instances of enclosing groups (compat.md E4).
+    if ((!at_top || !error.empty()) && is_nome_family(c.dialect())) {
+      if (std::vector<PathMatch> matches = match_dotted_anywhere(c, path, has_vertex); !matches.empty()) {
+        ref.instances = matches[0].chain;
+        ref.vertex = matches[0].rest;
+        if (matches.size() > 1) report_ambiguous(c, matches, text, use);
+        return ref;
+      }
+    }
+    if (at_top) {
       ref.instances = std::move(match.chain);
       ref.vertex = std::move(match.rest);
       if (!error.empty()) c.diags().emit(DiagKind::UnknownVertex, use, error);
       return ref;
     }
   } else if (std::vector<PathMatch> matches = match_underscored(c, path, has_vertex); !matches.empty()) {
+    if (is_nome_family(c.dialect())) sort_file_order(matches);
     ref.instances = matches[0].chain;
     ref.vertex = matches[0].rest;
     if (matches.size() > 1) report_ambiguous(c, matches, text, use);

@@ -479,6 +479,36 @@ class QuietErrorStrategy : public antlr4::DefaultErrorStrategy {
 // itself has nothing to report).
 class SilentListener : public antlr4::BaseErrorListener {};
 
+// NOME2 (2018) names a top-level instance inside `subdivision`, `offset` and `merge` blocks
+// with `instance X`, without `endinstance` (`subdivision s instance c type T subdivisions 2
+// endsubdivision`). Such an `instance` becomes a name, which the block reads as its
+// `instance` option (frontend/check/blocks.cpp): it is inside one of those blocks and the
+// word after its name continues the block (`type`, `min`, …, another `instance`, or the
+// block's end keyword), where an instance statement would have its target.
+void retype_block_instance_names(std::vector<std::unique_ptr<antlr4::Token>>& toks) {
+  auto next = [&](size_t i) {
+    while (++i < toks.size() && toks[i]->getChannel() != antlr4::Token::DEFAULT_CHANNEL) {
+    }
+    return i;
+  };
+  int depth = 0;  // open subdivision, offset and merge blocks
+  for (size_t i = 0; i < toks.size(); ++i) {
+    if (toks[i]->getChannel() != antlr4::Token::DEFAULT_CHANNEL) continue;
+    const size_t type = toks[i]->getType();
+    if (type == NomeLexer::K_SUBDIVISION || type == NomeLexer::K_OFFSET || type == NomeLexer::K_MERGE) ++depth;
+    if ((type == NomeLexer::E_SUBDIVISION || type == NomeLexer::E_OFFSET || type == NomeLexer::E_MERGE) && depth > 0) --depth;
+    if (type != NomeLexer::K_INSTANCE || depth == 0) continue;
+    const size_t name = next(i);
+    const size_t after = next(name);
+    if (after >= toks.size() || toks[name]->getType() != NomeLexer::IDENT) continue;
+    const size_t t = toks[after]->getType();
+    const bool is_word = t == NomeLexer::IDENT || t == NomeLexer::K_INSTANCE || t == NomeLexer::E_SUBDIVISION ||
+                         t == NomeLexer::E_OFFSET || t == NomeLexer::E_MERGE;
+    if (!is_word || !continues_block_after_instance_name(toks[after]->getText())) continue;
+    if (auto* common = dynamic_cast<antlr4::CommonToken*>(toks[i].get())) common->setType(NomeLexer::IDENT);
+  }
+}
+
 // Token pass: diagnostics for stray characters and unclosed constructs, and the list-sign
 // rule. Returns the tokens the parser should see.
 // `stopped` is set when a limit made the pass stop reading the text; `what` names the text
@@ -606,6 +636,7 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
     }
     out.push_back(std::move(tok));
   }
+  retype_block_instance_names(out);
   return out;
 }
 

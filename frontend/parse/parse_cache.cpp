@@ -15,6 +15,7 @@
 // unchanged tail (see `parse` for why each is exact). The assembly still copies every
 // piece's AST, as the result must view the caller's new text.
 #include <algorithm>
+#include <cctype>
 #include <cstddef>
 #include <cstring>
 #include <cstdint>
@@ -69,6 +70,25 @@ bool may_nest(ast::BlockKind parent, ast::BlockKind child) {
     default:
       return false;
   }
+}
+
+// The word starting at `i` (after spaces), or empty.
+std::string_view word_at(std::string_view t, size_t& i) {
+  while (i < t.size() && (t[i] == ' ' || t[i] == '\t' || t[i] == '\r' || t[i] == '\n')) ++i;
+  const size_t b = i;
+  while (i < t.size() && (std::isalnum(static_cast<unsigned char>(t[i])) || t[i] == '_' || t[i] == '.')) ++i;
+  return t.substr(b, i - b);
+}
+
+// NOME2's `instance X` inside a subdivision, offset or merge names an instance and opens no
+// block (the token pass retypes it the same way; piece.h): `X` and then a word that
+// continues the block follow the `instance` that ends just before `i`.
+bool is_block_instance_name(std::string_view t, size_t i, ast::BlockKind inside) {
+  if (inside != ast::BlockKind::Subdivision && inside != ast::BlockKind::Offset && inside != ast::BlockKind::Merge) {
+    return false;
+  }
+  if (word_at(t, i).empty()) return false;
+  return continues_block_after_instance_name(word_at(t, i));
 }
 
 // Cut points: just after a newline that follows the end keyword of a top-level block, with
@@ -142,6 +162,7 @@ bool scan_cuts(std::string_view t, size_t from, std::vector<uint32_t>& cuts, Sto
     while (i + 1 < n && is_name_part(t[i + 1])) ++i;
     if (paren != 0 || brace != 0 || bracket != 0) continue;
     std::string_view word = t.substr(b, i + 1 - b);
+    if (word == "instance" && !open.empty() && is_block_instance_name(t, i + 1, open.back())) continue;
     if (auto kind = ast::block_of_keyword(word)) {
       if (open.empty() || may_nest(open.back(), *kind)) open.push_back(*kind);
     } else if (!open.empty() && ast::block_of_end_keyword(word)) {

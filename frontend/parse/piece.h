@@ -42,4 +42,12 @@ struct PieceInfo {
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
                      PieceInfo* info);
 
+/// NOME2 (2018) names a top-level instance inside `subdivision`, `offset` and `merge`
+/// blocks with `instance X` and no `endinstance`: the word after `X` then continues the
+/// block. True for those words (the token pass and the cache's scanner agree on them).
+inline bool continues_block_after_instance_name(std::string_view word) {
+  return word == "type" || word == "subdivisions" || word == "min" || word == "max" || word == "step" ||
+         word == "epsilon" || word == "instance" || word == "endsubdivision" || word == "endoffset" || word == "endmerge";
+}
+
 }  // namespace nomec

@@ -46,8 +46,8 @@ TEST(Domain, CircleSegmentsAtLeastThree) {
 
 TEST(Domain, UnknownArgumentsSkipTheirRules) {
   // `segs` depends on something the checker cannot evaluate: the radius rule still runs.
-  EXPECT_FALSE(check_generator_arguments("circle", "nome", {{"radius", 2}}).has_value());
-  auto p = check_generator_arguments("circle", "nome", {{"radius", -2}});
+  EXPECT_FALSE(check_generator_arguments("circle", "nome3", {{"radius", 2}}).has_value());
+  auto p = check_generator_arguments("circle", "nome3", {{"radius", -2}});
   ASSERT_TRUE(p.has_value());
   EXPECT_EQ(p->argument, "radius");
   // The torus' phi range needs both ends.

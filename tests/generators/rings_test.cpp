@@ -132,8 +132,22 @@ TEST(Circle, ClosedCurveWithoutFaces) {
   EXPECT_EQ(g.curves[0].vertices.size(), 10u);
   expect_near(named(g.soup, "v0"), {5, 0, 0});
   expect_near(named(g.soup, "v5"), {-5, 0, 0});
-  EXPECT_EQ(run_error("circle", numbers({{"radius", 20}, {"segs", 1}})).argument, "segs");
-  EXPECT_EQ(run_error("circle", numbers({{"radius", -1}, {"segs", 8}})).argument, "radius");
+  EXPECT_EQ(run_error("circle", numbers({{"radius", 20}, {"segs", 1}}, "nome3")).argument, "segs");
+  EXPECT_EQ(run_error("circle", numbers({{"radius", -1}, {"segs", 8}}, "nome3")).argument, "radius");
+  // NOME2 writes the same arguments `(n ro)` and names them so in messages.
+  EXPECT_EQ(run_error("circle", numbers({{"radius", 20}, {"segs", 1}}, "nome2")).argument, "n");
+  EXPECT_EQ(run_error("circle", numbers({{"radius", -1}, {"segs", 8}}, "nome2")).argument, "ro");
+}
+
+// NOME2's `circle (n ro)` (compat.md D5): vertices `bc0…` (= `v0…`) at 360°·i/n, z = 0.
+TEST(Circle, Nome2VerticesAtEqualAngles) {
+  Generated g = run("circle", numbers({{"n", 4}, {"ro", 2}}, "nome2"));
+  EXPECT_EQ(g.soup.vertex_count(), 4);
+  ASSERT_EQ(g.curves.size(), 1u);
+  EXPECT_TRUE(g.curves[0].is_closed);
+  expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Circle, "bc0")), {2, 0, 0});
+  expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Circle, "bc1")), {0, 2, 0});
+  expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Circle, "bc3")), {0, -2, 0});
 }
 
 kernel::TopologyReport mobius(double twists, int n = 10) {

@@ -247,6 +247,28 @@ TEST(ParseCache, CorpusFilesUnderRandomEdits) {
   for (const Doc& d : docs) differential(d.name, d.text, 10, seed++);
 }
 
+// NOME2's blocks name top-level instances with `instance X` and no `endinstance`: the
+// cache must not take such an `instance` for an open block, or its cuts fall inside the
+// statements below and they are parsed together; it still equals a whole-file parse, under
+// edits too.
+TEST(ParseCache, Nome2BlockInstanceNames) {
+  const std::string text =
+      "point a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint c (0 1 0) endpoint\n"
+      "mesh m\n  face f (a b c) endface\nendmesh\n"
+      "instance i m endinstance\n"
+      "subdivision s instance i type NOME_SD_CC subdivisions 1 endsubdivision\n"
+      "mesh n\n  face g (a c b) endface\nendmesh\n"
+      "offset o instance i type NOME_OFFSET_DEFAULT min 0.1 max 0.5 step 0.1 endoffset\n"
+      "mesh q\n  face h (a b c) endface\nendmesh\n";
+  nomec::ParseCache cache;
+  EXPECT_EQ(cached_parse(cache, text), full_parse(text));
+  EXPECT_EQ(full_parse(text).find("error"), std::string::npos) << full_parse(text);
+  // One piece per top-level statement, each parsed alone.
+  EXPECT_EQ(cache.last_stats().pieces, 9u);
+  EXPECT_EQ(cache.last_stats().parsed, 9u);
+  for (uint32_t seed = 200; seed < 204; ++seed) differential("nome2 blocks", text, 40, seed);
+}
+
 TEST(ParseCache, GeneratedSceneUnderRandomEdits) {
   std::string scene = generated_scene(16);
   for (uint32_t seed = 100; seed < 103; ++seed) differential("generated", scene, 80, seed);

@@ -221,6 +221,16 @@ std::string reference_section() {
       }
       o << ")`";
     }
+    for (const ir::Signature& s : g.orders) {
+      o << "\n- another era's order in " << dialects_text(s.dialects)
+        << (s.era.empty() ? std::string() : " (read first in " + std::string(s.era) + " files)") << ": `(";
+      for (size_t n = 0; n < s.names.size(); ++n) o << (n > 0 ? " " : "") << s.names[n];
+      o << ")`";
+    }
+    if (!g.digit_prefix.empty()) {
+      o << "\n- also opened by `" << g.digit_prefix << "K` … `end" << g.digit_prefix << "K`, K digits setting `"
+        << g.args[g.digit_arg].name << "`";
+    }
     for (const ir::OptionInfo& op : g.options) {
       o << "\n- " << dialects_text(op.dialects) << ": option `" << op.word << "` sets `" << g.args[op.arg].name << "`";
     }

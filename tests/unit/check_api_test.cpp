@@ -70,10 +70,50 @@ TEST(Check, DialectDecidesFunnelArgumentOrder) {
   auto nome = check("f.nome", text);
   EXPECT_EQ(nome->result.dialect, Dialect::Nome);
   EXPECT_DOUBLE_EQ(field_value(*nome, "f", "n", 0), 8);
-  auto nome3 = check("f.nom", text);
+  // All generations saved `.nom`: only the 2016 order makes these numbers a funnel.
+  auto by_content = check("f.nom", text);
+  EXPECT_EQ(by_content->result.dialect, Dialect::Nome);
+  EXPECT_DOUBLE_EQ(field_value(*by_content, "f", "n", 0), 8);
+  auto nome3 = check("f.nom", "bank b list (x) set x 1 0 2 1 endbank\nfunnel f (0.5 0.2 1 8) endfunnel\n");
   EXPECT_EQ(nome3->result.dialect, Dialect::Nome3);
-  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "n", 0), 1);
-  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "radius", 0), 8);
+  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "n", 0), 8);
+  EXPECT_DOUBLE_EQ(field_value(*nome3, "f", "radius", 0), 0.5);
+  EXPECT_FALSE(has(*nome3, DiagKind::ArgumentOrder));
+  // The same funnel in the 2016 order, in a NOME3 file: read in that order, with a warning.
+  auto swapped = check("f.nom", "bank b list (x) set x 1 0 2 1 endbank\n" + text);
+  EXPECT_EQ(swapped->result.dialect, Dialect::Nome3);
+  EXPECT_TRUE(has(*swapped, DiagKind::ArgumentOrder));
+  EXPECT_DOUBLE_EQ(field_value(*swapped, "f", "n", 0), 8);
+}
+
+// The ArgumentOrder fix-it rewrites the list in the dialect's order, keeping each value's
+// text: NOME3's `circle (20 1)` read as NOME2's `(n ro)` becomes `(1 20)`, `(radius segs)`.
+TEST(Check, ArgumentOrderFixItReordersTheList) {
+  auto c = check("c.nom", "torus t (5 1 360 0 360 12 6) endtorus\ncircle c (20 {expr 0.5*2}) endcircle\n");
+  const Diagnostic* order = nullptr;
+  for (const Diagnostic& d : c->diags.diagnostics()) {
+    if (d.kind == DiagKind::ArgumentOrder) order = &d;
+  }
+  ASSERT_NE(order, nullptr);
+  ASSERT_EQ(order->fixits.size(), 1u);
+  EXPECT_EQ(order->fixits[0].replacement, "({expr 0.5*2} 20)");
+  EXPECT_DOUBLE_EQ(field_value(*c, "c", "n", 0), 20);
+  EXPECT_DOUBLE_EQ(field_value(*c, "c", "ro", 0), 1);
+}
+
+// NOME2's `bsplineK`: the digits of the keyword are the order; the end keyword carries them.
+TEST(Check, DigitKeywordSetsTheOrder) {
+  auto c = check("b.nom", "point a (0 0 0) endpoint\npoint b (1 1 0) endpoint\npoint d (2 0 0) endpoint\n"
+                          "bspline3 s slices 4 (a b d) endbspline3\n");
+  EXPECT_EQ(c->result.dialect, Dialect::Nome2);
+  EXPECT_EQ(c->diags.error_count(), 0);
+  EXPECT_DOUBLE_EQ(field_value(*c, "s", "order", 0), 3);
+  EXPECT_EQ(ast::block_of_keyword("bspline12"), ast::BlockKind::Generator);
+  EXPECT_EQ(ast::block_of_end_keyword("endbspline3"), ast::BlockKind::Generator);
+  EXPECT_FALSE(ast::block_of_keyword("bspline123").has_value());
+  EXPECT_FALSE(ast::block_of_keyword("bsplinex").has_value());
+  auto bad = check("b.nom", "point a (0 0 0) endpoint\nbspline3 s (a a a) endbspline5\n");
+  EXPECT_TRUE(has(*bad, DiagKind::MismatchedEndKeyword));
 }
 
 TEST(Check, OverridesAndTheirRange) {
