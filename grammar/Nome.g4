@@ -45,7 +45,8 @@ block
   | zipperStmt | mergeStmt | subdivisionStmt | offsetStmt | handleStmt | rindStmt
   | sierpinskiStmt | mengerStmt | mirrorStmt | savedparameterStmt | consolidateStmt
   | consolidatefaceStmt | savedworkingmeshStmt | cameraStmt | lightStmt | windowStmt
-  | viewportStmt | renderStmt | generatorStmt
+  | viewportStmt | renderStmt | frontcolorStmt | backcolorStmt | backgroundcolorStmt
+  | backfaceStmt | sweepmorphStmt | morphvisualizerStmt | generatorStmt
   ;
 
 // Blocks whose body is only items.
@@ -68,6 +69,11 @@ lightStmt           : K_LIGHT item* E_LIGHT ;
 windowStmt          : K_WINDOW item* E_WINDOW ;
 viewportStmt        : K_VIEWPORT item* E_VIEWPORT ;
 renderStmt          : K_RENDER item* E_RENDER ;
+frontcolorStmt      : K_FRONTCOLOR item* E_FRONTCOLOR ;
+backcolorStmt       : K_BACKCOLOR item* E_BACKCOLOR ;
+backgroundcolorStmt : K_BACKGROUNDCOLOR item* E_BACKGROUNDCOLOR ;
+backfaceStmt        : K_BACKFACE item* E_BACKFACE ;
+morphvisualizerStmt : K_MORPHVISUALIZER item* E_MORPHVISUALIZER ;
 
 // Blocks with nested blocks.
 faceStmt            : K_FACE (vertexStmt | item)* E_FACE ;        // `.anom` faces list vertices
@@ -75,6 +81,7 @@ meshStmt            : K_MESH (pointStmt | faceStmt | sharpStmt | vertexStmt | fa
 groupStmt           : K_GROUP (instanceStmt | item)* E_GROUP ;
 instanceStmt        : K_INSTANCE (lookatStmt | item)* E_INSTANCE ;
 sweepStmt           : K_SWEEP (crosssectionStmt | pathStmt | item)* E_SWEEP ;
+sweepmorphStmt      : K_SWEEPMORPH (pathStmt | item)* E_SWEEPMORPH ;
 crosssectionStmt    : K_CROSSSECTION (transformStmt | item)* E_CROSSSECTION ;
 deleteStmt          : K_DELETE (faceStmt | item)* E_DELETE ;
 consolidateStmt     : K_CONSOLIDATE (consolidatefaceStmt | item)* E_CONSOLIDATE ;
@@ -170,7 +177,8 @@ word
   | K_TRANSFORM | K_LOOKAT | K_DELETE | K_SHARP | K_ZIPPER | K_MERGE | K_SUBDIVISION
   | K_OFFSET | K_HANDLE | K_RIND | K_SIERPINSKI | K_MENGER | K_MIRROR | K_SAVEDPARAMETER
   | K_CONSOLIDATE | K_CONSOLIDATEFACE | K_SAVEDWORKINGMESH | K_CAMERA | K_LIGHT | K_WINDOW
-  | K_VIEWPORT | K_RENDER | K_GEN
+  | K_VIEWPORT | K_RENDER | K_FRONTCOLOR | K_BACKCOLOR | K_BACKGROUNDCOLOR | K_BACKFACE
+  | K_SWEEPMORPH | K_MORPHVISUALIZER | K_GEN
   ;
 
 // ---------------------------------------------------------------------------------------
@@ -226,6 +234,12 @@ K_LIGHT : 'light' ;                   E_LIGHT : 'endlight' ;
 K_WINDOW : 'window' ;                 E_WINDOW : 'endwindow' ;
 K_VIEWPORT : 'viewport' ;             E_VIEWPORT : 'endviewport' ;
 K_RENDER : 'render' ;                 E_RENDER : 'endrender' ;
+K_FRONTCOLOR : 'frontcolor' ;         E_FRONTCOLOR : 'endfrontcolor' ;
+K_BACKCOLOR : 'backcolor' ;           E_BACKCOLOR : 'endbackcolor' ;
+K_BACKGROUNDCOLOR : 'backgroundcolor' ; E_BACKGROUNDCOLOR : 'endbackgroundcolor' ;
+K_BACKFACE : 'backface' ;             E_BACKFACE : 'endbackface' ;
+K_SWEEPMORPH : 'sweepmorph' ;         E_SWEEPMORPH : 'endsweepmorph' ;
+K_MORPHVISUALIZER : 'morphvisualizer' ; E_MORPHVISUALIZER : 'endmorphvisualizer' ;
 
 NUMBER
   : DIGITS ('.' DIGITS?)? EXPONENT?

@@ -45,6 +45,14 @@ void statement_signals(const ast::Ast& a, Signals& sig) {
       case BlockKind::Sharp:
         sig.nome3(s.open_kw, fmt::format("NOME3 command `{}`", s.keyword));
         break;
+      case BlockKind::Frontcolor:
+      case BlockKind::Backcolor:
+      case BlockKind::Backgroundcolor:
+      case BlockKind::Backface:
+      case BlockKind::Sweepmorph:
+      case BlockKind::Morphvisualizer:
+        sig.nome3(s.open_kw, fmt::format("JIPCAD command `{}`", s.keyword));
+        break;
       default:
         if (std::optional<ir::GenKind> gen = generator_of(s)) {
           const ir::GeneratorInfo& g = ir::generator(*gen);
