@@ -137,6 +137,11 @@ struct GenReader {
     expect += ")";
     auto d = c.diags().emit(DiagKind::ListArity, list.range,
                             fmt::format("`{}` takes {}, got {}{}", info.keyword, expect, n, c.split_text(a, list)));
+    if (info.kind == ir::GenKind::Torus && n + 1 == want) {
+      // nome3/olympictorus.nom: no NOME3 or JIPCAD torus took 6 arguments.
+      d.note(SourceRange{}, "every known NOME3 and JIPCAD version of `torus` takes these 7 arguments; with one missing, "
+                            "nomec cannot tell which it is");
+    }
     if (info.kind == ir::GenKind::Funnel) {
       d.note(SourceRange{}, fmt::format("in the `{}` dialect the funnel arguments are ({})", dialect_name(c.dialect()),
                                         fmt::join(args, " ")));
