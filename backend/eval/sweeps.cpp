@@ -324,8 +324,9 @@ std::optional<Generated> morph_visualizer(Context& c, ir::NodeId vis_id, std::st
   auto cs = sections(c, in, true, inst_path);
   if (!cs) return std::nullopt;
   const double index = scalar(c, d.index, 0, 0);
-  const long k = std::lround(index);
-  if (std::fabs(index - static_cast<double>(k)) > 1e-9 || k < 0 || k >= static_cast<long>(fr->size())) {
+  const bool in_range = index > -0.5 && index < static_cast<double>(fr->size()) - 0.5;  // false for NaN
+  const long k = in_range ? std::lround(index) : -1;
+  if (!in_range || std::fabs(index - static_cast<double>(k)) > 1e-9) {
     c.diags().emit(DiagKind::GeometryFailed, c.m.operand(d.index).range,
                    fmt::format("morphvisualizer `{}`: `index` must be a whole number from 0 to {} (the rings of `{}`), "
                                "got {}",
