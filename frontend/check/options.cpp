@@ -272,6 +272,34 @@ bool read_rotate(Context& c, const ast::Ast& a, const ast::Stmt& s, const OptSpe
   return true;
 }
 
+// The node a `surface S`, `backface B` or other reference option names, checked for its kind:
+// a backface named by `surface` is ignored, as JIPCAD did (compat.md F2); `backface` needs
+// a backface colour.
+ir::NodeId read_ref(Context& c, Shape shape, const ast::Item& n) {
+  const std::string name(n.text);
+  if (shape == Shape::Ref) return resolve_any(c, name, n.range);
+  if (shape == Shape::Surface) {
+    ir::NodeId ref = resolve(c, Ns::Surface, name, n.range, "a surface");
+    if (ref.is_valid() && c.module().node(ref).kind == ir::NodeKind::Backface) {
+      c.diags().emit(DiagKind::IgnoredReference, n.range,
+                     fmt::format("`{}` is a backface colour, which `surface` ignores (as JIPCAD did); use `backface {}`",
+                                 name, name));
+      return ir::NodeId::None();
+    }
+    return ref;
+  }
+  ir::NodeId ref = resolve(c, Ns::Surface, name, n.range, "a backface colour");
+  if (ref.is_valid() && c.module().node(ref).kind != ir::NodeKind::Backface) {
+    c.diags()
+        .emit(DiagKind::WrongKind, n.range,
+              fmt::format("`{}` is a {}, but `backface` needs a `backface … color (r g b) endbackface`", name,
+                          c.module().node(ref).keyword))
+        .note(c.module().node(ref).range, "defined here");
+    return ir::NodeId::None();
+  }
+  return ref;
+}
+
 // Reads the value of option `spec` (its word `kw` is already consumed) into `v`; false when
 // the value is missing (reported).
 bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<const OptSpec> opts, const OptSpec& spec,
@@ -326,43 +354,16 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
     case Shape::Rotate:
       return read_rotate(c, a, s, spec, kw, pos, id, v);
     case Shape::Surface:
-    case Shape::Ref: {
-      const ast::Item* n = next();
-      if (n == nullptr || n->kind != ItemKind::Word) {
-        missing("a name");
-        return false;
-      }
-      ++pos;
-      v.ref = spec.shape == Shape::Surface ? resolve(c, Ns::Surface, std::string(n->text), n->range, "a surface")
-                                           : resolve_any(c, std::string(n->text), n->range);
-      if (v.ref.is_valid() && spec.shape == Shape::Surface && c.module().node(v.ref).kind == ir::NodeKind::Backface) {
-        // JIPCAD ignores a back-face colour named as a surface (compat.md F2).
-        c.diags().emit(DiagKind::IgnoredReference, n->range,
-                       fmt::format("`{}` is a backface colour, which `surface` ignores (as JIPCAD did); use `backface {}`",
-                                   n->text, n->text));
-        v.ref = ir::NodeId::None();
-      }
-      if (v.ref.is_valid()) c.module().deps.add_edge(v.ref, id);
-      v.value_range = n->range;
-      return true;
-    }
+    case Shape::Ref:
     case Shape::Backface: {
       const ast::Item* n = next();
       if (n == nullptr || n->kind != ItemKind::Word) {
-        missing("the name of a `backface` colour");
+        missing(spec.shape == Shape::Backface ? "the name of a `backface` colour" : "a name");
         return false;
       }
       ++pos;
       v.value_range = n->range;
-      v.ref = resolve(c, Ns::Surface, std::string(n->text), n->range, "a backface colour");
-      if (v.ref.is_valid() && c.module().node(v.ref).kind != ir::NodeKind::Backface) {
-        c.diags()
-            .emit(DiagKind::WrongKind, n->range,
-                  fmt::format("`{}` is a {}, but `backface` needs a `backface … color (r g b) endbackface`", n->text,
-                              c.module().node(v.ref).keyword))
-            .note(c.module().node(v.ref).range, "defined here");
-        v.ref = ir::NodeId::None();
-      }
+      v.ref = read_ref(c, spec.shape, *n);
       if (v.ref.is_valid()) c.module().deps.add_edge(v.ref, id);
       return true;
     }
