@@ -4,8 +4,9 @@
 // at the start and by `twist` degrees in total along the path. Quads join consecutive
 // rings; a closed cross section on an open path gets `begincap` / `endcap` faces; `reverse`
 // flips faces. The NOME3 controlpoints among the path's points (compat.md E2, F3) scale
-// (`scale (x y _)`) and turn (`rotate (_ _ z)`) the cross section at their ring, linearly
-// interpolated between them. A JIPCAD `sweepmorph` takes its cross section from those
+// (`scale (x y _)`) and turn (`rotate (_ _ z)`) the cross section at their ring (a plain
+// point has scale 1 and no turn; a curve's rings between its listed points interpolate
+// linearly). A JIPCAD `sweepmorph` takes its cross section from those
 // controlpoints too (`crosssection C`, NOME3 `cross C`): each ring's is interpolated point
 // by point between the cross-sections of the controlpoints before and after it (F4). A
 // `morphvisualizer` shows one of those rings as a line strip.
@@ -20,8 +21,8 @@ namespace nomec::backend::eval {
 
 namespace {
 
-// A controlpoint of the path: where it sits (fraction of the path, 0 … 1) and what it
-// carries for the sweep.
+// A point the path lists: where it sits (fraction of the path, 0 … 1) and, for a
+// controlpoint, what it carries for the sweep (a plain point has scale 1 and no turn).
 struct Key {
   double t = 0;
   ir::NodeId node;
@@ -30,8 +31,8 @@ struct Key {
   std::optional<PathPoints> section;
 };
 
-// The controlpoints among the points a path lists (a polyline's, or a curve generator's
-// control points), in order.
+// The points a path lists (a polyline's, or a curve generator's control points), in order,
+// with what their controlpoints carry.
 std::vector<Key> path_keys(Context& c, ir::NodeId curve, std::string_view inst_path) {
   std::vector<ir::NodeId> listed;
   bool closed = false;
@@ -47,11 +48,15 @@ std::vector<Key> path_keys(Context& c, ir::NodeId curve, std::string_view inst_p
   std::vector<Key> keys;
   const double span = closed ? static_cast<double>(listed.size()) : static_cast<double>(listed.size()) - 1;
   for (size_t k = 0; k < listed.size(); ++k) {
-    if (!listed[k].is_valid() || c.m.node(listed[k]).kind != ir::NodeKind::ControlPoint) continue;
-    const ir::ControlPointData& d = c.m.get<ir::ControlPointData>(listed[k]);
+    if (!listed[k].is_valid()) continue;
     Key key;
     key.t = span > 0 ? static_cast<double>(k) / span : 0.0;
     key.node = listed[k];
+    if (c.m.node(listed[k]).kind != ir::NodeKind::ControlPoint) {
+      keys.push_back(std::move(key));  // a plain point: scale 1, no turn (NOME3's defaults)
+      continue;
+    }
+    const ir::ControlPointData& d = c.m.get<ir::ControlPointData>(listed[k]);
     if (d.scale.is_valid()) key.scale = {scalar(c, d.scale, 0, 1), scalar(c, d.scale, 1, 1)};
     if (d.rotate.is_valid()) {
       // `rotate (x y z)`: the z angle turns the cross section in its plane; with an angle

@@ -70,6 +70,12 @@ void statement_signals(const ast::Ast& a, Signals& sig) {
       if (it.text == "isloop") sig.nome(it.range, "`isloop`");
       if (it.text == "sd_type") sig.nome3(it.range, "`sd_type`");
       if (it.text == "list" && s.kind == BlockKind::Bank) sig.nome3(it.range, "`list` in a bank");
+      if ((it.text == "cutbegin" || it.text == "cutend") && s.kind == BlockKind::Path) {
+        sig.nome3(it.range, fmt::format("JIPCAD path flag `{}`", it.text));
+      }
+      if (it.text == "crosssection" && s.kind == BlockKind::Controlpoint) {
+        sig.nome3(it.range, "JIPCAD `crosssection` in a controlpoint");
+      }
     }
   }
 }
