@@ -75,21 +75,24 @@ std::string_view dollar_name(Context& c, const ast::Expr& x) {
 
 void normalize_dollar_names(Context& c, ast::Ast& a) {
   if (c.dialect() != Dialect::Nome3) return;
-  for (ast::Expr& x : a.exprs) {
-    // List elements and operands: `( $a $b $c )` in a face is `(a b c)`. An expression
-    // operand such as `$k * 2` keeps reading a slider (and reports an unknown one).
-    if (std::string_view n = dollar_name(c, x); !n.empty()) {
-      x.kind = ast::ExprKind::Name;
-      x.text = n;
+  // List elements: `( $a $b $c )` in a face is `(a b c)`. Only whole elements: an operand
+  // such as `$k * 2` or `{expr $k}` keeps reading a slider (and reports an unknown one).
+  for (ast::ParenList& l : a.lists) {
+    for (ast::ExprId e : l.elems) {
+      ast::Expr& x = a.exprs[e.index];
+      if (std::string_view n = dollar_name(c, x); !n.empty()) {
+        x.kind = ast::ExprKind::Name;
+        x.text = n;
+      }
     }
   }
+  // Items: `torusknot $k (…)` defines `k`, `instance i $k` places it.
   auto items = [&](std::span<ast::Item> list) {
     for (ast::Item& it : list) {
-      if (it.kind != ItemKind::Value || a.expr(it.expr).kind != ast::ExprKind::Name) continue;
-      const ast::Expr& x = a.expr(it.expr);
-      if (c.sources().text(it.range).starts_with('$')) {
-        it.kind = ItemKind::Word;  // `torusknot $k (…)`: the name `k`
-        it.text = x.text;
+      if (it.kind != ItemKind::Value) continue;
+      if (std::string_view n = dollar_name(c, a.expr(it.expr)); !n.empty()) {
+        it.kind = ItemKind::Word;
+        it.text = n;
       }
     }
   };
