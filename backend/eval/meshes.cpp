@@ -159,6 +159,14 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
       }
       break;
     }
+    case ir::NodeKind::Sweep:
+    case ir::NodeKind::SweepMorph:
+      if (std::optional<kernel::PolygonSoup> sw = sweep(c, target, inst_path)) {
+        for (size_t v = 0; v < sw->names.size(); ++v) {
+          if (sw->names[v] == ref.vertex) p = sw->positions[v];
+        }
+      }
+      break;
     case ir::NodeKind::MorphVisualizer:
       if (std::optional<Generated> g = morph_visualizer(c, target, inst_path)) {
         for (size_t v = 0; v < g->soup.names.size(); ++v) {

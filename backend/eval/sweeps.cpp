@@ -9,7 +9,9 @@
 // linearly). A JIPCAD `sweepmorph` takes its cross section from those
 // controlpoints too (`crosssection C`, NOME3 `cross C`): each ring's is interpolated point
 // by point between the cross-sections of the controlpoints before and after it (F4). A
-// `morphvisualizer` shows one of those rings as a line strip.
+// `morphvisualizer` shows one of those rings as a line strip. Sweep vertices are named as
+// NOME3 named them, `v{k}_{i}` for ring k (from 1) and cross-section point i; NOME3 repeats
+// a closed cross-section's first point and a closed path's first ring, nomec welds both.
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -272,7 +274,10 @@ std::optional<kernel::PolygonSoup> sweep_node(Context& c, ir::NodeId sweep_id, s
   kernel::PolygonSoup out;
   for (size_t i = 0; i < rings; ++i) {
     const Frame& f = (*fr)[i];
-    for (size_t j = 0; j < nc; ++j) out.add_vertex(f.origin + rings_cs[i][j].x * f.n + rings_cs[i][j].y * f.b);
+    for (size_t j = 0; j < nc; ++j) {
+      // NOME3's names: ring k counted from 1, then the cross-section's index.
+      out.add_vertex(f.origin + rings_cs[i][j].x * f.n + rings_cs[i][j].y * f.b, fmt::format("v{}_{}", i + 1, j));
+    }
   }
   auto vid = [&](size_t i, size_t j) { return static_cast<int32_t>((i % rings) * nc + (j % nc)); };
   auto add = [&](std::vector<int32_t> f) {
