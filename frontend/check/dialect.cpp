@@ -45,14 +45,6 @@ void statement_signals(const ast::Ast& a, Signals& sig) {
       case BlockKind::Sharp:
         sig.nome3(s.open_kw, fmt::format("NOME3 command `{}`", s.keyword));
         break;
-      case BlockKind::Frontcolor:
-      case BlockKind::Backcolor:
-      case BlockKind::Backgroundcolor:
-      case BlockKind::Backface:
-      case BlockKind::Sweepmorph:
-      case BlockKind::Morphvisualizer:
-        sig.nome3(s.open_kw, fmt::format("JIPCAD command `{}`", s.keyword));
-        break;
       default:
         if (std::optional<ir::GenKind> gen = generator_of(s)) {
           const ir::GeneratorInfo& g = ir::generator(*gen);
@@ -70,12 +62,6 @@ void statement_signals(const ast::Ast& a, Signals& sig) {
       if (it.text == "isloop") sig.nome(it.range, "`isloop`");
       if (it.text == "sd_type") sig.nome3(it.range, "`sd_type`");
       if (it.text == "list" && s.kind == BlockKind::Bank) sig.nome3(it.range, "`list` in a bank");
-      if ((it.text == "cutbegin" || it.text == "cutend") && s.kind == BlockKind::Path) {
-        sig.nome3(it.range, fmt::format("JIPCAD path flag `{}`", it.text));
-      }
-      if (it.text == "crosssection" && s.kind == BlockKind::Controlpoint) {
-        sig.nome3(it.range, "JIPCAD `crosssection` in a controlpoint");
-      }
     }
   }
 }
