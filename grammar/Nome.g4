@@ -45,7 +45,8 @@ block
   | zipperStmt | mergeStmt | subdivisionStmt | offsetStmt | handleStmt | rindStmt
   | sierpinskiStmt | mengerStmt | mirrorStmt | savedparameterStmt | consolidateStmt
   | consolidatefaceStmt | savedworkingmeshStmt | cameraStmt | lightStmt | windowStmt
-  | viewportStmt | renderStmt | displayStmt | generatorStmt
+  | viewportStmt | renderStmt | displayStmt | frontcolorStmt | backcolorStmt | backgroundcolorStmt
+  | backfaceStmt | sweepmorphStmt | morphvisualizerStmt | generatorStmt
   ;
 
 // Blocks whose body is only items.
@@ -74,6 +75,11 @@ displayStmt
   | K_INSIDEFACES item* E_INSIDEFACES | K_OUTSIDEFACES item* E_OUTSIDEFACES
   | K_OFFSETFACES item* E_OFFSETFACES
   ;
+frontcolorStmt      : K_FRONTCOLOR item* E_FRONTCOLOR ;
+backcolorStmt       : K_BACKCOLOR item* E_BACKCOLOR ;
+backgroundcolorStmt : K_BACKGROUNDCOLOR item* E_BACKGROUNDCOLOR ;
+backfaceStmt        : K_BACKFACE item* E_BACKFACE ;
+morphvisualizerStmt : K_MORPHVISUALIZER item* E_MORPHVISUALIZER ;
 
 // Blocks with nested blocks.
 faceStmt            : K_FACE (vertexStmt | item)* E_FACE ;        // `.anom` faces list vertices
@@ -81,6 +87,7 @@ meshStmt            : K_MESH (pointStmt | faceStmt | sharpStmt | vertexStmt | fa
 groupStmt           : K_GROUP (instanceStmt | item)* E_GROUP ;
 instanceStmt        : K_INSTANCE (lookatStmt | item)* E_INSTANCE ;
 sweepStmt           : K_SWEEP (crosssectionStmt | pathStmt | item)* E_SWEEP ;
+sweepmorphStmt      : K_SWEEPMORPH (pathStmt | item)* E_SWEEPMORPH ;
 crosssectionStmt    : K_CROSSSECTION (transformStmt | item)* E_CROSSSECTION ;
 deleteStmt          : K_DELETE (faceStmt | item)* E_DELETE ;
 consolidateStmt     : K_CONSOLIDATE (consolidatefaceStmt | item)* E_CONSOLIDATE ;
@@ -176,7 +183,8 @@ word
   | K_TRANSFORM | K_LOOKAT | K_DELETE | K_SHARP | K_ZIPPER | K_MERGE | K_SUBDIVISION
   | K_OFFSET | K_HANDLE | K_RIND | K_SIERPINSKI | K_MENGER | K_MIRROR | K_SAVEDPARAMETER
   | K_CONSOLIDATE | K_CONSOLIDATEFACE | K_SAVEDWORKINGMESH | K_CAMERA | K_LIGHT | K_WINDOW
-  | K_VIEWPORT | K_RENDER | K_GEN
+  | K_VIEWPORT | K_RENDER | K_FRONTCOLOR | K_BACKCOLOR | K_BACKGROUNDCOLOR | K_BACKFACE
+  | K_SWEEPMORPH | K_MORPHVISUALIZER | K_GEN
   | K_FOREGROUND | K_BACKGROUND | K_INSIDEFACES | K_OUTSIDEFACES | K_OFFSETFACES
   ;
 
@@ -241,6 +249,12 @@ K_BACKGROUND : 'background' ;         E_BACKGROUND : 'endbackground' ;
 K_INSIDEFACES : 'insidefaces' ;       E_INSIDEFACES : 'endinsidefaces' ;
 K_OUTSIDEFACES : 'outsidefaces' ;     E_OUTSIDEFACES : 'endoutsidefaces' ;
 K_OFFSETFACES : 'offsetfaces' ;       E_OFFSETFACES : 'endoffsetfaces' ;
+K_FRONTCOLOR : 'frontcolor' ;         E_FRONTCOLOR : 'endfrontcolor' ;
+K_BACKCOLOR : 'backcolor' ;           E_BACKCOLOR : 'endbackcolor' ;
+K_BACKGROUNDCOLOR : 'backgroundcolor' ; E_BACKGROUNDCOLOR : 'endbackgroundcolor' ;
+K_BACKFACE : 'backface' ;             E_BACKFACE : 'endbackface' ;
+K_SWEEPMORPH : 'sweepmorph' ;         E_SWEEPMORPH : 'endsweepmorph' ;
+K_MORPHVISUALIZER : 'morphvisualizer' ; E_MORPHVISUALIZER : 'endmorphvisualizer' ;
 
 NUMBER
   : DIGITS ('.' DIGITS?)? EXPONENT?

@@ -118,8 +118,30 @@ class NodeLines {
       case NodeKind::Transform:
         operands(n);
         return;
-      case NodeKind::ControlPoint:
-        ref("point", n.as<ControlPointData>().point);
+      case NodeKind::ControlPoint: {
+        const auto& cp = n.as<ControlPointData>();
+        ref("point", cp.point);
+        operands(n);
+        ref("crosssection", cp.cross_section);
+        if (cp.reverse) line("reverse");
+        return;
+      }
+      case NodeKind::SceneColor:
+        line("kind", std::string(scene_color_name(n.as<SceneColorData>().kind)));
+        operands(n);
+        return;
+      case NodeKind::Backface:
+        operands(n);
+        return;
+      case NodeKind::SweepMorph: {
+        const auto& d = n.as<SweepMorphData>();
+        if (d.begin_cap) line("begincap");
+        if (d.end_cap) line("endcap");
+        if (d.reverse) line("reverse");
+        return;
+      }
+      case NodeKind::MorphVisualizer:
+        ref("sweep", n.as<MorphVisualizerData>().sweep);
         operands(n);
         return;
       case NodeKind::Polyline: {
@@ -133,6 +155,7 @@ class NodeLines {
         const auto& f = n.as<FaceData>();
         line("vertices", vertices_text(m_, f.vertices));
         ref("surface", f.surface);
+        ref("backface", f.backface);
         return;
       }
       case NodeKind::Mesh: {
@@ -153,6 +176,8 @@ class NodeLines {
         ref("curve", p.curve);
         operands(n);
         if (p.mintorsion) line("mintorsion");
+        if (p.cut_begin) line("cutbegin");
+        if (p.cut_end) line("cutend");
         return;
       }
       case NodeKind::CrossSection: {
@@ -171,6 +196,7 @@ class NodeLines {
       case NodeKind::Instance:
         operands(n);
         ref("surface", n.as<InstanceData>().surface);
+        ref("backface", n.as<InstanceData>().backface);
         return;
       case NodeKind::Subdivision:
         line("rule", std::string(subdivision_rule_name(n.as<SubdivisionData>().rule)));

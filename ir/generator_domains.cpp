@@ -241,11 +241,14 @@ void quadric_rules(GenKind kind, Rules& r) {
       spheroid<gen_arg::Ellipsoid>(r);
       return;
     case GenKind::Cylinder: {
+      // NOME3 truncates theta_max to whole degrees; exactly 360 is a closed tube.
       using A = gen_arg::Cylinder;
       r.positive(A::radius);
       r.positive(A::height);
-      if (auto wrap = r.span(A::theta_max)) r.count(A::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full turn" : "");
-      r.count(A::height_segs, 1);
+      const double* t = r.get(A::theta_max);
+      if (auto wrap = r.span(A::theta_max, t ? std::optional<double>(std::trunc(*t)) : std::nullopt)) {
+        r.count(A::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full turn" : "");
+      }
       return;
     }
     case GenKind::Cone:
@@ -254,9 +257,26 @@ void quadric_rules(GenKind kind, Rules& r) {
       return;
     case GenKind::Hyperboloid: {
       using A = gen_arg::Hyperboloid;
-      for (A a : {A::a, A::b, A::c, A::height}) r.positive(a);
-      r.count(A::theta_segs, 3, " around a full turn");
-      r.count(A::height_segs, 1);
+      r.count(A::n, 3, " around the axis");
+      r.positive(A::a);
+      r.positive(A::b);
+      const double* c = r.get(A::c);
+      if (c != nullptr && !r.problem && r.finite(A::c, *c) && *c < 1.0) {
+        r.report(A::c, r.q(A::c) + " must be at least 1, got " + format_argument(*c),
+                 "the rows sit at the whole numbers z = -c … c, so c = 1 gives three rows");
+      } else if (c != nullptr && !r.problem && *c > kMaxCount) {
+        r.report(A::c, r.q(A::c) + " must be at most " + std::to_string(kMaxCount), "use fewer rows");
+      }
+      const double* sheet = r.get(A::sheet);
+      if (sheet != nullptr && !r.problem && r.finite(A::sheet, *sheet) && *sheet != 0.0) {
+        r.report(A::sheet, "only one sheet is built: " + r.q(A::sheet) + " must be 0",
+                 "NOME3's two-sheet formula sqrt(z²−1) has no points on the row z = 0");
+      }
+      const double* ang = r.get(A::angle);
+      if (ang != nullptr && !r.problem && r.finite(A::angle, *ang) && !(*ang > 0.0 && *ang <= 2.0)) {
+        r.report(A::angle, r.q(A::angle) + " must be in (0, 2], got " + format_argument(*ang),
+                 "the angle is in units of π: 2 is a full turn, 1 a half turn");
+      }
       return;
     }
     case GenKind::Dupin: {
@@ -270,8 +290,14 @@ void quadric_rules(GenKind kind, Rules& r) {
                            " in absolute value (the cyclide is unbounded otherwise)",
                  "choose |c| < a");
       }
-      r.count(A::u_segs, 3, " around a full turn");
-      r.count(A::v_segs, 3, " around a full turn");
+      for (A ext : {A::u, A::v}) {
+        const double* e = r.get(ext);
+        if (e != nullptr && !r.problem && r.finite(ext, *e) && !(*e > 0.0 && *e <= 2.0)) {
+          r.report(ext, r.q(ext) + " must be in (0, 2], got " + format_argument(*e),
+                   "the extent is in units of π: 2 is a full turn, 1 a half turn");
+        }
+      }
+      r.count(A::n, 2, " (an n × n grid)");
       return;
     }
     case GenKind::Torus: {
@@ -306,14 +332,21 @@ void curve_rules(GenKind kind, Rules& r) {
   switch (kind) {
     case GenKind::Helix:
       r.positive(gen_arg::Helix::radius);
-      r.nonzero(gen_arg::Helix::turns);
-      r.count(gen_arg::Helix::segs, 1);
+      r.nonzero(gen_arg::Helix::theta_max);
+      r.count(gen_arg::Helix::segs, 2, " (a line strip needs two vertices)");
       return;
-    case GenKind::Spiral:
-      r.positive(gen_arg::Spiral::growth);
-      r.nonzero(gen_arg::Spiral::turns);
-      r.count(gen_arg::Spiral::segs, 1);
+    case GenKind::Spiral: {
+      using A = gen_arg::Spiral;
+      r.positive(A::rate);
+      const double* ang = r.get(A::angle);
+      if (ang != nullptr && !r.problem && r.finite(A::angle, *ang) && std::trunc(*ang) == 0.0) {
+        r.report(A::angle, r.q(A::angle) + " must be at least 1 in absolute value (it is truncated to a whole number), got " +
+                               format_argument(*ang),
+                 "the spiral turns 2·angle radians in total");
+      }
+      r.count(A::segs, 1);
       return;
+    }
     case GenKind::Beziercurve:
       r.count(gen_arg::Beziercurve::segs, 1);
       return;
@@ -349,11 +382,17 @@ void function_rules(GenKind kind, Rules& r) {
       r.greater(A::x_min, A::x_max);
       r.greater(A::y_min, A::y_max);
       r.greater(A::z_min, A::z_max);
-      r.count(A::resolution, 1);
-      const double* res = r.get(A::resolution);
-      if (res != nullptr && !r.problem && std::round(*res) > 128) {
-        r.report(A::resolution, r.q(A::resolution) + " must be at most 128, got " + std::to_string(round_count(*res)),
-                 "the surface is sampled on a resolution³ grid; 128 is already 2 million samples");
+      double cells = 1;
+      bool all_known = true;
+      for (A n : {A::nx, A::ny, A::nz}) {
+        r.count(n, 2, " (a cell is (max − min)/(n − 1) wide)");
+        const double* v = r.get(n);
+        if (v == nullptr) all_known = false;
+        else cells *= std::round(*v);
+      }
+      if (all_known && !r.problem && cells > 128.0 * 128.0 * 128.0) {
+        r.report(A::nz, "nx·ny·nz must be at most 2097152 (128³), got " + format_argument(cells),
+                 "the function is sampled at every grid corner; use fewer cells");
       }
       return;
     }

@@ -92,6 +92,15 @@ std::string_view subdivision_rule_name(SubdivisionRule r) {
   return "?";
 }
 
+std::string_view scene_color_name(SceneColorKind k) {
+  switch (k) {
+    case SceneColorKind::Front: return "front";
+    case SceneColorKind::Back: return "back";
+    case SceneColorKind::Background: return "background";
+  }
+  return "?";
+}
+
 std::string_view offset_kind_name(OffsetKind k) {
   switch (k) {
     case OffsetKind::Plain: return "plain";

@@ -103,10 +103,16 @@ struct SurfaceData {
 struct PointData {
   OperandId position, texture;
 };
-/// NOME3 `controlpoint cp point p scale (…) rotate (…) endcontrolpoint`.
+/// NOME3 `controlpoint cp point p scale (…) rotate (…) crosssection C reverse endcontrolpoint`:
+/// a point (its position is `point`'s) that carries sweep data: the scale and rotation of the
+/// cross-section at this point, the cross-section curve a `sweepmorph` reaches here (NOME3
+/// spells it `cross C`), and `reverse`.
 struct ControlPointData {
   NodeId point;
   OperandId scale, rotate, translate;
+  NodeId cross_section;
+  SourceRange cross_section_range;
+  bool reverse = false;
 };
 /// `polyline l (p1 p2 p3) closed endpolyline` (2016 `isloop`).
 struct PolylineData {
@@ -114,10 +120,11 @@ struct PolylineData {
   Slice<NodeId> point_list;  // SLIDE `pointlist (…)`
   FlagArg closed;
 };
-/// `face f (a b c) surface S endface`; also `facet` and a saved `consolidateface`.
+/// `face f (a b c) surface S backface B endface`; also `facet` and a saved `consolidateface`.
 struct FaceData {
   Slice<VertexRef> vertices;
   NodeId surface;
+  NodeId backface;  // JIPCAD: the colour of its back
 };
 enum class MeshForm : uint8_t { Mesh, Object, Consolidate, SavedWorkingMesh };
 /// `mesh m … endmesh`, `object o (f1 f2) endobject`, and the meshes of 2016 saved work.
@@ -137,12 +144,14 @@ struct SweepData {
   OperandId azimuth, twist;
   bool mintorsion = false;
 };
-/// `path P [mintorsion] [azimuth E] [twist E] endpath` inside a sweep.
+/// `path P [mintorsion] [azimuth E] [twist E] [cutbegin] [cutend] endpath` inside a sweep or
+/// a sweepmorph.
 struct SweepPathData {
   NodeId curve;
   SourceRange curve_range;
   OperandId azimuth, twist, minimizetorsion;
   bool mintorsion = false;
+  bool cut_begin = false, cut_end = false;  // JIPCAD
 };
 /// `crosssection C … endcrosssection`: a curve (by name inside a sweep, or SLIDE `type
 /// polyline P` / `polyline P`) or a SLIDE circle, with caps.
@@ -162,11 +171,12 @@ struct TransformData {
 struct GroupData {
   NodeId surface;
 };
-/// `instance i target translate (…) rotate (…) (…) surface S endinstance`.
+/// `instance i target translate (…) rotate (…) (…) surface S backface B endinstance`.
 struct InstanceData {
   NodeId target;
   Slice<TransformOp> transforms;  // in written order; the first written acts first
   NodeId surface;
+  NodeId backface;  // JIPCAD: the colour of its faces' backs
   bool is_hidden = false;
   bool is_reversed = false;  // NOME2's `reverse`: every face of the target turned around
 };
@@ -239,6 +249,32 @@ enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, Lookat
 /// geometry.
 struct SceneData {
   SceneKind kind = SceneKind::Camera;
+};
+
+enum class SceneColorKind : uint8_t { Front, Back, Background };
+std::string_view scene_color_name(SceneColorKind k);
+/// JIPCAD's viewer colours: `frontcolor (1 0.5 0) endfrontcolor`, `backcolor …`,
+/// `backgroundcolor …`. No geometry; the last of each kind in the file is in effect.
+struct SceneColorData {
+  SceneColorKind kind = SceneColorKind::Front;
+  OperandId color;
+};
+/// JIPCAD `backface B color (r g b) endbackface`: a back-face colour that `face … backface B`
+/// and `instance … backface B` apply.
+struct BackfaceData {
+  OperandId color;
+};
+/// JIPCAD `sweepmorph S [begincap] [endcap] [reverse] path P … endpath endsweepmorph`: a sweep
+/// whose cross-section at each ring is interpolated between the cross-sections of the
+/// path's control points. Its path is a child node (SweepPath).
+struct SweepMorphData {
+  bool begin_cap = false, end_cap = false, reverse = false;
+};
+/// JIPCAD `morphvisualizer V sweep S index E endmorphvisualizer`: the index-th interpolated
+/// cross-section of sweepmorph `S`, placed on its ring, as a line strip `v{index}_{i}`.
+struct MorphVisualizerData {
+  NodeId sweep;
+  OperandId index;
 };
 
 // ---- Nodes ----

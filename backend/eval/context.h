@@ -136,11 +136,11 @@ std::string short_name(std::string_view qualified);
 void report(Context& c, const kernel::KernelError& e, const kernel::PolygonSoup& soup, SourceRange fallback,
             std::string_view what);
 
-// ---- generated.cpp: generators and sweeps ----
+// ---- generated.cpp: generators and paths ----
 /// The generator of node `gen` run once (memoized); null after a reported error.
 const Generated* generated(Context& c, ir::NodeId gen, std::string_view inst_path);
-/// The sweep of node `sweep` for one instance path (memoized); nullopt after an error.
-std::optional<kernel::PolygonSoup> sweep(Context& c, ir::NodeId sweep, std::string_view inst_path);
+/// Is flag `f` set (present, and its value, if any, not 0)?
+bool flag_set(Context& c, const ir::FlagArg& f);
 /// The points of a path (a polyline's vertices, or a generated curve), in order, and
 /// whether it is closed.
 struct PathPoints {
@@ -150,11 +150,21 @@ struct PathPoints {
 };
 PathPoints path_points(Context& c, ir::NodeId path, std::string_view inst_path);
 
+// ---- sweeps.cpp: sweeps, sweepmorphs and morph visualizers ----
+/// The sweep or sweepmorph of node `sweep` for one instance path (memoized); nullopt after
+/// an error.
+std::optional<kernel::PolygonSoup> sweep(Context& c, ir::NodeId sweep, std::string_view inst_path);
+/// The cross-section a morphvisualizer shows, as a line strip `v{index}_{i}` placed on its
+/// ring of the sweepmorph; nullopt after an error.
+std::optional<Generated> morph_visualizer(Context& c, ir::NodeId visualizer, std::string_view inst_path);
+
 // ---- meshes.cpp: meshes and vertex positions ----
 /// Adds the faces of a mesh (or object / saved mesh) in its local frame, with its creases.
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out);
 /// World position of a vertex reference (a point, or a vertex through instances).
 std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std::string_view inst_path);
+/// The position of a point node, or of a NOME3 controlpoint (its point's, compat.md E2).
+std::optional<glm::dvec3> point_position(Context& c, ir::NodeId point);
 
 // ---- placement.cpp: walking instances and groups down to leaves ----
 /// Adds instance `inst` placed by `parent_t`.

@@ -126,12 +126,19 @@ void add_creases(Context& c, ir::NodeId mesh_id, const std::string& path, kernel
 
 }  // namespace
 
-std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std::string_view inst_path) {
-  if (ref.point.is_valid()) {
-    const ir::Node& pn = c.m.node(ref.point);
-    if (pn.kind != ir::NodeKind::Point || !pn.as<ir::PointData>().position.is_valid()) return std::nullopt;
-    return vec3(c, pn.as<ir::PointData>().position);
+std::optional<glm::dvec3> point_position(Context& c, ir::NodeId point) {
+  const ir::Node* pn = &c.m.node(point);
+  if (pn->kind == ir::NodeKind::ControlPoint) {
+    const ir::NodeId p = pn->as<ir::ControlPointData>().point;
+    if (!p.is_valid()) return std::nullopt;
+    pn = &c.m.node(p);
   }
+  if (pn->kind != ir::NodeKind::Point || !pn->as<ir::PointData>().position.is_valid()) return std::nullopt;
+  return vec3(c, pn->as<ir::PointData>().position);
+}
+
+std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std::string_view inst_path) {
+  if (ref.point.is_valid()) return point_position(c, ref.point);
   if (ref.instances.empty() || !ref.instances[0].is_valid()) return std::nullopt;
   glm::dmat4 t = world_of(c, ref.instances[0]);
   for (size_t i = 1; i < ref.instances.size(); ++i) {
@@ -156,6 +163,21 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
       }
       break;
     }
+    case ir::NodeKind::Sweep:
+    case ir::NodeKind::SweepMorph:
+      if (std::optional<kernel::PolygonSoup> sw = sweep(c, target, inst_path)) {
+        for (size_t v = 0; v < sw->names.size(); ++v) {
+          if (sw->names[v] == ref.vertex) p = sw->positions[v];
+        }
+      }
+      break;
+    case ir::NodeKind::MorphVisualizer:
+      if (std::optional<Generated> g = morph_visualizer(c, target, inst_path)) {
+        for (size_t v = 0; v < g->soup.names.size(); ++v) {
+          if (g->soup.names[v] == ref.vertex) p = g->soup.positions[v];
+        }
+      }
+      break;
     case ir::NodeKind::Polyline:
       // A vertex of a polyline instance (`_l1_v4`): one of the points it lists.
       p = position_among(c, c.m.refs(tn.as<ir::PolylineData>().points), ref, inst_path);

@@ -45,12 +45,20 @@ void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collec
       out.curve_count += static_cast<int32_t>(g->curves.size());
       return;
     }
-    case ir::NodeKind::Sweep: {
+    case ir::NodeKind::Sweep:
+    case ir::NodeKind::SweepMorph: {
       std::optional<kernel::PolygonSoup> sw = sweep(c, tid, at.path);
       if (!sw) return;
       sw->face_sources.assign(sw->face_count(), kernel::FaceSource{tid.index, at.inst.index});
       append_soup(out, *sw, at.t, at.color, false);
       if (c.has_deletes()) mark_deleted(c, out, face_base, at.inst);
+      return;
+    }
+    case ir::NodeKind::MorphVisualizer: {
+      std::optional<Generated> g = morph_visualizer(c, tid, at.path);
+      if (!g) return;
+      append_soup(out, g->soup, at.t, at.color, false);
+      out.curve_count += static_cast<int32_t>(g->curves.size());
       return;
     }
     default:
@@ -153,6 +161,8 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
     case ir::NodeKind::Mesh:
     case ir::NodeKind::Generator:
     case ir::NodeKind::Sweep:
+    case ir::NodeKind::SweepMorph:
+    case ir::NodeKind::MorphVisualizer:
       place(c, tid, at, out);
       return;
     case ir::NodeKind::Polyline:
@@ -180,6 +190,8 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
       return;
     case ir::NodeKind::SceneSetup:
       return;  // viewing set-up: no geometry (the checker already noted it)
+    case ir::NodeKind::SceneColor:
+    case ir::NodeKind::Backface:
     case ir::NodeKind::Param:
     case ir::NodeKind::Value:
     case ir::NodeKind::Surface:

@@ -1,5 +1,6 @@
-// Curve generators: helix, spiral, beziercurve, bspline. Output is a polyline in
-// `Generated::curves` over vertices `v0…` of a soup without faces.
+// Curve generators: helix, beziercurve, bspline, whose output is a polyline in
+// `Generated::curves` over vertices `v0…` of a soup without faces; and NOME3's spiral, a
+// ribbon surface that shares their winding parameters.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -47,37 +48,47 @@ glm::dvec3 de_boor(const std::vector<glm::dvec3>& p, const std::vector<double>& 
 
 }  // namespace
 
-// A curve winding `turns` times around the z axis while rising to `h`, sampled at `segs` + 1
-// points; `radius(s)` gives the distance from the axis at progress s in [0, 1].
-template <typename RadiusFn>
-Generated winding_curve(double turns, double h, int segs, RadiusFn radius) {
+// NOME3's helix (compat.md D4, generators-original.md §9): `segs` vertices `v0…v{segs−1}` at
+// θ_i = (i/segs)·theta_max degrees, (r cos θ, r sin θ, spacing·θ) with θ in radians; an open
+// line strip whose last vertex stops one step short of theta_max.
+Generated make_Helix(const ArgReader& a) {
+  using A = ir::gen_arg::Helix;
+  const double r = a.positive(A::radius);
+  const double spacing = a.number(A::spacing);
+  const double theta_max = nonzero(a, A::theta_max);
+  const int segs = a.count(A::segs, 2);
   std::vector<glm::dvec3> pts;
-  for (int i = 0; i <= segs; ++i) {
-    const double s = static_cast<double>(i) / segs;
-    const double th = 2.0 * kPi * turns * s;
-    const double r = radius(s);
-    pts.emplace_back(r * std::cos(th), r * std::sin(th), h * s);
+  for (int i = 0; i < segs; ++i) {
+    const double th = radians(theta_max * i / segs);
+    pts.emplace_back(r * std::cos(th), r * std::sin(th), spacing * th);
   }
   return polyline(pts, false);
 }
 
-Generated make_Helix(const ArgReader& a) {
-  using A = ir::gen_arg::Helix;
-  const double r = a.positive(A::radius);
-  const double h = a.number(A::height);
-  const double turns = nonzero(a, A::turns);
-  const int segs = a.count(A::segs, 1);
-  return winding_curve(turns, h, segs, [r](double) { return r; });
-}
-
+// NOME3's spiral (compat.md D4, generators-original.md §9): a flat ribbon. Step i (0…segs) is
+// at θ_i = 2·angle·i/segs radians (angle truncated to a whole number) and radius i·rate:
+// `u{i}` at z = 0 and `l{i}` at z = −0.13, joined by the triangles (u{i+1}, u{i}, l{i}) and
+// (l{i}, l{i+1}, u{i+1}).
 Generated make_Spiral(const ArgReader& a) {
   using A = ir::gen_arg::Spiral;
-  const double growth = a.positive(A::growth);
-  const double h = a.number(A::height);
-  const double turns = nonzero(a, A::turns);
+  const double rate = a.positive(A::rate);
+  const double angle = std::trunc(a.number(A::angle));
+  if (angle == 0.0) fail(ir::arg_index(A::angle), "`angle` must be at least 1 in absolute value (it is truncated)");
   const int segs = a.count(A::segs, 1);
-  // The radius grows by `growth` per turn.
-  return winding_curve(turns, h, segs, [&](double s) { return growth * std::abs(turns) * s; });
+  check_size(2LL * (segs + 1), ir::arg_index(A::segs));
+  Generated g;
+  std::vector<int32_t> u(segs + 1), l(segs + 1);
+  for (int i = 0; i <= segs; ++i) {
+    const double th = 2.0 * angle * i / segs;
+    const double r = i * rate;
+    u[i] = g.soup.add_vertex({r * std::cos(th), r * std::sin(th), 0.0}, "u" + std::to_string(i));
+    l[i] = g.soup.add_vertex({r * std::cos(th), r * std::sin(th), -0.13}, "l" + std::to_string(i));
+  }
+  for (int i = 0; i < segs; ++i) {
+    g.soup.add_face({u[i + 1], u[i], l[i]});
+    g.soup.add_face({l[i], l[i + 1], u[i + 1]});
+  }
+  return g;
 }
 
 Generated make_Beziercurve(const ArgReader& a) {

@@ -148,26 +148,35 @@ Generated make_Gencartesiansurf(const ArgReader& a) {
   return g;
 }
 
+// genimplicitsurf over NOME3's grid. NOME3 runs Bourke's marching cubes and gives every cube
+// its own vertices; nomec splits each cube into six tetrahedra (a manifold result with no
+// ambiguous cases) and shares the crossing on each grid edge, named `v_{k}` in order of
+// creation (generators-original.md §11.3).
 Generated make_Genimplicitsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genimplicitsurf;
   a.function(A::func);
   const Range x = range(a, A::x_min, A::x_max);
   const Range y = range(a, A::y_min, A::y_max);
   const Range z = range(a, A::z_min, A::z_max);
-  const int res = a.count(A::resolution, 1);
-  if (res > 128) fail(ir::arg_index(A::resolution), "`resolution` must be at most 128, got " + std::to_string(res));
-  // Sample f on the (res+1)^3 grid; exact zeros are nudged so that no grid value lies on
-  // the surface (this keeps the marching-tetrahedra result a manifold).
-  const int n = res + 1;
-  auto gp = [&](int i, int j, int k) {
-    return glm::dvec3(x.lo + (x.hi - x.lo) * i / res, y.lo + (y.hi - y.lo) * j / res,
-                      z.lo + (z.hi - z.lo) * k / res);
-  };
-  std::vector<double> val(static_cast<size_t>(n) * n * n);
-  auto vid = [&](int i, int j, int k) { return (static_cast<size_t>(i) * n + j) * n + k; };
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      for (int k = 0; k < n; ++k) {
+  // NOME3's grid (compat.md D2): nx × ny × nz cells of (max − min)/(n − 1), so the last cell
+  // ends one cell past max. f is sampled at the (n+1)³ corners; exact zeros are nudged so
+  // that no grid value lies on the surface (this keeps the marching-tetrahedra result a
+  // manifold).
+  const int cx = a.count(A::nx, 2);
+  const int cy = a.count(A::ny, 2);
+  const int cz = a.count(A::nz, 2);
+  if (static_cast<double>(cx) * cy * cz > 128.0 * 128.0 * 128.0) {
+    fail(ir::arg_index(A::nz), "nx·ny·nz must be at most 2097152 (128³)");
+  }
+  const int px = cx + 1, py = cy + 1, pz = cz + 1;
+  const glm::dvec3 step((x.hi - x.lo) / (cx - 1), (y.hi - y.lo) / (cy - 1), (z.hi - z.lo) / (cz - 1));
+  auto gp = [&](int i, int j, int k) { return glm::dvec3(x.lo + step.x * i, y.lo + step.y * j, z.lo + step.z * k); };
+  const size_t corners = static_cast<size_t>(px) * py * pz;
+  std::vector<double> val(corners);
+  auto vid = [&](int i, int j, int k) { return (static_cast<size_t>(i) * py + j) * pz + k; };
+  for (int i = 0; i < px; ++i) {
+    for (int j = 0; j < py; ++j) {
+      for (int k = 0; k < pz; ++k) {
         const glm::dvec3 p = gp(i, j, k);
         const double xyz[3] = {p.x, p.y, p.z};
         double v = value_at(a, A::func, xyz);
@@ -180,16 +189,16 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   std::unordered_map<uint64_t, int32_t> edge_vertex;  // grid edge -> soup vertex
   auto crossing = [&](size_t p, size_t q) -> int32_t {
     if (p > q) std::swap(p, q);
-    const uint64_t key = static_cast<uint64_t>(p) * (static_cast<uint64_t>(n) * n * n) + q;
+    const uint64_t key = static_cast<uint64_t>(p) * corners + q;
     auto it = edge_vertex.find(key);
     if (it != edge_vertex.end()) return it->second;
     auto pos = [&](size_t id) {
-      const int k = static_cast<int>(id % n), j = static_cast<int>((id / n) % n), i = static_cast<int>(id / n / n);
+      const int k = static_cast<int>(id % pz), j = static_cast<int>((id / pz) % py), i = static_cast<int>(id / pz / py);
       return gp(i, j, k);
     };
     // Clamped away from the corners so that crossings never coincide.
     const double t = std::clamp(val[p] / (val[p] - val[q]), 1e-3, 1.0 - 1e-3);
-    const int32_t v = g.soup.add_vertex(pos(p) + t * (pos(q) - pos(p)), "");
+    const int32_t v = g.soup.add_vertex(pos(p) + t * (pos(q) - pos(p)), "v_" + std::to_string(g.soup.vertex_count()));
     edge_vertex.emplace(key, v);
     return v;
   };
@@ -197,9 +206,9 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   // across neighbouring cubes).
   static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7},
                                   {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
-  for (int i = 0; i < res; ++i) {
-    for (int j = 0; j < res; ++j) {
-      for (int k = 0; k < res; ++k) {
+  for (int i = 0; i < cx; ++i) {
+    for (int j = 0; j < cy; ++j) {
+      for (int k = 0; k < cz; ++k) {
         size_t c[8];
         glm::dvec3 cp[8];
         for (int b = 0; b < 8; ++b) {

@@ -104,20 +104,54 @@ Generated make_Ellipsoid(const ArgReader& a) {
   return spheroid<ir::gen_arg::Ellipsoid>(a, ra, rb);
 }
 
+// NOME3's cylinder (compat.md D1, generators-original.md §5): two rings of theta_segs + 1
+// vertices `v{j}_{i}` (NOME3's `v{j}-{i}`, which a file cannot write), j = 0 at z = 0 and
+// j = 1 at z = height, θ_i = i·theta_max/theta_segs with theta_max truncated to whole
+// degrees. At exactly 360 the last column lies on the first (an unwelded seam, as in NOME3)
+// and a closing quad joins them; below 360 two wedge quads close the slice through the axis
+// vertices `top_center` (0,0,0) and `bottom_center` (0,0,height). `topcap`/`begincap` caps
+// the z = 0 ring (facing −z), `botcap`/`endcap` the z = height ring (facing +z). SLIDE's
+// cylinder, which has named fields only, defaults to radius 1, height 1 and a full turn.
 Generated make_Cylinder(const ArgReader& a) {
   using A = ir::gen_arg::Cylinder;
-  const double r = a.positive(A::radius);
-  const double h = a.positive(A::height);
-  const double theta_max = a.number(A::theta_max);
-  const bool wrap = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
-  const int ts = a.count(A::theta_segs, wrap ? 3 : 1);
-  const int hs = a.count(A::height_segs, 1);
-  check_size(static_cast<long long>(ts + 1) * (hs + 1), ir::arg_index(A::theta_segs));
+  const double r = a.has(A::radius) ? a.positive(A::radius) : 1.0;
+  const double h = a.has(A::height) ? a.positive(A::height) : 1.0;
+  const double theta_max = std::trunc(a.number_or(A::theta_max, 360.0));
+  const bool full = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
+  const int ts = a.has(A::theta_segs) ? a.count(A::theta_segs, full ? 3 : 1) : 16;
+  check_size(2LL * (ts + 1), ir::arg_index(A::theta_segs));
   Generated g;
-  add_grid(g.soup, ts, hs, wrap, false, [&](int i, int j) {
-    const double th = radians(theta_max * i / ts);
-    return glm::dvec3(r * std::cos(th), r * std::sin(th), h * j / hs);
-  });
+  int32_t ring[2] = {0, 0};
+  for (int j = 0; j < 2; ++j) {
+    ring[j] = g.soup.vertex_count();
+    for (int i = 0; i <= ts; ++i) {
+      const double th = radians(theta_max * i / ts);
+      g.soup.add_vertex({r * std::cos(th), r * std::sin(th), j * h}, "v" + std::to_string(j) + "_" + std::to_string(i));
+    }
+  }
+  auto v = [&](int j, int i) { return ring[j] + i; };
+  for (int c = 0; c < ts; ++c) g.soup.add_face({v(1, c + 1), v(1, c), v(0, c), v(0, c + 1)});
+  int32_t top_center = -1, bottom_center = -1;
+  if (full) {
+    g.soup.add_face({v(1, 0), v(1, ts), v(0, ts), v(0, 0)});
+  } else {
+    top_center = g.soup.add_vertex({0.0, 0.0, 0.0}, "top_center");
+    bottom_center = g.soup.add_vertex({0.0, 0.0, h}, "bottom_center");
+    g.soup.add_face({top_center, bottom_center, v(1, ts), v(0, ts)});
+    g.soup.add_face({v(0, 0), v(1, 0), bottom_center, top_center});
+  }
+  if (a.flag(A::begincap)) {
+    std::vector<int32_t> cap;
+    if (!full) cap.push_back(top_center);
+    for (int i = ts; i >= 0; --i) cap.push_back(v(0, i));
+    g.soup.add_face(cap);
+  }
+  if (a.flag(A::endcap)) {
+    std::vector<int32_t> cap;
+    if (!full) cap.push_back(bottom_center);
+    for (int i = 0; i <= ts; ++i) cap.push_back(v(1, i));
+    g.soup.add_face(cap);
+  }
   return g;
 }
 
@@ -157,25 +191,60 @@ Generated make_Cone(const ArgReader& a) {
   return g;
 }
 
+namespace {
+
+// NOME3's triangulated grid (Dupin.cpp, Hyperboloid.cpp): vertex (i, j) at `first + i*nj + j`;
+// each cell (i, j) gives the triangles (i,j) (i+1,j) (i,j+1) and (i,j+1) (i+1,j) (i+1,j+1),
+// reversed when `flip`; cells wrap around i or j when that direction is closed.
+void add_triangle_grid(kernel::PolygonSoup& soup, int32_t first, int ni, int nj, bool wrap_i, bool wrap_j, bool flip) {
+  auto at = [&](int i, int j) { return first + (i % ni) * nj + (j % nj); };
+  auto tri = [&](int32_t p, int32_t q, int32_t s) {
+    if (flip) std::swap(q, s);
+    soup.add_face({p, q, s});
+  };
+  for (int i = 0; i < (wrap_i ? ni : ni - 1); ++i) {
+    for (int j = 0; j < (wrap_j ? nj : nj - 1); ++j) {
+      tri(at(i, j), at(i + 1, j), at(i, j + 1));
+      tri(at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
+    }
+  }
+}
+
+}  // namespace
+
+// NOME3's hyperboloid (compat.md D4, generators-original.md §8): rows at the whole numbers
+// z = −⌊c⌋ … ⌊c⌋, each a ring of n vertices at θ_i = i·angle·π/n scaled by √(z² + 1);
+// `v{i}_{j}` (NOME3's `v{i}*{j}`) with j counted from the lowest row. Triangles as NOME3,
+// wrapping around the axis only for angle = 2; they face away from the axis.
 Generated make_Hyperboloid(const ArgReader& a) {
   using A = ir::gen_arg::Hyperboloid;
+  const int n = a.count(A::n, 3);
   const double ra = a.positive(A::a);
   const double rb = a.positive(A::b);
-  const double rc = a.positive(A::c);
-  const double h = a.positive(A::height);
-  const int ts = a.count(A::theta_segs, 3);
-  const int hs = a.count(A::height_segs, 1);
-  check_size(static_cast<long long>(ts) * (hs + 1), ir::arg_index(A::theta_segs));
+  const int rows = 2 * static_cast<int>(std::floor(a.number(A::c))) + 1;
+  if (rows < 3) fail(ir::arg_index(A::c), "`c` must be at least 1");
+  if (a.number(A::sheet) != 0.0) fail(ir::arg_index(A::sheet), "only one sheet is built: `sheet` must be 0");
+  const double angle = a.number(A::angle);
+  if (!(angle > 0.0 && angle <= 2.0)) fail(ir::arg_index(A::angle), "`angle` must be in (0, 2]");
+  check_size(static_cast<long long>(n) * rows, ir::arg_index(A::c));
   Generated g;
-  add_grid(g.soup, ts, hs, true, false, [&](int i, int j) {
-    const double th = 2.0 * kPi * i / ts;
-    const double z = -h / 2.0 + h * j / hs;
-    const double k = std::sqrt(1.0 + z * z / (rc * rc));
-    return glm::dvec3(ra * k * std::cos(th), rb * k * std::sin(th), z);
-  });
+  const int32_t first = g.soup.vertex_count();
+  for (int i = 0; i < n; ++i) {
+    const double th = i * angle * kPi / n;
+    for (int j = 0; j < rows; ++j) {
+      const double z = j - (rows - 1) / 2;
+      const double k = std::sqrt(z * z + 1.0);
+      g.soup.add_vertex({ra * k * std::cos(th), rb * k * std::sin(th), z}, "v" + std::to_string(i) + "_" + std::to_string(j));
+    }
+  }
+  add_triangle_grid(g.soup, first, n, rows, angle == 2.0, false, /*flip=*/false);
   return g;
 }
 
+// NOME3's Dupin cyclide (compat.md D4, generators-original.md §7): an n × n grid at
+// θ1_i = i·u·π/n, θ2_j = j·v·π/n, vertices `v{i}_{j}` (NOME3's `v{i}*{j}`), triangles as
+// NOME3, wrapping in i when u = 2 and in j when v = 2. NOME3 never fills the corner cell
+// (n−1, n−1), leaving a hole in a full cyclide; nomec fills it.
 Generated make_Dupin(const ArgReader& a) {
   using A = ir::gen_arg::Dupin;
   const double ca = a.positive(A::a);
@@ -185,18 +254,25 @@ Generated make_Dupin(const ArgReader& a) {
   if (!(ca > std::abs(cc))) {
     fail(ir::arg_index(A::c), "`c` must be smaller than `a` in absolute value (the cyclide is unbounded otherwise)");
   }
-  const int us = a.count(A::u_segs, 3);
-  const int vs = a.count(A::v_segs, 3);
-  check_size(static_cast<long long>(us) * vs, ir::arg_index(A::u_segs));
+  const double eu = a.number(A::u);
+  const double ev = a.number(A::v);
+  if (!(eu > 0.0 && eu <= 2.0)) fail(ir::arg_index(A::u), "`u` must be in (0, 2]");
+  if (!(ev > 0.0 && ev <= 2.0)) fail(ir::arg_index(A::v), "`v` must be in (0, 2]");
+  const int n = a.count(A::n, 2);
+  check_size(static_cast<long long>(n) * n, ir::arg_index(A::n));
   Generated g;
-  add_grid(g.soup, us, vs, true, true, [&](int i, int j) {
-    const double u = 2.0 * kPi * i / us;
-    const double v = 2.0 * kPi * j / vs;
-    const double den = ca - cc * std::cos(u) * std::cos(v);
-    return glm::dvec3((cd * (cc - ca * std::cos(u) * std::cos(v)) + cb * cb * std::cos(u)) / den,
-                      cb * std::sin(u) * (ca - cd * std::cos(v)) / den,
-                      cb * std::sin(v) * (cc * std::cos(u) - cd) / den);
-  });
+  const int32_t first = g.soup.vertex_count();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double u = i * eu * kPi / n;
+      const double v = j * ev * kPi / n;
+      const double den = ca - cc * std::cos(u) * std::cos(v);
+      g.soup.add_vertex({(cd * (cc - ca * std::cos(u) * std::cos(v)) + cb * cb * std::cos(u)) / den,
+                         cb * std::sin(u) * (ca - cd * std::cos(v)) / den, cb * std::sin(v) * (cc * std::cos(u) - cd) / den},
+                        "v" + std::to_string(i) + "_" + std::to_string(j));
+    }
+  }
+  add_triangle_grid(g.soup, first, n, n, eu == 2.0, ev == 2.0, /*flip=*/false);
   return g;
 }
 

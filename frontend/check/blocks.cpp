@@ -230,6 +230,8 @@ ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, 
       if (v.spec->key == Opt::Twist) d.twist = v.operand;
       if (v.spec->key == Opt::MinimizeTorsion) d.minimizetorsion = v.operand;
       if (v.spec->key == Opt::Mintorsion) d.mintorsion = true;
+      if (v.spec->key == Opt::CutBegin) d.cut_begin = true;
+      if (v.spec->key == Opt::CutEnd) d.cut_end = true;
     });
     return id;
   }

@@ -96,6 +96,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   check::collect_banks(c, main_ast);
   check::apply_saved(c, main_ast);
   check::apply_overrides(c);
+  check::normalize_dollar_names(c, main_ast);
   if (base_ast) {
     // The base scene is checked with a scratch engine: its problems belong to its own check,
     // and only the saved work is reported here.

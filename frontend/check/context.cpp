@@ -38,6 +38,12 @@ ir::NodeKind node_kind_for(BlockKind kind) {
     case BlockKind::Insidefaces:
     case BlockKind::Outsidefaces:
     case BlockKind::Offsetfaces: return ir::NodeKind::SceneSetup;
+    case BlockKind::Frontcolor:
+    case BlockKind::Backcolor:
+    case BlockKind::Backgroundcolor: return ir::NodeKind::SceneColor;
+    case BlockKind::Backface: return ir::NodeKind::Backface;
+    case BlockKind::Sweepmorph: return ir::NodeKind::SweepMorph;
+    case BlockKind::Morphvisualizer: return ir::NodeKind::MorphVisualizer;
     case BlockKind::Delete: return ir::NodeKind::Delete;
     case BlockKind::Sharp: return ir::NodeKind::Sharp;
     case BlockKind::Zipper: return ir::NodeKind::Zipper;

@@ -109,7 +109,9 @@ class Context {
   void check_commas(const ast::Ast& a, ast::ListId list);
 
   // ---- scopes (state used by names.cpp and the statement handlers) ----
-  std::unordered_map<std::string, Symbol> scopes[static_cast<int>(Ns::Count)];
+  std::unordered_map<std::string, Symbol> scopes[static_cast<int>(Ns::Count)];  // first definitions
+  /// NOME3 redefinitions of a name, in file order (compat.md E1; `lookup` binds by position).
+  std::unordered_map<std::string, std::vector<Symbol>> redefinitions[static_cast<int>(Ns::Count)];
   std::map<std::string, ir::NodeId> params;  // "bank.param"
   mutable std::unordered_map<std::string, ir::NodeId> param_text_memo;  // see lookup_param_text
   std::map<std::string, SourceRange> banks;

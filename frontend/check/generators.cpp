@@ -2,6 +2,7 @@
 // list of the dialect (arity, counts), the options of the generator, function texts lowered
 // to expressions of their variables, and the catalogue's argument-domain rules on every
 // value known at check time, so `--check` rejects what the backend would.
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -131,20 +132,23 @@ struct GenReader {
       return true;
     }
     c.check_commas(a, list_item.list);
-    const size_t n = list.elems.size();
+    std::vector<ast::ExprId> values;
+    read_flags(sig, list, values);
+    const size_t n = values.size();
     const size_t want = sig.args.size();
-    const bool ok = n == want || n == want + sig.optional.size();
+    const size_t numbers = want + value_optional(sig);
+    const bool ok = n == want || n == numbers;
     if (!ok) report_arity(sig, list, n);
     for (size_t i = 0; i < n; ++i) {
-      const SourceRange r = a.expr(list.elems[i]).range;
+      const SourceRange r = a.expr(values[i]).range;
       SmallVec<ir::ExprId, 4> exprs;
-      exprs.push_back(lower_expr(c, a, list.elems[i], false));
-      if (i >= sig.names.size()) continue;  // an extra argument: checked, reported above
+      exprs.push_back(lower_expr(c, a, values[i], false));
+      if (i >= numbers) continue;  // an extra argument: checked, reported above
       const ir::ArgIndex arg = i < want ? sig.args[i] : sig.optional[i - want];
       const std::string_view name = sig.names[i];
       ir::GenArgBinding b;
       if (arg != ir::kNoArg && is_counted(info.args[arg].type)) {
-        b.is_truncated = is_truncated_count(c, a, list.elems[i]);
+        b.is_truncated = is_truncated_count(c, a, values[i]);
         check_count(c, exprs[0], r, name, b.is_truncated);
       }
       b.arg = arg;
@@ -192,15 +196,81 @@ struct GenReader {
     return *other;
   }
 
+  bool is_flag_arg(ir::ArgIndex arg) const { return arg != ir::kNoArg && info.args[arg].type == ir::ArgType::Flag; }
+
+  // The optional arguments of a list that are numbers (the others are flag words).
+  size_t value_optional(const ir::Signature& sig) const {
+    size_t k = 0;
+    for (ir::ArgIndex arg : sig.optional) k += is_flag_arg(arg) ? 0 : 1;
+    return k;
+  }
+
+  // NOME3 writes a generator's flags inside its list, after the numbers, in any order
+  // (`cylinder c (1 2 360 8 botcap topcap)`). Moves the values to `values` and binds each
+  // flag word; a flag given twice is an error (NOME3: "Named argument is repeated").
+  void read_flags(const ir::Signature& sig, const ast::ParenList& list, std::vector<ast::ExprId>& values) {
+    std::vector<std::string_view> flag_names;
+    for (size_t k = 0; k < sig.optional.size(); ++k) {
+      if (is_flag_arg(sig.optional[k])) flag_names.push_back(sig.names[sig.args.size() + k]);
+    }
+    std::vector<std::pair<ir::ArgIndex, SourceRange>> seen;
+    for (ast::ExprId e : list.elems) {
+      const ast::Expr& x = a.expr(e);
+      if (flag_names.empty() || x.kind != ast::ExprKind::Name || values.size() < sig.args.size()) {
+        values.push_back(e);
+        continue;
+      }
+      const auto it = std::find(flag_names.begin(), flag_names.end(), x.text);
+      if (it == flag_names.end()) {
+        std::string hint = closest_match(x.text, flag_names);
+        if (hint.empty()) {
+          values.push_back(e);  // perhaps a parameter: read as a number
+          continue;
+        }
+        c.diags()
+            .emit(DiagKind::UnknownArgument, x.range,
+                  fmt::format("unknown flag `{}` for `{}`; did you mean `{}`?", x.text, s.keyword, hint))
+            .fixit(x.range, hint, fmt::format("replace with `{}`", hint));
+        continue;
+      }
+      const ir::ArgIndex arg = *info.arg_named(*it);
+      const auto prev = std::find_if(seen.begin(), seen.end(), [&](const auto& p) { return p.first == arg; });
+      if (prev != seen.end()) {
+        c.diags()
+            .emit(DiagKind::RepeatedArgument, x.range,
+                  fmt::format("`{}` is given twice; NOME3 rejects a repeated named argument", x.text))
+            .note(prev->second, "first given here")
+            .fixit(x.range, "", fmt::format("remove this `{}`", x.text));
+        continue;
+      }
+      seen.emplace_back(arg, x.range);
+      ir::GenArgBinding b;
+      b.arg = arg;
+      b.is_flag = true;
+      b.range = x.range;
+      bindings.push_back(b);
+    }
+  }
+
   void report_arity(const ir::Signature& sig, const ast::ParenList& list, size_t n) {
     const size_t want = sig.args.size();
     std::vector<std::string_view> args(sig.names.begin(), sig.names.begin() + static_cast<ptrdiff_t>(want));
-    std::vector<std::string_view> optional(sig.names.begin() + static_cast<ptrdiff_t>(want), sig.names.end());
-    std::string expect = optional.empty() ? fmt::format("{} arguments ({})", want, fmt::join(args, " "))
-                                          : fmt::format("{} or {} arguments ({} [{}])", want, want + optional.size(),
+    std::vector<std::string_view> optional, flags;
+    for (size_t k = 0; k < sig.optional.size(); ++k) {
+      (is_flag_arg(sig.optional[k]) ? flags : optional).push_back(sig.names[want + k]);
+    }
+    std::string expect = optional.empty() ? fmt::format("{} arguments ({}", want, fmt::join(args, " "))
+                                          : fmt::format("{} or {} arguments ({} [{}]", want, want + optional.size(),
                                                         fmt::join(args, " "), fmt::join(optional, " "));
+    for (std::string_view f : flags) expect += fmt::format(" [{}]", f);
+    expect += ")";
     auto d = c.diags().emit(DiagKind::ListArity, list.range,
                             fmt::format("`{}` takes {}, got {}{}", info.keyword, expect, n, c.split_text(a, list)));
+    if (info.kind == ir::GenKind::Torus && n + 1 == want) {
+      // nome3/olympictorus.nom: no NOME3 or JIPCAD torus took 6 arguments.
+      d.note(SourceRange{}, "every known NOME3 and JIPCAD version of `torus` takes these 7 arguments; with one missing, "
+                            "nomec cannot tell which it is");
+    }
     if (info.kind == ir::GenKind::Funnel) {
       d.note(SourceRange{}, fmt::format("in the `{}` dialect the funnel arguments are ({})", dialect_name(c.dialect()),
                                         fmt::join(args, " ")));

@@ -27,6 +27,10 @@ void check_pending_lists(Context& c);
 ir::NodeId lookup_param_text(Context& c, const std::string& text);
 
 // ---- names.cpp: definitions and scopes, and resolving names to nodes ----
+/// NOME3 `$name` where a name is expected (compat.md B3): in a `nome3` file, a `$x` that
+/// reads no slider becomes the name `x`, as an item (`torusknot $k (…)`, `instance i $k`)
+/// and as a list element (`face f ($a $b $c)`). Runs after the banks are collected.
+void normalize_dollar_names(Context& c, ast::Ast& a);
 void declare(Context& c, const ast::Ast& a, int order_base);
 void define(Context& c, Ns ns, const std::string& name, Symbol sym);
 ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order);
@@ -95,6 +99,14 @@ ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const
 ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- colors.cpp: JIPCAD's viewer colours and back-face colours ----
+ir::NodeId handle_scene_color(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_backface(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- morphs.cpp: JIPCAD's sweepmorph and morphvisualizer ----
+ir::NodeId handle_sweepmorph(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+ir::NodeId handle_morphvisualizer(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 
 // ---- dependencies.cpp: the finished graph ----
 /// Finalizes the dependency graph and reports a cycle in it.

@@ -135,6 +135,8 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
       d.is_reversed = true;
     } else if (v.spec->key == Opt::Surface) {
       d.surface = v.ref;
+    } else if (v.spec->key == Opt::Backface) {
+      d.backface = v.ref;
     } else if (v.spec->key == Opt::Hidden) {
       d.is_hidden = true;
     }

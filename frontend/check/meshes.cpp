@@ -177,6 +177,11 @@ ir::NodeId handle_controlpoint(Context& c, const ast::Ast& a, const ast::Stmt& s
       case Opt::Scale: d.scale = v.operand; break;
       case Opt::Rotate: d.rotate = v.operand; break;
       case Opt::Translate: d.translate = v.operand; break;
+      case Opt::CrossSection:
+        d.cross_section = v.ref;
+        d.cross_section_range = v.value_range;
+        break;
+      case Opt::Reverse: d.reverse = true; break;
       default: break;
     }
   });
@@ -206,6 +211,7 @@ ir::NodeId handle_face(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
   auto face_options = [&c](ir::NodeId id) {
     return [&c, id](const OptionValue& v) {
       if (v.spec->key == Opt::Surface) c.module().get<ir::FaceData>(id).surface = v.ref;
+      if (v.spec->key == Opt::Backface) c.module().get<ir::FaceData>(id).backface = v.ref;
     };
   };
   size_t pos = 0;

@@ -14,7 +14,8 @@ namespace {
 // The namespace a top-level definition goes to; nullopt for statements that define no name.
 std::optional<Ns> namespace_of(BlockKind kind) {
   switch (kind) {
-    case BlockKind::Surface: return Ns::Surface;
+    case BlockKind::Surface:
+    case BlockKind::Backface: return Ns::Surface;  // colours
     case BlockKind::Point: return Ns::Point;
     case BlockKind::Face:
     case BlockKind::Facet: return Ns::Face;
@@ -39,7 +40,10 @@ std::optional<Ns> namespace_of(BlockKind kind) {
     case BlockKind::Path:
     case BlockKind::Transform:
     case BlockKind::Lookat:
-    case BlockKind::Consolidateface: return std::nullopt;
+    case BlockKind::Consolidateface:
+    case BlockKind::Frontcolor:
+    case BlockKind::Backcolor:
+    case BlockKind::Backgroundcolor: return std::nullopt;
     default: return Ns::Shape;
   }
 }
@@ -57,6 +61,51 @@ void declare_stmt(Context& c, const ast::Stmt& s, int order) {
 
 }  // namespace
 
+namespace {
+
+// The identifier a NOME3 `$name` stands for where a name is expected, or "" when the
+// reference is a slider (`$bank.param`), a built-in (`$time`) or has a declared bank as
+// its prefix (a misspelt slider, reported as such).
+std::string_view dollar_name(Context& c, const ast::Expr& x) {
+  if (x.kind != ast::ExprKind::DollarRef || x.in_braces || x.text.size() < 2) return {};
+  const std::string_view name = x.text.substr(1);
+  if (name == "time" || name == "frame") return {};
+  if (lookup_param_text(c, std::string(name)).is_valid()) return {};
+  if (const size_t dot = name.find('.'); dot != std::string_view::npos && c.banks.count(std::string(name.substr(0, dot)))) {
+    return {};
+  }
+  return name;
+}
+
+}  // namespace
+
+void normalize_dollar_names(Context& c, ast::Ast& a) {
+  if (c.dialect() != Dialect::Nome3) return;
+  // List elements: `( $a $b $c )` in a face is `(a b c)`. Only whole elements: an operand
+  // such as `$k * 2` or `{expr $k}` keeps reading a slider (and reports an unknown one).
+  for (ast::ParenList& l : a.lists) {
+    for (ast::ExprId e : l.elems) {
+      ast::Expr& x = a.exprs[e.index];
+      if (std::string_view n = dollar_name(c, x); !n.empty()) {
+        x.kind = ast::ExprKind::Name;
+        x.text = n;
+      }
+    }
+  }
+  // Items: `torusknot $k (…)` defines `k`, `instance i $k` places it.
+  auto items = [&](std::span<ast::Item> list) {
+    for (ast::Item& it : list) {
+      if (it.kind != ItemKind::Value) continue;
+      if (std::string_view n = dollar_name(c, a.expr(it.expr)); !n.empty()) {
+        it.kind = ItemKind::Word;
+        it.text = n;
+      }
+    }
+  };
+  for (ast::Stmt& s : a.stmts) items(std::span<ast::Item>(s.items.data(), s.items.size()));
+  items(a.top);
+}
+
 void declare(Context& c, const ast::Ast& a, int order_base) {
   c.reserve_for(a);
   int order = order_base;
@@ -66,29 +115,62 @@ void declare(Context& c, const ast::Ast& a, int order_base) {
   }
 }
 
+// A second definition of a name (compat.md E1): NOME3 replaces the library entry, so later
+// references bind to the new entity and earlier ones keep the old one (a warning); NOME 2016
+// keeps the first definition and ignores the second (a warning); NOME2 and SLIDE reject it.
 void define(Context& c, Ns ns, const std::string& name, Symbol sym) {
   auto& table = c.scopes[static_cast<int>(ns)];
   auto [it, inserted] = table.emplace(name, sym);
-  if (!inserted) {
-    c.diags()
-        .emit(DiagKind::DuplicateDefinition, sym.range,
-              fmt::format("`{}` is already defined as a {}", name, it->second.keyword))
-        .note(it->second.range, "previous definition is here");
+  if (inserted) return;
+  const Symbol& first = it->second;
+  switch (c.dialect()) {
+    case Dialect::Nome3: {
+      auto& later = c.redefinitions[static_cast<int>(ns)][name];
+      const Symbol prev = later.empty() ? first : later.back();  // a copy: push_back may move `later`
+      later.push_back(sym);
+      c.diags()
+          .emit(DiagKind::Redefinition, sym.range,
+                fmt::format("`{}` is defined again; as in NOME3, uses below this line name the new {} and uses above it "
+                            "keep the {} defined first",
+                            name, sym.keyword, prev.keyword))
+          .note(prev.range, "previous definition is here");
+      return;
+    }
+    case Dialect::Nome:
+      c.diags()
+          .emit(DiagKind::Redefinition, sym.range,
+                fmt::format("`{}` is already defined as a {}; as in NOME 2016, the first definition is kept and this one "
+                            "is ignored",
+                            name, first.keyword))
+          .note(first.range, "the definition in use is here");
+      return;
+    case Dialect::Nome2:
+    case Dialect::Slide: break;
   }
+  c.diags()
+      .emit(DiagKind::DuplicateDefinition, sym.range, fmt::format("`{}` is already defined as a {}", name, first.keyword))
+      .note(first.range, "previous definition is here");
 }
 
 ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order) {
   auto& table = c.scopes[static_cast<int>(ns)];
   auto it = table.find(name);
   if (it == table.end()) return ir::NodeId::None();
-  if (c.name_uses != nullptr) c.name_uses->push_back({use, it->second.node});
-  if (report_order && c.dialect() != Dialect::Slide && it->second.order > c.order && c.order < (1 << 20)) {
+  const Symbol* sym = &it->second;
+  // NOME3 redefinitions: the last definition above the use (compat.md E1).
+  if (auto r = c.redefinitions[static_cast<int>(ns)].find(name); r != c.redefinitions[static_cast<int>(ns)].end()) {
+    for (const Symbol& later : r->second) {
+      if (later.order <= c.order) sym = &later;
+    }
+  }
+  if (c.name_uses != nullptr) c.name_uses->push_back({use, sym->node});
+  if (report_order && c.dialect() != Dialect::Slide && sym->order > c.order && c.order < (1 << 20)) {
     c.diags()
         .emit(DiagKind::UseBeforeDefinition, use,
               fmt::format("`{}` is used before its definition; NOME requires definitions above their uses", name))
-        .note(it->second.range, "defined here");
+        .note(sym->range, "defined here");
   }
-  return it->second.node;
+  return sym->node;
 }
 
 std::vector<std::string_view> names_in(const Context& c, Ns ns) {
@@ -130,7 +212,12 @@ ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, 
       return ir::NodeId::None();
     }
   }
-  return report_unknown(c, ns, name, use, wanted);
+  // `wanted` reads "a surface" after "is needed here"; "unknown surface" drops the article.
+  std::string_view noun = wanted;
+  for (std::string_view article : {"a ", "an "}) {
+    if (noun.starts_with(article)) noun.remove_prefix(article.size());
+  }
+  return report_unknown(c, ns, name, use, noun);
 }
 
 ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use) {

@@ -31,12 +31,13 @@ const OptSpec kPoint[] = {{"texture", Shape::Vec2, Opt::Texture}};
 const OptSpec kPolyline[] = {{"closed", Shape::FlagOrScalar, Opt::Closed},
                              {"isloop", Shape::Flag, Opt::Closed},
                              {"pointlist", Shape::PointNames, Opt::PointList}};
-const OptSpec kFace[] = {{"surface", Shape::Surface, Opt::Surface}};
+const OptSpec kFace[] = {{"surface", Shape::Surface, Opt::Surface}, {"backface", Shape::Backface, Opt::Backface}};
 const OptSpec kObject[] = {{"surface", Shape::Surface, Opt::Surface}, SLIDE_DISPLAY};
 const OptSpec kInstance[] = {{"translate", Shape::Vec3, Opt::Translate}, {"rotate", Shape::Rotate, Opt::Rotate},
                              {"scale", Shape::Vec3, Opt::Scale},         {"mirror", Shape::Vec4, Opt::Mirror},
                              {"surface", Shape::Surface, Opt::Surface},  {"hidden", Shape::Flag, Opt::Hidden},
                              {"id", Shape::Any, Opt::Id},                {"reverse", Shape::Flag, Opt::Reverse},
+                             {"backface", Shape::Backface, Opt::Backface},
                              SLIDE_DISPLAY};
 const OptSpec kTransform[] = {{"translate", Shape::Vec3, Opt::Translate},
                               {"rotate", Shape::Rotate, Opt::Rotate},
@@ -57,11 +58,21 @@ const OptSpec kCrosssection[] = {{"type", Shape::Any, Opt::Type},
 const OptSpec kPath[] = {{"mintorsion", Shape::Flag, Opt::Mintorsion},
                          {"minimizetorsion", Shape::Scalar, Opt::MinimizeTorsion},
                          {"azimuth", Shape::Scalar, Opt::Azimuth},
-                         {"twist", Shape::Scalar, Opt::Twist}};
+                         {"twist", Shape::Scalar, Opt::Twist},
+                         {"cutbegin", Shape::Flag, Opt::CutBegin},
+                         {"cutend", Shape::Flag, Opt::CutEnd}};
 const OptSpec kControlpoint[] = {{"point", Shape::Ref, Opt::Point},
                                  {"scale", Shape::Vec3, Opt::Scale},
                                  {"rotate", Shape::Rotate, Opt::Rotate},
-                                 {"translate", Shape::Vec3, Opt::Translate}};
+                                 {"translate", Shape::Vec3, Opt::Translate},
+                                 {"crosssection", Shape::Ref, Opt::CrossSection},
+                                 {"cross", Shape::Ref, Opt::CrossSection},
+                                 {"reverse", Shape::Flag, Opt::Reverse}};
+const OptSpec kBackface[] = {{"color", Shape::Vec3, Opt::Color}};
+const OptSpec kSweepmorph[] = {{"begincap", Shape::Flag, Opt::BeginCap},
+                               {"endcap", Shape::Flag, Opt::EndCap},
+                               {"reverse", Shape::Flag, Opt::Reverse}};
+const OptSpec kMorphvisualizer[] = {{"sweep", Shape::Ref, Opt::Sweep}, {"index", Shape::Scalar, Opt::Index}};
 const OptSpec kZipper[] = {{"border", Shape::Vertices, Opt::Border}, {"penalty", Shape::Scalar, Opt::Penalty}};
 const OptSpec kMerge[] = {{"tolerance", Shape::Scalar, Opt::Tolerance},
                           {"epsilon", Shape::Scalar, Opt::Tolerance},
@@ -127,6 +138,9 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Crosssection: return kCrosssection;
     case BlockKind::Path: return kPath;
     case BlockKind::Controlpoint: return kControlpoint;
+    case BlockKind::Backface: return kBackface;
+    case BlockKind::Sweepmorph: return kSweepmorph;
+    case BlockKind::Morphvisualizer: return kMorphvisualizer;
     case BlockKind::Zipper: return kZipper;
     case BlockKind::Merge: return kMerge;
     case BlockKind::Subdivision: return kSubdivision;
@@ -154,7 +168,10 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Savedparameter:
     case BlockKind::Consolidate:
     case BlockKind::Consolidateface:
-    case BlockKind::Savedworkingmesh: return {};
+    case BlockKind::Savedworkingmesh:
+    case BlockKind::Frontcolor:
+    case BlockKind::Backcolor:
+    case BlockKind::Backgroundcolor: return {};  // a colour list only
     case BlockKind::Generator: return {};  // per generator and dialect: generator_options
   }
   return {};
@@ -178,6 +195,21 @@ std::span<const OptSpec> generator_options(ir::GenKind gen, Dialect dialect) {
     return t;
   }();
   return tables[static_cast<size_t>(gen)][static_cast<size_t>(dialect)];
+}
+
+void check_color_list(Context& c, const ast::Ast& a, const ast::Item& list_item) {
+  for (ast::ExprId e : a.list(list_item.list).elems) {
+    // Evaluate through a throw-away IR expression (no new diagnostics).
+    DiagnosticEngine scratch;
+    std::swap(scratch, c.diags());
+    ir::ExprId ie = lower_expr(c, a, e, false);
+    std::swap(scratch, c.diags());
+    ir::EvalResult r = ir::evaluate(c.module(), ie);
+    if (r.ok && (r.value < 0 || r.value > 1)) {
+      c.diags().emit(DiagKind::ColorOutOfRange, a.expr(e).range,
+                     fmt::format("colour component {} is outside [0, 1]; colours are RGB fractions, e.g. `(1 0.5 0)`", r.value));
+    }
+  }
 }
 
 bool is_option(std::span<const OptSpec> opts, std::string_view word) {
@@ -215,20 +247,6 @@ void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, st
   if (!hint.empty()) d.fixit(it.range, hint, fmt::format("replace with `{}`", hint));
 }
 
-void check_color(Context& c, const ast::Ast& a, const ast::Item& list_item) {
-  for (ast::ExprId e : a.list(list_item.list).elems) {
-    // Evaluate through a throw-away IR expression (no new diagnostics).
-    DiagnosticEngine scratch;
-    std::swap(scratch, c.diags());
-    ir::ExprId ie = lower_expr(c, a, e, false);
-    std::swap(scratch, c.diags());
-    ir::EvalResult r = ir::evaluate(c.module(), ie);
-    if (r.ok && (r.value < 0 || r.value > 1)) {
-      c.diags().emit(DiagKind::ColorOutOfRange, a.expr(e).range,
-                     fmt::format("colour component {} is outside [0, 1]; colours are RGB fractions, e.g. `(1 0.5 0)`", r.value));
-    }
-  }
-}
 
 // The expressions of a list of `want` numbers, as an operand of node `id`.
 ir::OperandId read_vector(Context& c, const ast::Ast& a, ir::NodeId id, std::string_view name, const ast::Item& list_item,
@@ -277,6 +295,34 @@ bool read_rotate(Context& c, const ast::Ast& a, const ast::Stmt& s, const OptSpe
   }
   v.operand = c.add_operand(id, spec.name, std::move(exprs), kw.range);
   return true;
+}
+
+// The node a `surface S`, `backface B` or other reference option names, checked for its kind:
+// a backface named by `surface` is ignored, as JIPCAD did (compat.md F2); `backface` needs
+// a backface colour.
+ir::NodeId read_ref(Context& c, Shape shape, const ast::Item& n) {
+  const std::string name(n.text);
+  if (shape == Shape::Ref) return resolve_any(c, name, n.range);
+  if (shape == Shape::Surface) {
+    ir::NodeId ref = resolve(c, Ns::Surface, name, n.range, "a surface");
+    if (ref.is_valid() && c.module().node(ref).kind == ir::NodeKind::Backface) {
+      c.diags().emit(DiagKind::IgnoredReference, n.range,
+                     fmt::format("`{}` is a backface colour, which `surface` ignores (as JIPCAD did); use `backface {}`",
+                                 name, name));
+      return ir::NodeId::None();
+    }
+    return ref;
+  }
+  ir::NodeId ref = resolve(c, Ns::Surface, name, n.range, "a backface colour");
+  if (ref.is_valid() && c.module().node(ref).kind != ir::NodeKind::Backface) {
+    c.diags()
+        .emit(DiagKind::WrongKind, n.range,
+              fmt::format("`{}` is a {}, but `backface` needs a `backface … color (r g b) endbackface`", name,
+                          c.module().node(ref).keyword))
+        .note(c.module().node(ref).range, "defined here");
+    return ir::NodeId::None();
+  }
+  return ref;
 }
 
 // Reads the value of option `spec` (its word `kw` is already consumed) into `v`; false when
@@ -328,23 +374,23 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
       ++pos;
       v.operand = read_vector(c, a, id, spec.name, *n, want);
       v.value_range = n->range;
-      if (spec.key == Opt::Color) check_color(c, a, *n);
+      if (spec.key == Opt::Color) check_color_list(c, a, *n);
       return true;
     }
     case Shape::Rotate:
       return read_rotate(c, a, s, spec, kw, pos, id, v);
     case Shape::Surface:
-    case Shape::Ref: {
+    case Shape::Ref:
+    case Shape::Backface: {
       const ast::Item* n = next();
       if (n == nullptr || n->kind != ItemKind::Word) {
-        missing("a name");
+        missing(spec.shape == Shape::Backface ? "the name of a `backface` colour" : "a name");
         return false;
       }
       ++pos;
-      v.ref = spec.shape == Shape::Surface ? resolve(c, Ns::Surface, std::string(n->text), n->range, "a surface")
-                                           : resolve_any(c, std::string(n->text), n->range);
-      if (v.ref.is_valid()) c.module().deps.add_edge(v.ref, id);
       v.value_range = n->range;
+      v.ref = read_ref(c, spec.shape, *n);
+      if (v.ref.is_valid()) c.module().deps.add_edge(v.ref, id);
       return true;
     }
     case Shape::Names:

@@ -26,6 +26,7 @@ enum class Shape : uint8_t {
   Vec4,          // `mirror (a b c d)`
   Rotate,        // `rotate (ax ay az) (deg)`; the angle list is optional in controlpoints
   Surface,       // `surface S`
+  Backface,      // `backface B` (JIPCAD)
   Ref,           // a shape name: `point P`, `cameraID cam1`
   Names,         // `(n1 n2 …)`, any kind of definition
   PointNames,    // `(p1 p2 …)`: points
@@ -48,6 +49,7 @@ enum class Opt : uint8_t {
   SubdivisionType, Levels, OffsetType, Height, Width,
   Faces, Corners, Segments, Weights, Thickness, Punch, Peel, Level, Collapse,
   InstanceRef,  // NOME2's `instance X` inside a block: a top-level instance the block takes over
+  Backface, CutBegin, CutEnd, CrossSection, Sweep, Index,
   Rest,
   GenArg,  // a generator argument of the catalogue (`OptSpec::arg`)
 };
@@ -90,6 +92,8 @@ using PositionalHandler = std::function<bool(const ast::Item&)>;
 /// as children of `id`), positional items (through `positional`); reports anything else.
 void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir::NodeId id,
                std::span<const OptSpec> opts, const OptionSink& sink, const PositionalHandler& positional = {});
+/// Warns about each component of a colour list `(r g b)` outside [0, 1].
+void check_color_list(Context& c, const ast::Ast& a, const ast::Item& list_item);
 /// True if `word` is an option of `opts`.
 bool is_option(std::span<const OptSpec> opts, std::string_view word);
 

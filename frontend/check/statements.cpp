@@ -184,6 +184,12 @@ ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
     case BlockKind::Insidefaces:
     case BlockKind::Outsidefaces:
     case BlockKind::Offsetfaces: return handle_scene(c, a, s, ctx);
+    case BlockKind::Frontcolor:
+    case BlockKind::Backcolor:
+    case BlockKind::Backgroundcolor: return handle_scene_color(c, a, s, ctx);
+    case BlockKind::Backface: return handle_backface(c, a, s, ctx);
+    case BlockKind::Sweepmorph: return handle_sweepmorph(c, a, s, ctx);
+    case BlockKind::Morphvisualizer: return handle_morphvisualizer(c, a, s, ctx);
     case BlockKind::Generator: return handle_generator(c, a, s, ctx);
   }
   return ir::NodeId::None();

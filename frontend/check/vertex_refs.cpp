@@ -149,6 +149,51 @@ bool is_leaf_instance(Context& c, ir::NodeId inst) {
   return t.is_valid() && m.node(t).kind == ir::NodeKind::Mesh;
 }
 
+// NOME3 names the points of `mesh M` `M.p` (compat.md E3): is `part` the name of the mesh
+// instance `inst` places, so that `inst.M.p` is its vertex `p`?
+bool names_target_mesh(Context& c, ir::NodeId inst, const std::string& part) {
+  const ir::NodeId t = c.module().get<ir::InstanceData>(inst).target;
+  if (!t.is_valid() || c.module().node(t).kind != ir::NodeKind::Mesh) return false;
+  const std::string& name = c.module().node(t).name;
+  return name.substr(name.rfind('.') + 1) == part;
+}
+
+// `M.p`: the point `p` declared inside `mesh M` (a NOME3 library name, compat.md E3).
+ir::NodeId mesh_owned_point(Context& c, const std::string& text, SourceRange use) {
+  const size_t dot = text.rfind('.');
+  if (dot == std::string::npos || dot == 0) return ir::NodeId::None();
+  auto def = c.scopes[static_cast<int>(Ns::Shape)].find(text.substr(0, dot));
+  if (def == c.scopes[static_cast<int>(Ns::Shape)].end()) return ir::NodeId::None();
+  const ir::NodeId mesh = lookup(c, Ns::Shape, text.substr(0, dot), use, true);
+  if (!mesh.is_valid() || c.module().node(mesh).kind != ir::NodeKind::Mesh) return ir::NodeId::None();
+  auto points = c.mesh_points.find(mesh.index);
+  if (points == c.mesh_points.end()) return ir::NodeId::None();
+  auto it = points->second.find(text.substr(dot + 1));
+  return it == points->second.end() ? ir::NodeId::None() : it->second;
+}
+
+// A NOME3 controlpoint used as a point (compat.md E2): its position is its point's.
+ir::NodeId control_point(Context& c, const std::string& text, SourceRange use) {
+  auto it = c.scopes[static_cast<int>(Ns::Shape)].find(text);
+  if (it == c.scopes[static_cast<int>(Ns::Shape)].end()) return ir::NodeId::None();
+  const ir::NodeId n = lookup(c, Ns::Shape, text, use, true);
+  return n.is_valid() && c.module().node(n).kind == ir::NodeKind::ControlPoint ? n : ir::NodeId::None();
+}
+
+// Inside a mesh JIPCAD looked an unqualified name up as the substring `.name` of the names
+// of the mesh's points (compat.md E3), so `v` found `m.v1`. The point it would have taken,
+// for a hint; nomec itself needs the exact name.
+std::string substring_match(Context& c, ir::NodeId mesh, const std::string& text) {
+  auto points = c.mesh_points.find(mesh.index);
+  if (points == c.mesh_points.end()) return {};
+  const std::string& mesh_name = c.module().node(mesh).name;
+  const std::string needle = "." + text;
+  for (const auto& [name, node] : points->second) {
+    if ((mesh_name + "." + name).find(needle) != std::string::npos) return name;
+  }
+  return {};
+}
+
 // Decides whether the part after an instance chain names something of the innermost
 // instance's target (a vertex, or a face to delete).
 using LeafCheck = std::function<bool(ir::NodeId inst, const std::string& rest, std::string* why)>;
@@ -172,10 +217,15 @@ bool match_dotted(Context& c, const std::string& path, PathMatch& out, std::stri
   if (!cur.is_valid()) return false;
   out.chain.push_back(cur);
   size_t i = 1;
+  bool mesh_point = false;
   for (; i + 1 < parts.size(); ++i) {
     // 2016/NOME2 meshes keep the names of the vertices they copy (`c.bc3`), so below an
     // instance of a mesh the rest of the path is one vertex name (compat.md E4).
     if (is_nome_family(c.dialect()) && is_leaf_instance(c, cur)) break;
+    if (i + 2 == parts.size() && names_target_mesh(c, cur, parts[i])) {  // `inst.M.p` (compat.md E3)
+      mesh_point = true;
+      break;
+    }
     cur = child_instance(c, cur, parts[i]);
     if (!cur.is_valid()) {
       error = fmt::format("in `{}`: `{}` is not an instance inside `{}`", path, parts[i], parts[i - 1]);
@@ -183,8 +233,8 @@ bool match_dotted(Context& c, const std::string& path, PathMatch& out, std::stri
     }
     out.chain.push_back(cur);
   }
-  out.rest = parts[i];
-  for (size_t j = i + 1; j < parts.size(); ++j) out.rest += "." + parts[j];
+  out.rest = mesh_point ? parts.back() : parts[i];
+  for (size_t j = i + 1; !mesh_point && j < parts.size(); ++j) out.rest += "." + parts[j];
   std::string why;
   if (!leaf(cur, out.rest, &why)) error = fmt::format("in `{}`: {}", path, why);
   return true;
@@ -353,6 +403,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     ref.point = p;
     return ref;
   }
+  if (ir::NodeId cp = control_point(c, text, use); cp.is_valid()) {
+    ref.point = cp;
+    return ref;
+  }
   const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
     return target_has_vertex(c, inst, rest, why);
   };
@@ -376,6 +430,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
       ref.instances = std::move(match.chain);
       ref.vertex = std::move(match.rest);
       if (!error.empty()) c.diags().emit(DiagKind::UnknownVertex, use, error);
+      return ref;
+    }
+    if (ir::NodeId p = mesh_owned_point(c, path, use); p.is_valid()) {
+      ref.point = p;
       return ref;
     }
   } else if (std::vector<PathMatch> matches = match_underscored(c, path, has_vertex); !matches.empty()) {
@@ -403,6 +461,14 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
                           fmt::format("unknown vertex `{}`: it is not a point, and no instance path leads to it{}", text,
                                       hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
   if (!hint.empty()) d.fixit(use, hint, fmt::format("replace with `{}`", hint));
+  if (mesh.is_valid()) {
+    if (std::string jc = substring_match(c, mesh, text); !jc.empty()) {
+      d.note(c.module().node(c.mesh_points[mesh.index][jc]).range,
+             fmt::format("JIPCAD would have taken the point `{}` here (it matched `.{}` anywhere in a point's name); "
+                         "nomec needs the exact name",
+                         jc, text));
+    }
+  }
   return ref;
 }
 

@@ -7,28 +7,41 @@
 namespace nomec::backend::testing {
 namespace {
 
-TEST(Helix, OpenPolyline) {
-  Generated g = run("helix", numbers({{"radius", 2}, {"height", 3}, {"turns", 2}, {"segs", 16}}));
-  EXPECT_EQ(g.soup.vertex_count(), 17);
+// NOME3's helix (compat.md D4): `segs` vertices at θ_i = (i/segs)·theta_max, z = spacing·θ in
+// radians; the strip stops one step short of theta_max.
+TEST(Helix, SegsVerticesRisingBySpacingPerRadian) {
+  Generated g = run("helix", numbers({{"radius", 2}, {"spacing", 0.5}, {"theta_max", 720}, {"segs", 16}}, "nome3"));
+  EXPECT_EQ(g.soup.vertex_count(), 16);
   EXPECT_EQ(g.soup.face_count(), 0);
   ASSERT_EQ(g.curves.size(), 1u);
   EXPECT_FALSE(g.curves[0].is_closed);
-  EXPECT_EQ(g.curves[0].vertices.size(), 17u);
+  EXPECT_EQ(g.curves[0].vertices.size(), 16u);
   expect_near(named(g.soup, "v0"), {2, 0, 0});
-  expect_near(named(g.soup, "v4"), {-2, 0, 0.75});
-  expect_near(named(g.soup, "v16"), {2, 0, 3});
-  EXPECT_EQ(run_error("helix", numbers({{"radius", 2}, {"height", 3}, {"turns", 0}, {"segs", 16}})).argument,
-            "turns");
+  expect_near(named(g.soup, "v4"), {-2, 0, 0.5 * M_PI});
+  expect_near(named(g.soup, "v15"), {2 * std::cos(M_PI * 15 / 4), 2 * std::sin(M_PI * 15 / 4), 0.5 * 4 * M_PI * 15 / 16});
+  EXPECT_EQ(run_error("helix", numbers({{"radius", 2}, {"spacing", 1}, {"theta_max", 0}, {"segs", 16}}, "nome3")).argument,
+            "theta_max");
+  EXPECT_EQ(run_error("helix", numbers({{"radius", 2}, {"spacing", 1}, {"theta_max", 360}, {"segs", 1}}, "nome3")).argument,
+            "segs");
 }
 
-TEST(Spiral, RadiusGrowsPerTurn) {
-  Generated g = run("spiral", numbers({{"growth", 1}, {"height", 0}, {"turns", 2}, {"segs", 8}}));
-  EXPECT_EQ(g.soup.vertex_count(), 9);
-  expect_near(named(g.soup, "v0"), {0, 0, 0});
-  expect_near(named(g.soup, "v4"), {1, 0, 0});
-  expect_near(named(g.soup, "v8"), {2, 0, 0});
-  EXPECT_EQ(run_error("spiral", numbers({{"growth", 1}, {"height", 0}, {"turns", 2}, {"segs", 0}})).argument,
-            "segs");
+// NOME3's spiral (compat.md D4): a ribbon of triangles between `u{i}` at z = 0 and `l{i}` at
+// z = −0.13; θ_i = 2·angle·i/segs radians (angle truncated), radius i·rate.
+TEST(Spiral, RibbonBetweenTwoRows) {
+  Generated g = run("spiral", numbers({{"rate", 0.5}, {"angle", 3.7}, {"segs", 6}}, "nome3"));
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.vertex_count, 14);
+  EXPECT_EQ(r.face_count, 12);
+  EXPECT_EQ(r.euler_characteristic, 1);  // a strip: a disk
+  EXPECT_EQ(r.border_loop_count, 1);
+  EXPECT_TRUE(r.is_orientable);
+  expect_near(named(g.soup, "u0"), {0, 0, 0});
+  expect_near(named(g.soup, "l0"), {0, 0, -0.13});
+  // angle 3.7 is read as 3: θ_2 = 2·3·2/6 = 2 radians, radius 1.
+  expect_near(named(g.soup, "u2"), {std::cos(2.0), std::sin(2.0), 0});
+  expect_near(named(g.soup, "l6"), {3 * std::cos(6.0), 3 * std::sin(6.0), -0.13});
+  EXPECT_EQ(run_error("spiral", numbers({{"rate", 1}, {"angle", 0.5}, {"segs", 8}}, "nome3")).argument, "angle");
+  EXPECT_EQ(run_error("spiral", numbers({{"rate", 1}, {"angle", 2}, {"segs", 0}}, "nome3")).argument, "segs");
 }
 
 Args with_points(std::vector<glm::dvec3> pts, std::vector<std::pair<std::string, double>> nums) {

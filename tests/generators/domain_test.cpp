@@ -85,8 +85,15 @@ TEST(Domain, CountsAreRoundedBeforeTheMinimum) {
 TEST(Domain, OtherRules) {
   EXPECT_EQ(check_generator_arguments("dupin", "nome3", {{"a", 1}, {"b", 1}, {"c", 2}})->argument, "c");
   EXPECT_EQ(check_generator_arguments("torusknot", "nome3", {{"symm", 0}})->argument, "symm");
-  EXPECT_EQ(check_generator_arguments("helix", "nome3", {{"radius", 1}, {"turns", 0}})->argument, "turns");
-  EXPECT_EQ(check_generator_arguments("genimplicitsurf", "nome3", {{"resolution", 300}})->argument, "resolution");
+  EXPECT_EQ(check_generator_arguments("helix", "nome3", {{"radius", 1}, {"theta_max", 0}})->argument, "theta_max");
+  EXPECT_EQ(check_generator_arguments("spiral", "nome3", {{"rate", 1}, {"angle", -0.9}})->argument, "angle");
+  EXPECT_EQ(check_generator_arguments("genimplicitsurf", "nome3", {{"nx", 1}})->argument, "nx");
+  EXPECT_EQ(check_generator_arguments("genimplicitsurf", "nome3", {{"nx", 200}, {"ny", 200}, {"nz", 200}})->argument, "nz");
+  EXPECT_EQ(check_generator_arguments("hyperboloid", "nome3", {{"sheet", 1}})->argument, "sheet");
+  EXPECT_EQ(check_generator_arguments("dupin", "nome3", {{"u", 2.5}})->argument, "u");
+  // A cylinder's theta_max is truncated: 0.9 is 0 degrees; 360.5 is a full turn.
+  EXPECT_EQ(check_generator_arguments("cylinder", "nome3", {{"theta_max", 0.9}})->argument, "theta_max");
+  EXPECT_FALSE(check_generator_arguments("cylinder", "nome3", {{"theta_max", 360.5}, {"theta_segs", 3}}).has_value());
   EXPECT_EQ(check_generator_arguments("gencartesiansurf", "nome3", {{"x_min", 1}, {"x_max", 1}})->argument, "x_max");
   EXPECT_EQ(check_generator_arguments("tunnel", "nome", {{"dri_low", -2}})->argument, "dri_low");
   EXPECT_FALSE(check_generator_arguments("nosuchgenerator", "nome", {{"segs", 0}}).has_value());

@@ -3,6 +3,7 @@
 // implicit surfaces, and errors. The functions are given as the evaluable functions the
 // backend makes of a checked `funcX [ … ]` (the text itself is lowered and checked by the
 // front end: tests/unit/function_text_test.cpp).
+#include <algorithm>
 #include <cmath>
 
 #include "tests/generators/helpers.h"
@@ -113,9 +114,10 @@ TEST(GenCartesianSurf, GraphOfAFunction) {
   EXPECT_EQ(run_error("gencartesiansurf", a).argument, "func");
 }
 
+// NOME3's 9 arguments with `res` cells along each axis (compat.md D2).
 Args implicit(ScalarFunction func, double lo, double hi, int res) {
-  Args a = numbers({{"x_min", lo}, {"x_max", hi}, {"y_min", lo}, {"y_max", hi},
-                    {"z_min", lo}, {"z_max", hi}, {"resolution", double(res)}},
+  Args a = numbers({{"x_min", lo}, {"x_max", hi}, {"y_min", lo}, {"y_max", hi}, {"z_min", lo}, {"z_max", hi},
+                    {"nx", double(res)}, {"ny", double(res)}, {"nz", double(res)}},
                    "nome3");
   a.functions["func"] = std::move(func);
   return a;
@@ -151,10 +153,27 @@ TEST(GenImplicitSurf, TorusAndClippedPlane) {
   EXPECT_EQ(run("genimplicitsurf", implicit([](auto p) { return 1 + p[0] * p[0]; }, -1, 1, 4)).soup.face_count(), 0);
 }
 
+TEST(GenImplicitSurf, GridReachesOneCellPastMaxAsInNome3) {
+  // 4 cells of (1 − (−1))/3: x runs from −1 to 5/3; the plane's disk reaches that far.
+  Generated g = run("genimplicitsurf", implicit([](auto p) { return p[2] - 0.1; }, -1, 1, 4));
+  double xmax = -10;
+  for (const glm::dvec3& p : g.soup.positions) xmax = std::max(xmax, p.x);
+  EXPECT_NEAR(xmax, 5.0 / 3.0, 1e-9);
+  expect_near(named(g.soup, "v_0"), g.soup.positions[0]);
+  // Cells per axis are separate: 2 × 3 × 4 cells of a plane x + y + z = 0.5.
+  Args a = numbers({{"x_min", 0}, {"x_max", 1}, {"y_min", 0}, {"y_max", 1}, {"z_min", 0}, {"z_max", 1},
+                    {"nx", 2}, {"ny", 3}, {"nz", 4}},
+                   "nome3");
+  a.functions["func"] = fn([](auto p) { return p[0] + p[1] + p[2] - 0.5; });
+  kernel::TopologyReport r = topo(run("genimplicitsurf", a).soup);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_EQ(r.border_loop_count, 1);
+}
+
 TEST(GenImplicitSurf, Errors) {
   const F x = [](auto p) { return p[0]; };
-  EXPECT_EQ(run_error("genimplicitsurf", implicit(x, -1, 1, 0)).argument, "resolution");
-  EXPECT_EQ(run_error("genimplicitsurf", implicit(x, -1, 1, 1000)).argument, "resolution");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit(x, -1, 1, 1)).argument, "nx");
+  EXPECT_EQ(run_error("genimplicitsurf", implicit(x, -1, 1, 1000)).argument, "nz");
   NamedError log = run_error("genimplicitsurf", implicit(partial([](auto p) { return std::log(p[0]); },
                                                                   [](auto p) { return p[0] <= 0; },
                                                                   "logarithm of a number that is not positive"),
