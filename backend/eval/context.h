@@ -153,6 +153,8 @@ PathPoints path_points(Context& c, ir::NodeId path, std::string_view inst_path);
 // ---- meshes.cpp: meshes and vertex positions ----
 /// Adds the faces of a mesh (or object / saved mesh) in its local frame, with its creases.
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out);
+/// The soup of a flat mesh file: its vertices `v0…` and faces, in the file's frame.
+kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat);
 /// World position of a vertex reference (a point, or a vertex through instances).
 std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std::string_view inst_path);
 

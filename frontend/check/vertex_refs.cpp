@@ -117,6 +117,14 @@ bool target_has_vertex(Context& c, ir::NodeId inst, const std::string& vertex, s
     *why = fmt::format("`{}` vertices are named {}", target.keyword, fmt::join(shown, ", "));
     return false;
   }
+  if (target.kind == ir::NodeKind::FlatMesh) {
+    const ir::FlatMeshData& fd = target.as<ir::FlatMeshData>();
+    if (fd.vertex_index(vertex) >= 0) return true;
+    const size_t n = fd.geometry != nullptr ? fd.geometry->positions.size() : 0;
+    *why = n == 0 ? fmt::format("the mesh file `{}` has no vertices", target.name)
+                  : fmt::format("the mesh file `{}` has vertices v0…v{}", target.name, n - 1);
+    return false;
+  }
   if (target.kind == ir::NodeKind::Mesh || target.kind == ir::NodeKind::Polyline) {
     // Points of the mesh, and points its faces use.
     if (auto it = c.mesh_points.find(t.index); it != c.mesh_points.end() && it->second.contains(vertex)) return true;
@@ -278,13 +286,20 @@ bool target_has_face(Context& c, ir::NodeId inst, const std::string& rest, std::
     *why = fmt::format("faces of `{}` `{}` are named by their number", target.keyword, target.name);
     return false;
   }
+  if (target.kind == ir::NodeKind::FlatMesh) {
+    const ir::FlatMeshData& fd = target.as<ir::FlatMeshData>();
+    const long n = fd.geometry != nullptr ? fd.geometry->face_count() : 0;
+    if (all_digits(rest) && index_of(rest) < n) return true;
+    *why = fmt::format("faces of the mesh file `{}` are named by their number, 0…{}", target.name, n - 1);
+    return false;
+  }
   *why = fmt::format("`{}` `{}` has no faces of its own", target.keyword, target.name);
   return false;
 }
 
 }  // namespace
 
-ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh) {
+ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh, bool* unresolved) {
   ir::VertexRef ref;
   ref.text = text;
   ref.range = use;
@@ -299,6 +314,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     ref.point = p;
     return ref;
   }
+  if (ir::VertexRef flat = flat_scene_vertex(c, text, use); !flat.instances.empty()) return flat;
   const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
     return target_has_vertex(c, inst, rest, why);
   };
@@ -308,6 +324,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     PathMatch match;
     std::string error;
     if (match_dotted(c, path, match, error, has_vertex)) {
+      if (!error.empty() && unresolved != nullptr) {
+        *unresolved = true;
+        return ref;
+      }
       ref.instances = std::move(match.chain);
       ref.vertex = std::move(match.rest);
       if (!error.empty()) c.diags().emit(DiagKind::UnknownVertex, use, error);
@@ -317,6 +337,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     ref.instances = matches[0].chain;
     ref.vertex = matches[0].rest;
     if (matches.size() > 1) report_ambiguous(c, matches, text, use);
+    return ref;
+  }
+  if (unresolved != nullptr) {
+    *unresolved = true;
     return ref;
   }
   if (c.dialect() == Dialect::Slide && c.has_tcl) {
