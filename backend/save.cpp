@@ -86,7 +86,7 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
   // Flat mesh files: the scene's is written as NOME; an included one stays included.
   std::map<int32_t, const ir::Node*> flat_files;
   for (const ir::Node& n : module.nodes) {
-    if (n.kind == ir::NodeKind::FlatMesh) flat_files[n.range.file.index] = &n;
+    if (n.kind == ir::NodeKind::FlatMesh && n.range.is_valid()) flat_files[n.range.file.index] = &n;
   }
   for (FileId f : files) {
     if (auto flat = flat_files.find(f.index); flat != flat_files.end()) {

@@ -49,13 +49,34 @@ void add_flat_scene(Context& c, FileId file, ir::FlatFormat format) {
   c.flat_scene = inst;
 }
 
+namespace {
+
+// The quoted path of `include "…"` (the whole item if it has no quotes).
+SourceRange path_range(Context& c, const ast::Item& it) {
+  const std::string_view t = c.sources().text(it.range);
+  const size_t open = t.find('"');
+  const size_t close = t.rfind('"');
+  if (open == std::string_view::npos || close <= open) return it.range;
+  return SourceRange{it.range.file, it.range.begin + static_cast<uint32_t>(open), it.range.begin + static_cast<uint32_t>(close + 1)};
+}
+
+}  // namespace
+
 bool include_flat(Context& c, const std::string& path, const std::string& rel, const ast::Item& it) {
   std::optional<ir::FlatFormat> format = flat::format_of_path(path);
   if (!format) return false;
   std::optional<std::string> text;
   if (c.options().read_file) text = c.options().read_file(path);
   if (!text) {
-    c.diags().emit(DiagKind::IncludeFailed, it.range, fmt::format("cannot read included mesh file `{}` (looked for `{}`)", rel, path));
+    c.diags().emit(DiagKind::IncludeFailed, path_range(c, it), fmt::format("cannot read included mesh file `{}` (looked for `{}`)", rel, path));
+    // The mesh is still defined (empty), so its instances do not add errors of their own.
+    const std::string name = stem_of(path);
+    if (!c.scopes[static_cast<int>(Ns::Shape)].contains(name)) {
+      ir::NodeId id = c.module().add_node(ir::NodeKind::FlatMesh, ir::flat_format_name(*format), name, SourceRange{});
+      c.module().get<ir::FlatMeshData>(id).format = *format;
+      c.module().get<ir::FlatMeshData>(id).geometry = std::make_shared<const ir::FlatGeometry>();
+      define(c, Ns::Shape, name, Symbol{id, it.range, c.order, "flat mesh"});
+    }
     return true;
   }
   FileId f = c.sources().add_file(path, std::move(*text));
