@@ -219,8 +219,7 @@ def corpus_files(corpus):
         for dirpath, dirnames, filenames in os.walk(os.path.join(corpus, folder)):
             dirnames.sort()
             for name in sorted(filenames):
-                if not name.endswith(".sif"):
-                    yield os.path.join(dirpath, name)
+                yield os.path.join(dirpath, name)
 
 
 def meshes_without_file(out):
@@ -244,7 +243,8 @@ def case_save(nomec, _admesh, corpus):
                 continue
             tried += 1
             ext = os.path.splitext(path)[1]
-            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext == '.anom' else ext}")
+            # Saved work and flat mesh files are saved as NOME scenes.
+            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext in ('.anom', '.sif') else ext}")
             code, _, err = run(nomec, ["--emit", "nome", "-o", saved] + flags + [path])
             check(code == 0 and os.path.isfile(saved), f"{path} {flags}: --emit nome ({err})")
             if code != 0:
