@@ -31,7 +31,7 @@ ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceR
   ir::NodeId id = m.add_node(ir::NodeKind::FlatMesh, ir::flat_format_name(format), name, SourceRange{file, 0, 0});
   ir::FlatMeshData& d = m.get<ir::FlatMeshData>(id);
   d.format = format;
-  d.geometry = flat::read(c.sources(), file, format, c.diags());
+  d.geometry = flat::read(c.sources(), file, format, c.diags(), flat::ReadOptions{c.options().sif_quads});
   define(c, Ns::Shape, name, Symbol{id, name_range.is_valid() ? name_range : SourceRange{file, 0, 0}, c.order, "flat mesh"});
   return id;
 }

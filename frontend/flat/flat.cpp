@@ -25,9 +25,9 @@ std::optional<ir::FlatFormat> format_of_path(std::string_view path) {
 }
 
 std::shared_ptr<const ir::FlatGeometry> read(const SourceManager& sources, FileId file, ir::FlatFormat format,
-                                             DiagnosticEngine& diags) {
+                                             DiagnosticEngine& diags, const ReadOptions& options) {
   switch (format) {
-    case ir::FlatFormat::Sif: return read_sif(sources, file, diags);
+    case ir::FlatFormat::Sif: return read_sif(sources, file, diags, options);
     case ir::FlatFormat::Obj: return read_obj(sources, file, diags);
     case ir::FlatFormat::Stl: return read_stl(sources, file, diags);
   }

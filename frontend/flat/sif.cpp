@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <fmt/format.h>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -51,8 +52,8 @@ struct Triangle {
 
 class SifReader {
  public:
-  SifReader(const SourceManager& sources, FileId file, DiagnosticEngine& diags)
-      : text_(sources.text(file)), file_(file), diags_(diags) {}
+  SifReader(const SourceManager& sources, FileId file, DiagnosticEngine& diags, const ReadOptions& options)
+      : text_(sources.text(file)), file_(file), diags_(diags), options_(options) {}
 
   std::shared_ptr<const ir::FlatGeometry> run() {
     scan();
@@ -274,20 +275,59 @@ class SifReader {
       map[i] = found;
     }
     int dropped = 0;
+    std::vector<int32_t> faces;  // the triangles kept, three vertices each
     for (const Triangle& t : triangles_) {
       if (bad_[static_cast<size_t>(t.v[0])] + bad_[static_cast<size_t>(t.v[1])] + bad_[static_cast<size_t>(t.v[2])] != 0) continue;
       const int32_t vs[3] = {map[static_cast<size_t>(t.v[0])], map[static_cast<size_t>(t.v[1])],
                              map[static_cast<size_t>(t.v[2])]};
-      detail::add_face(*g, vs, t.range, fmt::format("triangle `{}`", clip(text_.substr(t.range.begin, t.range.end - t.range.begin))),
-                       diags_, dropped);
+      ir::FlatGeometry one;
+      if (detail::add_face(one, vs, t.range, fmt::format("triangle `{}`", clip(text_.substr(t.range.begin, t.range.end - t.range.begin))),
+                           diags_, dropped)) {
+        faces.insert(faces.end(), vs, vs + 3);
+      }
     }
+    add_faces(*g, faces);
     detail::report_dropped(dropped, file_, diags_);
     return g;
+  }
+
+  // Appends the triangles `t` (three vertices each) to `g`: as they are, or with
+  // `sif_quads` each consecutive pair sharing an edge as one quad.
+  void add_faces(ir::FlatGeometry& g, const std::vector<int32_t>& t) const {
+    const size_t n = t.size() / 3;
+    for (size_t i = 0; i < n; ++i) {
+      const int32_t* a = &t[3 * i];
+      if (options_.sif_quads && i + 1 < n) {
+        if (std::optional<std::array<int32_t, 4>> q = pair(a, &t[3 * (i + 1)])) {
+          g.corners.insert(g.corners.end(), q->begin(), q->end());
+          g.face_starts.push_back(static_cast<int32_t>(g.corners.size()));
+          ++i;
+          continue;
+        }
+      }
+      g.corners.insert(g.corners.end(), a, a + 3);
+      g.face_starts.push_back(static_cast<int32_t>(g.corners.size()));
+    }
+  }
+
+  // Triangles (u v w1) and (v u w2), in any rotation, are the quad (u w2 v w1).
+  static std::optional<std::array<int32_t, 4>> pair(const int32_t* a, const int32_t* b) {
+    for (int i = 0; i < 3; ++i) {
+      const int32_t u = a[i], v = a[(i + 1) % 3], w1 = a[(i + 2) % 3];
+      for (int j = 0; j < 3; ++j) {
+        if (b[j] != v || b[(j + 1) % 3] != u) continue;
+        const int32_t w2 = b[(j + 2) % 3];
+        if (w2 == w1) return std::nullopt;
+        return std::array<int32_t, 4>{u, w2, v, w1};
+      }
+    }
+    return std::nullopt;
   }
 
   std::string_view text_;
   FileId file_;
   DiagnosticEngine& diags_;
+  const ReadOptions& options_;
   std::vector<Frame> stack_;
   std::vector<Shell> shells_;
   std::vector<std::array<double, 3>> raw_;
@@ -298,8 +338,9 @@ class SifReader {
 
 }  // namespace
 
-std::shared_ptr<const ir::FlatGeometry> read_sif(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
-  return SifReader(sources, file, diags).run();
+std::shared_ptr<const ir::FlatGeometry> read_sif(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
+                                                 const ReadOptions& options) {
+  return SifReader(sources, file, diags, options).run();
 }
 
 }  // namespace nomec::flat

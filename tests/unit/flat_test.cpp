@@ -32,10 +32,10 @@ struct Read {
   }
 };
 
-std::unique_ptr<Read> read(const std::string& name, std::string text) {
+std::unique_ptr<Read> read(const std::string& name, std::string text, ReadOptions options = {}) {
   auto r = std::make_unique<Read>();
   r->file = r->sources.add_file(name, std::move(text));
-  r->g = flat::read(r->sources, r->file, *format_of_path(name), r->diags);
+  r->g = flat::read(r->sources, r->file, *format_of_path(name), r->diags, options);
   return r;
 }
 
@@ -79,6 +79,17 @@ TEST(Sif, OffsetsByTheDeclaredCountNotTheListedOne) {
   auto r = read("c.sif", "(shell (vertices 4 (v 0 0 0) (v 1 0 0) (v 0 1 0)) (triangles 1 (t 0 1 2)))\n"
                          "(shell (vertices 2 (v 5 5 5) (v 6 5 5)) (triangles 1 (t 0 1 2)))");
   EXPECT_EQ(r->where(), (std::vector<std::string>{"1:8 FlatCountMismatch", "2:59 FlatIndexOutOfRange"}));
+}
+
+TEST(Sif, QuadPairingIsAnOptionForConsecutiveTrianglesSharingAnEdge) {
+  const std::string t = "(shell (vertices 5 (v 0 0 0) (v 1 0 0) (v 1 1 0) (v 0 1 0) (v 2 0 0))"
+                        " (triangles 4 (t 0 1 2) (t 0 2 3) (t 1 4 2) (t 0 3 1)))";
+  EXPECT_EQ(read("q.sif", t)->g->face_count(), 4);  // off by default, as in NOME 2016
+  auto r = read("q.sif", t, ReadOptions{true});
+  ASSERT_EQ(r->g->face_count(), 3);
+  EXPECT_EQ(r->face(0), (std::vector<int32_t>{2, 3, 0, 1}));  // (t 0 1 2) + (t 0 2 3) share 0-2
+  EXPECT_EQ(r->face(1), (std::vector<int32_t>{1, 4, 2}));     // (t 1 4 2) and (t 0 3 1) share none
+  EXPECT_EQ(r->face(2), (std::vector<int32_t>{0, 3, 1}));
 }
 
 TEST(Sif, CommentsNest) {
