@@ -23,7 +23,7 @@ std::optional<double> plain_number(std::string_view t) {
 
 // A flat mesh file's scene as NOME: its vertices as points `v0, v1, …` (global, as NOME
 // 2016's saved work names them), one mesh of its faces, instanced once.
-std::string flat_scene_text(const ir::Module& module, const ir::Node& n) {
+std::string flat_scene_text(const ir::Node& n) {
   const ir::FlatMeshData& d = n.as<ir::FlatMeshData>();
   std::string out = fmt::format("# The mesh of `{}`, written out as NOME.\n", n.name);
   if (d.geometry == nullptr) return out;
@@ -40,7 +40,6 @@ std::string flat_scene_text(const ir::Module& module, const ir::Node& n) {
     out += ") endface\n";
   }
   out += fmt::format("endmesh\ninstance {} {} endinstance\n", n.name, n.name);
-  (void)module;
   return out;
 }
 
@@ -92,7 +91,7 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
     if (auto flat = flat_files.find(f.index); flat != flat_files.end()) {
       if (!flat->second->as<ir::FlatMeshData>().is_scene) continue;
       if (files.size() > 1) out += fmt::format("\n# ---- from `{}` ----\n", sources.name(f));
-      out += flat_scene_text(module, *flat->second);
+      out += flat_scene_text(*flat->second);
       continue;
     }
     std::string_view text = sources.text(f);

@@ -187,7 +187,9 @@ kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat) {
   const ir::FlatGeometry& g = *flat.geometry;
   soup.positions.reserve(g.positions.size());
   soup.names.reserve(g.positions.size());
-  for (size_t k = 0; k < g.positions.size(); ++k) soup.add_vertex({g.positions[k][0], g.positions[k][1], g.positions[k][2]}, fmt::format("v{}", k));
+  for (size_t k = 0; k < g.positions.size(); ++k) {
+    soup.add_vertex({g.positions[k][0], g.positions[k][1], g.positions[k][2]}, fmt::format("v{}", k));
+  }
   for (int32_t f = 0; f < g.face_count(); ++f) {
     const auto b = g.face_starts[static_cast<size_t>(f)];
     const auto e = g.face_starts[static_cast<size_t>(f) + 1];

@@ -68,7 +68,8 @@ bool include_flat(Context& c, const std::string& path, const std::string& rel, c
   std::optional<std::string> text;
   if (c.options().read_file) text = c.options().read_file(path);
   if (!text) {
-    c.diags().emit(DiagKind::IncludeFailed, path_range(c, it), fmt::format("cannot read included mesh file `{}` (looked for `{}`)", rel, path));
+    c.diags().emit(DiagKind::IncludeFailed, path_range(c, it),
+                   fmt::format("cannot read included mesh file `{}` (looked for `{}`)", rel, path));
     // The mesh is still defined (empty), so its instances do not add errors of their own.
     const std::string name = stem_of(path);
     if (!c.scopes[static_cast<int>(Ns::Shape)].contains(name)) {

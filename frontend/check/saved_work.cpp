@@ -89,8 +89,7 @@ int score_flat(SourceManager& scratch_sources, const std::string& path, std::str
                                         [&](const std::string& v) { return d.vertex_index(v) >= 0; }));
 }
 
-std::optional<std::string> find_base(const std::string& path, const CheckOptions& options, const ast::Ast& saved,
-                                     const SourceManager& sources) {
+std::optional<std::string> find_base(const std::string& path, const CheckOptions& options, const ast::Ast& saved) {
   if (options.base_file) return options.base_file;
   if (!options.list_folder || !options.read_file) return std::nullopt;
   const size_t slash = path.find_last_of('/');
@@ -99,7 +98,6 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
   if (!listing) return std::nullopt;
   auto full = [&](const std::string& name) { return (dir.empty() ? std::string(".") : dir) + "/" + name; };
   const SavedNeeds needs = needs_of(saved);
-  (void)sources;
   int best = -1;
   std::vector<std::string> tied;
   std::vector<std::string> scenes;  // every `.nom`/`.nome`, for the fallback
@@ -136,7 +134,7 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
 
 std::unique_ptr<ast::Ast> load_base(Context& c, const std::string& path, const ast::Ast& saved, CheckResult& result) {
   c.is_saved_work = true;
-  std::optional<std::string> base = find_base(path, c.options(), saved, c.sources());
+  std::optional<std::string> base = find_base(path, c.options(), saved);
   std::optional<std::string> base_text;
   if (base && c.options().read_file) base_text = c.options().read_file(*base);
   if (!base_text) {

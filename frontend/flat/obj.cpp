@@ -64,7 +64,9 @@ std::shared_ptr<const ir::FlatGeometry> read_obj(const SourceManager& sources, F
     const SourceRange whole{file, w.front().begin, w.back().begin + static_cast<uint32_t>(w.back().text.size())};
     if (w[0].text == "v") {
       std::array<double, 3> p{0, 0, 0};
-      if (w.size() < 4) diags.emit(DiagKind::FlatSyntax, whole, fmt::format("a vertex is `v x y z`, this one has {} numbers", w.size() - 1));
+      if (w.size() < 4) {
+        diags.emit(DiagKind::FlatSyntax, whole, fmt::format("a vertex is `v x y z`, this one has {} numbers", w.size() - 1));
+      }
       for (size_t k = 1; k < w.size(); ++k) {
         std::optional<double> x = detail::parse_number(w[k].text);
         if (!x) {
@@ -102,7 +104,8 @@ std::shared_ptr<const ir::FlatGeometry> read_obj(const SourceManager& sources, F
       const std::string k(w[0].text);
       if (std::find(warned.begin(), warned.end(), k) == warned.end()) {
         diags.emit(DiagKind::FlatIgnoredStatement, range(w[0]),
-                   fmt::format("`{}` is not used: nomec reads the vertices (`v`) and faces (`f`) of an `.obj` file", k.size() > 20 ? k.substr(0, 20) + "…" : k));
+                   fmt::format("`{}` is not used: nomec reads the vertices (`v`) and faces (`f`) of an `.obj` file",
+                               k.size() > 20 ? k.substr(0, 20) + "…" : k));
         warned.push_back(k);
       }
     }

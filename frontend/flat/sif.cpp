@@ -277,12 +277,14 @@ class SifReader {
     int dropped = 0;
     std::vector<int32_t> faces;  // the triangles kept, three vertices each
     for (const Triangle& t : triangles_) {
-      if (bad_[static_cast<size_t>(t.v[0])] + bad_[static_cast<size_t>(t.v[1])] + bad_[static_cast<size_t>(t.v[2])] != 0) continue;
+      if (bad_[static_cast<size_t>(t.v[0])] + bad_[static_cast<size_t>(t.v[1])] + bad_[static_cast<size_t>(t.v[2])] != 0) {
+        continue;  // a misread vertex (reported)
+      }
       const int32_t vs[3] = {map[static_cast<size_t>(t.v[0])], map[static_cast<size_t>(t.v[1])],
                              map[static_cast<size_t>(t.v[2])]};
       ir::FlatGeometry one;
-      if (detail::add_face(one, vs, t.range, fmt::format("triangle `{}`", clip(text_.substr(t.range.begin, t.range.end - t.range.begin))),
-                           diags_, dropped)) {
+      const std::string what = fmt::format("triangle `{}`", clip(text_.substr(t.range.begin, t.range.end - t.range.begin)));
+      if (detail::add_face(one, vs, t.range, what, diags_, dropped)) {
         faces.insert(faces.end(), vs, vs + 3);
       }
     }

@@ -104,7 +104,8 @@ void read_ascii(std::string_view t, FileId file, ir::FlatGeometry& g, Diagnostic
       for (size_t c = 0; c < 3 && ok; ++c) {
         std::optional<double> x = detail::parse_number(words[i + 1 + c].text);
         if (!x) {
-          diags.emit(DiagKind::FlatSyntax, range(words[i + 1 + c]), fmt::format("`{}` is not a number", words[i + 1 + c].text.substr(0, 40)));
+          diags.emit(DiagKind::FlatSyntax, range(words[i + 1 + c]),
+                     fmt::format("`{}` is not a number", words[i + 1 + c].text.substr(0, 40)));
           ok = false;
         } else {
           p[c] = *x;
