@@ -44,6 +44,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     result.module.dialect = c.dialect();
     result.dialect_reason = fmt::format("a flat `.{}` mesh file: one mesh, instanced once", ir::flat_format_name(*format));
     check::add_flat_scene(c, file, *format);
+    check::apply_overrides(c);  // a flat mesh has no sliders: every `-D` is reported
     check::finish_dependencies(c);
     return result;
   }

@@ -5,6 +5,8 @@
 // its vertices are then also reachable by their bare names `v0, v1, …`, as in NOME 2016,
 // whose flat input became the master mesh itself. `include "file.sif"` in a NOME file
 // defines the mesh for the file to `instance`.
+#include <algorithm>
+#include <cctype>
 #include <fmt/format.h>
 
 #include "frontend/check/handlers.h"
@@ -80,8 +82,19 @@ bool include_flat(Context& c, const std::string& path, const std::string& rel, c
     }
     return true;
   }
-  FileId f = c.sources().add_file(path, std::move(*text));
   const std::string name = stem_of(path);
+  const bool is_name = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+                       std::all_of(name.begin(), name.end(), [](char ch) {
+                         return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
+                       });
+  if (!is_name) {
+    c.diags().emit(DiagKind::IncludeFailed, path_range(c, it),
+                   fmt::format("`include \"{}\"` would define a mesh named `{}`, which is not a NOME name (letters, digits, "
+                               "`_`, starting with a letter or `_`); rename the file",
+                               rel, name));
+    return true;
+  }
+  FileId f = c.sources().add_file(path, std::move(*text));
   if (auto prev = c.scopes[static_cast<int>(Ns::Shape)].find(name); prev != c.scopes[static_cast<int>(Ns::Shape)].end()) {
     c.diags()
         .emit(DiagKind::DuplicateDefinition, it.range,
