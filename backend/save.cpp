@@ -21,6 +21,28 @@ std::optional<double> plain_number(std::string_view t) {
   return v;
 }
 
+// A flat mesh file's scene as NOME: its vertices as points `v0, v1, …` (global, as NOME
+// 2016's saved work names them), one mesh of its faces, instanced once.
+std::string flat_scene_text(const ir::Node& n) {
+  const ir::FlatMeshData& d = n.as<ir::FlatMeshData>();
+  std::string out = fmt::format("# The mesh of `{}`, written out as NOME.\n", n.name);
+  if (d.geometry == nullptr) return out;
+  const ir::FlatGeometry& g = *d.geometry;
+  for (size_t k = 0; k < g.positions.size(); ++k) {
+    out += fmt::format("point v{} ({} {} {}) endpoint\n", k, g.positions[k][0], g.positions[k][1], g.positions[k][2]);
+  }
+  out += fmt::format("mesh {}\n", n.name);
+  for (int32_t f = 0; f < g.face_count(); ++f) {
+    out += fmt::format("    face f{} (", f);
+    for (int32_t i = g.face_starts[static_cast<size_t>(f)]; i < g.face_starts[static_cast<size_t>(f) + 1]; ++i) {
+      out += fmt::format("{}v{}", i == g.face_starts[static_cast<size_t>(f)] ? "" : " ", g.corners[static_cast<size_t>(i)]);
+    }
+    out += ") endface\n";
+  }
+  out += fmt::format("endmesh\ninstance {} {} endinstance\n", n.name, n.name);
+  return out;
+}
+
 }  // namespace
 
 std::string to_nome(const ir::Module& module, const SourceManager& sources, std::string_view main_file) {
@@ -60,7 +82,18 @@ std::string to_nome(const ir::Module& module, const SourceManager& sources, std:
 
   std::string out = fmt::format("# Saved by nomec --emit nome from `{}`{}: sliders at their current values.\n",
                                 main_file, files.size() > 1 ? " and its base scene" : "");
+  // Flat mesh files: the scene's is written as NOME; an included one stays included.
+  std::map<int32_t, const ir::Node*> flat_files;
+  for (const ir::Node& n : module.nodes) {
+    if (n.kind == ir::NodeKind::FlatMesh && n.range.is_valid()) flat_files[n.range.file.index] = &n;
+  }
   for (FileId f : files) {
+    if (auto flat = flat_files.find(f.index); flat != flat_files.end()) {
+      if (!flat->second->as<ir::FlatMeshData>().is_scene) continue;
+      if (files.size() > 1) out += fmt::format("\n# ---- from `{}` ----\n", sources.name(f));
+      out += flat_scene_text(*flat->second);
+      continue;
+    }
     std::string_view text = sources.text(f);
     std::vector<Edit>& es = edits[f.index];
     std::sort(es.begin(), es.end(), [](const Edit& a, const Edit& b) { return a.begin < b.begin; });

@@ -164,6 +164,15 @@ class NodeLines {
         ref("surface", d.surface);
         return;
       }
+      case NodeKind::FlatMesh: {
+        const auto& d = n.as<FlatMeshData>();
+        line("format", std::string(flat_format_name(d.format)));
+        if (d.geometry != nullptr) {
+          line("vertices", std::to_string(d.geometry->positions.size()));
+          line("faces", std::to_string(d.geometry->face_count()));
+        }
+        return;
+      }
       case NodeKind::Generator:
         generator(n.as<GeneratorData>());
         return;

@@ -109,6 +109,26 @@ std::string_view offset_kind_name(OffsetKind k) {
   return "?";
 }
 
+std::string_view flat_format_name(FlatFormat f) {
+  switch (f) {
+    case FlatFormat::Sif: return "sif";
+    case FlatFormat::Obj: return "obj";
+    case FlatFormat::Stl: return "stl";
+  }
+  return "?";
+}
+
+int32_t FlatMeshData::vertex_index(std::string_view name) const {
+  if (geometry == nullptr || name.size() < 2 || name.size() > 11 || name[0] != 'v') return -1;
+  int64_t k = 0;
+  for (char ch : name.substr(1)) {
+    if (ch < '0' || ch > '9') return -1;
+    k = k * 10 + (ch - '0');
+  }
+  if (name.size() > 2 && name[1] == '0') return -1;  // `v01` is not a name the reader gives
+  return k < static_cast<int64_t>(geometry->positions.size()) ? static_cast<int32_t>(k) : -1;
+}
+
 NodeId Module::add_node(NodeKind kind, std::string_view keyword, std::string name, SourceRange range,
                         NodeId parent) {
   Node n;

@@ -5,7 +5,9 @@
 // sliders they read), vertex references, transforms, generator argument bindings.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -132,6 +134,25 @@ struct MeshData {
   MeshForm form = MeshForm::Mesh;
   Slice<NodeId> faces;  // an object's face list
   NodeId surface;
+};
+enum class FlatFormat : uint8_t { Sif, Obj, Stl };
+std::string_view flat_format_name(FlatFormat f);
+/// The geometry of a flat file (frontend/flat reads it): vertex `k` is named `v<k>`; face
+/// `f` is `corners[face_starts[f] .. face_starts[f + 1])`, vertex indices in written order.
+struct FlatGeometry {
+  std::vector<std::array<double, 3>> positions;
+  std::vector<int32_t> face_starts{0};
+  std::vector<int32_t> corners;
+  int32_t face_count() const { return static_cast<int32_t>(face_starts.size()) - 1; }
+};
+/// A mesh read from a flat file, e.g. the scene `Zero_6.sif` or `include "hull.stl"`: fixed
+/// positions, no parameters. The geometry is shared (immutable) between copies of the module.
+struct FlatMeshData {
+  FlatFormat format = FlatFormat::Sif;
+  std::shared_ptr<const FlatGeometry> geometry;
+  bool is_scene = false;  // the file is the scene (or saved work's base), not an `include`
+  /// The vertex index a name `v<k>` gives (k < vertex count), or -1.
+  int32_t vertex_index(std::string_view name) const;
 };
 /// A generator of the catalogue, e.g. `funnel fun (8 0.4 -0.2 0.2) endfunnel`.
 struct GeneratorData {

@@ -56,7 +56,7 @@ void add_emit_options(CLI::App& app, Cli& cli) {
 }
 
 void add_check_options(CLI::App& app, Cli& cli) {
-  app.add_option("files", cli.files, "Input files (.nome, .nom, .slf, .anom)");
+  app.add_option("files", cli.files, "Input files (.nome, .nom, .slf, .anom; flat meshes .sif, .obj, .stl)");
   app.add_flag("--check", cli.check_only, "Check the files and report diagnostics (default)");
   app.add_option("--dialect", cli.dialect, "Force the dialect instead of detecting it")
       ->check(CLI::IsMember({"nome", "nome2", "nome3", "slide"}));
@@ -67,6 +67,8 @@ void add_check_options(CLI::App& app, Cli& cli) {
   app.add_option("--diagnostics-format", cli.format, "Diagnostics as `text` or `json`")
       ->check(CLI::IsMember({"text", "json"}));
   app.add_option("--base", cli.base, "Base scene for a saved-work .anom file");
+  app.add_flag("--sif-quads", cli.sif_quads,
+               "Read .sif triangles in consecutive pairs that share an edge as quads (NOME 2016 had this off)");
   app.add_option("--color", cli.color, "Colour diagnostics: auto, always, never")
       ->check(CLI::IsMember({"auto", "always", "never"}));
   app.add_option("--time", cli.time, "Value of `$time` in expressions (default 0)");
@@ -117,6 +119,7 @@ int parse_command_line(int argc, char** argv, Cli& cli) {
 std::string check_options(const Cli& cli, CheckOptions& options) {
   if (!cli.dialect.empty()) options.dialect = dialect_by_name(cli.dialect);
   options.allow_out_of_range = cli.allow_out_of_range;
+  options.sif_quads = cli.sif_quads;
   options.time = cli.time;
   options.frame = cli.frame;
   if (!cli.base.empty()) options.base_file = cli.base;

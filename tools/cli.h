@@ -23,6 +23,7 @@ struct Cli {
   bool allow_out_of_range = false;
   std::string format = "text";  // diagnostics: text or json
   std::string base;
+  bool sif_quads = false;  // --sif-quads
   std::string color = "auto";
   double time = 0;
   double frame = 0;

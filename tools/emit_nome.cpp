@@ -5,13 +5,16 @@
 
 #include "backend/save.h"
 #include "base/file_io.h"
+#include "frontend/flat/flat.h"
 #include "tools/emit.h"
 
 namespace nomec::tools {
 
 int emit_nome(const Cli& cli, const std::string& path, const SourceManager& sources, const ir::Module& module) {
   const std::filesystem::path p(path);
-  const std::string ext = p.extension() == ".anom" ? ".nome" : p.extension().string();
+  // Saved work and flat mesh files are saved as NOME scenes.
+  const bool as_nome = p.extension() == ".anom" || flat::format_of_path(path).has_value();
+  const std::string ext = as_nome ? ".nome" : p.extension().string();
   const std::string target = cli.output.empty() ? p.stem().string() + ".saved" + ext : cli.output;
   const std::string content = backend::to_nome(module, sources, path);
   if (target == "-") {

@@ -161,6 +161,8 @@ std::optional<Generated> morph_visualizer(Context& c, ir::NodeId visualizer, std
 // ---- meshes.cpp: meshes and vertex positions ----
 /// Adds the faces of a mesh (or object / saved mesh) in its local frame, with its creases.
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out);
+/// The soup of a flat mesh file: its vertices `v0…` and faces, in the file's frame.
+kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat);
 /// World position of a vertex reference (a point, or a vertex through instances).
 std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std::string_view inst_path);
 /// The position of a point node, or of a NOME3 controlpoint (its point's, compat.md E2).

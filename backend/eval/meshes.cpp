@@ -1,7 +1,9 @@
 // Meshes and vertex positions for the evaluator (see context.h): the faces of a mesh or
 // object in its local frame (vertices shared by reference), its creases, and the position of
-// a vertex reference — a point, a generated vertex, or a vertex through instances.
+// a vertex reference — a point, a generated vertex, or a vertex through instances — and the
+// soup of a flat mesh file.
 #include <fmt/format.h>
+#include <array>
 #include <map>
 
 #include "backend/eval/context.h"
@@ -185,6 +187,14 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
     case ir::NodeKind::Mesh:
       p = mesh_vertex(c, target, ref, inst_path);
       break;
+    case ir::NodeKind::FlatMesh: {
+      const ir::FlatMeshData& fd = tn.as<ir::FlatMeshData>();
+      if (const int32_t k = fd.vertex_index(ref.vertex); k >= 0) {
+        const std::array<double, 3>& q = fd.geometry->positions[static_cast<size_t>(k)];
+        p = glm::dvec3(q[0], q[1], q[2]);
+      }
+      break;
+    }
     default:
       break;
   }
@@ -195,6 +205,23 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
     return std::nullopt;
   }
   return glm::dvec3(t * glm::dvec4(*p, 1.0));
+}
+
+kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat) {
+  kernel::PolygonSoup soup;
+  if (flat.geometry == nullptr) return soup;
+  const ir::FlatGeometry& g = *flat.geometry;
+  soup.positions.reserve(g.positions.size());
+  soup.names.reserve(g.positions.size());
+  for (size_t k = 0; k < g.positions.size(); ++k) {
+    soup.add_vertex({g.positions[k][0], g.positions[k][1], g.positions[k][2]}, fmt::format("v{}", k));
+  }
+  for (int32_t f = 0; f < g.face_count(); ++f) {
+    const auto b = g.face_starts[static_cast<size_t>(f)];
+    const auto e = g.face_starts[static_cast<size_t>(f) + 1];
+    soup.add_face(std::span<const int32_t>(g.corners.data() + b, static_cast<size_t>(e - b)));
+  }
+  return soup;
 }
 
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out) {

@@ -1,6 +1,6 @@
 // Walking the scene (see context.h): an instance composes its transform chain and colour
 // and adds its target; a group adds its instances; a block runs its operation; a leaf
-// (mesh, generator, curve, sweep) is placed in its entry's frame — memoized per entry,
+// (mesh, flat mesh file, generator, curve, sweep) is placed in its entry's frame — memoized per entry,
 // instance and path when incremental, and collected part by part so an update can patch
 // only the parts that moved.
 #include <fmt/format.h>
@@ -43,6 +43,13 @@ void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collec
       append_soup(out, s, at.t, at.color, false);
       if (c.has_deletes()) mark_deleted(c, out, face_base, at.inst);
       out.curve_count += static_cast<int32_t>(g->curves.size());
+      return;
+    }
+    case ir::NodeKind::FlatMesh: {
+      kernel::PolygonSoup s = flat_soup(tn.as<ir::FlatMeshData>());
+      s.face_sources.assign(s.face_count(), kernel::FaceSource{tid.index, at.inst.index});
+      append_soup(out, s, at.t, at.color, false);
+      if (c.has_deletes()) mark_deleted(c, out, face_base, at.inst);
       return;
     }
     case ir::NodeKind::Sweep:
@@ -159,6 +166,7 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
   const ir::Node& tn = c.m.node(tid);
   switch (tn.kind) {
     case ir::NodeKind::Mesh:
+    case ir::NodeKind::FlatMesh:
     case ir::NodeKind::Generator:
     case ir::NodeKind::Sweep:
     case ir::NodeKind::SweepMorph:

@@ -148,7 +148,9 @@ void handle_savedparameter(Context& c, const ast::Ast& a, const ast::Stmt& s) {
     std::string key(it.text);
     ir::NodeId p = lookup_param_text(c, key);
     if (!p.is_valid()) {
-      // Saved work may name sliders the scene no longer has (real files do): warn.
+      // Saved work may name sliders the scene no longer has (real files do): warn. Without
+      // its base scene every slider is unknown, and nothing is said (compat.md §G2).
+      if (c.is_saved_work && !c.base_loaded) continue;
       c.diags().emit(DiagKind::StaleSavedParameter, it.range,
                      fmt::format("saved value for `{}`, but the scene has no such slider; the value is ignored", key));
       continue;

@@ -1,5 +1,6 @@
 // The checker's entry point (see check.h). Order of work for one scene:
-//   1. parse the file (and, for `.anom` saved work, its base scene first);
+//   0. a flat mesh file (`.sif`, `.obj`, `.stl`) is read as a scene of that one mesh;
+//   1. parse the file (and, for `.anom` saved work, its base scene first: saved_work.cpp);
 //   2. choose the dialect (dialect.cpp);
 //   3. collect banks, then saved parameter values, then `-D` overrides (banks.cpp);
 //   4. declare every named top-level definition (names.cpp), so uses above a definition
@@ -9,55 +10,14 @@
 //   6. resolve `delete` entries, then finish the dependency graph (dependencies.cpp).
 #include "frontend/check/check.h"
 
+#include <fmt/format.h>
+
 #include "frontend/check/handlers.h"
+#include "frontend/flat/flat.h"
 #include "frontend/parse/parse.h"
 #include "frontend/source/file_kinds.h"
 
 namespace nomec {
-
-namespace {
-
-// The base scene of a saved-work file: `--base`, else the `.nom`/`.nome` named like its
-// folder, else the only one in the folder (listed through `options.list_folder`).
-std::optional<std::string> find_base(const std::string& path, const CheckOptions& options) {
-  if (options.base_file) return options.base_file;
-  if (!options.list_folder) return std::nullopt;
-  const size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash == 0 ? 1 : slash);
-  std::optional<FolderListing> listing = options.list_folder(dir);
-  if (!listing) return std::nullopt;
-  std::vector<std::string> candidates;
-  for (const std::string& f : listing->files) {
-    if (is_base_scene_path(f)) candidates.push_back(f);
-  }
-  auto full = [&](const std::string& name) { return (dir.empty() ? std::string(".") : dir) + "/" + name; };
-  for (const std::string& c : candidates) {
-    if (c.substr(0, c.size() - path_extension(c).size()) == listing->name) return full(c);
-  }
-  if (candidates.size() == 1) return full(candidates[0]);
-  return std::nullopt;
-}
-
-// Reads the base scene of saved work into `base_ast`; warns when there is none.
-std::unique_ptr<ast::Ast> load_base(check::Context& c, const std::string& path, FileId file, CheckResult& result) {
-  c.is_saved_work = true;
-  std::optional<std::string> base = find_base(path, c.options());
-  std::optional<std::string> base_text;
-  if (base && c.options().read_file) base_text = c.options().read_file(*base);
-  if (!base_text) {
-    c.diags().emit(DiagKind::MissingBaseFile, SourceRange{file, 0, 0},
-                   "saved-work file without its base scene: its instance vertices cannot be resolved; pass `--base SCENE.nom`");
-    return nullptr;
-  }
-  FileId bf = c.sources().add_file(*base, std::move(*base_text));
-  DiagnosticEngine base_diags;  // the base file is checked on its own; only its scope is reused
-  auto base_ast = std::make_unique<ast::Ast>(parse_file(c.sources(), bf, base_diags));
-  result.base_file = *base;
-  c.base_loaded = true;
-  return base_ast;
-}
-
-}  // namespace
 
 std::optional<ir::GenKind> statement_generator(const ast::Stmt& s) {
   if (s.kind != ast::BlockKind::Generator) return std::nullopt;
@@ -77,11 +37,22 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   check::Context c(sources, diags, options, result.module);
   if (options.record_names) c.name_uses = &result.name_uses;
   FileId file = sources.add_file(path, std::move(text));
+  if (std::optional<ir::FlatFormat> format = flat::format_of_path(path)) {
+    // A flat mesh file is a scene of that one mesh, instanced once (language.md §8).
+    c.set_dialect(options.dialect.value_or(Dialect::Nome));
+    result.dialect = c.dialect();
+    result.module.dialect = c.dialect();
+    result.dialect_reason = fmt::format("a flat `.{}` mesh file: one mesh, instanced once", ir::flat_format_name(*format));
+    check::add_flat_scene(c, file, *format);
+    check::apply_overrides(c);  // a flat mesh has no sliders: every `-D` is reported
+    check::finish_dependencies(c);
+    return result;
+  }
   ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
 
   // Saved work (`.anom`) is checked on top of its base scene.
   std::unique_ptr<ast::Ast> base_ast;
-  if (is_saved_work_path(path)) base_ast = load_base(c, path, file, result);
+  if (is_saved_work_path(path)) base_ast = check::load_base(c, path, main_ast, result);
 
   result.dialect_reason = check::choose_dialect(c, base_ast ? *base_ast : main_ast, base_ast ? result.base_file : path);
   result.dialect = c.dialect();

@@ -31,6 +31,7 @@ struct CheckOptions {
   std::vector<std::pair<std::string, double>> overrides;  // -D bank.param=value
   bool allow_out_of_range = false;                         // --allow-out-of-range
   std::optional<std::string> base_file;                    // --base for `.anom` files
+  bool sif_quads = false;  // --sif-quads: `.sif` triangle pairs read as quads (frontend/flat)
   double time = 0;                                         // --time: value of `$time`
   double frame = 0;                                        // --frame: value of `$frame`
   FileReader read_file;                                    // may be empty: no includes

@@ -138,6 +138,8 @@ class Context {
   bool is_saved_work = false;
   bool is_jipcad = false;  // a NOME3 file with JIPCAD-only syntax (read in JIPCAD's tunnel order)
   bool base_loaded = false;
+  ir::NodeId flat_scene;
+  int dropped_saved_vertices = 0;  // saved-work vertices the scene lacks (meshes.cpp)  // the instance of a flat file's scene (see flat_meshes.cpp)
   std::vector<NameUse>* name_uses = nullptr;  // CheckOptions::record_names
   std::vector<std::unique_ptr<ast::Ast>> owned_asts;  // included files
   std::vector<std::unique_ptr<ast::Ast>> fragments;   // function texts (`funcX [ … ]`)

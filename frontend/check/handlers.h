@@ -32,6 +32,9 @@ ir::NodeId lookup_param_text(Context& c, const std::string& text);
 /// and as a list element (`face f ($a $b $c)`). Runs after the banks are collected.
 void normalize_dollar_names(Context& c, ast::Ast& a);
 void declare(Context& c, const ast::Ast& a, int order_base);
+/// `mesh consolidatedmesh … endmesh` in a `nome`/`nome2` file: blocks that accumulate
+/// (compat.md §E5).
+bool is_consolidated_mesh(const Context& c, const ast::Stmt& s);
 void define(Context& c, Ns ns, const std::string& name, Symbol sym);
 ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order);
 ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
@@ -44,7 +47,10 @@ std::vector<std::string_view> names_in(const Context& c, Ns ns);
 // ---- vertex_refs.cpp: vertex references and deleted faces through instance paths ----
 /// A vertex of a face or polyline: a point of `mesh`, a global point, or a path through
 /// instances (`inst.v`, `.inst.sub.v`, 2016 `inst_sub_v`).
-ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh);
+/// With `unresolved` given, a name that resolves to nothing is not reported: `*unresolved`
+/// is set instead (saved work drops such vertices, compat.md §G2).
+ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh,
+                             bool* unresolved = nullptr);
 /// A face named in a `delete` block (`cube1_c4`, `fun2_5`, `cf.fun2.5`).
 ir::DeletedFace resolve_deleted_face(Context& c, const std::string& text, SourceRange use);
 
@@ -82,6 +88,25 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
                                        ir::NodeId mesh);
 /// Reads a list of names (`(f1 f2)`, `(p1 p2)`) into the module, adding edges to `owner`.
 ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item& list_item, ir::NodeId owner, Ns ns);
+
+// ---- flat_meshes.cpp: `.sif`, `.obj`, `.stl` files as meshes (frontend/flat reads them) ----
+/// Reads the flat file `file` and defines the mesh named after its stem; `name_range` is
+/// where a diagnostic about the name points (the `include`), if anywhere.
+ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceRange name_range);
+/// The scene of a flat file given alone (or as saved work's base): its mesh, instanced once.
+void add_flat_scene(Context& c, FileId file, ir::FlatFormat format);
+/// `include "hull.stl"` of a flat file at `path` (written `rel`): defines its mesh. False
+/// when `path` is no flat file (the caller includes it as a scene file).
+bool include_flat(Context& c, const std::string& path, const std::string& rel, const ast::Item& it);
+/// In a flat file's scene, a bare `v<k>` names vertex k of its mesh (NOME 2016 names); an
+/// unresolved reference (no instances) otherwise.
+ir::VertexRef flat_scene_vertex(Context& c, const std::string& text, SourceRange use);
+
+// ---- saved_work.cpp: the base scene of `.anom` saved work ----
+/// Finds and reads the base scene of the saved work `saved` at `path`: a scene's syntax tree
+/// to check first, or null (a flat mesh base is added to the scene directly; without a base
+/// `MissingBaseFile` warns).
+std::unique_ptr<ast::Ast> load_base(Context& c, const std::string& path, const ast::Ast& saved, CheckResult& result);
 
 // ---- instances.cpp: instances, groups, transforms ----
 ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);

@@ -98,11 +98,36 @@ InstanceHead read_head(Context& c, const ast::Stmt& s, size_t& pos) {
 
 }  // namespace
 
+// `instance MESH NAME` in a NOME file (the target first, as SLIDE orders it): the unknown
+// target's error says so, with a fix-it that swaps the two. The instance is still read as
+// written (editor features such as rename see the words where they are).
+bool check_swapped(Context& c, const ast::Stmt& s, const InstanceHead& head) {
+  if (c.dialect() == Dialect::Slide || head.target == nullptr || head.name.empty() || s.items.empty()) return false;
+  const std::string target(head.target->text);
+  auto defined = [&](const std::string& n) {
+    for (const auto& scope : c.scopes) {
+      if (scope.contains(n)) return true;
+    }
+    return false;
+  };
+  const auto& shapes = c.scopes[static_cast<int>(Ns::Shape)];
+  if (defined(target) || !shapes.contains(head.name)) return false;
+  const SourceRange both{s.items[0].range.file, s.items[0].range.begin, head.target->range.end};
+  c.diags()
+      .emit(DiagKind::UnknownName, head.target->range,
+            fmt::format("unknown mesh, group or generator `{}`; `{}` is a {}: NOME writes the instance's name first, "
+                        "`instance {} {}`",
+                        target, head.name, shapes.at(head.name).keyword, target, head.name))
+      .fixit(both, fmt::format("{} {}", target, head.name), "swap the name and the target");
+  return true;
+}
+
 ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
   size_t pos = 0;
   InstanceHead head = read_head(c, s, pos);
+  const bool swapped = check_swapped(c, s, head);
   ir::NodeId id = c.node_for(s, c.qualify(ctx, head.name), ctx);
-  if (head.target != nullptr) {
+  if (head.target != nullptr && !swapped) {
     ir::NodeId target = resolve_target(c, std::string(head.target->text), head.target->range);
     c.module().get<ir::InstanceData>(id).target = target;
     c.module().deps.add_edge(target, id);

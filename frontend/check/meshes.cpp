@@ -29,9 +29,30 @@ void add_vertex_edges(Context& c, ir::NodeId id, const ir::VertexRef& ref) {
   if (!ref.instances.empty()) c.module().deps.add_edge(ref.instances.front(), id);
 }
 
-void check_face_vertices(Context& c, ir::NodeId face, SourceRange at, SourceRange list_range) {
+// A face of saved work (`consolidateface`, or a `face` of `consolidate`/`savedworkingmesh`),
+// whose vertices name the base scene's.
+bool is_saved_face(Context& c, const Ctx& ctx) {
+  if (ctx.parent_kind == BlockKind::Consolidateface) return true;
+  if (!ctx.parent.is_valid()) return false;
+  const ir::NodeId mesh = c.module().node(ctx.parent).parent;
+  if (!mesh.is_valid() || c.module().node(mesh).kind != ir::NodeKind::Mesh) return false;
+  const ir::MeshForm form = c.module().get<ir::MeshData>(mesh).form;
+  return form == ir::MeshForm::Consolidate || form == ir::MeshForm::SavedWorkingMesh;
+}
+
+// `dropped`: vertices of saved work left out of the face (see handle_vertex); a face they
+// leave with fewer than 3 vertices is left out too, with a warning when there is a base.
+void check_face_vertices(Context& c, ir::NodeId face, SourceRange at, SourceRange list_range, int dropped = 0) {
   const ir::Module& m = c.module();
   std::span<const ir::VertexRef> vs = m.refs(m.get<ir::FaceData>(face).vertices);
+  if (vs.size() < 3 && dropped > 0) {
+    if (c.base_loaded) {
+      c.diags().emit(DiagKind::ConsolidateVertexMissing, at,
+                     fmt::format("this saved face keeps {} vertices once the missing ones are dropped; it is left out",
+                                 vs.size()));
+    }
+    return;
+  }
   if (vs.size() < 3) {
     c.diags().emit(DiagKind::FaceTooFewVertices, list_range.is_valid() ? list_range : at,
                    fmt::format("a face needs at least 3 vertices, got {}", vs.size()));
@@ -62,6 +83,31 @@ OptionSink point_options(Context& c, ir::NodeId id) {
   return [&c, id](const OptionValue& v) {
     if (v.spec->key == Opt::Texture) c.module().get<ir::PointData>(id).texture = v.operand;
   };
+}
+
+// A further `mesh consolidatedmesh` block (compat.md §E5): its mesh starts with the faces
+// of the one before it (an object's face list), sees its points, and takes the name from
+// here on, so each `instance X consolidatedmesh` gets the faces accumulated so far. Returns
+// the earlier block's node, or None for the first block.
+ir::NodeId accumulate_consolidated(Context& c, const ast::Stmt& s, ir::NodeId id) {
+  auto& scope = c.scopes[static_cast<int>(Ns::Shape)];
+  auto it = scope.find("consolidatedmesh");
+  if (it == scope.end() || it->second.node == id || !it->second.node.is_valid()) return ir::NodeId::None();
+  const ir::NodeId earlier = it->second.node;
+  ir::Module& m = c.module();
+  if (m.node(earlier).kind != ir::NodeKind::Mesh) return ir::NodeId::None();
+  std::vector<ir::NodeId> faces;
+  for (ir::NodeId f : m.refs(m.get<ir::MeshData>(earlier).faces)) faces.push_back(f);
+  for (ir::NodeId k : m.node(earlier).children) {
+    if (m.node(k).kind == ir::NodeKind::Face) faces.push_back(k);
+  }
+  m.get<ir::MeshData>(id).faces = m.add_node_refs(faces);
+  if (auto p = c.mesh_points.find(earlier.index); p != c.mesh_points.end()) {
+    auto copy = p->second;
+    c.mesh_points[id.index].insert(copy.begin(), copy.end());
+  }
+  it->second = Symbol{id, s.items[0].range, c.order, s.keyword};
+  return earlier;
 }
 
 }  // namespace
@@ -159,7 +205,21 @@ ir::NodeId handle_vertex(Context& c, const ast::Ast& a, const ast::Stmt& s, cons
     return ir::NodeId::None();
   }
   if (ctx.parent.is_valid() && c.module().node(ctx.parent).kind == ir::NodeKind::Face) {
-    ir::VertexRef ref = resolve_vertex(c, std::string(s.items[0].text), s.items[0].range, ir::NodeId::None());
+    // compat.md §G2: saved work drops a vertex its scene lacks (NOME 2016's warning 9), and
+    // says nothing when there is no base scene to look in.
+    const bool saved = is_saved_face(c, ctx);
+    bool unresolved = false;
+    ir::VertexRef ref = resolve_vertex(c, std::string(s.items[0].text), s.items[0].range, ir::NodeId::None(),
+                                       saved ? &unresolved : nullptr);
+    if (unresolved) {
+      ++c.dropped_saved_vertices;
+      if (c.base_loaded) {
+        c.diags().emit(DiagKind::ConsolidateVertexMissing, s.items[0].range,
+                       fmt::format("the base scene has no vertex `{}`; it is dropped from this face, as NOME 2016 did",
+                                   s.items[0].text));
+      }
+      return ir::NodeId::None();
+    }
     add_vertex_edges(c, ctx.parent, ref);
     append_vertex(c.module(), c.module().get<ir::FaceData>(ctx.parent).vertices, std::move(ref));
   }
@@ -218,8 +278,9 @@ ir::NodeId handle_face(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
   if (ctx.parent_kind == BlockKind::Savedworkingmesh) {
     // An anonymous face listing its vertices as nested `vertex` statements.
     ir::NodeId id = c.node_for(s, c.qualify(ctx, ""), ctx);
+    const int dropped = c.dropped_saved_vertices;
     read_body(c, a, s, pos, id, options_for(s.kind), face_options(id));
-    check_face_vertices(c, id, s.open_kw, SourceRange{});
+    check_face_vertices(c, id, s.open_kw, SourceRange{}, c.dropped_saved_vertices - dropped);
     return id;
   }
   auto name = c.read_name(s, pos, "face f (p1 p2 p3) endface");
@@ -271,14 +332,17 @@ ir::NodeId handle_mesh(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
   }
   ir::NodeId id = c.node_for(s, s.kind == BlockKind::Consolidate ? name : c.qualify(ctx, name), ctx);
   if (s.kind == BlockKind::Consolidateface) {
+    const int dropped = c.dropped_saved_vertices;
     read_body(c, a, s, pos, id, options_for(s.kind), {});
-    check_face_vertices(c, id, s.open_kw, SourceRange{});
+    check_face_vertices(c, id, s.open_kw, SourceRange{}, c.dropped_saved_vertices - dropped);
   } else {
     ir::MeshData& d = c.module().get<ir::MeshData>(id);
     d.form = s.kind == BlockKind::Consolidate        ? ir::MeshForm::Consolidate
              : s.kind == BlockKind::Savedworkingmesh ? ir::MeshForm::SavedWorkingMesh
                                                      : ir::MeshForm::Mesh;
+    const ir::NodeId earlier = is_consolidated_mesh(c, s) && ctx.top ? accumulate_consolidated(c, s, id) : ir::NodeId::None();
     read_body(c, a, s, pos, id, options_for(s.kind), {});
+    if (earlier.is_valid()) c.module().deps.add_edge(earlier, id);
   }
   if (ctx.parent.is_valid()) c.module().deps.add_edge(id, ctx.parent);
   return id;

@@ -55,7 +55,10 @@ void declare_stmt(Context& c, const ast::Stmt& s, int order) {
   if (s.kind == BlockKind::Merge && s.items[0].text == "epsilon") return;  // NOME2's nameless scene merge
   std::string name(s.items[0].text);
   ir::NodeId id = c.module().add_node(node_kind_for(s.kind), s.keyword, name, s.range);
-  define(c, *ns, name, Symbol{id, s.items[0].range, order, s.keyword});
+  // compat.md §E5: in the 2016 family, further `mesh consolidatedmesh` blocks add to the
+  // first (meshes.cpp), so they are not duplicate definitions.
+  const bool adds = is_consolidated_mesh(c, s) && c.scopes[static_cast<int>(*ns)].contains(name);
+  if (!adds) define(c, *ns, name, Symbol{id, s.items[0].range, order, s.keyword});
   if (ir::NodeId* d = c.declared_slot(s)) *d = id;
 }
 
@@ -104,6 +107,11 @@ void normalize_dollar_names(Context& c, ast::Ast& a) {
   };
   for (ast::Stmt& s : a.stmts) items(std::span<ast::Item>(s.items.data(), s.items.size()));
   items(a.top);
+}
+
+bool is_consolidated_mesh(const Context& c, const ast::Stmt& s) {
+  return s.kind == BlockKind::Mesh && (c.dialect() == Dialect::Nome || c.dialect() == Dialect::Nome2) && !s.items.empty() &&
+         s.items[0].kind == ItemKind::Word && s.items[0].text == "consolidatedmesh";
 }
 
 void declare(Context& c, const ast::Ast& a, int order_base) {

@@ -1,7 +1,8 @@
 // Top-level statements and dispatch (see handlers.h): each statement goes to the handler of
 // its kind (a `switch` over block_kinds.def, compiled with -Wswitch); stray words and values
 // at the top level are explained; `include "file.slf"` is read, declared and checked in
-// place (an included file sees every definition of the including file: SLIDE binds late).
+// place (an included file sees every definition of the including file: SLIDE binds late);
+// `include "file.sif"` (also `.obj`, `.stl`) defines a mesh (flat_meshes.cpp).
 #include <algorithm>
 #include <fmt/format.h>
 
@@ -59,6 +60,7 @@ void handle_include(Context& c, const ast::Ast& a, const ast::Item& it) {
                    fmt::format("`include \"{}\"` nests more than 16 files deep; does a file include itself?", rel));
     return;
   }
+  if (include_flat(c, path, rel, it)) return;  // `.sif`, `.obj`, `.stl`: a mesh
   std::optional<std::string> text;
   if (c.options().read_file) text = c.options().read_file(path);
   if (!text) {

@@ -120,6 +120,14 @@ bool target_has_vertex(Context& c, ir::NodeId inst, const std::string& vertex, s
     *why = fmt::format("`{}` vertices are named {}", target.keyword, fmt::join(shown, ", "));
     return false;
   }
+  if (target.kind == ir::NodeKind::FlatMesh) {
+    const ir::FlatMeshData& fd = target.as<ir::FlatMeshData>();
+    if (fd.vertex_index(vertex) >= 0) return true;
+    const size_t n = fd.geometry != nullptr ? fd.geometry->positions.size() : 0;
+    *why = n == 0 ? fmt::format("the mesh file `{}` has no vertices", target.name)
+                  : fmt::format("the mesh file `{}` has vertices v0…v{}", target.name, n - 1);
+    return false;
+  }
   if (target.kind == ir::NodeKind::Mesh || target.kind == ir::NodeKind::Polyline) {
     // Points of the mesh, and points its faces use.
     if (auto it = c.mesh_points.find(t.index); it != c.mesh_points.end() && it->second.contains(vertex)) return true;
@@ -382,13 +390,20 @@ bool target_has_face(Context& c, ir::NodeId inst, const std::string& rest, std::
     *why = fmt::format("faces of `{}` `{}` are named by their number", target.keyword, target.name);
     return false;
   }
+  if (target.kind == ir::NodeKind::FlatMesh) {
+    const ir::FlatMeshData& fd = target.as<ir::FlatMeshData>();
+    const long n = fd.geometry != nullptr ? fd.geometry->face_count() : 0;
+    if (all_digits(rest) && index_of(rest) < n) return true;
+    *why = fmt::format("faces of the mesh file `{}` are named by their number, 0…{}", target.name, n - 1);
+    return false;
+  }
   *why = fmt::format("`{}` `{}` has no faces of its own", target.keyword, target.name);
   return false;
 }
 
 }  // namespace
 
-ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh) {
+ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh, bool* unresolved) {
   ir::VertexRef ref;
   ref.text = text;
   ref.range = use;
@@ -407,6 +422,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     ref.point = cp;
     return ref;
   }
+  if (ir::VertexRef flat = flat_scene_vertex(c, text, use); !flat.instances.empty()) return flat;
   const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
     return target_has_vertex(c, inst, rest, why);
   };
@@ -427,6 +443,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
       }
     }
     if (at_top) {
+      if (!error.empty() && unresolved != nullptr) {
+        *unresolved = true;
+        return ref;
+      }
       ref.instances = std::move(match.chain);
       ref.vertex = std::move(match.rest);
       if (!error.empty()) c.diags().emit(DiagKind::UnknownVertex, use, error);
@@ -441,6 +461,10 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     ref.instances = matches[0].chain;
     ref.vertex = matches[0].rest;
     if (matches.size() > 1) report_ambiguous(c, matches, text, use);
+    return ref;
+  }
+  if (unresolved != nullptr) {
+    *unresolved = true;
     return ref;
   }
   if (c.dialect() == Dialect::Slide && c.has_tcl) {

@@ -160,7 +160,7 @@ EXAMPLE_OFFSET = {
     "zero.nome": ["--merge", "--subdivide", "2", "--offset", "0.03"],
 }
 # Examples whose surface is single-sided before the offset.
-NON_ORIENTABLE = ("mobius_band.nome", "perry_tetra_single_sided.nome", "klein_bottle_zipped.nome")
+NON_ORIENTABLE = ("mobius_band.nome", "perry_tetra_single_sided.nome", "klein_bottle_zipped.nome", "zero.nome")
 
 
 def case_admesh(nomec, admesh, corpus):
@@ -170,6 +170,9 @@ def case_admesh(nomec, admesh, corpus):
         flags = ["--merge"] if name == "klein_bottle_zipped.nome" else []
         meshes = summary(nomec, flags + [src("examples/" + name)])
         check(meshes and not any(m["orientable"] for m in meshes), f"{name} is non-orientable before offset")
+    zero = summary(nomec, ["--merge", os.path.join(corpus, "nome1/zero/zerosave.anom")])
+    check(zero and len(zero) == 1 and not zero[0]["orientable"] and zero[0]["border_loops"] == 2,
+          "corpus Zero (Zero_6.sif + zerosave.anom) merged is one single-sided surface")
     for name, flags in EXAMPLE_OFFSET.items():
         meshes = summary(nomec, flags + [src("examples/" + name)])
         check(meshes and all(m["closed"] and m["orientable"] and m["border_loops"] == 0 for m in meshes),
@@ -177,6 +180,11 @@ def case_admesh(nomec, admesh, corpus):
     inputs = [(os.path.join("examples", name), flags) for name, flags in EXAMPLE_OFFSET.items()] + [
         (os.path.join(corpus, "nome1/kleinbottle/savetemp1.anom"),
          ["--merge", "--subdivide", "1", "--offset", "0.05", "--subdivide-after", "1"]),
+        # Flat mesh files given to nomec are scenes: a closed tetrahedron in, the same out.
+        ("tests/check/inputs/flat/tetra.stl", []),
+        ("tests/check/inputs/flat/tetra_ascii.stl", []),
+        # The seed's "Zero" from the corpus in place: Zero_6.sif plus zerosave.anom.
+        (os.path.join(corpus, "nome1/zero/zerosave.anom"), ["--merge", "--subdivide", "2", "--offset", "0.002"]),
         ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
         # Closed sweeps straight to STL: faces must already point outwards (none reversed).
         ("tests/mesh/testdata/sweep_capped.nome", []),
@@ -211,8 +219,7 @@ def corpus_files(corpus):
         for dirpath, dirnames, filenames in os.walk(os.path.join(corpus, folder)):
             dirnames.sort()
             for name in sorted(filenames):
-                if not name.endswith(".sif"):
-                    yield os.path.join(dirpath, name)
+                yield os.path.join(dirpath, name)
 
 
 def meshes_without_file(out):
@@ -236,7 +243,8 @@ def case_save(nomec, _admesh, corpus):
                 continue
             tried += 1
             ext = os.path.splitext(path)[1]
-            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext == '.anom' else ext}")
+            # Saved work and flat mesh files are saved as NOME scenes.
+            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext in ('.anom', '.sif') else ext}")
             code, _, err = run(nomec, ["--emit", "nome", "-o", saved] + flags + [path])
             check(code == 0 and os.path.isfile(saved), f"{path} {flags}: --emit nome ({err})")
             if code != 0:

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Generates one golden file per corpus file under tests/check/testdata/corpus/.
 
-For every file in ../shared/corpus/{nome1,nome3,slide} (except `.sif` meshes), writes
+For every file in ../shared/corpus/{nome1,nome3,slide} (`.sif` meshes included; not SLIDE's
+`.tcl` helper scripts, which are no scenes), writes
   corpus_<folder>_<path>.nome       when nomec accepts the file (exit 0), or
   fail_corpus_<folder>_<path>.nome  when it reports errors (exit 1),
 whose `# ARGS:` line checks the corpus file in place (`%corpus%/...`; the corpus is never
@@ -41,7 +42,7 @@ def main():
         for dirpath, dirnames, filenames in os.walk(top):
             dirnames.sort()
             for name in sorted(filenames):
-                if name.endswith(".sif"):
+                if name.endswith(".tcl"):
                     continue
                 path = os.path.join(dirpath, name)
                 rel = os.path.relpath(path, top)

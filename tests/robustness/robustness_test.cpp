@@ -1,5 +1,5 @@
 // Robustness: the front end must survive any bytes. For every corpus file (nome1, nome3,
-// slide, and examples/) the test checks the file cut at ~25 evenly spaced points and with
+// slide, and examples/, plus flat mesh files) the test checks the file cut at ~25 evenly spaced points and with
 // ~25 deterministic random edits (fixed seed: insertions, deletions, random bytes including
 // 0x00 and invalid UTF-8, and fragments that open or close constructs), calling
 // `nomec::check_source` directly. Each run must return without throwing, and every
@@ -23,7 +23,20 @@ namespace fs = std::filesystem;
 namespace {
 
 using nomec::testing_inputs::read_file;
-std::vector<std::string> input_files() { return nomec::testing_inputs::corpus_and_examples(); }
+// The corpus, the examples, and flat mesh files: the corpus' `.sif` meshes and the inputs of
+// the flat readers' tests (`.sif`, `.obj`, binary and ASCII `.stl`).
+std::vector<std::string> input_files() {
+  std::vector<std::string> files = nomec::testing_inputs::corpus_and_examples();
+  for (const fs::path& root : {fs::path(NOMEC_CORPUS_DIR) / "nome1", fs::path(NOMEC_SOURCE_DIR) / "tests/check/inputs/flat"}) {
+    std::error_code ec;
+    for (const auto& e : fs::recursive_directory_iterator(root, ec)) {
+      const std::string ext = e.path().extension().string();
+      if (e.is_regular_file() && (ext == ".sif" || ext == ".obj" || ext == ".stl")) files.push_back(e.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
 // Checks one text as if it were the file at `path`; returns a failure description or "".
 std::string check_one(const std::string& path, std::string text) {
