@@ -826,25 +826,45 @@ void end_line_statements(std::vector<std::unique_ptr<antlr4::Token>>& tokens, st
     return r >= 2 && holds_statements(tok(r - 2).getType()) &&
            (prev == NomeParser::IDENT || is_open_type(prev) || prev == NomeParser::K_GEN);
   };
-  int depth = 0;  // of `(` and `{`
-  for (size_t r = 0; r < real.size(); ++r) {
+  // Each statement looks at its own line and then jumps between the places where a scan
+  // for its end could stop, so the pass stays linear in the text (a long line of
+  // statements, or many unclosed ones, must not make it quadratic).
+  const size_t n = real.size();
+  std::vector<size_t> line_last(n);
+  for (size_t k = n; k-- > 0;) line_last[k] = k + 1 < n && line(k + 1) == line(k) ? line_last[k + 1] : k;
+  std::vector<int> depth_at(n);  // `(` and `{` open before token k
+  for (size_t k = 0, d = 0; k < n; ++k) {
+    depth_at[k] = static_cast<int>(d);
+    const size_t t = tok(k).getType();
+    if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++d;
+    if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && d > 0) --d;
+  }
+  // The next token, from k on, outside brackets, where a scan for an end may stop: an end
+  // keyword, a block nested in an instance or face, or a statement keyword opening a line.
+  std::vector<size_t> next_stop(n + 1, n);
+  for (size_t k = n; k-- > 0;) {
+    const size_t t = tok(k).getType();
+    const bool stop = depth_at[k] == 0 &&
+                      (is_end_token(t) || t == NomeParser::K_LOOKAT || t == NomeParser::K_VERTEX ||
+                       (first_on_line(k) && (is_open_type(t) || t == NomeParser::K_GEN) && !is_option_keyword(t)));
+    next_stop[k] = stop ? k : next_stop[k + 1];
+  }
+  constexpr size_t kMaxStops = 4096;  // beyond this many nested blocks, leave the statement as written
+  for (size_t r = 0; r < n; ++r) {
     const size_t type = tok(r).getType();
-    const bool at_start = depth == 0 && may_start(r);
-    if (type == NomeParser::LPAREN || type == NomeParser::LBRACE) ++depth;
-    if ((type == NomeParser::RPAREN || type == NomeParser::RBRACE) && depth > 0) --depth;
+    const bool at_start = depth_at[r] == 0 && may_start(r);
     const size_t end_type = at_start ? line_statement_end(type, word(r)) : 0;
     if (end_type == 0) continue;
-    // The rest of its line, at its own bracket depth.
-    size_t last = r;
+    // The rest of its line, at its own bracket depth, up to its end or an enclosing one's.
+    const size_t last = line_last[r];
     bool closed = false;
     int d = 0;
     size_t foreign = 0;  // a token on the line that ends an enclosing statement
-    for (size_t k = r + 1; k < real.size() && line(k) == line(r); ++k) {
+    for (size_t k = r + 1; k <= last; ++k) {
       const size_t t = tok(k).getType();
-      last = k;
       if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++d;
       if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && d > 0) --d;
-      if (d != 0 || foreign != 0 || closed) continue;
+      if (d != 0) continue;
       if (t == end_type) {
         closed = true;
         // `funnel … endtunnel`: one token type closes every generator; the checker decides.
@@ -852,8 +872,11 @@ void end_line_statements(std::vector<std::unique_ptr<antlr4::Token>>& tokens, st
         if (t == NomeParser::E_GEN && gen && !ir::generator(*gen).closes_with(word(r), word(k))) {
           repairs.replaced.insert(tok(k).getStartIndex());
         }
-      } else if (is_end_token(t)) {
+        break;
+      }
+      if (is_end_token(t)) {
         foreign = k;
+        break;
       }
     }
     // Closed on its line, or a bracket left open there (another error, reported as such).
@@ -882,11 +905,14 @@ void end_line_statements(std::vector<std::unique_ptr<antlr4::Token>>& tokens, st
     }
     // Not closed on its line: does it go on to its end keyword before the next statement?
     bool continues = false;
-    for (size_t k = last + 1, dd = 0, inner = 0; k < real.size(); ++k) {
+    size_t inner = 0;
+    size_t stops = 0;
+    for (size_t k = next_stop[last + 1]; k < n; k = next_stop[k + 1]) {
+      if (++stops > kMaxStops) {
+        continues = true;
+        break;
+      }
       const size_t t = tok(k).getType();
-      if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++dd;
-      if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && dd > 0) --dd;
-      if (dd != 0) continue;
       if (t == end_type && inner == 0) {
         continues = true;
         break;
