@@ -130,6 +130,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     a->check = std::make_shared<CheckResult>();
   } else {
     CheckOptions options;
+    options.dialect = options_.dialect;
     if (path) {
       options.read_file = read_file_bytes;
       options.list_folder = list_folder;

@@ -291,6 +291,10 @@ void ServerImpl::initialize(const json& id, const json& params) {
       if (auto g = opts->find("geometry"); g != opts->end() && g->is_boolean()) {
         options_.geometry = g->get<bool>();
       }
+      // "auto" (or anything unknown) keeps per-file detection.
+      if (auto d = opts->find("dialect"); d != opts->end() && d->is_string()) {
+        options_.dialect = dialect_by_name(d->get<std::string>());
+      }
     }
   }
   initialized_ = true;

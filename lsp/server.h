@@ -12,6 +12,8 @@
 #include <string>
 #include <string_view>
 
+#include "ir/dialect.h"
+
 namespace nomec::lsp {
 
 struct ServerOptions {
@@ -21,6 +23,10 @@ struct ServerOptions {
   /// Evaluate the scene in the background for geometry diagnostics and hover facts
   /// (`initializationOptions.geometry`).
   bool geometry = true;
+  /// The dialect every document is checked as (`initializationOptions.dialect`: `nome`,
+  /// `nome2`, `nome3` or `slide`); unset, each file's dialect is detected
+  /// (docs/dialects.md), like `nomec --check` without `--dialect`.
+  std::optional<Dialect> dialect;
   /// Documents larger than this are kept but not analysed (a diagnostic says so).
   size_t max_document_bytes = 32u << 20;
   /// Once no document has been re-checked for this long, memory freed since the last

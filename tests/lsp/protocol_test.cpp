@@ -99,6 +99,26 @@ TEST(LspProtocol, DiagnosticsOnOpenAndAfterChanges) {
   EXPECT_EQ(d4["diagnostics"][0]["range"], range(0, 11, 0, 17));
 }
 
+// `initializationOptions.dialect` (the editor's `nome.dialect` setting) checks every file as
+// that dialect; "auto" keeps detection from content. `2^3^2` reads differently only in NOME3.
+TEST(LspProtocol, DialectFromInitializationOptions) {
+  const std::string text = "point p ({2^3^2} 0 0) endpoint\n";
+  auto codes = [&](const json& init) {
+    Client c;
+    c.initialize(init);
+    c.open(kUri, text, 1);
+    std::vector<std::string> out;
+    const json published = c.diagnostics(kUri, 1);
+    for (const json& d : published["diagnostics"]) out.push_back(d["code"].get<std::string>());
+    if (out.empty()) out.push_back(published.dump());
+    return out;
+  };
+  EXPECT_EQ(codes({{"dialect", "nome3"}}), std::vector<std::string>{"PowerAssociativity"});
+  const std::vector<std::string> none{R"({"diagnostics":[],"uri":"file:///tmp/lsp-test/funnel_cube.nome","version":1})"};
+  EXPECT_EQ(codes({{"dialect", "auto"}}), none);  // a `.nome` file with no signal: nome
+  EXPECT_EQ(codes(json::object()), none);
+}
+
 TEST(LspProtocol, StaleAndOutOfOrderVersionsAreIgnored) {
   Client c;
   c.initialize();

@@ -37,6 +37,8 @@ function createClient(): LanguageClient {
       { scheme: "untitled", language: "nome" },
     ],
     traceOutputChannel: traceChannel,
+    // `nome.dialect`: "auto" lets the server detect each file's dialect from its content.
+    initializationOptions: { dialect: config.get<string>("dialect") ?? "auto" },
   };
   // The client reads the `nome.trace.server` setting itself (the id below is its prefix).
   return new LanguageClient("nome", "NOME Language Server", serverOptions, clientOptions);
@@ -78,7 +80,8 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     vscode.workspace.onDidChangeConfiguration((event) => {
       if (
         event.affectsConfiguration("nome.server.path") ||
-        event.affectsConfiguration("nome.server.extraArgs")
+        event.affectsConfiguration("nome.server.extraArgs") ||
+        event.affectsConfiguration("nome.dialect")
       ) {
         void restartClient();
       }
