@@ -46,103 +46,66 @@ Range range(const ArgReader& a, A lo_arg, A hi_arg) {
   return {lo, hi};
 }
 
-// Welds grid vertices that coincide within 1e-5 of the bounding-box diagonal (closing the
-// seams of periodic parametrisations and collapsing poles), drops the repeated corners this
-// creates and the faces left with fewer than 3 corners, and removes the welded-away vertices
-// (the first vertex of each coincident set keeps its name).
-void weld(kernel::PolygonSoup& s) {
-  const int32_t n = s.vertex_count();
-  if (n == 0) return;
-  glm::dvec3 lo = s.positions[0], hi = s.positions[0];
-  for (const auto& p : s.positions) {
-    lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-    hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+// NOME3's samples along one axis (GenCartesianSurf.cpp, GenParametricSurf.cpp): from lo in
+// accumulated steps of (hi − lo)/segs while ≤ hi + step/5. A whole `segs` gives segs + 1
+// samples ending at hi; a fractional one stops short of hi (2.5 gives lo, lo+0.4·d, lo+0.8·d).
+template <typename A>
+std::vector<double> samples(const ArgReader& a, Range r, A segs_arg) {
+  const double segs = a.number(segs_arg);
+  if (!(segs >= 1.0)) fail(ir::arg_index(segs_arg), "`" + a.name(segs_arg) + "` must be at least 1, got " + fmt_number(segs));
+  if (segs > kMaxSegments) {
+    fail(ir::arg_index(segs_arg), "`" + a.name(segs_arg) + "` must be at most " + std::to_string(kMaxSegments));
   }
-  const glm::dvec3 d = hi - lo;
-  const double diag = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  const double tol = std::max(diag * 1e-5, 1e-12);
-  auto key = [&](int64_t x, int64_t y, int64_t z) {
-    return static_cast<uint64_t>(x) * 73856093ULL ^ static_cast<uint64_t>(y) * 19349663ULL ^
-           static_cast<uint64_t>(z) * 83492791ULL;
-  };
-  std::unordered_map<uint64_t, std::vector<int32_t>> cells;
-  std::vector<int32_t> rep(n);
-  for (int32_t v = 0; v < n; ++v) {
-    const glm::dvec3 q = (s.positions[v] - lo) / tol;
-    const int64_t cx = static_cast<int64_t>(std::floor(q.x));
-    const int64_t cy = static_cast<int64_t>(std::floor(q.y));
-    const int64_t cz = static_cast<int64_t>(std::floor(q.z));
-    rep[v] = v;
-    for (int64_t dx = -1; dx <= 1 && rep[v] == v; ++dx) {
-      for (int64_t dy = -1; dy <= 1 && rep[v] == v; ++dy) {
-        for (int64_t dz = -1; dz <= 1 && rep[v] == v; ++dz) {
-          auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
-          if (it == cells.end()) continue;
-          for (int32_t w : it->second) {
-            const glm::dvec3 e = s.positions[w] - s.positions[v];
-            if (std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z) <= tol) {
-              rep[v] = w;
-              break;
-            }
-          }
-        }
-      }
-    }
-    if (rep[v] == v) cells[key(cx, cy, cz)].push_back(v);
+  const double inc = (r.hi - r.lo) / segs;
+  std::vector<double> out;
+  for (double t = r.lo; t <= r.hi + inc / 5.0; t += inc) out.push_back(t);
+  return out;
+}
+
+// NOME3's grid of a function surface: vertex (i, j) named `v_{i}_{j}` at `pos(i, j)`, faces
+// (v_i_j, v_{i+1}_j, v_{i+1}_{j+1}, v_i_{j+1}); nothing is welded.
+void add_sampled_grid(kernel::PolygonSoup& soup, int ni, int nj, const std::function<glm::dvec3(int, int)>& pos) {
+  const int32_t first = soup.vertex_count();
+  for (int i = 0; i < ni; ++i) {
+    for (int j = 0; j < nj; ++j) soup.add_vertex(pos(i, j), "v_" + std::to_string(i) + "_" + std::to_string(j));
   }
-  kernel::PolygonSoup out;
-  std::vector<int32_t> new_index(n, -1);
-  for (int32_t v = 0; v < n; ++v) {
-    if (rep[v] == v) {
-      new_index[v] = out.add_vertex(s.positions[v], s.names.empty() ? std::string() : s.names[v]);
-    }
+  auto at = [&](int i, int j) { return first + i * nj + j; };
+  for (int i = 0; i + 1 < ni; ++i) {
+    for (int j = 0; j + 1 < nj; ++j) soup.add_face({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
   }
-  size_t offset = 0;
-  for (int32_t size : s.face_sizes) {
-    std::vector<int32_t> f;
-    for (int32_t k = 0; k < size; ++k) {
-      const int32_t v = new_index[rep[s.face_vertices[offset + k]]];
-      if (f.empty() || f.back() != v) f.push_back(v);
-    }
-    offset += size;
-    while (f.size() > 1 && f.front() == f.back()) f.pop_back();
-    if (f.size() >= 3) out.add_face(f);
-  }
-  s = std::move(out);
 }
 
 }  // namespace
 
+// NOME3's genparametricsurf (generators-original.md §11.1): (funcX, funcY, funcZ)(u, v) on
+// NOME3's samples, vertices `v_{i}_{j}` (i along u), no welding.
 Generated make_Genparametricsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genparametricsurf;
   a.function(A::funcX);
   a.function(A::funcY);
   a.function(A::funcZ);
-  const Range u = range(a, A::u_min, A::u_max);
-  const Range v = range(a, A::v_min, A::v_max);
-  const int us = a.count(A::u_segs, 1);
-  const int vs = a.count(A::v_segs, 1);
-  check_size(static_cast<long long>(us + 1) * (vs + 1), ir::arg_index(A::u_segs));
+  const std::vector<double> u = samples(a, range(a, A::u_min, A::u_max), A::u_segs);
+  const std::vector<double> v = samples(a, range(a, A::v_min, A::v_max), A::v_segs);
+  check_size(static_cast<long long>(u.size()) * static_cast<long long>(v.size()), ir::arg_index(A::u_segs));
   Generated g;
-  add_grid(g.soup, us, vs, false, false, [&](int i, int j) {
-    const double uv[2] = {u.lo + (u.hi - u.lo) * i / us, v.lo + (v.hi - v.lo) * j / vs};
+  add_sampled_grid(g.soup, static_cast<int>(u.size()), static_cast<int>(v.size()), [&](int i, int j) {
+    const double uv[2] = {u[i], v[j]};
     return glm::dvec3(value_at(a, A::funcX, uv), value_at(a, A::funcY, uv), value_at(a, A::funcZ, uv));
   });
-  weld(g.soup);
   return g;
 }
 
+// NOME3's gencartesiansurf (generators-original.md §11.1): (x, y, func(x, y)) on NOME3's
+// samples, vertices `v_{i}_{j}` (i along x).
 Generated make_Gencartesiansurf(const ArgReader& a) {
   using A = ir::gen_arg::Gencartesiansurf;
   a.function(A::func);
-  const Range x = range(a, A::x_min, A::x_max);
-  const Range y = range(a, A::y_min, A::y_max);
-  const int xs = a.count(A::x_segs, 1);
-  const int ys = a.count(A::y_segs, 1);
-  check_size(static_cast<long long>(xs + 1) * (ys + 1), ir::arg_index(A::x_segs));
+  const std::vector<double> x = samples(a, range(a, A::x_min, A::x_max), A::x_segs);
+  const std::vector<double> y = samples(a, range(a, A::y_min, A::y_max), A::y_segs);
+  check_size(static_cast<long long>(x.size()) * static_cast<long long>(y.size()), ir::arg_index(A::x_segs));
   Generated g;
-  add_grid(g.soup, xs, ys, false, false, [&](int i, int j) {
-    const double xy[2] = {x.lo + (x.hi - x.lo) * i / xs, y.lo + (y.hi - y.lo) * j / ys};
+  add_sampled_grid(g.soup, static_cast<int>(x.size()), static_cast<int>(y.size()), [&](int i, int j) {
+    const double xy[2] = {x[i], y[j]};
     return glm::dvec3(xy[0], xy[1], value_at(a, A::func, xy));
   });
   return g;
