@@ -2,6 +2,7 @@
 // every expected position, face and name is computed here from the formulas of that page
 // (closed forms, not the generator's own loops), for each dialect that accepts the
 // generator.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -228,6 +229,106 @@ TEST(OriginalGenParametricSurf, SamplesNamesAndFacesAsNome3WithoutWelding) {
   kernel::TopologyReport r = topo(g.soup);
   EXPECT_EQ(r.border_loop_count, 1);  // the seam is a border
   EXPECT_EQ(run_error("genparametricsurf", [&] { Args b = a; b.numbers[4].second = 0.5; return b; }()).argument, "u_segs");
+}
+
+// ---- §5 cylinder, §7 dupin, §8 hyperboloid, §9 spiral: face lists ----
+
+std::vector<Face> sorted_faces(const kernel::PolygonSoup& s) {
+  std::vector<Face> f = face_names(s);
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+std::string ij(int i, int j) { return "v" + std::to_string(i) + "_" + std::to_string(j); }
+
+TEST(OriginalCylinder, WedgeWithBothCapsAsNome3) {
+  for (const char* dialect : {"nome3", "nome"}) {
+    SCOPED_TRACE(dialect);
+    Args a = numbers({{"radius", 1}, {"height", 2}, {"theta_max", 90}, {"theta_segs", 2}}, dialect);
+    a.flags = {"topcap", "botcap"};
+    Generated g = run("cylinder", a);
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i <= 2; ++i) {
+        expect_near(named(g.soup, ij(j, i)), {std::cos(i * M_PI / 4), std::sin(i * M_PI / 4), 2.0 * j});
+      }
+    }
+    expect_near(named(g.soup, "top_center"), {0, 0, 0});
+    expect_near(named(g.soup, "bottom_center"), {0, 0, 2});
+    std::vector<Face> want = {
+        {"v1_1", "v1_0", "v0_0", "v0_1"},
+        {"v1_2", "v1_1", "v0_1", "v0_2"},
+        {"top_center", "bottom_center", "v1_2", "v0_2"},
+        {"v0_0", "v1_0", "bottom_center", "top_center"},
+        {"top_center", "v0_2", "v0_1", "v0_0"},     // topcap: z = 0, facing −z
+        {"bottom_center", "v1_0", "v1_1", "v1_2"},  // botcap: z = height, facing +z
+    };
+    std::sort(want.begin(), want.end());
+    EXPECT_EQ(sorted_faces(g.soup), want);
+  }
+}
+
+TEST(OriginalDupin, FullGridSkipsTheCornerCell) {
+  const double A = 1, B = 0.98, C = 0.4, D = 0.5;
+  const int n = 3;
+  Generated g = run("dupin", numbers({{"a", A}, {"b", B}, {"c", C}, {"d", D}, {"u", 2}, {"v", 2}, {"n", n}}, "nome3"));
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double t1 = i * 2 * M_PI / n, t2 = j * 2 * M_PI / n;
+      const double den = A - C * std::cos(t1) * std::cos(t2);
+      expect_near(named(g.soup, ij(i, j)),
+                  {(D * (C - A * std::cos(t1) * std::cos(t2)) + B * B * std::cos(t1)) / den,
+                   B * std::sin(t1) * (A - D * std::cos(t2)) / den, B * std::sin(t2) * (C * std::cos(t1) - D) / den},
+                  1e-12);
+    }
+  }
+  std::vector<Face> want;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (i == n - 1 && j == n - 1) continue;
+      const int i1 = (i + 1) % n, j1 = (j + 1) % n;
+      want.push_back({ij(i, j), ij(i1, j), ij(i, j1)});
+      want.push_back({ij(i, j1), ij(i1, j), ij(i1, j1)});
+    }
+  }
+  std::sort(want.begin(), want.end());
+  EXPECT_EQ(sorted_faces(g.soup), want);  // 2n² − 2 = 16 triangles
+}
+
+TEST(OriginalHyperboloid, WholeNumberRowsAndTriangles) {
+  Generated g = run("hyperboloid", numbers({{"n", 4}, {"a", 1}, {"b", 2}, {"c", 1.9}, {"sheet", 0}, {"angle", 2}}, "nome3"));
+  // Rows z = −1, 0, 1 (⌊1.9⌋ = 1), j counted from the lowest; θ_i = i·2π/4.
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const double z = j - 1, k = std::sqrt(z * z + 1), th = i * 2 * M_PI / 4;
+      expect_near(named(g.soup, ij(i, j)), {k * std::cos(th), 2 * k * std::sin(th), z}, 1e-12);
+    }
+  }
+  std::vector<Face> want;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const int i1 = (i + 1) % 4;
+      want.push_back({ij(i, j), ij(i1, j), ij(i, j + 1)});
+      want.push_back({ij(i, j + 1), ij(i1, j), ij(i1, j + 1)});
+    }
+  }
+  std::sort(want.begin(), want.end());
+  EXPECT_EQ(sorted_faces(g.soup), want);
+}
+
+TEST(OriginalSpiral, RibbonOfTwoRows) {
+  Generated g = run("spiral", numbers({{"rate", 0.5}, {"angle", 3.7}, {"segs", 4}}, "nome3"));
+  std::vector<Face> want;
+  for (int i = 0; i <= 4; ++i) {
+    const double th = 2.0 * 3 * i / 4, r = 0.5 * i;  // angle truncated to 3
+    expect_near(named(g.soup, "u" + std::to_string(i)), {r * std::cos(th), r * std::sin(th), 0}, 1e-12);
+    expect_near(named(g.soup, "l" + std::to_string(i)), {r * std::cos(th), r * std::sin(th), -0.13}, 1e-12);
+    if (i < 4) {
+      const std::string a = std::to_string(i), b = std::to_string(i + 1);
+      want.push_back({"u" + b, "u" + a, "l" + a});
+      want.push_back({"l" + a, "l" + b, "u" + b});
+    }
+  }
+  EXPECT_EQ(face_names(g.soup), want);
 }
 
 }  // namespace
