@@ -379,16 +379,16 @@ void function_rules(GenKind kind, Rules& r) {
       using A = gen_arg::Genparametricsurf;
       r.greater(A::u_min, A::u_max);
       r.greater(A::v_min, A::v_max);
-      r.real_at_least(A::u_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs stops short of the end");
-      r.real_at_least(A::v_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs stops short of the end");
+      r.real_at_least(A::u_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
+      r.real_at_least(A::v_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
       return;
     }
     case GenKind::Gencartesiansurf: {
       using A = gen_arg::Gencartesiansurf;
       r.greater(A::x_min, A::x_max);
       r.greater(A::y_min, A::y_max);
-      r.real_at_least(A::x_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs stops short of the end");
-      r.real_at_least(A::y_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs stops short of the end");
+      r.real_at_least(A::x_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
+      r.real_at_least(A::y_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
       return;
     }
     case GenKind::Genimplicitsurf: {

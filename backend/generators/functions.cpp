@@ -48,7 +48,8 @@ Range range(const ArgReader& a, A lo_arg, A hi_arg) {
 
 // NOME3's samples along one axis (GenCartesianSurf.cpp, GenParametricSurf.cpp): from lo in
 // accumulated steps of (hi − lo)/segs while ≤ hi + step/5. A whole `segs` gives segs + 1
-// samples ending at hi; a fractional one stops short of hi (2.5 gives lo, lo+0.4·d, lo+0.8·d).
+// samples ending at hi; a fractional one stops short of hi (2.5 gives lo, lo+0.4·d, lo+0.8·d)
+// or, from a fraction of 0.8 on, takes one sample past it (2.9 reaches lo + (3/2.9)·d).
 template <typename A>
 std::vector<double> samples(const ArgReader& a, Range r, A segs_arg) {
   const double segs = a.number(segs_arg);
@@ -58,7 +59,10 @@ std::vector<double> samples(const ArgReader& a, Range r, A segs_arg) {
   }
   const double inc = (r.hi - r.lo) / segs;
   std::vector<double> out;
-  for (double t = r.lo; t <= r.hi + inc / 5.0; t += inc) out.push_back(t);
+  // NOME3 makes ⌊segs + 0.2⌋ + 1 samples (k·inc ≤ (segs + 0.2)·inc); the bound also ends
+  // the loop when `inc` is below the precision of the values (t + inc == t).
+  const size_t most = static_cast<size_t>(segs + 0.2) + 1;
+  for (double t = r.lo; t <= r.hi + inc / 5.0 && out.size() < most; t += inc) out.push_back(t);
   return out;
 }
 

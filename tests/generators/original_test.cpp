@@ -204,6 +204,13 @@ TEST(OriginalGenCartesianSurf, SamplesNamesAndFacesAsNome3) {
       expect_near(named(g.soup, "v_" + std::to_string(i) + "_" + std::to_string(j)), {xs[i], ys[j], xs[i] * ys[j] + 1}, 1e-12);
     }
   }
+  // A fraction of 0.8 or more takes one sample past the end: 2.9 over [0, 1] gives
+  // k/2.9 for k ≤ 2.9 + 0.2, so k = 0…3 and the last sample lies at 3/2.9.
+  Args past = a;
+  past.numbers = {{"x_min", 0}, {"x_max", 1}, {"y_min", 0}, {"y_max", 1}, {"x_segs", 2.9}, {"y_segs", 1}};
+  Generated p = run("gencartesiansurf", past);
+  EXPECT_EQ(p.soup.vertex_count(), 4 * 2);
+  expect_near(named(p.soup, "v_3_1"), {3 / 2.9, 1, 3 / 2.9 + 1}, 1e-12);
   EXPECT_EQ(face_names(g.soup), (std::vector<Face>{{"v_0_0", "v_1_0", "v_1_1", "v_0_1"},
                                                    {"v_0_1", "v_1_1", "v_1_2", "v_0_2"},
                                                    {"v_1_0", "v_2_0", "v_2_1", "v_1_1"},
@@ -229,6 +236,10 @@ TEST(OriginalGenParametricSurf, SamplesNamesAndFacesAsNome3WithoutWelding) {
   kernel::TopologyReport r = topo(g.soup);
   EXPECT_EQ(r.border_loop_count, 1);  // the seam is a border
   EXPECT_EQ(run_error("genparametricsurf", [&] { Args b = a; b.numbers[4].second = 0.5; return b; }()).argument, "u_segs");
+  // A step below the precision of the values ends after ⌊segs⌋ + 1 samples, as NOME3's would.
+  Args far = numbers({{"u_min", 1e17}, {"u_max", 1e17 + 64}, {"v_min", 0}, {"v_max", 1}, {"u_segs", 1000}, {"v_segs", 1}}, "nome3");
+  far.functions = a.functions;
+  EXPECT_EQ(run("genparametricsurf", far).soup.vertex_count(), 1001 * 2);
 }
 
 // ---- §5 cylinder, §7 dupin, §8 hyperboloid, §9 spiral: face lists ----
