@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "backend/generators/bourke_tables.h"
 #include "backend/generators/impl.h"
 
 namespace nomec::backend::detail {
@@ -115,20 +116,73 @@ Generated make_Gencartesiansurf(const ArgReader& a) {
   return g;
 }
 
-// genimplicitsurf over NOME3's grid. NOME3 runs Bourke's marching cubes and gives every cube
-// its own vertices; nomec splits each cube into six tetrahedra (a manifold result with no
-// ambiguous cases) and shares the crossing on each grid edge, named `v_{k}` in order of
-// creation (generators-original.md §11.3).
+namespace {
+
+// Marching cubes' per-cube vertices, welded (docs/generators.md, "Differences from the
+// original"): a vertex within `tol` of an earlier one (the same crossing computed by the
+// neighbouring cube, from the other end of the edge) becomes that vertex, which keeps its
+// position and name. Faces left with a repeated corner (a crossing snapped to a grid point)
+// and repeats of a face already made (a surface lying in a cube face) are dropped.
+struct CubeWelder {
+  double tol;
+  kernel::PolygonSoup soup;
+  std::unordered_map<uint64_t, std::vector<int32_t>> cells;
+  std::vector<std::vector<int32_t>> made;  // sorted corners of the faces made
+  std::unordered_map<uint64_t, std::vector<size_t>> made_by_hash;
+
+  static uint64_t key(int64_t x, int64_t y, int64_t z) {
+    return static_cast<uint64_t>(x) * 73856093ULL ^ static_cast<uint64_t>(y) * 19349663ULL ^
+           static_cast<uint64_t>(z) * 83492791ULL;
+  }
+  int32_t vertex(const glm::dvec3& p, const std::string& name) {
+    const int64_t cx = static_cast<int64_t>(std::floor(p.x / tol));
+    const int64_t cy = static_cast<int64_t>(std::floor(p.y / tol));
+    const int64_t cz = static_cast<int64_t>(std::floor(p.z / tol));
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
+          if (it == cells.end()) continue;
+          for (int32_t w : it->second) {
+            const glm::dvec3 e = soup.positions[w] - p;
+            if (std::abs(e.x) <= tol && std::abs(e.y) <= tol && std::abs(e.z) <= tol) return w;
+          }
+        }
+      }
+    }
+    const int32_t v = soup.add_vertex(p, name);
+    cells[key(cx, cy, cz)].push_back(v);
+    return v;
+  }
+  void triangle(int32_t a, int32_t b, int32_t c) {
+    if (a == b || b == c || a == c) return;
+    std::vector<int32_t> sorted = {a, b, c};
+    std::sort(sorted.begin(), sorted.end());
+    const uint64_t h = key(sorted[0], sorted[1], sorted[2]);
+    std::vector<size_t>& same = made_by_hash[h];
+    for (size_t f : same) {
+      if (made[f] == sorted) return;
+    }
+    same.push_back(made.size());
+    made.push_back(std::move(sorted));
+    soup.add_face({a, b, c});
+  }
+};
+
+}  // namespace
+
+// NOME3's genimplicitsurf (generators-original.md §11.3, GenImplicitSurf.cpp): nx × ny × nz
+// cubes of (max − min)/(n − 1), so the grid reaches one cube past max; Bourke's marching
+// cubes with inside = f ≤ 0, each cube creating its own vertices `v_{k}` (one per cut edge,
+// in edge order, numbered in order of creation) and emitting Bourke's triangles reversed,
+// so that they face towards f > 0. nomec then welds the cubes' copies of each crossing
+// (CubeWelder); the surviving vertices keep NOME3's positions and names.
 Generated make_Genimplicitsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genimplicitsurf;
   a.function(A::func);
   const Range x = range(a, A::x_min, A::x_max);
   const Range y = range(a, A::y_min, A::y_max);
   const Range z = range(a, A::z_min, A::z_max);
-  // NOME3's grid (compat.md D2): nx × ny × nz cells of (max − min)/(n − 1), so the last cell
-  // ends one cell past max. f is sampled at the (n+1)³ corners; exact zeros are nudged so
-  // that no grid value lies on the surface (this keeps the marching-tetrahedra result a
-  // manifold).
   const int cx = a.count(A::nx, 2);
   const int cy = a.count(A::ny, 2);
   const int cz = a.count(A::nz, 2);
@@ -138,91 +192,58 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   const int px = cx + 1, py = cy + 1, pz = cz + 1;
   const glm::dvec3 step((x.hi - x.lo) / (cx - 1), (y.hi - y.lo) / (cy - 1), (z.hi - z.lo) / (cz - 1));
   auto gp = [&](int i, int j, int k) { return glm::dvec3(x.lo + step.x * i, y.lo + step.y * j, z.lo + step.z * k); };
-  const size_t corners = static_cast<size_t>(px) * py * pz;
-  std::vector<double> val(corners);
+  std::vector<double> val(static_cast<size_t>(px) * py * pz);
   auto vid = [&](int i, int j, int k) { return (static_cast<size_t>(i) * py + j) * pz + k; };
   for (int i = 0; i < px; ++i) {
     for (int j = 0; j < py; ++j) {
       for (int k = 0; k < pz; ++k) {
         const glm::dvec3 p = gp(i, j, k);
         const double xyz[3] = {p.x, p.y, p.z};
-        double v = value_at(a, A::func, xyz);
-        if (v == 0.0) v = 1e-300;
-        val[vid(i, j, k)] = v;
+        val[vid(i, j, k)] = value_at(a, A::func, xyz);
+      }
+    }
+  }
+  // Bourke's corner order and edges (bourke_tables.h).
+  static const int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  static const int kEdge[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  // Bourke's VertexInterp at the level 0.
+  auto interpolate = [](const glm::dvec3& p1, const glm::dvec3& p2, double v1, double v2) {
+    if (std::abs(v1) < 0.00001) return p1;
+    if (std::abs(v2) < 0.00001) return p2;
+    if (std::abs(v1 - v2) < 0.00001) return p1;
+    return p1 + (-v1 / (v2 - v1)) * (p2 - p1);
+  };
+  // Copies of one crossing differ by rounding only; 10⁻⁹ of the smallest cell is far below
+  // any distance between different crossings but those snapped to the same grid point.
+  CubeWelder weld{1e-9 * std::min({std::abs(step.x), std::abs(step.y), std::abs(step.z)}), {}, {}, {}, {}};
+  int32_t records = 0;  // NOME3's vertex records, for the names v_{k}
+  for (int i = 0; i < cx; ++i) {
+    for (int j = 0; j < cy; ++j) {
+      for (int k = 0; k < cz; ++k) {
+        glm::dvec3 p[8];
+        double v[8];
+        int cube = 0;
+        for (int c = 0; c < 8; ++c) {
+          const int ci = i + kCorner[c][0], cj = j + kCorner[c][1], ck = k + kCorner[c][2];
+          p[c] = gp(ci, cj, ck);
+          v[c] = val[vid(ci, cj, ck)];
+          if (v[c] <= 0.0) cube |= 1 << c;
+        }
+        const int edges = kBourkeEdges[cube];
+        if (edges == 0) continue;
+        int32_t at[12];
+        for (int e = 0; e < 12; ++e) {
+          if ((edges & (1 << e)) == 0) continue;
+          const int c1 = kEdge[e][0], c2 = kEdge[e][1];
+          at[e] = weld.vertex(interpolate(p[c1], p[c2], v[c1], v[c2]), "v_" + std::to_string(records++));
+        }
+        const int8_t* tri = kBourkeTriangles[cube];
+        for (int t = 0; tri[t] != -1; t += 3) weld.triangle(at[tri[t + 2]], at[tri[t + 1]], at[tri[t]]);
       }
     }
   }
   Generated g;
-  std::unordered_map<uint64_t, int32_t> edge_vertex;  // grid edge -> soup vertex
-  auto crossing = [&](size_t p, size_t q) -> int32_t {
-    if (p > q) std::swap(p, q);
-    const uint64_t key = static_cast<uint64_t>(p) * corners + q;
-    auto it = edge_vertex.find(key);
-    if (it != edge_vertex.end()) return it->second;
-    auto pos = [&](size_t id) {
-      const int k = static_cast<int>(id % pz), j = static_cast<int>((id / pz) % py), i = static_cast<int>(id / pz / py);
-      return gp(i, j, k);
-    };
-    // Clamped away from the corners so that crossings never coincide.
-    const double t = std::clamp(val[p] / (val[p] - val[q]), 1e-3, 1.0 - 1e-3);
-    const int32_t v = g.soup.add_vertex(pos(p) + t * (pos(q) - pos(p)), "v_" + std::to_string(g.soup.vertex_count()));
-    edge_vertex.emplace(key, v);
-    return v;
-  };
-  // Kuhn triangulation of each cube into 6 tetrahedra along the main diagonal (consistent
-  // across neighbouring cubes).
-  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7},
-                                  {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
-  for (int i = 0; i < cx; ++i) {
-    for (int j = 0; j < cy; ++j) {
-      for (int k = 0; k < cz; ++k) {
-        size_t c[8];
-        glm::dvec3 cp[8];
-        for (int b = 0; b < 8; ++b) {
-          // corner bit 0 = x, 1 = y, 2 = z
-          c[b] = vid(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-          cp[b] = gp(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-        }
-        for (const auto& tet : kTets) {
-          std::vector<int> in, out;
-          for (int t : tet) (val[c[t]] < 0 ? in : out).push_back(t);
-          if (in.empty() || out.empty()) continue;
-          std::vector<int32_t> poly;
-          if (in.size() == 1 || out.size() == 1) {
-            const std::vector<int>& lone = in.size() == 1 ? in : out;
-            const std::vector<int>& rest = in.size() == 1 ? out : in;
-            for (int r : rest) poly.push_back(crossing(c[lone[0]], c[r]));
-          } else {
-            poly = {crossing(c[in[0]], c[out[0]]), crossing(c[in[0]], c[out[1]]),
-                    crossing(c[in[1]], c[out[1]]), crossing(c[in[1]], c[out[0]])};
-          }
-          // Orient outward (from f < 0 towards f > 0): the polygon of the crossed edges'
-          // midpoints has the same cyclic order and is never degenerate, so its normal
-          // decides, compared with the direction from the inside corners to the outside ones.
-          auto cross = [](const glm::dvec3& u, const glm::dvec3& v) {
-            return glm::dvec3(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x);
-          };
-          auto dot = [](const glm::dvec3& u, const glm::dvec3& v) { return u.x * v.x + u.y * v.y + u.z * v.z; };
-          std::vector<glm::dvec3> mid;
-          if (in.size() == 1 || out.size() == 1) {
-            const std::vector<int>& lone = in.size() == 1 ? in : out;
-            const std::vector<int>& rest = in.size() == 1 ? out : in;
-            for (int r : rest) mid.push_back(0.5 * (cp[lone[0]] + cp[r]));
-          } else {
-            mid = {0.5 * (cp[in[0]] + cp[out[0]]), 0.5 * (cp[in[0]] + cp[out[1]]),
-                   0.5 * (cp[in[1]] + cp[out[1]]), 0.5 * (cp[in[1]] + cp[out[0]])};
-          }
-          glm::dvec3 nrm(0.0);
-          for (size_t q = 1; q + 1 < mid.size(); ++q) nrm += cross(mid[q] - mid[0], mid[q + 1] - mid[0]);
-          glm::dvec3 ci(0.0), co(0.0);
-          for (int t : in) ci += cp[t] / static_cast<double>(in.size());
-          for (int t : out) co += cp[t] / static_cast<double>(out.size());
-          if (dot(nrm, co - ci) < 0) std::reverse(poly.begin(), poly.end());
-          g.soup.add_face(poly);
-        }
-      }
-    }
-  }
+  g.soup = std::move(weld.soup);
   return g;
 }
 

@@ -342,5 +342,48 @@ TEST(OriginalSpiral, RibbonOfTwoRows) {
   EXPECT_EQ(face_names(g.soup), want);
 }
 
+// ---- §11.3 genimplicitsurf ----
+
+Args implicit_args(std::function<double(std::span<const double>)> f, double lo, double hi, double n) {
+  Args a = numbers({{"x_min", lo}, {"x_max", hi}, {"y_min", lo}, {"y_max", hi}, {"z_min", lo}, {"z_max", hi},
+                    {"nx", n}, {"ny", n}, {"nz", n}},
+                   "nome3");
+  a.functions["func"] = fn(std::move(f));
+  return a;
+}
+
+TEST(OriginalGenImplicitSurf, OneInsideCornerIsBourkesCaseOneReversed) {
+  // Cells of (1 − 0)/(2 − 1) = 1, two per axis (the grid reaches 2). Only the corner
+  // (0,0,0) has f ≤ 0: Bourke's case 1, triangle over edges 0, 8, 3, whose crossings are at
+  // the middle of the three edges from that corner. The cube creates its vertices in edge
+  // order (v_0 on edge 0 along x, v_1 on edge 3 along y, v_2 on edge 8 along z) and emits the
+  // triangle reversed, (edge 3, edge 8, edge 0), facing towards f > 0.
+  Generated g = run("genimplicitsurf", implicit_args([](auto p) { return p[0] + p[1] + p[2] - 0.5; }, 0, 1, 2));
+  ASSERT_EQ(g.soup.vertex_count(), 3);
+  expect_near(named(g.soup, "v_0"), {0.5, 0, 0});
+  expect_near(named(g.soup, "v_1"), {0, 0.5, 0});
+  expect_near(named(g.soup, "v_2"), {0, 0, 0.5});
+  EXPECT_EQ(face_names(g.soup), (std::vector<Face>{{"v_1", "v_2", "v_0"}}));
+}
+
+TEST(OriginalGenImplicitSurf, UnitSphereOnAHalfGridAsNome3AfterWelding) {
+  // generators-original.md §11.3: x²+y²+z²−1 on a 0.5 grid gives 152 triangles in NOME3, 48 of
+  // them degenerate (the sphere passes through grid points, where crossings snap). nomec
+  // welds the cubes' copies and drops the degenerate triangles: 104 remain, a closed sphere.
+  Generated g = run("genimplicitsurf",
+                    implicit_args([](auto p) { return p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - 1; }, -1.5, 1.5, 7));
+  EXPECT_EQ(g.soup.face_count(), 152 - 48);
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_TRUE(r.is_closed);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_GT(signed_volume(g.soup), 0);  // faces point towards f > 0, outward
+  // Every crossing lies on a grid edge: two of its coordinates are multiples of 0.5.
+  for (const glm::dvec3& p : g.soup.positions) {
+    int on_grid = 0;
+    for (double c : {p.x, p.y, p.z}) on_grid += std::abs(c * 2 - std::round(c * 2)) < 1e-12 ? 1 : 0;
+    EXPECT_GE(on_grid, 2);
+  }
+}
+
 }  // namespace
 }  // namespace nomec::backend::testing
