@@ -169,6 +169,50 @@ struct CubeWelder {
   }
 };
 
+// True if every edge of `s` has at most two faces and the faces around each vertex form a
+// single fan (what the kernel accepts as a 2-manifold with border).
+bool is_manifold(const kernel::PolygonSoup& s) {
+  std::unordered_map<uint64_t, int> edge_uses;
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> link(s.vertex_count());
+  size_t off = 0;
+  for (int32_t n : s.face_sizes) {
+    for (int32_t k = 0; k < n; ++k) {
+      const int32_t a = s.face_vertices[off + k], b = s.face_vertices[off + (k + 1) % n];
+      const int32_t prev = s.face_vertices[off + (k + n - 1) % n];
+      const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+      if (++edge_uses[key] > 2) return false;
+      link[a].emplace_back(prev, b);
+    }
+    off += n;
+  }
+  // The link of a vertex: its faces' (previous, next) corner pairs, as undirected edges
+  // between neighbours; a single fan is a connected path or cycle.
+  for (const auto& l : link) {
+    if (l.size() < 2) continue;
+    std::unordered_map<int32_t, std::vector<int32_t>> adj;
+    for (const auto& [p, q] : l) {
+      adj[p].push_back(q);
+      adj[q].push_back(p);
+    }
+    std::vector<int32_t> stack = {l[0].first};
+    std::unordered_map<int32_t, bool> seen{{l[0].first, true}};
+    while (!stack.empty()) {
+      const int32_t v = stack.back();
+      stack.pop_back();
+      for (int32_t w : adj[v]) {
+        if (!seen[w]) {
+          seen[w] = true;
+          stack.push_back(w);
+        }
+      }
+    }
+    for (const auto& [v, ns] : adj) {
+      if (!seen[v] || ns.size() > 2) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 // NOME3's genimplicitsurf (generators-original.md §11.3, GenImplicitSurf.cpp): nx × ny × nz
@@ -176,7 +220,9 @@ struct CubeWelder {
 // cubes with inside = f ≤ 0, each cube creating its own vertices `v_{k}` (one per cut edge,
 // in edge order, numbered in order of creation) and emitting Bourke's triangles reversed,
 // so that they face towards f > 0. nomec then welds the cubes' copies of each crossing
-// (CubeWelder); the surviving vertices keep NOME3's positions and names.
+// (CubeWelder); the surviving vertices keep NOME3's positions and names. Where the surface
+// itself is singular (two sheets crossing, a cone's apex) the welded mesh is not a
+// 2-manifold, and NOME3's unwelded cubes are returned as they were.
 Generated make_Genimplicitsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genimplicitsurf;
   a.function(A::func);
@@ -217,6 +263,7 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   // any distance between different crossings but those snapped to the same grid point.
   CubeWelder weld{1e-9 * std::min({std::abs(step.x), std::abs(step.y), std::abs(step.z)}), {}, {}, {}, {}};
   int32_t records = 0;  // NOME3's vertex records, for the names v_{k}
+  kernel::PolygonSoup raw;  // NOME3's unwelded cubes
   for (int i = 0; i < cx; ++i) {
     for (int j = 0; j < cy; ++j) {
       for (int k = 0; k < cz; ++k) {
@@ -232,18 +279,25 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
         const int edges = kBourkeEdges[cube];
         if (edges == 0) continue;
         int32_t at[12];
+        int32_t raw_at[12];
         for (int e = 0; e < 12; ++e) {
           if ((edges & (1 << e)) == 0) continue;
           const int c1 = kEdge[e][0], c2 = kEdge[e][1];
-          at[e] = weld.vertex(interpolate(p[c1], p[c2], v[c1], v[c2]), "v_" + std::to_string(records++));
+          const glm::dvec3 q = interpolate(p[c1], p[c2], v[c1], v[c2]);
+          const std::string name = "v_" + std::to_string(records++);
+          at[e] = weld.vertex(q, name);
+          raw_at[e] = raw.add_vertex(q, name);
         }
         const int8_t* tri = kBourkeTriangles[cube];
-        for (int t = 0; tri[t] != -1; t += 3) weld.triangle(at[tri[t + 2]], at[tri[t + 1]], at[tri[t]]);
+        for (int t = 0; tri[t] != -1; t += 3) {
+          weld.triangle(at[tri[t + 2]], at[tri[t + 1]], at[tri[t]]);
+          raw.add_face({raw_at[tri[t + 2]], raw_at[tri[t + 1]], raw_at[tri[t]]});
+        }
       }
     }
   }
   Generated g;
-  g.soup = std::move(weld.soup);
+  g.soup = is_manifold(weld.soup) ? std::move(weld.soup) : std::move(raw);
   return g;
 }
 

@@ -385,5 +385,17 @@ TEST(OriginalGenImplicitSurf, UnitSphereOnAHalfGridAsNome3AfterWelding) {
   }
 }
 
+TEST(OriginalGenImplicitSurf, SingularSurfaceKeepsNome3sUnweldedCubes) {
+  // x² − y² = 0 is two planes crossing along the z axis: welded, four sheets would share
+  // its edges. nomec then returns NOME3's cubes as they were: every cut edge of every cube
+  // has its own vertex v_k, in order, and the kernel accepts the pieces.
+  Generated g = run("genimplicitsurf", implicit_args([](auto p) { return p[0] * p[0] - p[1] * p[1]; }, -1, 1, 9));
+  ASSERT_GT(g.soup.vertex_count(), 0);
+  for (int32_t v = 0; v < g.soup.vertex_count(); ++v) EXPECT_EQ(g.soup.names[v], "v_" + std::to_string(v));
+  kernel::TopologyReport r = topo(g.soup);
+  EXPECT_EQ(r.face_count, g.soup.face_count());
+  EXPECT_GT(r.components.size(), 1u);
+}
+
 }  // namespace
 }  // namespace nomec::backend::testing
