@@ -53,6 +53,19 @@ class Rules {
     }
   }
 
+  /// A real number in [min, kMaxCount] (NOME3's fractional step counts).
+  template <typename E>
+  void real_at_least(E arg, double min, std::string hint) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (!(*v >= min)) {
+      report(arg, q(arg) + " must be at least " + format_argument(min) + ", got " + format_argument(*v), std::move(hint));
+    } else if (*v > kMaxCount) {
+      report(arg, q(arg) + " must be at most " + std::to_string(kMaxCount) + ", got " + format_argument(*v),
+             "a finer mesh than this cannot be built in reasonable memory");
+    }
+  }
+
   template <typename E>
   void positive(E arg) {
     const double* v = get(arg);
@@ -205,19 +218,20 @@ void ring_rules(GenKind kind, Rules& r) {
       r.count(gen_arg::Circle::segs, 3, " (a circle of fewer segments has no area)");
       return;
     case GenKind::Mobiusstrip: {
+      // NOME3 rounds the twists and cuts up and steps π/n with a real n (generators-original.md §6).
       using A = gen_arg::Mobiusstrip;
       r.positive(A::radius);
-      const double* tw = r.get(A::num_twists);
-      if (tw != nullptr && !r.problem && r.finite(A::num_twists, *tw) && std::abs(*tw - std::round(*tw)) > 1e-9) {
-        r.report(A::num_twists, r.q(A::num_twists) + " must be a whole number of half-twists",
-                 "1 gives a Möbius band, 2 a full twist");
-      }
       const double* cuts = r.get(A::num_cuts);
-      if (cuts != nullptr && !r.problem && *cuts != 0.0) {
-        r.report(A::num_cuts, "cuts are not supported yet: " + r.q(A::num_cuts) + " must be 0",
-                 "use 0 and cut the band with `delete`");
+      if (cuts != nullptr && !r.problem && r.finite(A::num_cuts, *cuts)) {
+        if (std::ceil(*cuts) < 0.0) {
+          r.report(A::num_cuts, r.q(A::num_cuts) + " must not be negative, got " + format_argument(*cuts),
+                   "0 gives one band, k gives k + 1 parallel bands");
+        } else if (*cuts > kMaxCount) {
+          r.report(A::num_cuts, r.q(A::num_cuts) + " must be at most " + std::to_string(kMaxCount),
+                   "a finer mesh than this cannot be built in reasonable memory");
+        }
       }
-      r.count(A::n, 3);
+      r.real_at_least(A::n, 0.5, "the strip has 2n steps of π/n; n = 50 gives a smooth band");
       return;
     }
     case GenKind::Rimribbon:
@@ -365,16 +379,16 @@ void function_rules(GenKind kind, Rules& r) {
       using A = gen_arg::Genparametricsurf;
       r.greater(A::u_min, A::u_max);
       r.greater(A::v_min, A::v_max);
-      r.count(A::u_segs, 1);
-      r.count(A::v_segs, 1);
+      r.real_at_least(A::u_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
+      r.real_at_least(A::v_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
       return;
     }
     case GenKind::Gencartesiansurf: {
       using A = gen_arg::Gencartesiansurf;
       r.greater(A::x_min, A::x_max);
       r.greater(A::y_min, A::y_max);
-      r.count(A::x_segs, 1);
-      r.count(A::y_segs, 1);
+      r.real_at_least(A::x_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
+      r.real_at_least(A::y_segs, 1.0, "as in NOME3 the samples are (max − min)/segs apart; a fractional segs is not rounded");
       return;
     }
     case GenKind::Genimplicitsurf: {

@@ -1,6 +1,7 @@
 // Curve generators: helix, beziercurve, bspline, whose output is a polyline in
 // `Generated::curves` over vertices `v0…` of a soup without faces; and NOME3's spiral, a
 // ribbon surface that shares their winding parameters.
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -44,6 +45,41 @@ glm::dvec3 de_boor(const std::vector<glm::dvec3>& p, const std::vector<double>& 
     }
   }
   return d[deg];
+}
+
+// Cox–de Boor: the order-k basis function i on the integer knots 0, 1, 2, … at t, with
+// half-open intervals [i, i+1) at order 1.
+double uniform_basis(int i, int k, double t) {
+  if (k == 1) return (t >= i && t < i + 1) ? 1.0 : 0.0;
+  return (t - i) / (k - 1) * uniform_basis(i, k - 1, t) + (i + k - t) / (k - 1) * uniform_basis(i + 1, k - 1, t);
+}
+
+// NOME3's bspline (generators-original.md §10, BSpline.cpp): order K (default 3) on the
+// uniform unclamped knots 0 … K+n−1, sampled at t_s = (s/S)·(n−K+1) + (K−1) for s = 0…S
+// with S = segs (default 8 for the whole curve). The curve does not reach the end points:
+// for K = 3 it runs from (P0+P1)/2 to (P_{n−2}+P_{n−1})/2.
+Generated nome3_bspline(const ArgReader& a) {
+  using A = ir::gen_arg::Bspline;
+  const auto& cps = a.raw().points;
+  const int k = a.count_or(A::order, 2, 3);
+  const int n = static_cast<int>(cps.size());
+  if (n < k) {
+    fail(ir::arg_index(A::points), "a b-spline of order " + std::to_string(k) + " needs at least " + std::to_string(k) +
+                                       " control points, got " + std::to_string(n));
+  }
+  if (k > 32) fail(ir::arg_index(A::order), "`order` must be at most 32");
+  const int segs = a.count_or(A::segs, 1, 8);
+  check_size(segs, ir::arg_index(A::segs));
+  std::vector<glm::dvec3> pts;
+  for (int s = 0; s <= segs; ++s) {
+    const double t = static_cast<double>(s) / segs * (n - k + 1) + (k - 1);
+    glm::dvec3 p(0.0);
+    // Only the k basis functions whose support [i, i+k) contains t are non-zero.
+    const int last = std::min(n - 1, static_cast<int>(std::floor(t)));
+    for (int i = std::max(0, last - k + 1); i <= last; ++i) p += uniform_basis(i, k, t) * cps[i];
+    pts.push_back(p);
+  }
+  return polyline(pts, false);
 }
 
 }  // namespace
@@ -97,7 +133,8 @@ Generated make_Beziercurve(const ArgReader& a) {
   if (cps.size() < 2) {
     fail(ir::arg_index(A::points), "a bezier curve needs at least 2 control points, got " + std::to_string(cps.size()));
   }
-  const int segs = a.count_or(A::segs, 1, 16);
+  // NOME3's default is 8 segments (BezierSpline.cpp:67); the other dialects keep 16.
+  const int segs = a.count_or(A::segs, 1, a.dialect() == Dialect::Nome3 ? 8 : 16);
   std::vector<glm::dvec3> pts;
   for (int i = 0; i <= segs; ++i) {
     const double t = static_cast<double>(i) / segs;
@@ -113,6 +150,7 @@ Generated make_Beziercurve(const ArgReader& a) {
 Generated make_Bspline(const ArgReader& a) {
   using A = ir::gen_arg::Bspline;
   const auto& cps = a.raw().points;
+  if (a.dialect() == Dialect::Nome3 && !a.flag(A::closed)) return nome3_bspline(a);
   const int k = a.count_or(A::order, 2, 4);
   const int n = static_cast<int>(cps.size());
   const bool closed = a.flag(A::closed);

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "backend/generators/bourke_tables.h"
 #include "backend/generators/impl.h"
 
 namespace nomec::backend::detail {
@@ -46,122 +47,188 @@ Range range(const ArgReader& a, A lo_arg, A hi_arg) {
   return {lo, hi};
 }
 
-// Welds grid vertices that coincide within 1e-5 of the bounding-box diagonal (closing the
-// seams of periodic parametrisations and collapsing poles), drops the repeated corners this
-// creates and the faces left with fewer than 3 corners, and removes the welded-away vertices
-// (the first vertex of each coincident set keeps its name).
-void weld(kernel::PolygonSoup& s) {
-  const int32_t n = s.vertex_count();
-  if (n == 0) return;
-  glm::dvec3 lo = s.positions[0], hi = s.positions[0];
-  for (const auto& p : s.positions) {
-    lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-    hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+// NOME3's samples along one axis (GenCartesianSurf.cpp, GenParametricSurf.cpp): from lo in
+// accumulated steps of (hi − lo)/segs while ≤ hi + step/5. A whole `segs` gives segs + 1
+// samples ending at hi; a fractional one stops short of hi (2.5 gives lo, lo+0.4·d, lo+0.8·d)
+// or, from a fraction of 0.8 on, takes one sample past it (2.9 reaches lo + (3/2.9)·d).
+template <typename A>
+std::vector<double> samples(const ArgReader& a, Range r, A segs_arg) {
+  const double segs = a.number(segs_arg);
+  if (!(segs >= 1.0)) fail(ir::arg_index(segs_arg), "`" + a.name(segs_arg) + "` must be at least 1, got " + fmt_number(segs));
+  if (segs > kMaxSegments) {
+    fail(ir::arg_index(segs_arg), "`" + a.name(segs_arg) + "` must be at most " + std::to_string(kMaxSegments));
   }
-  const glm::dvec3 d = hi - lo;
-  const double diag = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  const double tol = std::max(diag * 1e-5, 1e-12);
-  auto key = [&](int64_t x, int64_t y, int64_t z) {
-    return static_cast<uint64_t>(x) * 73856093ULL ^ static_cast<uint64_t>(y) * 19349663ULL ^
-           static_cast<uint64_t>(z) * 83492791ULL;
-  };
-  std::unordered_map<uint64_t, std::vector<int32_t>> cells;
-  std::vector<int32_t> rep(n);
-  for (int32_t v = 0; v < n; ++v) {
-    const glm::dvec3 q = (s.positions[v] - lo) / tol;
-    const int64_t cx = static_cast<int64_t>(std::floor(q.x));
-    const int64_t cy = static_cast<int64_t>(std::floor(q.y));
-    const int64_t cz = static_cast<int64_t>(std::floor(q.z));
-    rep[v] = v;
-    for (int64_t dx = -1; dx <= 1 && rep[v] == v; ++dx) {
-      for (int64_t dy = -1; dy <= 1 && rep[v] == v; ++dy) {
-        for (int64_t dz = -1; dz <= 1 && rep[v] == v; ++dz) {
-          auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
-          if (it == cells.end()) continue;
-          for (int32_t w : it->second) {
-            const glm::dvec3 e = s.positions[w] - s.positions[v];
-            if (std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z) <= tol) {
-              rep[v] = w;
-              break;
-            }
-          }
-        }
-      }
-    }
-    if (rep[v] == v) cells[key(cx, cy, cz)].push_back(v);
+  const double inc = (r.hi - r.lo) / segs;
+  std::vector<double> out;
+  // NOME3 makes ⌊segs + 0.2⌋ + 1 samples (k·inc ≤ (segs + 0.2)·inc); the bound also ends
+  // the loop when `inc` is below the precision of the values (t + inc == t).
+  const size_t most = static_cast<size_t>(segs + 0.2) + 1;
+  for (double t = r.lo; t <= r.hi + inc / 5.0 && out.size() < most; t += inc) out.push_back(t);
+  return out;
+}
+
+// NOME3's grid of a function surface: vertex (i, j) named `v_{i}_{j}` at `pos(i, j)`, faces
+// (v_i_j, v_{i+1}_j, v_{i+1}_{j+1}, v_i_{j+1}); nothing is welded.
+void add_sampled_grid(kernel::PolygonSoup& soup, int ni, int nj, const std::function<glm::dvec3(int, int)>& pos) {
+  const int32_t first = soup.vertex_count();
+  for (int i = 0; i < ni; ++i) {
+    for (int j = 0; j < nj; ++j) soup.add_vertex(pos(i, j), "v_" + std::to_string(i) + "_" + std::to_string(j));
   }
-  kernel::PolygonSoup out;
-  std::vector<int32_t> new_index(n, -1);
-  for (int32_t v = 0; v < n; ++v) {
-    if (rep[v] == v) {
-      new_index[v] = out.add_vertex(s.positions[v], s.names.empty() ? std::string() : s.names[v]);
-    }
+  auto at = [&](int i, int j) { return first + i * nj + j; };
+  for (int i = 0; i + 1 < ni; ++i) {
+    for (int j = 0; j + 1 < nj; ++j) soup.add_face({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
   }
-  size_t offset = 0;
-  for (int32_t size : s.face_sizes) {
-    std::vector<int32_t> f;
-    for (int32_t k = 0; k < size; ++k) {
-      const int32_t v = new_index[rep[s.face_vertices[offset + k]]];
-      if (f.empty() || f.back() != v) f.push_back(v);
-    }
-    offset += size;
-    while (f.size() > 1 && f.front() == f.back()) f.pop_back();
-    if (f.size() >= 3) out.add_face(f);
-  }
-  s = std::move(out);
 }
 
 }  // namespace
 
+// NOME3's genparametricsurf (generators-original.md §11.1): (funcX, funcY, funcZ)(u, v) on
+// NOME3's samples, vertices `v_{i}_{j}` (i along u), no welding.
 Generated make_Genparametricsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genparametricsurf;
   a.function(A::funcX);
   a.function(A::funcY);
   a.function(A::funcZ);
-  const Range u = range(a, A::u_min, A::u_max);
-  const Range v = range(a, A::v_min, A::v_max);
-  const int us = a.count(A::u_segs, 1);
-  const int vs = a.count(A::v_segs, 1);
-  check_size(static_cast<long long>(us + 1) * (vs + 1), ir::arg_index(A::u_segs));
+  const std::vector<double> u = samples(a, range(a, A::u_min, A::u_max), A::u_segs);
+  const std::vector<double> v = samples(a, range(a, A::v_min, A::v_max), A::v_segs);
+  check_size(static_cast<long long>(u.size()) * static_cast<long long>(v.size()), ir::arg_index(A::u_segs));
   Generated g;
-  add_grid(g.soup, us, vs, false, false, [&](int i, int j) {
-    const double uv[2] = {u.lo + (u.hi - u.lo) * i / us, v.lo + (v.hi - v.lo) * j / vs};
+  add_sampled_grid(g.soup, static_cast<int>(u.size()), static_cast<int>(v.size()), [&](int i, int j) {
+    const double uv[2] = {u[i], v[j]};
     return glm::dvec3(value_at(a, A::funcX, uv), value_at(a, A::funcY, uv), value_at(a, A::funcZ, uv));
   });
-  weld(g.soup);
   return g;
 }
 
+// NOME3's gencartesiansurf (generators-original.md §11.1): (x, y, func(x, y)) on NOME3's
+// samples, vertices `v_{i}_{j}` (i along x).
 Generated make_Gencartesiansurf(const ArgReader& a) {
   using A = ir::gen_arg::Gencartesiansurf;
   a.function(A::func);
-  const Range x = range(a, A::x_min, A::x_max);
-  const Range y = range(a, A::y_min, A::y_max);
-  const int xs = a.count(A::x_segs, 1);
-  const int ys = a.count(A::y_segs, 1);
-  check_size(static_cast<long long>(xs + 1) * (ys + 1), ir::arg_index(A::x_segs));
+  const std::vector<double> x = samples(a, range(a, A::x_min, A::x_max), A::x_segs);
+  const std::vector<double> y = samples(a, range(a, A::y_min, A::y_max), A::y_segs);
+  check_size(static_cast<long long>(x.size()) * static_cast<long long>(y.size()), ir::arg_index(A::x_segs));
   Generated g;
-  add_grid(g.soup, xs, ys, false, false, [&](int i, int j) {
-    const double xy[2] = {x.lo + (x.hi - x.lo) * i / xs, y.lo + (y.hi - y.lo) * j / ys};
+  add_sampled_grid(g.soup, static_cast<int>(x.size()), static_cast<int>(y.size()), [&](int i, int j) {
+    const double xy[2] = {x[i], y[j]};
     return glm::dvec3(xy[0], xy[1], value_at(a, A::func, xy));
   });
   return g;
 }
 
-// genimplicitsurf over NOME3's grid. NOME3 runs Bourke's marching cubes and gives every cube
-// its own vertices; nomec splits each cube into six tetrahedra (a manifold result with no
-// ambiguous cases) and shares the crossing on each grid edge, named `v_{k}` in order of
-// creation (generators-original.md §11.3).
+namespace {
+
+// Marching cubes' per-cube vertices, welded (docs/generators.md, "Differences from the
+// original"): a vertex within `tol` of an earlier one (the same crossing computed by the
+// neighbouring cube, from the other end of the edge) becomes that vertex, which keeps its
+// position and name. Faces left with a repeated corner (a crossing snapped to a grid point)
+// and repeats of a face already made (a surface lying in a cube face) are dropped.
+struct CubeWelder {
+  double tol;
+  kernel::PolygonSoup soup;
+  std::unordered_map<uint64_t, std::vector<int32_t>> cells;
+  std::vector<std::vector<int32_t>> made;  // sorted corners of the faces made
+  std::unordered_map<uint64_t, std::vector<size_t>> made_by_hash;
+
+  static uint64_t key(int64_t x, int64_t y, int64_t z) {
+    return static_cast<uint64_t>(x) * 73856093ULL ^ static_cast<uint64_t>(y) * 19349663ULL ^
+           static_cast<uint64_t>(z) * 83492791ULL;
+  }
+  int32_t vertex(const glm::dvec3& p, const std::string& name) {
+    const int64_t cx = static_cast<int64_t>(std::floor(p.x / tol));
+    const int64_t cy = static_cast<int64_t>(std::floor(p.y / tol));
+    const int64_t cz = static_cast<int64_t>(std::floor(p.z / tol));
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
+          if (it == cells.end()) continue;
+          for (int32_t w : it->second) {
+            const glm::dvec3 e = soup.positions[w] - p;
+            if (std::abs(e.x) <= tol && std::abs(e.y) <= tol && std::abs(e.z) <= tol) return w;
+          }
+        }
+      }
+    }
+    const int32_t v = soup.add_vertex(p, name);
+    cells[key(cx, cy, cz)].push_back(v);
+    return v;
+  }
+  void triangle(int32_t a, int32_t b, int32_t c) {
+    if (a == b || b == c || a == c) return;
+    std::vector<int32_t> sorted = {a, b, c};
+    std::sort(sorted.begin(), sorted.end());
+    const uint64_t h = key(sorted[0], sorted[1], sorted[2]);
+    std::vector<size_t>& same = made_by_hash[h];
+    for (size_t f : same) {
+      if (made[f] == sorted) return;
+    }
+    same.push_back(made.size());
+    made.push_back(std::move(sorted));
+    soup.add_face({a, b, c});
+  }
+};
+
+// True if every edge of `s` has at most two faces and the faces around each vertex form a
+// single fan (what the kernel accepts as a 2-manifold with border).
+bool is_manifold(const kernel::PolygonSoup& s) {
+  std::unordered_map<uint64_t, int> edge_uses;
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> link(s.vertex_count());
+  size_t off = 0;
+  for (int32_t n : s.face_sizes) {
+    for (int32_t k = 0; k < n; ++k) {
+      const int32_t a = s.face_vertices[off + k], b = s.face_vertices[off + (k + 1) % n];
+      const int32_t prev = s.face_vertices[off + (k + n - 1) % n];
+      const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+      if (++edge_uses[key] > 2) return false;
+      link[a].emplace_back(prev, b);
+    }
+    off += n;
+  }
+  // The link of a vertex: its faces' (previous, next) corner pairs, as undirected edges
+  // between neighbours; a single fan is a connected path or cycle.
+  for (const auto& l : link) {
+    if (l.size() < 2) continue;
+    std::unordered_map<int32_t, std::vector<int32_t>> adj;
+    for (const auto& [p, q] : l) {
+      adj[p].push_back(q);
+      adj[q].push_back(p);
+    }
+    std::vector<int32_t> stack = {l[0].first};
+    std::unordered_map<int32_t, bool> seen{{l[0].first, true}};
+    while (!stack.empty()) {
+      const int32_t v = stack.back();
+      stack.pop_back();
+      for (int32_t w : adj[v]) {
+        if (!seen[w]) {
+          seen[w] = true;
+          stack.push_back(w);
+        }
+      }
+    }
+    for (const auto& [v, ns] : adj) {
+      if (!seen[v] || ns.size() > 2) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// NOME3's genimplicitsurf (generators-original.md §11.3, GenImplicitSurf.cpp): nx × ny × nz
+// cubes of (max − min)/(n − 1), so the grid reaches one cube past max; Bourke's marching
+// cubes with inside = f ≤ 0, each cube creating its own vertices `v_{k}` (one per cut edge,
+// in edge order, numbered in order of creation) and emitting Bourke's triangles reversed,
+// so that they face towards f > 0. nomec then welds the cubes' copies of each crossing
+// (CubeWelder); the surviving vertices keep NOME3's positions and names. Where the surface
+// itself is singular (two sheets crossing, a cone's apex) the welded mesh is not a
+// 2-manifold, and NOME3's unwelded cubes are returned as they were.
 Generated make_Genimplicitsurf(const ArgReader& a) {
   using A = ir::gen_arg::Genimplicitsurf;
   a.function(A::func);
   const Range x = range(a, A::x_min, A::x_max);
   const Range y = range(a, A::y_min, A::y_max);
   const Range z = range(a, A::z_min, A::z_max);
-  // NOME3's grid (compat.md D2): nx × ny × nz cells of (max − min)/(n − 1), so the last cell
-  // ends one cell past max. f is sampled at the (n+1)³ corners; exact zeros are nudged so
-  // that no grid value lies on the surface (this keeps the marching-tetrahedra result a
-  // manifold).
   const int cx = a.count(A::nx, 2);
   const int cy = a.count(A::ny, 2);
   const int cz = a.count(A::nz, 2);
@@ -171,91 +238,66 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   const int px = cx + 1, py = cy + 1, pz = cz + 1;
   const glm::dvec3 step((x.hi - x.lo) / (cx - 1), (y.hi - y.lo) / (cy - 1), (z.hi - z.lo) / (cz - 1));
   auto gp = [&](int i, int j, int k) { return glm::dvec3(x.lo + step.x * i, y.lo + step.y * j, z.lo + step.z * k); };
-  const size_t corners = static_cast<size_t>(px) * py * pz;
-  std::vector<double> val(corners);
+  std::vector<double> val(static_cast<size_t>(px) * py * pz);
   auto vid = [&](int i, int j, int k) { return (static_cast<size_t>(i) * py + j) * pz + k; };
   for (int i = 0; i < px; ++i) {
     for (int j = 0; j < py; ++j) {
       for (int k = 0; k < pz; ++k) {
         const glm::dvec3 p = gp(i, j, k);
         const double xyz[3] = {p.x, p.y, p.z};
-        double v = value_at(a, A::func, xyz);
-        if (v == 0.0) v = 1e-300;
-        val[vid(i, j, k)] = v;
+        val[vid(i, j, k)] = value_at(a, A::func, xyz);
+      }
+    }
+  }
+  // Bourke's corner order and edges (bourke_tables.h).
+  static const int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  static const int kEdge[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  // Bourke's VertexInterp at the level 0.
+  auto interpolate = [](const glm::dvec3& p1, const glm::dvec3& p2, double v1, double v2) {
+    if (std::abs(v1) < 0.00001) return p1;
+    if (std::abs(v2) < 0.00001) return p2;
+    if (std::abs(v1 - v2) < 0.00001) return p1;
+    return p1 + (-v1 / (v2 - v1)) * (p2 - p1);
+  };
+  // Copies of one crossing differ by rounding only; 10⁻⁹ of the smallest cell is far below
+  // any distance between different crossings but those snapped to the same grid point.
+  CubeWelder weld{1e-9 * std::min({std::abs(step.x), std::abs(step.y), std::abs(step.z)}), {}, {}, {}, {}};
+  int32_t records = 0;  // NOME3's vertex records, for the names v_{k}
+  kernel::PolygonSoup raw;  // NOME3's unwelded cubes
+  for (int i = 0; i < cx; ++i) {
+    for (int j = 0; j < cy; ++j) {
+      for (int k = 0; k < cz; ++k) {
+        glm::dvec3 p[8];
+        double v[8];
+        int cube = 0;
+        for (int c = 0; c < 8; ++c) {
+          const int ci = i + kCorner[c][0], cj = j + kCorner[c][1], ck = k + kCorner[c][2];
+          p[c] = gp(ci, cj, ck);
+          v[c] = val[vid(ci, cj, ck)];
+          if (v[c] <= 0.0) cube |= 1 << c;
+        }
+        const int edges = kBourkeEdges[cube];
+        if (edges == 0) continue;
+        int32_t at[12];
+        int32_t raw_at[12];
+        for (int e = 0; e < 12; ++e) {
+          if ((edges & (1 << e)) == 0) continue;
+          const int c1 = kEdge[e][0], c2 = kEdge[e][1];
+          const glm::dvec3 q = interpolate(p[c1], p[c2], v[c1], v[c2]);
+          const std::string name = "v_" + std::to_string(records++);
+          at[e] = weld.vertex(q, name);
+          raw_at[e] = raw.add_vertex(q, name);
+        }
+        const int8_t* tri = kBourkeTriangles[cube];
+        for (int t = 0; tri[t] != -1; t += 3) {
+          weld.triangle(at[tri[t + 2]], at[tri[t + 1]], at[tri[t]]);
+          raw.add_face({raw_at[tri[t + 2]], raw_at[tri[t + 1]], raw_at[tri[t]]});
+        }
       }
     }
   }
   Generated g;
-  std::unordered_map<uint64_t, int32_t> edge_vertex;  // grid edge -> soup vertex
-  auto crossing = [&](size_t p, size_t q) -> int32_t {
-    if (p > q) std::swap(p, q);
-    const uint64_t key = static_cast<uint64_t>(p) * corners + q;
-    auto it = edge_vertex.find(key);
-    if (it != edge_vertex.end()) return it->second;
-    auto pos = [&](size_t id) {
-      const int k = static_cast<int>(id % pz), j = static_cast<int>((id / pz) % py), i = static_cast<int>(id / pz / py);
-      return gp(i, j, k);
-    };
-    // Clamped away from the corners so that crossings never coincide.
-    const double t = std::clamp(val[p] / (val[p] - val[q]), 1e-3, 1.0 - 1e-3);
-    const int32_t v = g.soup.add_vertex(pos(p) + t * (pos(q) - pos(p)), "v_" + std::to_string(g.soup.vertex_count()));
-    edge_vertex.emplace(key, v);
-    return v;
-  };
-  // Kuhn triangulation of each cube into 6 tetrahedra along the main diagonal (consistent
-  // across neighbouring cubes).
-  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7},
-                                  {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
-  for (int i = 0; i < cx; ++i) {
-    for (int j = 0; j < cy; ++j) {
-      for (int k = 0; k < cz; ++k) {
-        size_t c[8];
-        glm::dvec3 cp[8];
-        for (int b = 0; b < 8; ++b) {
-          // corner bit 0 = x, 1 = y, 2 = z
-          c[b] = vid(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-          cp[b] = gp(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-        }
-        for (const auto& tet : kTets) {
-          std::vector<int> in, out;
-          for (int t : tet) (val[c[t]] < 0 ? in : out).push_back(t);
-          if (in.empty() || out.empty()) continue;
-          std::vector<int32_t> poly;
-          if (in.size() == 1 || out.size() == 1) {
-            const std::vector<int>& lone = in.size() == 1 ? in : out;
-            const std::vector<int>& rest = in.size() == 1 ? out : in;
-            for (int r : rest) poly.push_back(crossing(c[lone[0]], c[r]));
-          } else {
-            poly = {crossing(c[in[0]], c[out[0]]), crossing(c[in[0]], c[out[1]]),
-                    crossing(c[in[1]], c[out[1]]), crossing(c[in[1]], c[out[0]])};
-          }
-          // Orient outward (from f < 0 towards f > 0): the polygon of the crossed edges'
-          // midpoints has the same cyclic order and is never degenerate, so its normal
-          // decides, compared with the direction from the inside corners to the outside ones.
-          auto cross = [](const glm::dvec3& u, const glm::dvec3& v) {
-            return glm::dvec3(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x);
-          };
-          auto dot = [](const glm::dvec3& u, const glm::dvec3& v) { return u.x * v.x + u.y * v.y + u.z * v.z; };
-          std::vector<glm::dvec3> mid;
-          if (in.size() == 1 || out.size() == 1) {
-            const std::vector<int>& lone = in.size() == 1 ? in : out;
-            const std::vector<int>& rest = in.size() == 1 ? out : in;
-            for (int r : rest) mid.push_back(0.5 * (cp[lone[0]] + cp[r]));
-          } else {
-            mid = {0.5 * (cp[in[0]] + cp[out[0]]), 0.5 * (cp[in[0]] + cp[out[1]]),
-                   0.5 * (cp[in[1]] + cp[out[1]]), 0.5 * (cp[in[1]] + cp[out[0]])};
-          }
-          glm::dvec3 nrm(0.0);
-          for (size_t q = 1; q + 1 < mid.size(); ++q) nrm += cross(mid[q] - mid[0], mid[q + 1] - mid[0]);
-          glm::dvec3 ci(0.0), co(0.0);
-          for (int t : in) ci += cp[t] / static_cast<double>(in.size());
-          for (int t : out) co += cp[t] / static_cast<double>(out.size());
-          if (dot(nrm, co - ci) < 0) std::reverse(poly.begin(), poly.end());
-          g.soup.add_face(poly);
-        }
-      }
-    }
-  }
+  g.soup = is_manifold(weld.soup) ? std::move(weld.soup) : std::move(raw);
   return g;
 }
 

@@ -1,6 +1,7 @@
 // Ring generators: funnel and tunnel (seed report §6.3), circle, mobiusstrip.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "backend/generators/impl.h"
 
@@ -97,42 +98,55 @@ Generated make_Circle(const ArgReader& a) {
   return g;
 }
 
+// NOME3's Möbius strip (generators-original.md §6, MobiusStrip.cpp): twists = ⌈num_twists⌉
+// half-turns and cuts = ⌈num_cuts⌉. u runs from 0 in steps of π/n while u < 2π + step/3
+// (2n + 1 samples for a whole n, the last at 2π); v runs from −radius in steps of
+// 2·radius/(2·cuts + 1) while v ≤ radius + step/3. The centre circle has radius 1 and
+// `radius` is the band's full width: (1 + (v/2)cos(tw·u/2))(cos u, sin u) and
+// z = (v/2)sin(tw·u/2). Every `v_{a}_{b}` has a twin `vt_{a}_{b}` radius/10 above it; each
+// u step and cut gives the strip quad, its `vt` copy with the same winding and two side
+// walls. As in NOME3 the seam is not welded and the walls do not agree in orientation
+// with the strips (the kernel accepts such edges as Möbius edges).
 Generated make_Mobiusstrip(const ArgReader& a) {
   using A = ir::gen_arg::Mobiusstrip;
   const double radius = a.positive(A::radius);
-  const double twists_value = a.number(A::num_twists);
-  if (std::abs(twists_value - std::round(twists_value)) > 1e-9) {
-    fail(ir::arg_index(A::num_twists), "`" + a.name(A::num_twists) + "` must be a whole number of half-twists");
-  }
-  const long twists = std::lround(twists_value);
-  if (a.number(A::num_cuts) != 0.0) {
-    fail(ir::arg_index(A::num_cuts), "cuts are not supported yet: `" + a.name(A::num_cuts) + "` must be 0");
-  }
-  const int n = a.count(A::n, 3);
-  const double w = radius / 4.0;  // half of the band's width
+  const double twists = std::ceil(a.number(A::num_twists));
+  const double cuts = std::ceil(a.number(A::num_cuts));
+  if (cuts < 0.0) fail(ir::arg_index(A::num_cuts), "`" + a.name(A::num_cuts) + "` must not be negative");
+  if (cuts > kMaxSegments) fail(ir::arg_index(A::num_cuts), "`" + a.name(A::num_cuts) + "` must be at most " + std::to_string(kMaxSegments));
+  const double n = a.number(A::n);
+  if (!(n >= 0.5)) fail(ir::arg_index(A::n), "`" + a.name(A::n) + "` must be at least 0.5 (one step of the strip), got " + fmt_number(n));
+  if (n > kMaxSegments) fail(ir::arg_index(A::n), "`" + a.name(A::n) + "` must be at most " + std::to_string(kMaxSegments));
+  std::vector<double> us, vs;
+  const double du = kPi / n;
+  for (double u = 0.0; u < 2.0 * kPi + du / 3.0; u += du) us.push_back(u);
+  const double dv = 2.0 * radius / (2.0 * cuts + 1.0);
+  for (double v = -radius; v <= radius + dv / 3.0; v += dv) vs.push_back(v);
+  const int nu = static_cast<int>(us.size());
+  const int nv = static_cast<int>(vs.size());
+  check_size(2LL * nu * nv, ir::arg_index(A::n));
   Generated g;
-  auto pos = [&](int i, double v) {
-    const double u = 2.0 * kPi * i / n;
-    const double tw = static_cast<double>(twists) * u / 2.0;
-    const double rr = radius + v * std::cos(tw);
-    return glm::dvec3(rr * std::cos(u), rr * std::sin(u), v * std::sin(tw));
-  };
-  for (int i = 0; i < n; ++i) {
-    g.soup.add_vertex(pos(i, w), "v" + std::to_string(i) + "_0");
-    g.soup.add_vertex(pos(i, -w), "v" + std::to_string(i) + "_1");
-  }
-  const bool odd = (twists % 2) != 0;
-  for (int i = 0; i < n; ++i) {
-    const int32_t a0 = 2 * i;
-    const int32_t b0 = 2 * i + 1;
-    int32_t a1 = 2 * (i + 1);
-    int32_t b1 = 2 * (i + 1) + 1;
-    if (i + 1 == n) {
-      // Welded seam: after an odd number of half-twists the sides swap.
-      a1 = odd ? 1 : 0;
-      b1 = odd ? 0 : 1;
+  std::vector<int32_t> bottom(static_cast<size_t>(nu) * nv), top(bottom.size());
+  auto at = [&](int i, int j) { return static_cast<size_t>(i) * nv + j; };
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      const double u = us[i], v = vs[j];
+      const double rr = 1.0 + (v / 2.0) * std::cos(twists * u / 2.0);
+      const glm::dvec3 p(rr * std::cos(u), rr * std::sin(u), (v / 2.0) * std::sin(twists * u / 2.0));
+      const std::string ij = std::to_string(i) + "_" + std::to_string(j);
+      bottom[at(i, j)] = g.soup.add_vertex(p, "v_" + ij);
+      top[at(i, j)] = g.soup.add_vertex(p + glm::dvec3(0.0, 0.0, radius / 10.0), "vt_" + ij);
     }
-    g.soup.add_face({a0, a1, b1, b0});
+  }
+  for (int i = 0; i + 1 < nu; ++i) {
+    for (int c = 0; 2 * c + 1 < nv; ++c) {
+      const int b0 = 2 * c, b1 = 2 * c + 1;
+      for (const auto* layer : {&bottom, &top}) {
+        const auto& l = *layer;
+        g.soup.add_face({l[at(i, b0)], l[at(i + 1, b0)], l[at(i + 1, b1)], l[at(i, b1)]});
+      }
+      for (int b : {b0, b1}) g.soup.add_face({bottom[at(i, b)], bottom[at(i + 1, b)], top[at(i + 1, b)], top[at(i, b)]});
+    }
   }
   return g;
 }

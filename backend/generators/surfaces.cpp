@@ -195,8 +195,11 @@ namespace {
 
 // NOME3's triangulated grid (Dupin.cpp, Hyperboloid.cpp): vertex (i, j) at `first + i*nj + j`;
 // each cell (i, j) gives the triangles (i,j) (i+1,j) (i,j+1) and (i,j+1) (i+1,j) (i+1,j+1),
-// reversed when `flip`; cells wrap around i or j when that direction is closed.
-void add_triangle_grid(kernel::PolygonSoup& soup, int32_t first, int ni, int nj, bool wrap_i, bool wrap_j, bool flip) {
+// reversed when `flip`; cells wrap around i or j when that direction is closed. With
+// `skip_corner` the cell (ni−1, nj−1), which only exists when both directions wrap, is left
+// open, as Dupin.cpp does.
+void add_triangle_grid(kernel::PolygonSoup& soup, int32_t first, int ni, int nj, bool wrap_i, bool wrap_j, bool flip,
+                       bool skip_corner = false) {
   auto at = [&](int i, int j) { return first + (i % ni) * nj + (j % nj); };
   auto tri = [&](int32_t p, int32_t q, int32_t s) {
     if (flip) std::swap(q, s);
@@ -204,6 +207,7 @@ void add_triangle_grid(kernel::PolygonSoup& soup, int32_t first, int ni, int nj,
   };
   for (int i = 0; i < (wrap_i ? ni : ni - 1); ++i) {
     for (int j = 0; j < (wrap_j ? nj : nj - 1); ++j) {
+      if (skip_corner && i == ni - 1 && j == nj - 1) continue;
       tri(at(i, j), at(i + 1, j), at(i, j + 1));
       tri(at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
     }
@@ -243,8 +247,8 @@ Generated make_Hyperboloid(const ArgReader& a) {
 
 // NOME3's Dupin cyclide (compat.md D4, generators-original.md §7): an n × n grid at
 // θ1_i = i·u·π/n, θ2_j = j·v·π/n, vertices `v{i}_{j}` (NOME3's `v{i}*{j}`), triangles as
-// NOME3, wrapping in i when u = 2 and in j when v = 2. NOME3 never fills the corner cell
-// (n−1, n−1), leaving a hole in a full cyclide; nomec fills it.
+// NOME3, wrapping in i when u = 2 and in j when v = 2. As in NOME3 the corner cell
+// (n−1, n−1) is never filled, so a full cyclide has a one-quad hole (2n² − 2 triangles).
 Generated make_Dupin(const ArgReader& a) {
   using A = ir::gen_arg::Dupin;
   const double ca = a.positive(A::a);
@@ -272,7 +276,7 @@ Generated make_Dupin(const ArgReader& a) {
                         "v" + std::to_string(i) + "_" + std::to_string(j));
     }
   }
-  add_triangle_grid(g.soup, first, n, n, eu == 2.0, ev == 2.0, /*flip=*/false);
+  add_triangle_grid(g.soup, first, n, n, eu == 2.0, ev == 2.0, /*flip=*/false, /*skip_corner=*/true);
   return g;
 }
 

@@ -44,8 +44,9 @@ TEST(Spiral, RibbonBetweenTwoRows) {
   EXPECT_EQ(run_error("spiral", numbers({{"rate", 1}, {"angle", 2}, {"segs", 0}}, "nome3")).argument, "segs");
 }
 
-Args with_points(std::vector<glm::dvec3> pts, std::vector<std::pair<std::string, double>> nums) {
-  Args a = numbers(std::move(nums), "nome3");
+Args with_points(std::vector<glm::dvec3> pts, std::vector<std::pair<std::string, double>> nums,
+                 std::string dialect = "nome3") {
+  Args a = numbers(std::move(nums), std::move(dialect));
   a.points = std::move(pts);
   for (size_t i = 0; i < a.points.size(); ++i) a.point_names.push_back("p" + std::to_string(i));
   return a;
@@ -57,19 +58,20 @@ TEST(BezierCurve, InterpolatesEndPoints) {
   expect_near(named(g.soup, "v0"), {0, 0, 0});
   expect_near(named(g.soup, "v2"), {1, 1, 0});
   expect_near(named(g.soup, "v4"), {2, 0, 0});
-  EXPECT_EQ(run("beziercurve", with_points({{0, 0, 0}, {1, 0, 0}}, {})).soup.vertex_count(), 17);
+  EXPECT_EQ(run("beziercurve", with_points({{0, 0, 0}, {1, 0, 0}}, {})).soup.vertex_count(), 9);  // NOME3: 8 segments
   EXPECT_EQ(run_error("beziercurve", with_points({{0, 0, 0}}, {})).argument, "points");
 }
 
+// SLIDE's bsplinecurve keeps nomec's clamped knots (NOME3's: tests/generators/original_test.cpp).
 TEST(BSpline, ClampedAndClosed) {
   std::vector<glm::dvec3> pts = {{0, 0, 0}, {1, 1, 0}, {2, -1, 0}, {3, 1, 0}, {4, 0, 0}};
-  Generated open = run("bspline", with_points(pts, {{"order", 4}, {"segs", 10}}));
+  Generated open = run("bspline", with_points(pts, {{"order", 4}, {"segs", 10}}, "slide"));
   EXPECT_EQ(open.soup.vertex_count(), 11);
   EXPECT_FALSE(open.curves[0].is_closed);
   expect_near(named(open.soup, "v0"), {0, 0, 0});
   expect_near(named(open.soup, "v10"), {4, 0, 0});
   // Order 2 is the control polygon itself.
-  Generated linear = run("bspline", with_points(pts, {{"order", 2}, {"segs", 8}}));
+  Generated linear = run("bspline", with_points(pts, {{"order", 2}, {"segs", 8}}, "slide"));
   expect_near(named(linear.soup, "v2"), {1, 1, 0});
   expect_near(named(linear.soup, "v3"), {1.5, 0, 0});
 

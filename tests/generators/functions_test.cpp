@@ -1,5 +1,5 @@
 // The function-surface generators: a plane, the periodic Dupin example of
-// nome3/genParametricSurfExample.nom (welded into a closed surface), a graph z = f(x, y),
+// nome3/genParametricSurfExample.nom (unwelded, as NOME3 made it), a graph z = f(x, y),
 // implicit surfaces, and errors. The functions are given as the evaluable functions the
 // backend makes of a checked `funcX [ … ]` (the text itself is lowered and checked by the
 // front end: tests/unit/function_text_test.cpp).
@@ -43,11 +43,11 @@ TEST(GenParametricSurf, PlaneIsAGridDisk) {
   EXPECT_EQ(r.face_count, 12);
   EXPECT_EQ(r.euler_characteristic, 1);
   EXPECT_EQ(r.border_loop_count, 1);
-  expect_near(named(g.soup, "v4_3"), {1, 2, 0});
-  expect_near(named(g.soup, "v2_0"), {0.5, 0, 0});
+  expect_near(named(g.soup, "v_4_3"), {1, 2, 0});
+  expect_near(named(g.soup, "v_2_0"), {0.5, 0, 0});
 }
 
-TEST(GenParametricSurf, PeriodicParametrisationIsWelded) {
+TEST(GenParametricSurf, PeriodicParametrisationKeepsItsSeamsAsInNome3) {
   // nome3/genParametricSurfExample.nom (with 6.28318 for 2 pi): a Dupin cyclide.
   Generated g = run("genparametricsurf",
                     param(
@@ -65,21 +65,24 @@ TEST(GenParametricSurf, PeriodicParametrisationIsWelded) {
                         },
                         6.28318, 6.28318, 20, 12));
   kernel::TopologyReport r = topo(g.soup);
-  EXPECT_EQ(r.vertex_count, 240);
+  // 21 × 13 samples (6.28318 < 2π, so the seams do not even touch exactly): a disk.
+  EXPECT_EQ(r.vertex_count, 21 * 13);
   EXPECT_EQ(r.face_count, 240);
-  EXPECT_EQ(r.euler_characteristic, 0);
-  EXPECT_TRUE(r.is_closed);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_EQ(r.border_loop_count, 1);
 }
 
-TEST(GenParametricSurf, SpherePolesCollapseToSingleVertices) {
+TEST(GenParametricSurf, SpherePolesStayRowsOfVerticesAsInNome3) {
   Generated g = run("genparametricsurf",
                     param([](auto p) { return sin(p[1]) * cos(p[0]); }, [](auto p) { return sin(p[1]) * sin(p[0]); },
                           [](auto p) { return cos(p[1]); }, 2 * M_PI, M_PI, 8, 4));
   kernel::TopologyReport r = topo(g.soup);
-  EXPECT_EQ(r.vertex_count, 2 + 8 * 3);
+  EXPECT_EQ(r.vertex_count, 9 * 5);
   EXPECT_EQ(r.face_count, 32);
-  EXPECT_EQ(r.euler_characteristic, 2);
-  EXPECT_TRUE(r.is_closed);
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_FALSE(r.is_closed);
+  expect_near(named(g.soup, "v_3_0"), {0, 0, 1});
+  expect_near(named(g.soup, "v_8_4"), {0, 0, -1});
 }
 
 TEST(GenParametricSurf, Errors) {
@@ -108,8 +111,8 @@ TEST(GenCartesianSurf, GraphOfAFunction) {
   EXPECT_EQ(r.vertex_count, 25);
   EXPECT_EQ(r.face_count, 16);
   EXPECT_EQ(r.euler_characteristic, 1);
-  expect_near(named(g.soup, "v4_2"), {1, 0, 1});
-  expect_near(named(g.soup, "v2_0"), {0, -1, -1});
+  expect_near(named(g.soup, "v_4_2"), {1, 0, 1});
+  expect_near(named(g.soup, "v_2_0"), {0, -1, -1});
   a.functions["func"] = partial([](auto) { return 0.0; }, [](auto p) { return p[0] > 0.5; }, "division by zero: 1 / 0");
   EXPECT_EQ(run_error("gencartesiansurf", a).argument, "func");
 }

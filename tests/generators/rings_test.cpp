@@ -150,63 +150,6 @@ TEST(Circle, Nome2VerticesAtEqualAngles) {
   expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Circle, "bc3")), {0, -2, 0});
 }
 
-kernel::TopologyReport mobius(double twists, int n = 10) {
-  Generated g = run("mobiusstrip",
-                    numbers({{"radius", 1}, {"num_twists", twists}, {"num_cuts", 0}, {"n", double(n)}}, "nome3"));
-  EXPECT_EQ(g.soup.vertex_count(), 2 * n);
-  return topo(g.soup);
-}
-
-TEST(MobiusStrip, OneHalfTwistIsNonOrientableWithOneBorder) {
-  kernel::TopologyReport r = mobius(1);
-  ASSERT_EQ(r.components.size(), 1u);
-  EXPECT_EQ(r.vertex_count, 20);
-  EXPECT_EQ(r.edge_count, 30);
-  EXPECT_EQ(r.face_count, 10);
-  EXPECT_EQ(r.euler_characteristic, 0);
-  EXPECT_FALSE(r.is_orientable);
-  EXPECT_EQ(r.border_loop_count, 1);
-  EXPECT_EQ(r.components[0].genus, 1);
-}
-
-TEST(MobiusStrip, EvenTwistsAreOrientableBands) {
-  kernel::TopologyReport two = mobius(2);
-  EXPECT_TRUE(two.is_orientable);
-  EXPECT_EQ(two.border_loop_count, 2);
-  EXPECT_EQ(two.euler_characteristic, 0);
-  kernel::TopologyReport zero = mobius(0, 3);
-  EXPECT_TRUE(zero.is_orientable);
-  EXPECT_EQ(zero.border_loop_count, 2);
-  kernel::TopologyReport three = mobius(3, 5);
-  EXPECT_FALSE(three.is_orientable);
-  EXPECT_EQ(three.border_loop_count, 1);
-}
-
-TEST(MobiusStrip, SeamIsWelded) {
-  Generated g = run("mobiusstrip",
-                    numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 0}, {"n", 12}}, "nome3"));
-  // No two vertices coincide (the 360-degree cross-section is the 0-degree one).
-  for (int i = 0; i < g.soup.vertex_count(); ++i) {
-    for (int j = i + 1; j < g.soup.vertex_count(); ++j) {
-      const glm::dvec3 d = g.soup.positions[i] - g.soup.positions[j];
-      EXPECT_GT(d.x * d.x + d.y * d.y + d.z * d.z, 1e-12) << i << " " << j;
-    }
-  }
-}
-
-TEST(MobiusStrip, Errors) {
-  NamedError cuts = run_error(
-      "mobiusstrip", numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 2}, {"n", 10}}));
-  EXPECT_EQ(cuts.argument, "num_cuts");
-  EXPECT_NE(cuts.message.find("not supported yet"), std::string::npos);
-  EXPECT_EQ(run_error("mobiusstrip", numbers({{"radius", 1}, {"num_twists", 1}, {"num_cuts", 0}, {"n", 2}}))
-                .argument,
-            "n");
-  EXPECT_EQ(run_error("mobiusstrip", numbers({{"radius", 1}, {"num_twists", 0.5}, {"num_cuts", 0}, {"n", 8}}))
-                .argument,
-            "num_twists");
-}
-
 Args ribbon(std::vector<glm::dvec3> path, std::vector<std::pair<std::string, double>> nums) {
   Args a = numbers(std::move(nums));
   a.points = std::move(path);

@@ -260,16 +260,17 @@ TEST(Hyperboloid, RowsAtWholeNumbersOfZ) {
 }
 
 // NOME3's Dupin cyclide (compat.md D4): an n × n grid of triangles, extents in units of π.
-TEST(Dupin, FullCyclideIsAClosedTorus) {
+TEST(Dupin, FullCyclideIsATorusWithNome3sOneQuadHole) {
   auto args = [](double u, double v, double n) {
     return numbers({{"a", 1}, {"b", 0.98}, {"c", 0.4}, {"d", 0.5}, {"u", u}, {"v", v}, {"n", n}}, "nome3");
   };
   Generated g = run("dupin", args(2, 2, 12));
   kernel::TopologyReport r = topo(g.soup);
   EXPECT_EQ(r.vertex_count, 144);
-  EXPECT_EQ(r.face_count, 288);  // NOME3 leaves the corner cell out (286); nomec closes it
-  EXPECT_EQ(r.euler_characteristic, 0);
-  EXPECT_TRUE(r.is_closed);
+  EXPECT_EQ(r.face_count, 286);  // 2n² − 2: NOME3 leaves the corner cell (n−1, n−1) out
+  EXPECT_EQ(r.euler_characteristic, -1);
+  EXPECT_EQ(r.border_loop_count, 1);  // the hole: 4 border edges
+  EXPECT_EQ(r.edge_count, 144 + 286 + 1);
   EXPECT_TRUE(r.is_orientable);
   // v0_0 at u = v = 0: ((d (c − a) + b²) / (a − c), 0, 0).
   expect_near(named(g.soup, "v0_0"), {(0.5 * (0.4 - 1) + 0.98 * 0.98) / (1 - 0.4), 0, 0});
