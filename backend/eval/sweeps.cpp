@@ -14,9 +14,11 @@
 // by point between the cross-sections of the controlpoints before and after it (F4). A
 // `morphvisualizer` shows one of those rings as a line strip. Sweep vertices are named as
 // NOME3 named them, `v{k}_{i}` for ring k (from 1) and cross-section point i; NOME3 repeats
-// a closed cross-section's first point and a closed path's first ring, nomec welds both.
+// a closed cross-section's first point and a closed path's first ring, nomec welds both and
+// resolves those repeated names to the welded vertices (`sweep_vertex`).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -444,6 +446,37 @@ std::optional<kernel::PolygonSoup> sweep(Context& c, ir::NodeId sweep_id, std::s
   Deps d = c.cache.recorder.close();
   c.cache.sweeps.emplace(std::move(key), Memo<std::optional<kernel::PolygonSoup>>{made, std::move(d)});
   return made;
+}
+
+int32_t sweep_vertex(Context& c, ir::NodeId sweep_id, std::string_view inst_path, const kernel::PolygonSoup& soup,
+                     std::string_view name) {
+  auto find = [&](std::string_view n) {
+    for (size_t v = 0; v < soup.names.size(); ++v) {
+      if (soup.names[v] == n) return static_cast<int32_t>(v);
+    }
+    return -1;
+  };
+  if (const int32_t v = find(name); v >= 0) return v;
+  size_t k = 0, i = 0, rings = 0, points = 0;
+  auto parse = [](std::string_view n, size_t& ring, size_t& point) {
+    return std::sscanf(std::string(n).c_str(), "v%zu_%zu", &ring, &point) == 2;
+  };
+  if (!parse(name, k, i) || name != fmt::format("v{}_{}", k, i)) return -1;
+  for (const std::string& n : soup.names) {
+    size_t a = 0, b = 0;
+    if (parse(n, a, b)) rings = std::max(rings, a), points = std::max(points, b + 1);
+  }
+  const SweepInput in = sweep_input(c, sweep_id, inst_path);
+  bool cs_closed = in.cs.is_closed;
+  for (const Key& key : in.keys) {
+    if (c.m.node(sweep_id).kind == ir::NodeKind::SweepMorph && key.section) {
+      cs_closed = key.section->is_closed;
+      break;
+    }
+  }
+  if (cs_closed && i == points) i = 0;
+  if (in.path.is_closed && rings == in.path.points.size() && k == rings + 1) k = 1;  // welded
+  return find(fmt::format("v{}_{}", k, i));
 }
 
 std::optional<Generated> morph_visualizer(Context& c, ir::NodeId vis_id, std::string_view inst_path) {

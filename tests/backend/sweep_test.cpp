@@ -253,6 +253,34 @@ TEST(Nome3Sweep, VertexNamesResolveAsInstanceDotName) {
   }
 }
 
+TEST(Nome3Sweep, NamesOfNome3sRepeatedVerticesResolveToTheWeldedOnes) {
+  // NOME3 repeats a closed cross-section's first point (`v{k}_4` for 4 points) and a closed
+  // path's first ring (ring 5 of a 4-point path); nomec welds both, and the names still
+  // resolve: s.v1_4 = s.v1_0 = (1,1,0), s.v5_1 = s.v1_1 = (0,0,1), s.v5_4 = s.v1_0.
+  auto e = eval(sweep_of("0 0 0\n1 0 0\n1 1 0\n0 1 0", "", "", true) +
+                "mesh tri face t (s.v1_4 s.v5_1 s.v3_0) endface endmesh\ninstance it tri endinstance\n"
+                "mesh tri2 face t (s.v5_4 s.v2_0 s.v3_0) endface endmesh\ninstance it2 tri2 endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 3u);
+  const kernel::PolygonSoup& t = e->meshes[1].soup;
+  ASSERT_EQ(t.face_count(), 1);
+  EXPECT_NEAR(glm::length(t.positions[t.face_vertices[0]] - glm::dvec3(1, 1, 0)), 0.0, 1e-9);
+  EXPECT_NEAR(glm::length(t.positions[t.face_vertices[1]] - glm::dvec3(0, 0, 1)), 0.0, 1e-9);
+  const kernel::PolygonSoup& t2 = e->meshes[2].soup;
+  EXPECT_NEAR(glm::length(t2.positions[t2.face_vertices[0]] - glm::dvec3(1, 1, 0)), 0.0, 1e-9);
+  // An open cross-section has no repeated point: `v1_2` of a 2-point one names nothing.
+  std::string text = "point a (1 0 0) endpoint\npoint b (-1 0 0) endpoint\npolyline seg (a b) endpolyline\n"
+                     "point p0 (0 0 0) endpoint\npoint p1 (0 0 1) endpoint\npolyline path (p0 p1) endpolyline\n"
+                     "sweep sw crosssection seg endcrosssection path path endpath endsweep\n"
+                     "instance s sw endinstance\nmesh m face f (s.v1_2 s.v2_0 s.v2_1) endface endmesh\n"
+                     "instance im m endinstance\n";
+  auto bad = std::make_unique<Evaluated>();
+  CheckOptions o;
+  o.dialect = Dialect::Nome3;
+  bad->check = check_source(bad->sources, "bad.nom", text, o, bad->diags);
+  bad->meshes = evaluate_scene(bad->check.module, bad->diags);
+  EXPECT_GT(bad->diags.error_count(), 0);
+}
+
 TEST(Nome3Sweep, ClosedPathWhoseEndsDoNotMeetKeepsTheSeamOpenWithAWarning) {
   // A twist of 90° around a closed square: the fifth ring (NOME3's repeat of the first) is
   // turned by 90° against the first, so it stays, named v5_*, and the tube is open there.
