@@ -154,6 +154,11 @@ PathPoints path_points(Context& c, ir::NodeId path, std::string_view inst_path);
 /// The sweep or sweepmorph of node `sweep` for one instance path (memoized); nullopt after
 /// an error.
 std::optional<kernel::PolygonSoup> sweep(Context& c, ir::NodeId sweep, std::string_view inst_path);
+/// The vertex of `soup` (the sweep's) that NOME3 name `name` denotes, or -1: `v{k}_{i}`, and
+/// NOME3's repeated names that nomec welds — `v{k}_{n}` of a closed n-point cross-section is
+/// `v{k}_0`, and ring K+1 of a closed K-ring path is ring 1.
+int32_t sweep_vertex(Context& c, ir::NodeId sweep, std::string_view inst_path, const kernel::PolygonSoup& soup,
+                     std::string_view name);
 /// The cross-section a morphvisualizer shows, as a line strip `v{index}_{i}` placed on its
 /// ring of the sweepmorph; nullopt after an error.
 std::optional<Generated> morph_visualizer(Context& c, ir::NodeId visualizer, std::string_view inst_path);

@@ -168,9 +168,7 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
     case ir::NodeKind::Sweep:
     case ir::NodeKind::SweepMorph:
       if (std::optional<kernel::PolygonSoup> sw = sweep(c, target, inst_path)) {
-        for (size_t v = 0; v < sw->names.size(); ++v) {
-          if (sw->names[v] == ref.vertex) p = sw->positions[v];
-        }
+        if (const int32_t v = sweep_vertex(c, target, inst_path, *sw, ref.vertex); v >= 0) p = sw->positions[v];
       }
       break;
     case ir::NodeKind::MorphVisualizer:
