@@ -98,14 +98,14 @@ class Rules {
     return span(arg, v ? std::optional<double>(*v) : std::nullopt);
   }
 
-  /// A latitude within [-90, 90] degrees.
+  /// A latitude within [-90, 90] whole degrees (NOME3 cut off the fraction).
   template <typename E>
   void latitude(E arg) {
     const double* v = get(arg);
     if (v == nullptr || problem || !finite(arg, *v)) return;
-    if (*v < -90.0 - 1e-9 || *v > 90.0 + 1e-9) {
+    if (std::trunc(*v) < -90.0 || std::trunc(*v) > 90.0) {
       report(arg, q(arg) + " is a latitude and must be within [-90, 90] degrees, got " + format_argument(*v),
-             "-90 is the south pole, 90 the north pole");
+             "-90 is the north pole (the top row), 90 the south pole, as in NOME3");
     }
   }
 

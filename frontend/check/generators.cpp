@@ -14,9 +14,16 @@ namespace {
 
 bool is_counted(ir::ArgType t) { return t == ir::ArgType::Count || t == ir::ArgType::Whole; }
 
-// A count written as a plain number in a NOME 2016 / NOME2 file, which the original read
-// with `stoi` (truncating) where it rounded an `{expr …}` count (compat.md D7).
-bool is_truncated_count(const Context& c, const ast::Ast& a, ast::ExprId e) {
+// A count the original converted to a whole number by cutting off its fraction: in a
+// NOME 2016 / NOME2 file one written as a plain number (`stoi`; an `{expr …}` count was
+// rounded, compat.md D7); in a NOME3 file every count (`static_cast<int>`,
+// generators-original.md §1). Only a value that is not whole (or not known now) is marked.
+bool is_truncated_count(Context& c, const ast::Ast& a, ast::ExprId e, ir::ExprId lowered, ir::ArgType type) {
+  if (c.dialect() == Dialect::Nome3) {
+    if (type != ir::ArgType::Count) return false;
+    ir::EvalResult v = ir::evaluate(c.module(), lowered);
+    return !v.ok || v.value != std::trunc(v.value);
+  }
   if (!is_nome_family(c.dialect())) return false;
   const ast::Expr* x = &a.expr(e);
   if (x->kind == ast::ExprKind::Unary && !x->in_braces) x = &a.expr(x->lhs);
@@ -32,8 +39,10 @@ void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what,
     c.diags().emit(DiagKind::NonIntegerCount, r,
                    fmt::format("`{}` is a count but has the value {}; it will be truncated to {}{}", what, v.value, t,
                                t != std::round(v.value) ? fmt::format(", not rounded to {}", std::round(v.value)) : ""))
-        .note(SourceRange{}, "NOME 2016 and NOME2 read a count written as a number by cutting off its fraction, and "
-                             "rounded only a count given as `{expr …}`");
+        .note(SourceRange{}, c.dialect() == Dialect::Nome3
+                                 ? "NOME3 converted every count to a whole number by cutting off its fraction"
+                                 : "NOME 2016 and NOME2 read a count written as a number by cutting off its fraction, "
+                                   "and rounded only a count given as `{expr …}`");
     return;
   }
   c.diags().emit(DiagKind::NonIntegerCount, r,
@@ -148,7 +157,7 @@ struct GenReader {
       const std::string_view name = sig.names[i];
       ir::GenArgBinding b;
       if (arg != ir::kNoArg && is_counted(info.args[arg].type)) {
-        b.is_truncated = is_truncated_count(c, a, values[i]);
+        b.is_truncated = is_truncated_count(c, a, values[i], exprs[0], info.args[arg].type);
         check_count(c, exprs[0], r, name, b.is_truncated);
       }
       b.arg = arg;
@@ -316,7 +325,8 @@ struct GenReader {
         b.value = v.operand;
         if (v.operand.is_valid() && is_counted(arg.type)) {
           const ir::Operand& o = c.module().operand(v.operand);
-          b.is_truncated = v.value_expr.is_valid() && is_truncated_count(c, a, v.value_expr);
+          b.is_truncated = v.value_expr.is_valid() && !o.exprs.empty() &&
+                           is_truncated_count(c, a, v.value_expr, o.exprs[0], arg.type);
           if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name, b.is_truncated);
         }
         break;
