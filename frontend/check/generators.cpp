@@ -334,6 +334,24 @@ struct GenReader {
     bindings.push_back(b);
   }
 
+  // A partial torus with a full tube: NOME3 closed each θ segment with a quad from row
+  // phi_segs back to row 0, which lie on each other (docs/generators.md, differences).
+  void note_dropped_faces(const std::vector<std::optional<double>>& known) {
+    if (info.kind != ir::GenKind::Torus) return;
+    using A = ir::gen_arg::Torus;
+    const std::optional<double> tmax = known[ir::arg_index(A::theta_max)], pmin = known[ir::arg_index(A::phi_min)],
+                                pmax = known[ir::arg_index(A::phi_max)], ts = known[ir::arg_index(A::theta_segs)];
+    if (!tmax || !pmin || !pmax || !ts || *tmax == 360.0 || std::fabs(*pmax - *pmin - 360.0) > 1e-9) return;
+    const long n = std::lround(*ts);
+    c.diags()
+        .emit(DiagKind::DegenerateFacesDropped, s.open_kw,
+              fmt::format("NOME3 gave this torus {} more faces of zero area, one per θ segment, joining its last ring "
+                          "around the tube to the first one it lies on; nomec leaves them out",
+                          n))
+        .note(SourceRange{}, "the tube is the same; only the face count differs from NOME3's (docs/generators.md, "
+                             "\"Differences from the original\")");
+  }
+
   // The catalogue's domain rules on the values known now, with the message `--emit` gives.
   void check_domain() {
     const ir::Module& m = c.module();
@@ -346,7 +364,10 @@ struct GenReader {
       if (v.ok) known[b.arg] = b.is_truncated ? std::trunc(v.value) : v.value;
     }
     std::optional<ir::ArgProblem> problem = ir::check_arguments(info.kind, c.dialect(), known);
-    if (!problem) return;
+    if (!problem) {
+      note_dropped_faces(known);
+      return;
+    }
     SourceRange at = s.open_kw;
     for (const ir::GenArgBinding& b : bindings) {
       if (b.arg == problem->arg && b.range.is_valid()) at = b.range;
