@@ -10,7 +10,8 @@ void fail(ir::ArgIndex arg, std::string message) { throw Failure{GeneratorError{
 
 int ArgReader::as_count(ir::ArgIndex arg, const std::string& n, double v, int min) {
   // Counts are rounded to the nearest whole number (the checker's `NonIntegerCount`
-  // warning says so).
+  // warning says so); where the original truncated (NOME3, a NOME 2016 literal) the
+  // backend has already cut the fraction off (`GenArgBinding::is_truncated`).
   if (std::round(v) < min) fail(arg, "`" + n + "` must be at least " + std::to_string(min) + ", got " + fmt_number(v));
   if (std::round(v) > kMaxSegments) {
     fail(arg, "`" + n + "` must be at most " + std::to_string(kMaxSegments) + ", got " + fmt_number(v));

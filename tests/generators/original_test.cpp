@@ -93,6 +93,56 @@ std::string nm(const char* fmt, int a, int b) {
   return buf;
 }
 
+std::string nm1(const char* prefix, int i) { return prefix + std::to_string(i); }
+
+// ---- funnel, tunnel, circle (§1) ----
+
+// bc_i at radius ro, z = 0; hc_i at ro·(1 + ratio), z = h; lc_i at z = −h (tunnel); angle
+// 360°·i/n. Faces (bc_i bc_{i+1} hc_{i+1} hc_i) and (lc_i lc_{i+1} bc_{i+1} bc_i).
+Original rings(int n, double ro, double ratio, double h, bool tunnel) {
+  Original o;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    o.at[nm1("bc", i)] = {ro * std::cos(a), ro * std::sin(a), 0};
+    o.at[nm1("hc", i)] = {ro * (1 + ratio) * std::cos(a), ro * (1 + ratio) * std::sin(a), h};
+    if (tunnel) o.at[nm1("lc", i)] = {ro * (1 + ratio) * std::cos(a), ro * (1 + ratio) * std::sin(a), -h};
+  }
+  for (int i = 0; i < n; ++i) {
+    const int k = (i + 1) % n;
+    o.faces.push_back({nm1("bc", i), nm1("bc", k), nm1("hc", k), nm1("hc", i)});
+    if (tunnel) o.faces.push_back({nm1("lc", i), nm1("lc", k), nm1("bc", k), nm1("bc", i)});
+  }
+  return o;
+}
+
+TEST(OriginalRings, FunnelAndTunnelInEveryDialectWithNome3Aliases) {
+  for (const char* d : {"nome", "nome2", "nome3", "slide"}) {
+    Args f = numbers({{"n", 5}, {"ro", 2}, {"ratio", 0.5}, {"h", 1.5}}, d);
+    expect_original(run("funnel", f), rings(5, 2, 0.5, 1.5, false));
+    Args t = numbers({{"n", 4}, {"ro", 1}, {"ratio", -0.25}, {"h", 2}}, d);
+    const Generated g = run("tunnel", t);
+    expect_original(g, rings(4, 1, -0.25, 2, true));
+    // NOME3's names: v1_ the top ring, v2_ the middle (base) ring, v3_ the lower ring.
+    expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Tunnel, "v1_1")), {0, 0.75, 2});
+    expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Tunnel, "v2_2")), {-1, 0, 0});
+    expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Tunnel, "v3_3")), {0, -0.75, -2});
+  }
+}
+
+TEST(OriginalRings, CircleVerticesAndTheirNome2Names) {
+  for (const char* d : {"nome2", "nome3", "slide"}) {
+    Generated g = run("circle", numbers({{"radius", 3}, {"segs", 6}}, d));
+    EXPECT_EQ(g.soup.face_count(), 0);
+    ASSERT_EQ(g.curves.size(), 1u);
+    EXPECT_TRUE(g.curves[0].is_closed);
+    for (int i = 0; i < 6; ++i) {
+      const glm::dvec3 want(3 * std::cos(M_PI * i / 3), 3 * std::sin(M_PI * i / 3), 0);
+      expect_near(named(g.soup, nm1("v", i)), want);
+      expect_near(named(g.soup, ir::canonical_vertex_name(ir::GenKind::Circle, nm1("bc", i))), want);
+    }
+  }
+}
+
 // ---- torus (§2) ----
 
 Original torus(double R, double r, double tmax, double pmin, double pmax, int ts, int ps) {
