@@ -310,7 +310,13 @@ void quadric_rules(GenKind kind, Rules& r) {
       std::optional<bool> wrap_j;
       if (lo != nullptr && hi != nullptr) wrap_j = r.span(A::phi_max, *hi - *lo);
       if (wrap_i) r.count(A::theta_segs, *wrap_i ? 3 : 1, *wrap_i ? " around a full turn" : "");
-      if (wrap_j) r.count(A::phi_segs, *wrap_j ? 3 : 1, *wrap_j ? " around a full turn" : "");
+      // A partial tube on a partial turn is closed by a quad back to row 0 (NOME3's), which
+      // needs two segments around the tube.
+      if (wrap_j && *wrap_j) {
+        r.count(A::phi_segs, 3, " around a full turn");
+      } else if (wrap_j && wrap_i) {
+        r.count(A::phi_segs, *wrap_i ? 1 : 2, *wrap_i ? "" : " (the partial tube is closed along its chord)");
+      }
       return;
     }
     case GenKind::Torusknot: {
