@@ -334,9 +334,24 @@ struct GenReader {
     bindings.push_back(b);
   }
 
+  // NOME3's sphere and ellipsoid cut their angles to whole degrees (`(int)`, Sphere.cpp:28-30).
+  void note_truncated_angles(const std::vector<std::optional<double>>& known) {
+    for (const ir::GenArgBinding& b : bindings) {
+      if (b.arg == ir::kNoArg || info.args[b.arg].type != ir::ArgType::Angle || !known[b.arg]) continue;
+      const double v = *known[b.arg];
+      if (v == std::trunc(v)) continue;
+      c.diags()
+          .emit(DiagKind::TruncatedAngle, b.range,
+                fmt::format("`{}` has the value {}; as in NOME3 it is cut to {} degrees", info.display_name(b.arg, c.dialect()),
+                            v, std::trunc(v)))
+          .note(SourceRange{}, "NOME3's sphere and ellipsoid take their angles in whole degrees");
+    }
+  }
+
   // A partial torus with a full tube: NOME3 closed each θ segment with a quad from row
   // phi_segs back to row 0, which lie on each other (docs/generators.md, differences).
   void note_dropped_faces(const std::vector<std::optional<double>>& known) {
+    if (info.kind == ir::GenKind::Sphere || info.kind == ir::GenKind::Ellipsoid) note_truncated_angles(known);
     if (info.kind != ir::GenKind::Torus) return;
     using A = ir::gen_arg::Torus;
     const std::optional<double> tmax = known[ir::arg_index(A::theta_max)], pmin = known[ir::arg_index(A::phi_min)],
