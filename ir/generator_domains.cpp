@@ -111,14 +111,14 @@ class Rules {
     return span(arg, v ? std::optional<double>(*v) : std::nullopt);
   }
 
-  /// A latitude within [-90, 90] degrees.
+  /// A latitude within [-90, 90] whole degrees (NOME3 cut off the fraction).
   template <typename E>
   void latitude(E arg) {
     const double* v = get(arg);
     if (v == nullptr || problem || !finite(arg, *v)) return;
-    if (*v < -90.0 - 1e-9 || *v > 90.0 + 1e-9) {
+    if (std::trunc(*v) < -90.0 || std::trunc(*v) > 90.0) {
       report(arg, q(arg) + " is a latitude and must be within [-90, 90] degrees, got " + format_argument(*v),
-             "-90 is the south pole, 90 the north pole");
+             "-90 is the north pole (the top row), 90 the south pole, as in NOME3");
     }
   }
 
@@ -324,7 +324,13 @@ void quadric_rules(GenKind kind, Rules& r) {
       std::optional<bool> wrap_j;
       if (lo != nullptr && hi != nullptr) wrap_j = r.span(A::phi_max, *hi - *lo);
       if (wrap_i) r.count(A::theta_segs, *wrap_i ? 3 : 1, *wrap_i ? " around a full turn" : "");
-      if (wrap_j) r.count(A::phi_segs, *wrap_j ? 3 : 1, *wrap_j ? " around a full turn" : "");
+      // A partial tube on a partial turn is closed by a quad back to row 0 (NOME3's), which
+      // needs two segments around the tube.
+      if (wrap_j && *wrap_j) {
+        r.count(A::phi_segs, 3, " around a full turn");
+      } else if (wrap_j && wrap_i) {
+        r.count(A::phi_segs, *wrap_i ? 1 : 2, *wrap_i ? "" : " (the partial tube is closed along its chord)");
+      }
       return;
     }
     case GenKind::Torusknot: {

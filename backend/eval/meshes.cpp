@@ -163,6 +163,9 @@ std::optional<glm::dvec3> ref_position(Context& c, const ir::VertexRef& ref, std
           break;
         }
       }
+      for (size_t v = 0; !p && v < g->aliases.size(); ++v) {
+        if (g->aliases[v].first == wanted) p = g->aliases[v].second;
+      }
       break;
     }
     case ir::NodeKind::Sweep:

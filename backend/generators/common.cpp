@@ -1,6 +1,7 @@
 // Argument validation and the quad-grid builder shared by the generators.
 #include "backend/generators/common.h"
 
+#include <algorithm>
 #include <string>
 
 namespace nomec::backend::detail {
@@ -9,7 +10,8 @@ void fail(ir::ArgIndex arg, std::string message) { throw Failure{GeneratorError{
 
 int ArgReader::as_count(ir::ArgIndex arg, const std::string& n, double v, int min) {
   // Counts are rounded to the nearest whole number (the checker's `NonIntegerCount`
-  // warning says so).
+  // warning says so); where the original truncated (NOME3, a NOME 2016 literal) the
+  // backend has already cut the fraction off (`GenArgBinding::is_truncated`).
   if (std::round(v) < min) fail(arg, "`" + n + "` must be at least " + std::to_string(min) + ", got " + fmt_number(v));
   if (std::round(v) > kMaxSegments) {
     fail(arg, "`" + n + "` must be at most " + std::to_string(kMaxSegments) + ", got " + fmt_number(v));
@@ -27,6 +29,46 @@ void check_size(long long vertices, ir::ArgIndex arg) {
   if (vertices > kMaxVertices) {
     fail(arg, "too many vertices (" + std::to_string(vertices) + "; at most " + std::to_string(kMaxVertices) + ")");
   }
+}
+
+int32_t OriginalMesh::add(const glm::dvec3& position, std::string name) {
+  positions_.push_back(position);
+  names_.push_back(std::move(name));
+  onto_.push_back(-1);
+  return static_cast<int32_t>(positions_.size() - 1);
+}
+
+Generated OriginalMesh::finish() const {
+  const size_t n = positions_.size();
+  auto root = [&](int32_t v) {
+    while (onto_[v] >= 0) v = onto_[v];
+    return v;
+  };
+  std::vector<std::vector<int32_t>> faces;
+  std::vector<bool> used(n, false);
+  for (const std::vector<int32_t>& f : faces_) {
+    std::vector<int32_t> out;
+    for (int32_t v : f) {
+      const int32_t r = root(v);
+      if (std::find(out.begin(), out.end(), r) == out.end()) out.push_back(r);
+    }
+    if (out.size() < 3) continue;
+    for (int32_t v : out) used[v] = true;
+    faces.push_back(std::move(out));
+  }
+  Generated g;
+  std::vector<int32_t> index(n, -1);
+  for (size_t v = 0; v < n; ++v) {
+    if (onto_[v] < 0 && used[v]) index[v] = g.soup.add_vertex(positions_[v], names_[v]);
+  }
+  for (size_t v = 0; v < n; ++v) {
+    if (index[v] < 0) g.aliases.emplace_back(names_[v], positions_[v]);
+  }
+  for (std::vector<int32_t>& f : faces) {
+    for (int32_t& v : f) v = index[v];
+    g.soup.add_face(f);
+  }
+  return g;
 }
 
 int32_t add_grid(kernel::PolygonSoup& soup, int segs_i, int segs_j, bool wrap_i, bool wrap_j,

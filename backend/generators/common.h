@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "backend/generators/generators.h"
 
@@ -110,6 +111,27 @@ bool full_turn(double span_degrees, ir::ArgIndex arg, const std::string& name);
 /// (i,j) (i+1,j) (i+1,j+1) (i,j+1), reversed if `flip`. Returns the index of vertex (0,0).
 int32_t add_grid(kernel::PolygonSoup& soup, int segs_i, int segs_j, bool wrap_i, bool wrap_j,
                  const std::function<glm::dvec3(int, int)>& pos, bool flip = false);
+
+/// A mesh as the original tool built it (its vertices, names and faces, coincident seam
+/// copies and pole rings included), then cleaned: `weld(v, onto)` marks vertex v as a
+/// copy of `onto` (an earlier vertex at the same position). `finish` keeps the other
+/// vertices with their positions and names, turns a welded vertex's name into an alias,
+/// drops repeated corners from the faces and the faces left with fewer than 3 corners, and
+/// drops unused vertices (keeping their names as aliases).
+class OriginalMesh {
+ public:
+  int32_t add(const glm::dvec3& position, std::string name);
+  void face(std::vector<int32_t> corners) { faces_.push_back(std::move(corners)); }
+  void weld(int32_t v, int32_t onto) { onto_[v] = onto; }
+  const glm::dvec3& position(int32_t v) const { return positions_[v]; }
+  Generated finish() const;
+
+ private:
+  std::vector<glm::dvec3> positions_;
+  std::vector<std::string> names_;
+  std::vector<int32_t> onto_;
+  std::vector<std::vector<int32_t>> faces_;
+};
 
 /// Fails if a grid of this size would exceed kMaxVertices.
 void check_size(long long vertices, ir::ArgIndex arg);

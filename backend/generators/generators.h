@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "ir/generator_catalogue.h"
@@ -29,6 +30,10 @@ struct Generated {
     bool is_closed = false;
   };
   std::vector<Curve> curves;
+  /// Names the original gave that name no vertex of `soup`: vertices nomec welded onto
+  /// another (a seam copy, a pole ring) or did not make (a sphere's unused `center`).
+  /// `inst.NAME` resolves to the position.
+  std::vector<std::pair<std::string, glm::dvec3>> aliases;
 };
 
 /// A function argument (`funcX [cos(u)*v]`): its value at the variables' values, in the

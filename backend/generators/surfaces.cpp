@@ -12,65 +12,80 @@ namespace nomec::backend::detail {
 namespace {
 
 
-// Sphere-like surface of revolution: equatorial radius `ra`, polar radius `rb`.
-// theta (azimuth) in [0, theta_max], phi (latitude) in [phi_min, phi_max] within
-// [-90, 90] degrees.
+// NOME3's sphere and ellipsoid (generators-original.md §4), in every dialect: the angles
+// cut to whole degrees; a grid `v{j}_{i}` (NOME3's `v{j}-{i}`) of θ_j = j·θmax/θsegs and
+// ψ_i = (φmin + 90) + i·(φmax − φmin)/φsegs at (eq·sin ψ cos θ, eq·sin ψ sin θ,
+// polar·cos ψ), so row 0 is the top (φ = −90 is the north pole); `top`, `bottom` and
+// `center` on the axis. Side quads, a lid fan on each end row and, below 360, two slice
+// fans to `center`: a closed solid. The 360 seam column and pole rows are welded (their
+// names stay aliases), which drops NOME3's degenerate faces there.
 template <typename A>
-Generated spheroid(const ArgReader& a, double ra, double rb) {
-  const double theta_max = a.number(A::theta_max);
+Generated spheroid(const ArgReader& a, double polar, double eq) {
+  const double theta_max = std::trunc(a.number(A::theta_max));
   const bool wrap = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
-  const double phi_min = a.number(A::phi_min);
-  const double phi_max = a.number(A::phi_max);
-  if (phi_min < -90.0 - 1e-9 || phi_min > 90.0 + 1e-9) {
+  const double phi_min = std::trunc(a.number(A::phi_min));
+  const double phi_max = std::trunc(a.number(A::phi_max));
+  if (phi_min < -90.0 || phi_min > 90.0) {
     fail(ir::arg_index(A::phi_min), "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_min));
   }
-  if (phi_max > 90.0 + 1e-9 || phi_max < -90.0 - 1e-9) {
+  if (phi_max > 90.0 || phi_max < -90.0) {
     fail(ir::arg_index(A::phi_max), "`phi_max` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_max));
   }
   if (!(phi_max > phi_min)) fail(ir::arg_index(A::phi_max), "`phi_max` must be greater than `phi_min`");
-  const bool south = phi_min <= -90.0 + 1e-9;
-  const bool north = phi_max >= 90.0 - 1e-9;
+  const bool north = phi_min == -90.0;
+  const bool south = phi_max == 90.0;
   const int ts = a.count(A::theta_segs, wrap ? 3 : 1);
   const int ps = a.count(A::phi_segs, south && north ? 2 : 1);
-  const int ni = wrap ? ts : ts + 1;
-  check_size(static_cast<long long>(ni) * (ps + 1), ir::arg_index(A::phi_segs));
+  check_size(static_cast<long long>(ts + 1) * (ps + 1), ir::arg_index(A::phi_segs));
 
-  Generated g;
-  std::vector<int32_t> row_start(ps + 1);
-  std::vector<bool> is_pole(ps + 1, false);
-  for (int j = 0; j <= ps; ++j) {
-    const double phi = j == ps ? radians(phi_max) : radians(phi_min + (phi_max - phi_min) * j / ps);
-    row_start[j] = g.soup.vertex_count();
-    const bool pole = (j == 0 && south) || (j == ps && north);
-    is_pole[j] = pole;
-    if (pole) {
-      g.soup.add_vertex({0.0, 0.0, j == 0 ? -rb : rb}, "v0_" + std::to_string(j));
-      continue;
-    }
-    for (int i = 0; i < ni; ++i) {
-      const double th = radians(theta_max * i / ts);
-      g.soup.add_vertex({ra * std::cos(phi) * std::cos(th), ra * std::cos(phi) * std::sin(th),
-                         rb * std::sin(phi)},
-                        "v" + std::to_string(i) + "_" + std::to_string(j));
+  OriginalMesh m;
+  auto v = [&](int j, int i) { return j * (ps + 1) + i; };
+  for (int j = 0; j <= ts; ++j) {
+    const double th = radians(j * theta_max / ts);
+    for (int i = 0; i <= ps; ++i) {
+      const double psi = radians((phi_min + 90.0) + i * (phi_max - phi_min) / ps);
+      m.add({eq * std::sin(psi) * std::cos(th), eq * std::sin(psi) * std::sin(th), polar * std::cos(psi)},
+            "v" + std::to_string(j) + "_" + std::to_string(i));
     }
   }
-  auto at = [&](int i, int j) { return is_pole[j] ? row_start[j] : row_start[j] + i % ni; };
-  for (int j = 0; j < ps; ++j) {
-    for (int i = 0; i < ts; ++i) {
-      if (is_pole[j]) {
-        g.soup.add_face({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-      } else if (is_pole[j + 1]) {
-        g.soup.add_face({at(i, j), at(i + 1, j), at(i, j + 1)});
-      } else {
-        g.soup.add_face({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-      }
+  const double z_top = m.position(v(0, 0)).z;
+  const double z_bottom = m.position(v(0, ps)).z;
+  const int32_t top = m.add({0.0, 0.0, z_top}, "top");
+  const int32_t bottom = m.add({0.0, 0.0, z_bottom}, "bottom");
+  const int32_t center = m.add({0.0, 0.0, (z_top + z_bottom) / 2.0}, "center");
+  for (int j = 0; j <= ts; ++j) {
+    if (wrap && j == ts) {
+      for (int i = 0; i <= ps; ++i) m.weld(v(ts, i), v(0, i));
     }
+    if (north) m.weld(v(j, 0), top);
+    if (south) m.weld(v(j, ps), bottom);
   }
-  return g;
+  for (int k = 0; k < ts; ++k) {
+    for (int c = 0; c < ps; ++c) m.face({v(k + 1, c + 1), v(k + 1, c), v(k, c), v(k, c + 1)});
+    m.face({v(k, 0), v(k + 1, 0), top});
+    m.face({bottom, v(k + 1, ps), v(k, ps)});
+  }
+  if (!wrap) {
+    for (int i = 0; i < ps; ++i) {
+      m.face({v(0, i + 1), v(0, i), center});
+      m.face({center, v(ts, i), v(ts, i + 1)});
+    }
+    m.face({top, center, v(0, 0)});
+    m.face({v(0, ps), center, bottom});
+    m.face({v(ts, 0), center, top});
+    m.face({bottom, center, v(ts, ps)});
+  }
+  return m.finish();
 }
 
 }  // namespace
 
+// NOME3's torus (generators-original.md §2), in every dialect: vertex `v{i+1}_{j}` at
+// ((R + r cos φ_j) cos θ_i, (R + r cos φ_j) sin θ_i, −r sin φ_j) for i = 0…θsegs,
+// j = 0…φsegs. At θmax = 360 the quads wrap around the axis; below, each θ segment has
+// φsegs + 1 quads, the last joining row φsegs back to row 0 (it closes a partial tube along
+// the chord). Full-turn seams are welded (names kept as aliases), which drops the degenerate
+// closing quads NOME3 made for a full tube.
 Generated make_Torus(const ArgReader& a) {
   using A = ir::gen_arg::Torus;
   const double R = a.positive(A::major_radius);
@@ -81,16 +96,38 @@ Generated make_Torus(const ArgReader& a) {
   const bool wrap_i = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
   const bool wrap_j = full_turn(phi_max - phi_min, ir::arg_index(A::phi_max), a.name(A::phi_max));
   const int ts = a.count(A::theta_segs, wrap_i ? 3 : 1);
-  const int ps = a.count(A::phi_segs, wrap_j ? 3 : 1);
+  // A partial tube on a partial turn is closed by a quad back to row 0: one segment
+  // would put that quad on the back of the only other one.
+  const int ps = a.count(A::phi_segs, wrap_j ? 3 : (wrap_i ? 1 : 2));
   check_size(static_cast<long long>(ts + 1) * (ps + 1), ir::arg_index(A::theta_segs));
-  Generated g;
-  add_grid(g.soup, ts, ps, wrap_i, wrap_j, [&](int i, int j) {
-    const double th = radians(theta_max * i / ts);
-    const double ph = radians(phi_min + (phi_max - phi_min) * j / ps);
-    const double rr = R + r * std::cos(ph);
-    return glm::dvec3(rr * std::cos(th), rr * std::sin(th), r * std::sin(ph));
-  });
-  return g;
+  OriginalMesh m;
+  auto v = [&](int i, int j) { return i * (ps + 1) + j; };
+  for (int i = 0; i <= ts; ++i) {
+    const double th = radians(i * theta_max / ts);
+    for (int j = 0; j <= ps; ++j) {
+      const double ph = radians(phi_min + j * (phi_max - phi_min) / ps);
+      const double rr = R + r * std::cos(ph);
+      m.add({rr * std::cos(th), rr * std::sin(th), -r * std::sin(ph)}, "v" + std::to_string(i + 1) + "_" + std::to_string(j));
+    }
+  }
+  for (int i = 0; i <= ts; ++i) {
+    for (int j = 0; j <= ps; ++j) {
+      if (wrap_i && i == ts) m.weld(v(i, j), v(0, j));
+      if (wrap_j && j == ps) m.weld(v(i, j), v(i, 0));
+    }
+  }
+  for (int k = 0; k < ts; ++k) {
+    if (wrap_i) {
+      const int k1 = (k + 1) % ts;
+      for (int j = 0; j < ps; ++j) m.face({v(k1, j + 1), v(k1, j), v(k, j), v(k, j + 1)});
+    } else {
+      for (int j = 0; j <= ps; ++j) {
+        const int next = (j + 1) % (ps + 1);
+        m.face({v(k + 1, next), v(k + 1, j), v(k, j), v(k, next)});
+      }
+    }
+  }
+  return m.finish();
 }
 
 Generated make_Sphere(const ArgReader& a) {
@@ -99,9 +136,10 @@ Generated make_Sphere(const ArgReader& a) {
 }
 
 Generated make_Ellipsoid(const ArgReader& a) {
-  const double ra = a.positive(ir::gen_arg::Ellipsoid::a);
-  const double rb = a.positive(ir::gen_arg::Ellipsoid::b);
-  return spheroid<ir::gen_arg::Ellipsoid>(a, ra, rb);
+  // NOME3's `rx`, the first argument, is the polar semi-axis (Ellipsoid.cpp:10-16,41-46).
+  const double polar = a.positive(ir::gen_arg::Ellipsoid::a);
+  const double eq = a.positive(ir::gen_arg::Ellipsoid::b);
+  return spheroid<ir::gen_arg::Ellipsoid>(a, polar, eq);
 }
 
 // NOME3's cylinder (compat.md D1, generators-original.md §5): two rings of theta_segs + 1
@@ -290,6 +328,8 @@ Generated make_Torusknot(const ArgReader& a) {
     if (std::abs(v) > 1000) fail(ir::arg_index(arg), "`" + a.name(arg) + "` must be at most 1000 in absolute value");
     return static_cast<double>(std::lround(v));
   };
+  // NOME3 (generators-original.md §3): the first argument p turns around the tube, the
+  // second q around the z axis.
   const double p = whole_nonzero(A::symm);
   const double q = whole_nonzero(A::turns);
   const double R = a.positive(A::major_radius);
@@ -298,30 +338,31 @@ Generated make_Torusknot(const ArgReader& a) {
   const int cs = a.count(A::circ_segs, 3);
   const int ss = a.count(A::sweep_segs, 3);
   check_size(static_cast<long long>(cs) * ss, ir::arg_index(A::sweep_segs));
-  // The knot lies on a torus (R, r); its exact normal frame is the torus normal N (which
-  // is periodic, so the tube closes without a twist seam) and B = T x N.
-  std::vector<glm::dvec3> centre(ss), nrm(ss), bin(ss);
+  // NOME3's frame: N is the centre's position vector with its part along the tangent T
+  // removed, B = T × N. NOME3 took T and N from a step of 1e-4 in t; the exact tangent is
+  // its limit (docs/generators.md, differences from the original).
+  auto norm = [](glm::dvec3 v) { return v / std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); };
+  OriginalMesh m;
   for (int i = 0; i < ss; ++i) {
     const double t = 2.0 * kPi * i / ss;
-    const double rr = R + r * std::cos(q * t);
-    centre[i] = {rr * std::cos(p * t), rr * std::sin(p * t), r * std::sin(q * t)};
-    const glm::dvec3 d(-r * q * std::sin(q * t) * std::cos(p * t) - rr * p * std::sin(p * t),
-                       -r * q * std::sin(q * t) * std::sin(p * t) + rr * p * std::cos(p * t),
-                       r * q * std::cos(q * t));
-    const glm::dvec3 tan = d / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-    nrm[i] = {std::cos(q * t) * std::cos(p * t), std::cos(q * t) * std::sin(p * t), std::sin(q * t)};
-    bin[i] = {tan.y * nrm[i].z - tan.z * nrm[i].y, tan.z * nrm[i].x - tan.x * nrm[i].z,
-              tan.x * nrm[i].y - tan.y * nrm[i].x};
+    const double rr = R + r * std::cos(p * t);
+    const glm::dvec3 c0(rr * std::cos(q * t), rr * std::sin(q * t), r * std::sin(p * t));
+    const glm::dvec3 tan = norm({-r * p * std::sin(p * t) * std::cos(q * t) - rr * q * std::sin(q * t),
+                                 -r * p * std::sin(p * t) * std::sin(q * t) + rr * q * std::cos(q * t),
+                                 r * p * std::cos(p * t)});
+    const double along = c0.x * tan.x + c0.y * tan.y + c0.z * tan.z;
+    const glm::dvec3 nrm = norm(c0 - along * tan);
+    const glm::dvec3 bin = norm({tan.y * nrm.z - tan.z * nrm.y, tan.z * nrm.x - tan.x * nrm.z, tan.x * nrm.y - tan.y * nrm.x});
+    for (int j = 0; j < cs; ++j) {
+      const double ph = 2.0 * kPi * j / cs;
+      m.add(c0 + tube * (std::cos(ph) * nrm + std::sin(ph) * bin), "v" + std::to_string(i + 1) + "_" + std::to_string(j));
+    }
   }
-  Generated g;
-  add_grid(
-      g.soup, ss, cs, true, true,
-      [&](int i, int j) {
-        const double ph = 2.0 * kPi * j / cs;
-        return centre[i] + tube * (std::cos(ph) * nrm[i] + std::sin(ph) * bin[i]);
-      },
-      /*flip=*/true);
-  return g;
+  auto v = [&](int i, int j) { return (i % ss) * cs + (j % cs); };
+  for (int k = 0; k < ss; ++k) {
+    for (int j = 0; j < cs; ++j) m.face({v(k + 1, j + 1), v(k + 1, j), v(k, j), v(k, j + 1)});
+  }
+  return m.finish();
 }
 
 }  // namespace nomec::backend::detail

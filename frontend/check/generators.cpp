@@ -14,9 +14,16 @@ namespace {
 
 bool is_counted(ir::ArgType t) { return t == ir::ArgType::Count || t == ir::ArgType::Whole; }
 
-// A count written as a plain number in a NOME 2016 / NOME2 file, which the original read
-// with `stoi` (truncating) where it rounded an `{expr …}` count (compat.md D7).
-bool is_truncated_count(const Context& c, const ast::Ast& a, ast::ExprId e) {
+// A count the original converted to a whole number by cutting off its fraction: in a
+// NOME 2016 / NOME2 file one written as a plain number (`stoi`; an `{expr …}` count was
+// rounded, compat.md D7); in a NOME3 file every count (`static_cast<int>`,
+// generators-original.md §1). Only a value that is not whole (or not known now) is marked.
+bool is_truncated_count(Context& c, const ast::Ast& a, ast::ExprId e, ir::ExprId lowered, ir::ArgType type) {
+  if (c.dialect() == Dialect::Nome3) {
+    if (type != ir::ArgType::Count) return false;
+    ir::EvalResult v = ir::evaluate(c.module(), lowered);
+    return !v.ok || v.value != std::trunc(v.value);
+  }
   if (!is_nome_family(c.dialect())) return false;
   const ast::Expr* x = &a.expr(e);
   if (x->kind == ast::ExprKind::Unary && !x->in_braces) x = &a.expr(x->lhs);
@@ -32,8 +39,10 @@ void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what,
     c.diags().emit(DiagKind::NonIntegerCount, r,
                    fmt::format("`{}` is a count but has the value {}; it will be truncated to {}{}", what, v.value, t,
                                t != std::round(v.value) ? fmt::format(", not rounded to {}", std::round(v.value)) : ""))
-        .note(SourceRange{}, "NOME 2016 and NOME2 read a count written as a number by cutting off its fraction, and "
-                             "rounded only a count given as `{expr …}`");
+        .note(SourceRange{}, c.dialect() == Dialect::Nome3
+                                 ? "NOME3 converted every count to a whole number by cutting off its fraction"
+                                 : "NOME 2016 and NOME2 read a count written as a number by cutting off its fraction, "
+                                   "and rounded only a count given as `{expr …}`");
     return;
   }
   c.diags().emit(DiagKind::NonIntegerCount, r,
@@ -148,7 +157,7 @@ struct GenReader {
       const std::string_view name = sig.names[i];
       ir::GenArgBinding b;
       if (arg != ir::kNoArg && is_counted(info.args[arg].type)) {
-        b.is_truncated = is_truncated_count(c, a, values[i]);
+        b.is_truncated = is_truncated_count(c, a, values[i], exprs[0], info.args[arg].type);
         check_count(c, exprs[0], r, name, b.is_truncated);
       }
       b.arg = arg;
@@ -316,12 +325,46 @@ struct GenReader {
         b.value = v.operand;
         if (v.operand.is_valid() && is_counted(arg.type)) {
           const ir::Operand& o = c.module().operand(v.operand);
-          b.is_truncated = v.value_expr.is_valid() && is_truncated_count(c, a, v.value_expr);
+          b.is_truncated = v.value_expr.is_valid() && !o.exprs.empty() &&
+                           is_truncated_count(c, a, v.value_expr, o.exprs[0], arg.type);
           if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name, b.is_truncated);
         }
         break;
     }
     bindings.push_back(b);
+  }
+
+  // NOME3's sphere and ellipsoid cut their angles to whole degrees (`(int)`, Sphere.cpp:28-30).
+  void note_truncated_angles(const std::vector<std::optional<double>>& known) {
+    for (const ir::GenArgBinding& b : bindings) {
+      if (b.arg == ir::kNoArg || info.args[b.arg].type != ir::ArgType::Angle || !known[b.arg]) continue;
+      const double v = *known[b.arg];
+      if (v == std::trunc(v)) continue;
+      c.diags()
+          .emit(DiagKind::TruncatedAngle, b.range,
+                fmt::format("`{}` has the value {}; as in NOME3 it is cut to {} degrees", info.display_name(b.arg, c.dialect()),
+                            v, std::trunc(v)))
+          .note(SourceRange{}, "NOME3's sphere and ellipsoid take their angles in whole degrees");
+    }
+  }
+
+  // A partial torus with a full tube: NOME3 closed each θ segment with a quad from row
+  // phi_segs back to row 0, which lie on each other (docs/generators.md, differences).
+  void note_dropped_faces(const std::vector<std::optional<double>>& known) {
+    if (info.kind == ir::GenKind::Sphere || info.kind == ir::GenKind::Ellipsoid) note_truncated_angles(known);
+    if (info.kind != ir::GenKind::Torus) return;
+    using A = ir::gen_arg::Torus;
+    const std::optional<double> tmax = known[ir::arg_index(A::theta_max)], pmin = known[ir::arg_index(A::phi_min)],
+                                pmax = known[ir::arg_index(A::phi_max)], ts = known[ir::arg_index(A::theta_segs)];
+    if (!tmax || !pmin || !pmax || !ts || *tmax == 360.0 || std::fabs(*pmax - *pmin - 360.0) > 1e-9) return;
+    const long n = std::lround(*ts);
+    c.diags()
+        .emit(DiagKind::DegenerateFacesDropped, s.open_kw,
+              fmt::format("NOME3 gave this torus {} more faces of zero area, one per θ segment, joining its last ring "
+                          "around the tube to the first one it lies on; nomec leaves them out",
+                          n))
+        .note(SourceRange{}, "the tube is the same; only the face count differs from NOME3's (docs/generators.md, "
+                             "\"Differences from the original\")");
   }
 
   // The catalogue's domain rules on the values known now, with the message `--emit` gives.
@@ -336,7 +379,10 @@ struct GenReader {
       if (v.ok) known[b.arg] = b.is_truncated ? std::trunc(v.value) : v.value;
     }
     std::optional<ir::ArgProblem> problem = ir::check_arguments(info.kind, c.dialect(), known);
-    if (!problem) return;
+    if (!problem) {
+      note_dropped_faces(known);
+      return;
+    }
     SourceRange at = s.open_kw;
     for (const ir::GenArgBinding& b : bindings) {
       if (b.arg == problem->arg && b.range.is_valid()) at = b.range;
