@@ -3,6 +3,10 @@
 // corners, the cut edges (bit e = edge e) and up to five triangles over those edges,
 // terminated by -1. Corner c is at (c&1 ^ (c>>1)&1, (c>>1)&1, (c>>2)&1) in Bourke's order
 // 0 (0,0,0), 1 (1,0,0), 2 (1,1,0), 3 (0,1,0), 4…7 the same at z = 1.
+// The values are the public-domain tables of Bourke's "Polygonising a scalar field" (1994),
+// the data of the algorithm rather than code (the same 256 + 256×16 numbers every marching
+// cubes uses; they were transcribed here from the copy in three.js's examples, MIT, and
+// spot-checked against the cases of tests/generators/original_test.cpp).
 #pragma once
 
 #include <cstdint>
