@@ -261,6 +261,16 @@ std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
 
 bool is_end_token(size_t type) { return keyword_table().close.contains(type); }
 
+// An arithmetic operator or sign token.
+bool is_operator(size_t type) {
+  switch (type) {
+    case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
+    case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
+    case NomeParser::CARET: return true;
+    default: return false;
+  }
+}
+
 // Converts ANTLR syntax errors into diagnostics, phrased in terms of NOME statements.
 class SyntaxErrorListener : public antlr4::BaseErrorListener {
  public:
@@ -419,14 +429,6 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   std::string end_ = "the end of the file";
   bool in_function_ = false;
 
-  static bool is_operator(size_t type) {
-    switch (type) {
-      case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
-      case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
-      case NomeParser::CARET: return true;
-      default: return false;
-    }
-  }
   // True when the `(` at the parser's current token has its `)` before the end.
   static bool closes_before_end(NomeParser* parser) {
     int depth = 0;
@@ -661,13 +663,7 @@ void insert_missing_open_parens(std::vector<std::unique_ptr<antlr4::Token>>& tok
     return tokens[i]->getChannel() == antlr4::Token::DEFAULT_CHANNEL && tokens[i]->getType() != antlr4::Token::EOF;
   };
   auto is_value = [](size_t t) {
-    switch (t) {
-      case NomeParser::NUMBER: case NomeParser::DOLLAR_REF: case NomeParser::TCL_ARRAY_REF:
-      case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
-      case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
-      case NomeParser::CARET: return true;
-      default: return false;
-    }
+    return t == NomeParser::NUMBER || t == NomeParser::DOLLAR_REF || t == NomeParser::TCL_ARRAY_REF || is_operator(t);
   };
   std::vector<std::pair<size_t, size_t>> inserts;  // (position in `tokens` to insert before, code point)
   int depth = 0;

@@ -8,24 +8,12 @@
 #include "backend/evaluate.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
+#include "tests/backend/evaluated.h"
 
 namespace nomec::backend {
 namespace {
 
-struct Evaluated {
-  SourceManager sources;
-  DiagnosticEngine diags;
-  CheckResult check;
-  std::vector<OutputMesh> meshes;
-};
-
-std::unique_ptr<Evaluated> eval(const std::string& text) {
-  auto e = std::make_unique<Evaluated>();
-  e->check = check_source(e->sources, "test.nome", text, CheckOptions{}, e->diags);
-  EXPECT_EQ(e->diags.error_count(), 0) << (e->diags.diagnostics().empty() ? "" : e->diags.diagnostics()[0].message);
-  e->meshes = evaluate_scene(e->check.module, e->diags);
-  return e;
-}
+std::unique_ptr<Evaluated> eval(const std::string& text) { return evaluate_text("test.nome", text); }
 
 void expect_near(const glm::dvec3& a, const glm::dvec3& b) {
   EXPECT_NEAR(a.x, b.x, 1e-9);

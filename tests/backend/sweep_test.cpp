@@ -14,26 +14,16 @@
 
 #include "backend/evaluate.h"
 #include "frontend/check/check.h"
+#include "tests/backend/evaluated.h"
 #include "kernel/topology.h"
 
 namespace nomec::backend {
 namespace {
 
-struct Evaluated {
-  SourceManager sources;
-  DiagnosticEngine diags;
-  CheckResult check;
-  std::vector<OutputMesh> meshes;
-};
-
 std::unique_ptr<Evaluated> eval(const std::string& text) {
-  auto e = std::make_unique<Evaluated>();
   CheckOptions o;
   o.dialect = Dialect::Nome3;
-  e->check = check_source(e->sources, "sweep.nom", text, o, e->diags);
-  EXPECT_EQ(e->diags.error_count(), 0) << (e->diags.diagnostics().empty() ? "" : e->diags.diagnostics()[0].message);
-  e->meshes = evaluate_scene(e->check.module, e->diags);
-  return e;
+  return evaluate_text("sweep.nom", text, o);
 }
 
 // The sweep's vertices by their NOME3 name (the part after the last dot).
