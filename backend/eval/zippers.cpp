@@ -73,6 +73,33 @@ const InstanceBorders* instance_borders(Context& c, const ir::VertexRef& ref) {
   return &it->second.value;
 }
 
+// A name the original gave to a vertex nomec welded onto another (Generated::aliases, e.g.
+// a seam copy of a sphere or a marching-cubes copy): the border vertex at its position, or
+// -1 when `wanted` is no alias of the instance's generator.
+int32_t alias_vertex(Context& c, const InstanceBorders& b, const ir::Node* tn, const std::string& wanted,
+                     const ir::VertexRef& r) {
+  if (tn == nullptr || tn->kind != ir::NodeKind::Generator) return -1;
+  const Generated* g = generated(c, b.target, b.path);
+  if (g == nullptr) return -1;
+  const bool is_alias = std::any_of(g->aliases.begin(), g->aliases.end(),
+                                    [&](const auto& a) { return a.first == wanted; });
+  if (!is_alias) return -1;
+  const std::optional<glm::dvec3> p = ref_position(c, r, b.path);  // resolves: it is an alias
+  if (!p) return -1;
+  int32_t best = -1;
+  double best_d = 0.0;
+  for (size_t i = 0; i < b.soup.positions.size(); ++i) {
+    const glm::dvec3 d = b.soup.positions[i] - *p;
+    const double dd = d.x * d.x + d.y * d.y + d.z * d.z;
+    if (best < 0 || dd < best_d) {
+      best = static_cast<int32_t>(i);
+      best_d = dd;
+    }
+  }
+  const double scale = 1.0 + std::max({std::abs(p->x), std::abs(p->y), std::abs(p->z)});
+  return best >= 0 && best_d <= (1e-9 * scale) * (1e-9 * scale) ? best : -1;
+}
+
 // One `border (A0 [A1 [Am]])` list as a chain; `is_backward` says an open path runs
 // against the direction its faces traverse the border.
 std::optional<kernel::ZipperChain> border_chain(Context& c, const ir::Node& zn, const std::string& zname,
@@ -109,6 +136,7 @@ std::optional<kernel::ZipperChain> border_chain(Context& c, const ir::Node& zn, 
         break;
       }
     }
+    if (v < 0) v = alias_vertex(c, *b, tn, wanted, r);
     if (v < 0) {
       c.diags().emit(DiagKind::GeometryFailed, zn.range,
                   fmt::format("zipper `{}`: `{}` names no vertex of instance `{}`", zname, r.text,

@@ -129,6 +129,9 @@ struct CubeWelder {
   std::unordered_map<uint64_t, std::vector<int32_t>> cells;
   std::vector<std::vector<int32_t>> made;  // sorted corners of the faces made
   std::unordered_map<uint64_t, std::vector<size_t>> made_by_hash;
+  /// NOME3's names of the copies welded onto a vertex made before them (`inst.v_k` for
+  /// every k the original numbered still resolves, to the surviving copy's position).
+  std::vector<std::pair<std::string, glm::dvec3>> aliases;
 
   static uint64_t key(int64_t x, int64_t y, int64_t z) {
     return static_cast<uint64_t>(x) * 73856093ULL ^ static_cast<uint64_t>(y) * 19349663ULL ^
@@ -145,7 +148,10 @@ struct CubeWelder {
           if (it == cells.end()) continue;
           for (int32_t w : it->second) {
             const glm::dvec3 e = soup.positions[w] - p;
-            if (std::abs(e.x) <= tol && std::abs(e.y) <= tol && std::abs(e.z) <= tol) return w;
+            if (std::abs(e.x) <= tol && std::abs(e.y) <= tol && std::abs(e.z) <= tol) {
+              aliases.emplace_back(name, soup.positions[w]);
+              return w;
+            }
           }
         }
       }
@@ -220,7 +226,8 @@ bool is_manifold(const kernel::PolygonSoup& s) {
 // cubes with inside = f ≤ 0, each cube creating its own vertices `v_{k}` (one per cut edge,
 // in edge order, numbered in order of creation) and emitting Bourke's triangles reversed,
 // so that they face towards f > 0. nomec then welds the cubes' copies of each crossing
-// (CubeWelder); the surviving vertices keep NOME3's positions and names. Where the surface
+// (CubeWelder); the surviving vertices keep NOME3's positions and names, and the names of
+// the copies welded away become aliases of the survivors. Where the surface
 // itself is singular (two sheets crossing, a cone's apex) the welded mesh is not a
 // 2-manifold, and NOME3's unwelded cubes are returned as they were.
 Generated make_Genimplicitsurf(const ArgReader& a) {
@@ -297,7 +304,12 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
     }
   }
   Generated g;
-  g.soup = is_manifold(weld.soup) ? std::move(weld.soup) : std::move(raw);
+  if (is_manifold(weld.soup)) {
+    g.soup = std::move(weld.soup);
+    g.aliases = std::move(weld.aliases);
+  } else {
+    g.soup = std::move(raw);
+  }
   return g;
 }
 

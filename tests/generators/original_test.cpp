@@ -385,6 +385,34 @@ TEST(OriginalGenImplicitSurf, UnitSphereOnAHalfGridAsNome3AfterWelding) {
   }
 }
 
+TEST(OriginalGenImplicitSurf, EveryRecordNameOfNome3ResolvesAfterWelding) {
+  // generators-original.md §11.3: on the same 0.5 grid NOME3 makes 312 vertex records
+  // v_0 … v_311, every cube its own (78 float-distinct positions: a crossing computed from
+  // both ends of its edge rounds differently). The crossings themselves: the 6 grid points
+  // (±1,0,0)…; on grid lines with the other two coordinates in {0, ±0.5}, not both 0, the
+  // points ±√(1 − a² − b²): 4 lines with one 0.5 and 4 with two per axis, 2 points each,
+  // 3 axes: 24 + 24. So 54 vertices after welding, and each of the 312 names is a surviving
+  // vertex or an alias of one, at that vertex's position.
+  Generated g = run("genimplicitsurf",
+                    implicit_args([](auto p) { return p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - 1; }, -1.5, 1.5, 7));
+  EXPECT_EQ(g.soup.vertex_count(), 6 + 24 + 24);
+  std::vector<std::string> names(g.soup.names.begin(), g.soup.names.end());
+  for (const auto& [name, position] : g.aliases) {
+    names.push_back(name);
+    const auto same = std::find_if(g.soup.positions.begin(), g.soup.positions.end(),
+                                   [&](const glm::dvec3& q) {
+                                     const glm::dvec3 d = q - position;
+                                     return d.x * d.x + d.y * d.y + d.z * d.z < 1e-24;
+                                   });
+    EXPECT_NE(same, g.soup.positions.end()) << name << " is an alias of no surviving vertex";
+  }
+  std::sort(names.begin(), names.end());
+  std::vector<std::string> expected;
+  for (int k = 0; k < 312; ++k) expected.push_back("v_" + std::to_string(k));
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(names, expected);
+}
+
 TEST(OriginalGenImplicitSurf, SingularSurfaceKeepsNome3sUnweldedCubes) {
   // x² − y² = 0 is two planes crossing along the z axis: welded, four sheets would share
   // its edges. nomec then returns NOME3's cubes as they were: every cut edge of every cube
