@@ -66,6 +66,14 @@ class Rules {
     }
   }
 
+  /// A size that may be 0 (a torus knot's tube: 0 makes the knot itself, no tube).
+  template <typename E>
+  void nonnegative(E arg, std::string hint) {
+    const double* v = get(arg);
+    if (v == nullptr || problem || !finite(arg, *v)) return;
+    if (!(*v >= 0)) report(arg, q(arg) + " must not be negative, got " + format_argument(*v), std::move(hint));
+  }
+
   template <typename E>
   void positive(E arg) {
     const double* v = get(arg);
@@ -337,7 +345,8 @@ void quadric_rules(GenKind kind, Rules& r) {
       using A = gen_arg::Torusknot;
       r.whole_nonzero(A::symm);
       r.whole_nonzero(A::turns);
-      for (A a : {A::major_radius, A::minor_radius, A::tube_radius}) r.positive(a);
+      for (A a : {A::major_radius, A::minor_radius}) r.positive(a);
+      r.nonnegative(A::tube_radius, "0 makes the knot itself (a line strip `knotpoint{i}`), more a tube around it");
       r.count(A::circ_segs, 3, " around the tube");
       r.count(A::sweep_segs, 3, " along the closed knot");
       return;

@@ -318,6 +318,27 @@ Generated make_Dupin(const ArgReader& a) {
   return g;
 }
 
+namespace {
+
+// NOME3's torus knot with tube_radius 0 (generators-original.md §3.4, TorusKnot.cpp:132-172):
+// no tube, but the centre curve itself as an open line strip `knotpoint{i}`, i = 0 …
+// sweep_segs − 1 at t_i = 2πi/sweep_segs, for use as a sweep path. Open as NOME3 left it: the
+// strip stops one step short of its start.
+Generated knot_points(double p, double q, double R, double r, int ss) {
+  Generated g;
+  Generated::Curve c;
+  for (int i = 0; i < ss; ++i) {
+    const double t = 2.0 * kPi * i / ss;
+    const double rr = R + r * std::cos(p * t);
+    c.vertices.push_back(g.soup.add_vertex({rr * std::cos(q * t), rr * std::sin(q * t), r * std::sin(p * t)},
+                                           "knotpoint" + std::to_string(i)));
+  }
+  g.curves.push_back(std::move(c));
+  return g;
+}
+
+}  // namespace
+
 Generated make_Torusknot(const ArgReader& a) {
   using A = ir::gen_arg::Torusknot;
   auto whole_nonzero = [&](A arg) {
@@ -334,9 +355,11 @@ Generated make_Torusknot(const ArgReader& a) {
   const double q = whole_nonzero(A::turns);
   const double R = a.positive(A::major_radius);
   const double r = a.positive(A::minor_radius);
-  const double tube = a.positive(A::tube_radius);
+  const double tube = a.number(A::tube_radius);
+  if (!(tube >= 0.0)) fail(ir::arg_index(A::tube_radius), "`tube_radius` must not be negative, got " + fmt_number(tube));
   const int cs = a.count(A::circ_segs, 3);
   const int ss = a.count(A::sweep_segs, 3);
+  if (tube == 0.0) return knot_points(p, q, R, r, ss);
   check_size(static_cast<long long>(cs) * ss, ir::arg_index(A::sweep_segs));
   // NOME3's frame: N is the centre's position vector with its part along the tangent T
   // removed, B = T × N. NOME3 took T and N from a step of 1e-4 in t; the exact tangent is

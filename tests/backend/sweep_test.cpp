@@ -285,5 +285,28 @@ TEST(Nome3Sweep, ClosedPathWhoseEndsDoNotMeetKeepsTheSeamOpenWithAWarning) {
   EXPECT_TRUE(warned);
 }
 
+TEST(Nome3Sweep, TorusKnotWithoutTubeIsASweepPath) {
+  // generators-original.md §3.4: `torusknot` with tube_radius 0 is the open line strip
+  // knotpoint0 … knotpoint{sweep_segs − 1}, used as a sweep path. Ring k (from 1) sits at
+  // knotpoint{k−1}: its four diamond points average to it (x and y coordinates cancel
+  // pairwise, whatever the frame and the miter scale on N), and 9 gaps of 4 quads join the
+  // 10 rings.
+  auto e = eval(kDiamond +
+                "torusknot k (2 3 2 0.5 0 6 10) endtorusknot\n"
+                "sweep sw crosssection cs endcrosssection path k endpath endsweep\ninstance s sw endinstance\n");
+  ASSERT_EQ(e->meshes.size(), 1u);
+  auto v = by_name(e->meshes[0].soup);
+  EXPECT_EQ(v.size(), 40u);
+  EXPECT_EQ(e->meshes[0].soup.face_count(), 36);
+  for (int k = 0; k < 10; ++k) {
+    const double t = 2 * M_PI * k / 10;
+    const glm::dvec3 centre((2 + 0.5 * std::cos(2 * t)) * std::cos(3 * t), (2 + 0.5 * std::cos(2 * t)) * std::sin(3 * t),
+                            0.5 * std::sin(2 * t));
+    glm::dvec3 mid(0, 0, 0);
+    for (int j = 0; j < 4; ++j) mid += v.at("v" + std::to_string(k + 1) + "_" + std::to_string(j)) / 4.0;
+    EXPECT_NEAR(glm::length(mid - centre), 0.0, 1e-9) << "ring " << k + 1;
+  }
+}
+
 }  // namespace
 }  // namespace nomec::backend

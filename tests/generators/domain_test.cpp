@@ -85,6 +85,9 @@ TEST(Domain, CountsAreRoundedBeforeTheMinimum) {
 TEST(Domain, OtherRules) {
   EXPECT_EQ(check_generator_arguments("dupin", "nome3", {{"a", 1}, {"b", 1}, {"c", 2}})->argument, "c");
   EXPECT_EQ(check_generator_arguments("torusknot", "nome3", {{"symm", 0}})->argument, "symm");
+  // A torus knot's tube radius may be 0 (the knot itself, a line strip), not negative.
+  EXPECT_FALSE(check_generator_arguments("torusknot", "nome3", {{"tube_radius", 0}}).has_value());
+  EXPECT_EQ(check_generator_arguments("torusknot", "nome3", {{"tube_radius", -0.5}})->argument, "tube_radius");
   EXPECT_EQ(check_generator_arguments("helix", "nome3", {{"radius", 1}, {"theta_max", 0}})->argument, "theta_max");
   EXPECT_EQ(check_generator_arguments("spiral", "nome3", {{"rate", 1}, {"angle", -0.9}})->argument, "angle");
   EXPECT_EQ(check_generator_arguments("genimplicitsurf", "nome3", {{"nx", 1}})->argument, "nx");

@@ -354,5 +354,32 @@ TEST(OriginalTorusKnot, FirstArgumentTurnsAroundTheTube) {
   }
 }
 
+TEST(OriginalTorusKnot, ZeroTubeRadiusIsTheKnotAsAnOpenLineStrip) {
+  // §3.4: tube_radius 0 makes no tube but the knot's centre curve, an open line strip of the
+  // points knotpoint{i} at t_i = 2πi/sweep_segs (i = 0 … sweep_segs − 1).
+  Generated g = run("torusknot", numbers({{"symm", 2}, {"turns", 3}, {"major_radius", 2}, {"minor_radius", 0.5},
+                                          {"tube_radius", 0}, {"circ_segs", 6}, {"sweep_segs", 10}},
+                                         "nome3"));
+  EXPECT_EQ(g.soup.face_count(), 0);
+  ASSERT_EQ(g.curves.size(), 1u);
+  EXPECT_FALSE(g.curves[0].is_closed);
+  ASSERT_EQ(g.curves[0].vertices.size(), 10u);
+  for (int i = 0; i < 10; ++i) {
+    const int32_t v = g.curves[0].vertices[static_cast<size_t>(i)];
+    EXPECT_EQ(g.soup.names[static_cast<size_t>(v)], "knotpoint" + std::to_string(i));
+    expect_near(g.soup.positions[static_cast<size_t>(v)], knot_point(2, 3, 2, 0.5, 2 * M_PI * i / 10));
+  }
+  // t_0 = 0: ((2 + 0.5)·1, 0, 0).
+  expect_near(*resolve(g, "knotpoint0"), {2.5, 0, 0});
+}
+
+TEST(OriginalTorusKnot, NegativeTubeRadiusIsAnError) {
+  NamedError e = run_error("torusknot", numbers({{"symm", 2}, {"turns", 3}, {"major_radius", 2}, {"minor_radius", 0.5},
+                                                 {"tube_radius", -0.1}, {"circ_segs", 6}, {"sweep_segs", 10}},
+                                                "nome3"));
+  EXPECT_EQ(e.argument, "tube_radius");
+  EXPECT_NE(e.message.find("must not be negative"), std::string::npos) << e.message;
+}
+
 }  // namespace
 }  // namespace nomec::backend::testing
