@@ -21,6 +21,7 @@ constexpr int kMaxExprDepth = 1000;
 struct Scope {
   bool constant = false;                        // slider values: no slider references
   std::span<const std::string_view> variables;  // a function's variables (`u`, `v` …)
+  FunctionOrigin origin = {};                   // for a function text: the constants NOME3 knew
 };
 
 ir::ExprId add(Context& c, ir::Expr e) { return c.module().add_expr(std::move(e)); }
@@ -61,6 +62,23 @@ std::vector<std::string> slider_names(const Context& c, bool dotted_style) {
   return all;
 }
 
+// NOME3 evaluated function texts with exprtk (generators-original.md §11.2): it has no `e`,
+// and the cartesian and parametric surfaces' symbol tables had no `pi` either, so NOME3
+// made no surface from such a text. nomec reads them as the constants; a warning says the
+// original would not have.
+void warn_unknown_constant(Context& c, const std::string& name, SourceRange at, const FunctionOrigin& origin) {
+  if (origin.generator.empty()) return;
+  if (name == "pi" && origin.has_pi) return;
+  c.diags()
+      .emit(DiagKind::ConstantUnknownToOriginal, at,
+            name == "pi" ? fmt::format("`pi` is not defined in NOME3's `{}` functions, so NOME3 made no surface from "
+                                       "this text; nomec reads it as π",
+                                       origin.generator)
+                         : fmt::format("`e` is not a constant in NOME3's functions (its expression library has none), "
+                                       "so NOME3 made no surface from this text; nomec reads it as 2.71828…"))
+      .fixit(at, name == "pi" ? "3.141592653589793" : "2.718281828459045", "write the number, which NOME3 reads too");
+}
+
 // A name or `$` reference: a constant, a function variable, a built-in, or a slider.
 ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
   const bool dollar = x.kind == ast::ExprKind::DollarRef;
@@ -76,7 +94,10 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
         return add(c, std::move(e));
       }
     }
-    if (name == "pi" || name == "e") return constant_expr(c, name == "pi" ? M_PI : M_E, x.range);
+    if (name == "pi" || name == "e") {
+      warn_unknown_constant(c, name, x.range, scope.origin);
+      return constant_expr(c, name == "pi" ? M_PI : M_E, x.range);
+    }
   }
   if (dollar && name == "SLF_PI") return constant_expr(c, M_PI, x.range);
   if (dollar && (name == "time" || name == "frame")) {
@@ -444,14 +465,15 @@ ir::ExprId scalar_of_item(Context& c, const ast::Ast& a, const ast::Item& it, bo
   }
 }
 
-ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars) {
+ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars,
+                          FunctionOrigin origin) {
   const ast::Expr& x = a.expr(raw);
   // The function's own syntax tree lives as long as the check.
   c.fragments.push_back(std::make_unique<ast::Ast>());
   ast::Ast& fn = *c.fragments.back();
   fn.file = x.range.file;
   ast::ExprId root = parse_function_text(c.sources().text(x.range.file), x.range.file, x.range, fn, c.diags());
-  return lower_checked(c, fn, root, Scope{false, vars});
+  return lower_checked(c, fn, root, Scope{false, vars, origin});
 }
 
 }  // namespace nomec::check

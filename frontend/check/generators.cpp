@@ -311,7 +311,12 @@ struct GenReader {
       case ir::ArgType::Function: {
         std::span<const std::string_view> vars(info.variables);
         SmallVec<ir::ExprId, 4> exprs;
-        exprs.push_back(lower_function(c, a, v.raw, vars));
+        FunctionOrigin origin;
+        if (c.dialect() == Dialect::Nome3) {
+          origin.generator = info.keyword;
+          origin.has_pi = info.kind == ir::GenKind::Genimplicitsurf;
+        }
+        exprs.push_back(lower_function(c, a, v.raw, vars, origin));
         b.value = c.add_operand(id, v.spec->name, std::move(exprs), v.value_range);
         break;
       }

@@ -64,7 +64,15 @@ ir::ExprId error_expr(Context& c, SourceRange r);
 /// The text of a function surface's `[ … ]` (`[cos(u)*v]`) as an expression of the
 /// variables `vars`; errors (unknown names and functions, syntax) are reported at their
 /// place inside the brackets.
-ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars);
+/// Where a function text comes from, for what NOME3 accepted in it: `generator` is the
+/// generator's keyword in a NOME3 file (empty elsewhere), `has_pi` whether NOME3 defined `pi`
+/// there (only genimplicitsurf did).
+struct FunctionOrigin {
+  std::string_view generator;
+  bool has_pi = true;
+};
+ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars,
+                          FunctionOrigin origin = {});
 
 // ---- statements.cpp: top-level statements, dispatch by kind, includes ----
 void process(Context& c, const ast::Ast& a, int order_base);

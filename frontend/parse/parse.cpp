@@ -654,6 +654,34 @@ std::unique_ptr<antlr4::Token> conjured_token(size_t type, const antlr4::Token& 
   return t;
 }
 
+// NOME3 evaluated function texts with exprtk, which reads a product without its `*` (`5x`,
+// `10(x^2+y^2)`, `(u+1)v`, `u v`; generators-original.md §11.2): between a number and a name
+// or `(`, a name and a number, `)` and a number or name, and two names. The same pairs
+// are never valid otherwise, so a `*` is put between them and the text is read as exprtk
+// read it.
+void insert_implicit_multiplication(std::vector<std::unique_ptr<antlr4::Token>>& tokens) {
+  auto product_pair = [](size_t a, size_t b) {
+    const bool number = a == NomeParser::NUMBER, name = a == NomeParser::IDENT, close = a == NomeParser::RPAREN;
+    if (number) return b == NomeParser::IDENT || b == NomeParser::LPAREN;
+    if (name) return b == NomeParser::NUMBER || b == NomeParser::IDENT;
+    if (close) return b == NomeParser::NUMBER || b == NomeParser::IDENT;
+    return false;
+  };
+  std::vector<std::unique_ptr<antlr4::Token>> out;
+  out.reserve(tokens.size());
+  const antlr4::Token* last = nullptr;  // the previous default-channel token
+  for (std::unique_ptr<antlr4::Token>& t : tokens) {
+    if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL && t->getType() != antlr4::Token::EOF) {
+      if (last != nullptr && product_pair(last->getType(), t->getType())) {
+        out.push_back(conjured_token(NomeParser::STAR, *t, t->getStartIndex()));
+      }
+      last = t.get();
+    }
+    out.push_back(std::move(t));
+  }
+  tokens = std::move(out);
+}
+
 // `point p 0 0 0) endpoint`: a `)` that closes nothing, after a run of values (or of names
 // after a statement's own name) on its line, is missing its `(`. One error with the fix-it,
 // and a `(` is put before the run so the statement is read as meant.
@@ -1575,6 +1603,7 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
     return ast::ExprId(static_cast<int32_t>(out.exprs.size() - 1));
   };
   if (token_errors || stopped) return error(raw);  // one message: the parser would only echo it
+  insert_implicit_multiplication(tokens);
   antlr4::ListTokenSource source(std::move(tokens));
   antlr4::CommonTokenStream stream(&source);
   NomeParser parser(&stream);

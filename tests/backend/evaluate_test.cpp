@@ -180,6 +180,20 @@ TEST(Errors, PipelineMergeOfTheWholeSceneReportsKernelErrors) {
   EXPECT_EQ(out[0].mesh.face_count(), 1);
 }
 
+TEST(FunctionTexts, ProductsWithoutStarAreReadAsExprtkReadThem) {
+  // generators-original.md §11.2: exprtk multiplies `2x`, `10(…)`, `(x+1)y` and `x y`.
+  // z = 2xy + 10(x² + y²) − (x + 1)y on the 3 × 3 samples of [0, 1]², computed here.
+  auto e = eval("gencartesiansurf a func [2x y + 10(x^2+y^2) - (x+1)y] (0 1 0 1 2 2) endgencartesiansurf\n"
+                "instance ia a endinstance\n");
+  EXPECT_EQ(e->diags.error_count(), 0);
+  ASSERT_EQ(e->meshes.size(), 1u);
+  const kernel::PolygonSoup& s = e->meshes[0].soup;
+  ASSERT_EQ(s.vertex_count(), 9);
+  for (const glm::dvec3& p : s.positions) {
+    EXPECT_NEAR(p.z, 2 * p.x * p.y + 10 * (p.x * p.x + p.y * p.y) - (p.x + 1) * p.y, 1e-12);
+  }
+}
+
 TEST(Write, TriangulatesNonConvexPolygonsByEarClipping) {
   kernel::PolygonSoup s;
   // An L shape (6 vertices, one reflex corner at index 3).

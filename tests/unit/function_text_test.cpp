@@ -117,8 +117,9 @@ TEST(FunctionText, ErrorsAtTheirPlace) {
   EXPECT_EQ(e.column, kTextColumn + 2);
   e = error("u *");
   EXPECT_EQ(e.message, "the function ends after `*`: the value after it is missing");
-  e = error("u v");
-  EXPECT_EQ(e.message, "unexpected `v` in the function; a function is one expression, e.g. `cos(u)*v`");
+  // `u v` is a product (exprtk's implicit multiplication); two numbers side by side are not.
+  e = error("2 3");
+  EXPECT_EQ(e.message, "unexpected `3` in the function; a function is one expression, e.g. `cos(u)*v`");
   EXPECT_EQ(e.column, kTextColumn + 2);
   e = error("u $ 2");
   EXPECT_EQ(e.message, "unexpected character `$`");
