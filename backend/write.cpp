@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <algorithm>
+#include <bit>
+#include <iterator>
 #include <map>
 
 namespace nomec::backend {
@@ -81,13 +83,20 @@ std::string color_name(const glm::vec3& c) {
   return fmt::format("c{:02x}{:02x}{:02x}", q(c.r), q(c.g), q(c.b));
 }
 
-void put_u32(std::string& s, uint32_t x) {
-  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((x >> (8 * i)) & 0xff));
+// Little-endian stores into a buffer sized beforehand.
+void put_u32(char* at, uint32_t x) {
+  for (int i = 0; i < 4; ++i) at[i] = static_cast<char>((x >> (8 * i)) & 0xff);
 }
-void put_f32(std::string& s, float f) {
-  uint32_t x;
-  std::memcpy(&x, &f, 4);
-  put_u32(s, x);
+void put_f32s(char* at, const float (&f)[12]) {
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(at, f, sizeof f);
+  } else {
+    for (int i = 0; i < 12; ++i) {
+      uint32_t x;
+      std::memcpy(&x, &f[i], 4);
+      put_u32(at + 4 * i, x);
+    }
+  }
 }
 
 glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
@@ -100,13 +109,19 @@ glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_
 
 std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
   std::vector<int32_t> out;
+  const size_t corners = s.face_vertices.size(), faces = static_cast<size_t>(s.face_count());
+  if (corners > 2 * faces) out.reserve(3 * (corners - 2 * faces));  // n − 2 triangles per n-gon
   size_t at = 0;
   for (int32_t f = 0; f < s.face_count(); ++f) {
     const int32_t n = s.face_sizes[f];
     const int32_t* v = s.face_vertices.data() + at;
     at += n;
-    glm::dvec3 nrm = newell(s, v, n);
-    if (n > 3 && !is_convex(s, v, n, nrm)) {
+    if (n == 3) {
+      out.insert(out.end(), {v[0], v[1], v[2]});
+      continue;
+    }
+    const glm::dvec3 nrm = newell(s, v, n);
+    if (!is_convex(s, v, n, nrm)) {
       std::vector<int32_t> tris;
       if (ear_clip(s, v, n, nrm, tris)) {
         out.insert(out.end(), tris.begin(), tris.end());
@@ -119,28 +134,34 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
 }
 
 std::string to_stl_binary(std::span<const OutputMesh> meshes) {
-  std::string out(80, '\0');
-  std::string header = "nomec binary STL";
-  std::copy(header.begin(), header.end(), out.begin());
   std::vector<std::vector<int32_t>> tris;
   uint32_t count = 0;
   for (const OutputMesh& m : meshes) {
     tris.push_back(triangulate(m.soup));
     count += static_cast<uint32_t>(tris.back().size() / 3);
   }
-  put_u32(out, count);
-  out.reserve(out.size() + 50 * static_cast<size_t>(count));
+  // Sized once and filled in place: 80-byte header, the count, then 50 bytes per triangle
+  // (12 little-endian floats and a zero attribute word, already zero).
+  std::string out(84 + 50 * static_cast<size_t>(count), '\0');
+  const std::string_view header = "nomec binary STL";
+  std::copy(header.begin(), header.end(), out.begin());
+  char* at = out.data() + 80;
+  put_u32(at, count);
+  at += 4;
   for (size_t i = 0; i < meshes.size(); ++i) {
     const kernel::PolygonSoup& s = meshes[i].soup;
     const auto& t = tris[i];
     for (size_t k = 0; k + 2 < t.size(); k += 3) {
-      glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
-      for (int c = 0; c < 3; ++c) put_f32(out, static_cast<float>(n[c]));
-      for (int j = 0; j < 3; ++j) {
-        for (int c = 0; c < 3; ++c) put_f32(out, static_cast<float>(s.positions[t[k + j]][c]));
-      }
-      out.push_back('\0');
-      out.push_back('\0');
+      const glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
+      const glm::dvec3& a = s.positions[t[k]];
+      const glm::dvec3& b = s.positions[t[k + 1]];
+      const glm::dvec3& c = s.positions[t[k + 2]];
+      const float f[12] = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z),
+                           static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z),
+                           static_cast<float>(b.x), static_cast<float>(b.y), static_cast<float>(b.z),
+                           static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+      put_f32s(at, f);
+      at += 50;
     }
   }
   return out;
@@ -150,44 +171,44 @@ std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
   std::string out;
   for (const OutputMesh& m : meshes) {
     std::string name = m.name.empty() ? "nomec" : m.name;
-    out += fmt::format("solid {}\n", name);
+    fmt::format_to(std::back_inserter(out), "solid {}\n", name);
     const kernel::PolygonSoup& s = m.soup;
     std::vector<int32_t> t = triangulate(s);
     for (size_t k = 0; k + 2 < t.size(); k += 3) {
       glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
       // `+ 0.0` turns -0 into 0, so goldens do not depend on the sign of zero.
-      out += fmt::format("  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+      fmt::format_to(std::back_inserter(out), "  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
       for (int j = 0; j < 3; ++j) {
         const glm::dvec3& p = s.positions[t[k + j]];
-        out += fmt::format("      vertex {:e} {:e} {:e}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+        fmt::format_to(std::back_inserter(out), "      vertex {:e} {:e} {:e}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
       }
       out += "    endloop\n  endfacet\n";
     }
-    out += fmt::format("endsolid {}\n", name);
+    fmt::format_to(std::back_inserter(out), "endsolid {}\n", name);
   }
   return out;
 }
 
 std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file) {
   std::string out = "# written by nomec\n";
-  if (!mtl_file.empty()) out += fmt::format("mtllib {}\n", mtl_file);
+  if (!mtl_file.empty()) fmt::format_to(std::back_inserter(out), "mtllib {}\n", mtl_file);
   int64_t base = 1;
   for (const OutputMesh& m : meshes) {
     const kernel::PolygonSoup& s = m.soup;
-    out += fmt::format("o {}\n", m.name.empty() ? "nomec" : m.name);
-    for (const glm::dvec3& p : s.positions) out += fmt::format("v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    fmt::format_to(std::back_inserter(out), "o {}\n", m.name.empty() ? "nomec" : m.name);
+    for (const glm::dvec3& p : s.positions) fmt::format_to(std::back_inserter(out), "v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
     std::string current;
     size_t at = 0;
     for (int32_t f = 0; f < s.face_count(); ++f) {
       if (!mtl_file.empty() && !s.face_colors.empty()) {
         std::string c = color_name(s.face_colors[f]);
         if (c != current) {
-          out += fmt::format("usemtl {}\n", c);
+          fmt::format_to(std::back_inserter(out), "usemtl {}\n", c);
           current = c;
         }
       }
       out += "f";
-      for (int32_t i = 0; i < s.face_sizes[f]; ++i) out += fmt::format(" {}", base + s.face_vertices[at + i]);
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) fmt::format_to(std::back_inserter(out), " {}", base + s.face_vertices[at + i]);
       out += "\n";
       at += s.face_sizes[f];
     }
@@ -203,7 +224,7 @@ std::string to_mtl(std::span<const OutputMesh> meshes) {
   }
   std::string out;
   for (const auto& [name, c] : colors) {
-    out += fmt::format("newmtl {}\nKd {} {} {}\n\n", name, c.r, c.g, c.b);
+    fmt::format_to(std::back_inserter(out), "newmtl {}\nKd {} {} {}\n\n", name, c.r, c.g, c.b);
   }
   return out;
 }
@@ -224,20 +245,20 @@ std::string to_ply(std::span<const OutputMesh> meshes) {
   if (colored) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "end_header\n";
   for (const OutputMesh& m : meshes) {
-    for (const glm::dvec3& p : m.soup.positions) out += fmt::format("{} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    for (const glm::dvec3& p : m.soup.positions) fmt::format_to(std::back_inserter(out), "{} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
   }
   size_t base = 0;
   for (const OutputMesh& m : meshes) {
     const kernel::PolygonSoup& s = m.soup;
     size_t at = 0;
     for (int32_t f = 0; f < s.face_count(); ++f) {
-      out += fmt::format("{}", s.face_sizes[f]);
-      for (int32_t i = 0; i < s.face_sizes[f]; ++i) out += fmt::format(" {}", base + s.face_vertices[at + i]);
+      fmt::format_to(std::back_inserter(out), "{}", s.face_sizes[f]);
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) fmt::format_to(std::back_inserter(out), " {}", base + s.face_vertices[at + i]);
       at += s.face_sizes[f];
       if (colored) {
         glm::vec3 c = s.face_colors.empty() ? glm::vec3(0.8f) : s.face_colors[f];
         auto q = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
-        out += fmt::format(" {} {} {}", q(c.r), q(c.g), q(c.b));
+        fmt::format_to(std::back_inserter(out), " {} {} {}", q(c.r), q(c.g), q(c.b));
       }
       out += "\n";
     }
