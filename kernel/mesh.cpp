@@ -302,25 +302,31 @@ KernelError non_manifold_edges(const PolygonSoup& soup, const Mesh& m,
   const auto& use_faces = MeshAccess::use_faces(m);
   KernelError error{Kind::NonManifoldEdge, {}, {}, {}, {}};
   std::sort(extra_faces.begin(), extra_faces.end());
+  // The message lists the first few edges (a scene with thousands would bury the reader);
+  // `error` keeps them all for the diagnostics' ranges.
+  constexpr size_t kListed = 5;
   std::string listing;
   for (size_t i = 0; i < extra_faces.size(); ++i) {
     const int32_t e = extra_faces[i].first;
+    const bool listed = error.edges.size() <= kListed;
     if (i > 0 && extra_faces[i - 1].first == e) {
       error.faces.push_back(FaceId(extra_faces[i].second));
-      listing += fmt::format(", {}", extra_faces[i].second);
+      if (listed) listing += fmt::format(", {}", extra_faces[i].second);
       continue;
     }
-    if (!listing.empty()) listing += "; ";
     error.edges.push_back(EdgeId(e));
     error.vertices.push_back(edge_vertices[2 * e]);
     error.vertices.push_back(edge_vertices[2 * e + 1]);
     error.faces.push_back(use_faces[2 * e]);
     error.faces.push_back(use_faces[2 * e + 1]);
     error.faces.push_back(FaceId(extra_faces[i].second));
+    if (error.edges.size() > kListed) continue;
+    if (!listing.empty()) listing += "; ";
     listing += fmt::format("edge `{}`-`{}` in faces {}, {}, {}", vertex_label(soup, edge_vertices[2 * e].index),
                            vertex_label(soup, edge_vertices[2 * e + 1].index), use_faces[2 * e].index,
                            use_faces[2 * e + 1].index, extra_faces[i].second);
   }
+  if (error.edges.size() > kListed) listing += fmt::format("; and {} more", error.edges.size() - kListed);
   error.message = fmt::format("{} edge(s) are shared by more than two faces: {}", error.edges.size(), listing);
   return error;
 }

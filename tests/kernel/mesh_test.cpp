@@ -168,6 +168,28 @@ TEST(MeshBuilder, ThirdFaceOnEdgeIsStructuredError) {
   EXPECT_NE(err.message.find("`p0`-`p1`"), std::string::npos) << err.message;
 }
 
+TEST(MeshBuilder, ManyNonManifoldEdgesListTheFirstFiveInTheMessage) {
+  // Seven separate "books" of three triangles on an edge each: every edge is reported in
+  // `edges` (for the diagnostics' ranges), the message names five and counts the rest.
+  PolygonSoup s;
+  for (int b = 0; b < 7; ++b) {
+    const int32_t o = s.vertex_count();
+    for (int i = 0; i < 5; ++i) s.add_vertex({10.0 * b + i, double(i * i), 0.0}, fmt::format("b{}p{}", b, i));
+    s.add_face({o, o + 1, o + 2});
+    s.add_face({o + 1, o, o + 3});
+    s.add_face({o, o + 1, o + 4});
+  }
+  auto mesh = build_mesh(s);
+  ASSERT_FALSE(mesh.has_value());
+  const KernelError& err = mesh.error();
+  EXPECT_EQ(err.edges.size(), 7u);
+  EXPECT_EQ(err.faces.size(), 21u);
+  EXPECT_NE(err.message.find("7 edge(s) are shared by more than two faces"), std::string::npos) << err.message;
+  EXPECT_NE(err.message.find("`b4p0`-`b4p1`"), std::string::npos) << err.message;
+  EXPECT_EQ(err.message.find("`b5p0`"), std::string::npos) << err.message;
+  EXPECT_NE(err.message.find("; and 2 more"), std::string::npos) << err.message;
+}
+
 TEST(MeshBuilder, BowtieVertexIsRejected) {
   PolygonSoup s;
   s.add_vertex({0, 0, 0});
