@@ -47,6 +47,8 @@ class LoopMesh {
   /// The loop of face `f` (empty for a removed face).
   const std::vector<int32_t>& face(int32_t f) const { return faces_[f]; }
   const FaceSource& source(int32_t f) const { return sources_[f]; }
+  /// Number of edges (self-loops included).
+  int64_t edge_count() const { return static_cast<int64_t>(edge_uses_.size()); }
   /// Number of face sides using the edge between `a` and `b` (0, 1 or 2).
   int32_t edge_use_count(int32_t a, int32_t b) const;
 

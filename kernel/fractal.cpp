@@ -31,14 +31,15 @@ KernelError too_big(const char* what, int32_t level, int64_t faces, int64_t limi
                              limit));
 }
 
-// One Sierpinski level (TopMod's multiConnectMidpoints).
-Result<Mesh> sierpinski_level(const Mesh& mesh) {
-  LoopMesh m = LoopMesh::from_mesh(mesh);
+// One Sierpinski level (TopMod's multiConnectMidpoints) on `m`, self-loops of earlier
+// levels kept as they are.
+Result<bool> sierpinski_level(LoopMesh& m) {
   const int32_t first_midpoint = m.vertex_count();
   m.split_all_edges();
   auto is_mid = [&](int32_t v) { return v >= first_midpoint; };
-  // Cut every original corner off as a triangle; what is left of each face is its
-  // central polygon of midpoints.
+  // Cut every original corner off (a corner of a vertex with a self-loop spans the loop:
+  // `x v v y` is cut as one); what is left of each face is its central polygon of
+  // midpoints.
   std::vector<int32_t> central;
   const int32_t faces = m.face_count();
   for (int32_t f = 0; f < faces; ++f) {
@@ -47,13 +48,18 @@ Result<Mesh> sierpinski_level(const Mesh& mesh) {
       const int32_t n = static_cast<int32_t>(l.size());
       // An original corner between two midpoints, unless they are joined already (both
       // corners of a vertex with two edges cut the same pair: TopMod skips the second).
-      int32_t p = -1;
-      for (int32_t k = 0; k < n && p < 0; ++k) {
-        const int32_t prev = l[(k + n - 1) % n], next = l[(k + 1) % n];
-        if (!is_mid(l[k]) && is_mid(next) && is_mid(prev) && m.edge_use_count(prev, next) == 0) p = k;
+      int32_t first = -1, last = -1;
+      for (int32_t k = 0; k < n && first < 0; ++k) {
+        const int32_t prev = l[(k + n - 1) % n];
+        if (is_mid(l[k]) || prev == l[k]) continue;
+        int32_t end = k;
+        while (l[(end + 1) % n] == l[k] && (end + 1) % n != k) end = (end + 1) % n;
+        const int32_t next = l[(end + 1) % n];
+        const int32_t run = (end - k + n) % n + 1;
+        if (is_mid(next) && is_mid(prev) && n - run >= 3 && m.edge_use_count(prev, next) == 0) first = k, last = end;
       }
-      if (p < 0 || n <= 3) break;
-      auto cut = m.insert_edge(LoopCorner{f, (p + 1) % n}, LoopCorner{f, (p + n - 1) % n});
+      if (first < 0) break;
+      auto cut = m.insert_edge(LoopCorner{f, (last + 1) % n}, LoopCorner{f, (first + n - 1) % n});
       if (!cut) return cut.error();
     }
     if (!m.face(f).empty()) central.push_back(f);
@@ -74,7 +80,7 @@ Result<Mesh> sierpinski_level(const Mesh& mesh) {
     if (!joined) return joined.error();
     if (*joined != at[0].face) central.push_back(*joined);
   }
-  return m.to_mesh();
+  return true;
 }
 
 // ---- Menger ----
@@ -249,16 +255,15 @@ int64_t corner_count(const Mesh& mesh) { return 2 * static_cast<int64_t>(mesh.ed
 
 Result<Mesh> sierpinski(const Mesh& mesh, const SierpinskiOptions& o) {
   if (o.levels < 0) return invalid(fmt::format("sierpinski level must be 0 or more, not {}", o.levels));
-  Mesh current = mesh;
+  if (o.levels == 0) return mesh;
+  LoopMesh m = LoopMesh::from_mesh(mesh);
   for (int32_t level = 1; level <= o.levels; ++level) {
     // F' = C + V ≤ 2E + V (corner triangles, one closing face per vertex).
-    const int64_t estimate = 2 * static_cast<int64_t>(current.edge_count()) + current.vertex_count();
+    const int64_t estimate = 2 * m.edge_count() + m.vertex_count();
     if (o.max_faces > 0 && estimate > o.max_faces) return too_big("sierpinski", level, estimate, o.max_faces);
-    auto next = sierpinski_level(current);
-    if (!next) return next.error();
-    current = std::move(*next);
+    if (auto ok = sierpinski_level(m); !ok) return ok.error();
   }
-  return current;
+  return m.to_mesh();
 }
 
 Result<Mesh> menger(const Mesh& mesh, const MengerOptions& o) {

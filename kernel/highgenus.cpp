@@ -46,9 +46,10 @@ glm::dvec3 unit(const glm::dvec3& v, const glm::dvec3& fallback) {
 Result<bool> pipe(LoopMesh& m, LoopCorner a, LoopCorner b) {
   auto taken = [&](LoopCorner x, LoopCorner y) {
     const int32_t u = m.face(x.face)[x.index], v = m.face(y.face)[y.index];
-    return invalid(fmt::format("the handle would join vertices {} and {}, which an edge joins already; use more "
-                               "segments, other corners or faces farther apart",
-                               u, v));
+    KernelError e = invalid("the handle would join two corners that an edge joins already; use more segments, "
+                            "other corners or faces farther apart");
+    e.vertices = {VertexId(u), VertexId(v)};
+    return e;
   };
   if (m.edge_use_count(m.face(a.face)[a.index], m.face(b.face)[b.index]) > 0) return taken(a, b);
   auto merged = m.insert_edge(a, b);
@@ -175,8 +176,7 @@ Result<bool> check_handle(const Mesh& mesh, const HandleOptions& o) {
   const std::vector<VertexId> a = mesh.face_vertices(o.faces[0]), b = mesh.face_vertices(o.faces[1]);
   for (VertexId v : a) {
     if (std::find(b.begin(), b.end(), v) != b.end()) {
-      KernelError e = invalid(fmt::format("faces {} and {} share a vertex; a handle joins faces that do not touch",
-                                          o.faces[0].index, o.faces[1].index));
+      KernelError e = invalid("the two faces share a vertex; a handle joins faces that do not touch");
       e.faces = {o.faces[0], o.faces[1]};
       e.vertices = {v};
       return e;
@@ -287,10 +287,13 @@ Result<Mesh> rind(const Mesh& mesh, const RindOptions& o) {
   for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
     for (int r = 1; r <= 2; ++r) {
       if (walls_at[r][v] != 0 && walls_at[r][v] != 2) {
-        KernelError e = invalid(fmt::format("the {} faces meet at vertex {} from more than one side; the crust would be "
-                                            "pinched there",
-                                            r == 1 ? "punched" : "peeled", v));
+        KernelError e = invalid(fmt::format("the {} faces meet at a corner from more than one side (their edges pass "
+                                            "it {} times); the crust would be pinched there",
+                                            r == 1 ? "punched" : "peeled", walls_at[r][v] / 2 + walls_at[r][v] % 2));
         e.vertices = {VertexId(v)};
+        mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& k) {
+          if (role[k.face.index] == r) e.faces.push_back(k.face);
+        });
         return e;
       }
     }

@@ -70,12 +70,13 @@ struct SierpinskiOptions {
 };
 
 /// TopMod's multiConnectMidpoints applied `levels` times: every edge is split at its
-/// midpoint, every original corner is cut off as a triangle (the second corner of a vertex
-/// with two edges is skipped, as TopMod does), and the central polygons are joined at every
-/// interior midpoint by a self-loop edge (merging two faces or splitting one); they end as
-/// one closing face per original vertex. A level maps a closed mesh to χ' = 2(V − E): a
-/// tetrahedron gives χ = −4, genus 3. Self-loops are built as a small triangle at their
-/// vertex (see `LoopMesh::to_mesh`), which leaves χ as is. Fails with `InvalidArgument`
+/// midpoint, every original corner is cut off as a triangle (a corner next to a self-loop
+/// spans it; the second corner of a vertex with two edges is skipped, as TopMod does), and
+/// the central polygons are joined at every interior midpoint by a self-loop edge (merging
+/// two faces or splitting one); they end as one closing face per cluster of corners. With
+/// N non-loop edges a level maps a closed mesh to χ' = 2(V − N): a tetrahedron gives genus
+/// 3, then 15. Self-loops are built as a small triangle at their vertex after the last
+/// level (see `LoopMesh::to_mesh`), which leaves χ as is. Fails with `InvalidArgument`
 /// for levels < 0 or a result over `max_faces`.
 Result<Mesh> sierpinski(const Mesh& mesh, const SierpinskiOptions& options);
 
