@@ -146,6 +146,92 @@ Result<int32_t> LoopMesh::insert_edge(LoopCorner a, LoopCorner b) {
   return a.face;
 }
 
+Result<bool> LoopMesh::insert_edges(const std::vector<std::pair<LoopCorner, LoopCorner>>& pairs) {
+  // Darts: one per corner of an involved face, in face order; `next` is the face cycle.
+  std::unordered_map<int32_t, int32_t> first_dart;  // face -> its first dart
+  std::vector<int32_t> faces, vertex, next, prev;
+  auto dart_of = [&](LoopCorner c) -> int32_t {
+    auto [it, added] = first_dart.emplace(c.face, static_cast<int32_t>(vertex.size()));
+    if (added) {
+      faces.push_back(c.face);
+      const std::vector<int32_t>& l = faces_[c.face];
+      const int32_t base = it->second, n = static_cast<int32_t>(l.size());
+      for (int32_t k = 0; k < n; ++k) {
+        vertex.push_back(l[k]);
+        next.push_back(base + (k + 1) % n);
+        prev.push_back(base + (k + n - 1) % n);
+      }
+    }
+    return it->second + c.index;
+  };
+  std::unordered_map<uint64_t, int32_t> added_edges;
+  std::vector<uint8_t> used;
+  std::vector<std::pair<int32_t, int32_t>> ends;
+  for (const auto& [a, b] : pairs) {
+    if (!valid_corner(a) || !valid_corner(b) || (a.face == b.face && a.index == b.index)) {
+      return KernelError{KernelError::Kind::InvalidArgument, "insert_edges: a corner is out of range or repeated", {}, {}, {}};
+    }
+    const int32_t u = faces_[a.face][a.index], v = faces_[b.face][b.index];
+    if (edge_use_count(u, v) > 0 || added_edges[key(u, v)]++ > 0) {
+      return KernelError{KernelError::Kind::InvalidArgument,
+                         fmt::format("insert_edges: vertices {} and {} are already joined by an edge", u, v), {}, {}, {}};
+    }
+    ends.emplace_back(dart_of(a), dart_of(b));
+  }
+  used.assign(vertex.size(), 0);
+  for (const auto& [x, y] : ends) {
+    if (used[x]++ || used[y]++) {
+      return KernelError{KernelError::Kind::InvalidArgument, "insert_edges: a corner is used by two new edges", {}, {}, {}};
+    }
+  }
+  // Each insertion adds a copy of both corners: … p → x' → y … and … q → y' → x ….
+  for (const auto& [x, y] : ends) {
+    const int32_t x2 = static_cast<int32_t>(vertex.size()), y2 = x2 + 1;
+    vertex.push_back(vertex[x]);
+    vertex.push_back(vertex[y]);
+    const int32_t p = prev[x], q = prev[y];
+    next.push_back(y);
+    prev.push_back(p);
+    next.push_back(x);
+    prev.push_back(q);
+    next[p] = x2;
+    next[q] = y2;
+    prev[y] = x2;
+    prev[x] = y2;
+  }
+  // The new face cycles: the involved faces' ids first, in order, then new faces.
+  std::vector<std::vector<int32_t>> loops;
+  std::vector<int32_t> loop_face;  // the involved face each new loop starts in
+  std::vector<uint8_t> seen(vertex.size(), 0);
+  for (int32_t f : faces) {
+    const int32_t base = first_dart[f], n = static_cast<int32_t>(faces_[f].size());
+    for (int32_t d = base; d < base + n; ++d) {
+      if (seen[d]) continue;
+      std::vector<int32_t> l;
+      for (int32_t e = d; !seen[e]; e = next[e]) {
+        seen[e] = 1;
+        l.push_back(vertex[e]);
+      }
+      loops.push_back(std::move(l));
+      loop_face.push_back(f);
+    }
+  }
+  for (int32_t f : faces) {
+    count_face(f, -1);
+    faces_[f].clear();
+  }
+  for (size_t i = 0; i < loops.size(); ++i) {
+    if (i < faces.size()) {
+      faces_[faces[i]] = std::move(loops[i]);
+      count_face(faces[i], +1);
+    } else {
+      add_face(std::move(loops[i]), sources_[loop_face[i]], colors_[loop_face[i]]);
+    }
+  }
+  debug_check();
+  return true;
+}
+
 Result<int32_t> LoopMesh::delete_edge(LoopCorner c) {
   if (!valid_corner(c) || faces_[c.face].size() < 2) return invalid("delete_edge: the corner is out of range");
   const LoopCorner o = other_side(c);

@@ -69,6 +69,14 @@ class LoopMesh {
   /// `InvalidArgument` for corners out of range, equal corners, or an edge that already
   /// exists (DLFL would make a double edge).
   Result<int32_t> insert_edge(LoopCorner a, LoopCorner b);
+  /// Inserts an edge between each pair of corners, all named in the faces as they are
+  /// before the first insertion; the result is that of `insert_edge` on each pair in turn
+  /// (faces merged or split as the pairs connect them). Linear in the size of the faces
+  /// involved, where inserting one by one rewrites ever larger merged faces. The faces
+  /// involved are rewritten (removed faces stay empty) and new faces are appended. Fails
+  /// with `InvalidArgument` (and changes nothing) for corners out of range, a corner
+  /// used twice, or an edge that exists already or is inserted twice.
+  Result<bool> insert_edges(const std::vector<std::pair<LoopCorner, LoopCorner>>& pairs);
   /// DLFL DeleteEdge of the edge leaving corner `c`: two different faces merge (into the
   /// face of `c`); one face on both sides splits in two (or, across a Möbius edge, stays
   /// one face). Returns the face of `c`. Fails with `InvalidArgument` for a corner out of

@@ -64,22 +64,22 @@ Result<bool> sierpinski_level(LoopMesh& m) {
     }
     if (!m.face(f).empty()) central.push_back(f);
   }
-  // Join the central polygons at each midpoint with a self-loop edge.
-  for (int32_t v = first_midpoint; v < m.vertex_count(); ++v) {
-    LoopCorner at[2];
-    int32_t found = 0;
-    for (int32_t f : central) {
-      const std::vector<int32_t>& l = m.face(f);
-      for (int32_t k = 0; k < static_cast<int32_t>(l.size()) && found < 2; ++k) {
-        if (l[k] == v) at[found++] = LoopCorner{f, k};
-      }
-      if (found == 2) break;
+  // Join the central polygons at each interior midpoint with a self-loop edge (all at
+  // once: the same faces as inserting them one by one).
+  std::vector<LoopCorner> at(static_cast<size_t>(m.vertex_count() - first_midpoint) * 2, LoopCorner{});
+  for (int32_t f : central) {
+    const std::vector<int32_t>& l = m.face(f);
+    for (int32_t k = 0; k < static_cast<int32_t>(l.size()); ++k) {
+      if (!is_mid(l[k])) continue;
+      LoopCorner* slot = &at[2 * static_cast<size_t>(l[k] - first_midpoint)];
+      (slot[0].face < 0 ? slot[0] : slot[1]) = LoopCorner{f, k};
     }
-    if (found < 2) continue;  // a midpoint of a border edge
-    auto joined = m.insert_edge(at[0], at[1]);
-    if (!joined) return joined.error();
-    if (*joined != at[0].face) central.push_back(*joined);
   }
+  std::vector<std::pair<LoopCorner, LoopCorner>> loops;
+  for (size_t i = 0; i < at.size(); i += 2) {
+    if (at[i + 1].face >= 0) loops.emplace_back(at[i], at[i + 1]);  // border midpoints have one
+  }
+  if (auto ok = m.insert_edges(loops); !ok) return ok.error();
   return true;
 }
 

@@ -105,6 +105,39 @@ TEST(Dlfl, InsertBetweenCornersOfOneVertexMakesASelfLoop) {
   EXPECT_EQ(t.components[0].genus, 1);
 }
 
+TEST(Dlfl, BulkInsertionEqualsOneByOne) {
+  // Two insertions that first merge faces 0 and 1 (corners 0 and 7), then split the merged
+  // face again (corners 2 and 4 of the old faces, now both in it): one by one, the second
+  // needs the merged face's corner positions; in bulk the old faces' corners are named.
+  LoopMesh one = cube_loops();
+  ASSERT_TRUE(one.insert_edge(LoopCorner{0, 0}, LoopCorner{1, 2}).has_value());
+  // Merged face 0: 0 2 3 1 0 7 6 4 5 7; vertex 2 at index 1, vertex 4 at index 7.
+  ASSERT_TRUE(one.insert_edge(LoopCorner{0, 1}, LoopCorner{0, 7}).has_value());
+  LoopMesh bulk = cube_loops();
+  auto ok = bulk.insert_edges({{LoopCorner{0, 0}, LoopCorner{1, 2}}, {LoopCorner{0, 1}, LoopCorner{1, 0}}});
+  ASSERT_TRUE(ok.has_value()) << ok.error().message;
+  EXPECT_EQ(bulk.problem(), "");
+  auto sizes = [](const LoopMesh& m) {
+    std::vector<size_t> out;
+    for (int32_t f = 0; f < m.face_count(); ++f) {
+      if (!m.face(f).empty()) out.push_back(m.face(f).size());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(sizes(bulk), sizes(one));
+  TopologyReport a = built(one), b = built(bulk);
+  EXPECT_EQ(a.edge_count, b.edge_count);
+  EXPECT_EQ(a.face_count, b.face_count);
+  EXPECT_EQ(a.euler_characteristic, b.euler_characteristic);
+  // V = 8, E = 14, F = 6: χ = 0, one handle.
+  EXPECT_EQ(b.euler_characteristic, 0);
+  // Refused without a change: an existing edge, a corner used twice.
+  EXPECT_FALSE(bulk.insert_edges({{LoopCorner{2, 0}, LoopCorner{2, 1}}}).has_value());
+  EXPECT_FALSE(bulk.insert_edges({{LoopCorner{2, 0}, LoopCorner{2, 2}}, {LoopCorner{2, 0}, LoopCorner{3, 0}}}).has_value());
+  EXPECT_EQ(bulk.problem(), "");
+}
+
 TEST(Dlfl, SplitEdgeAddsTheVertexToBothFaces) {
   LoopMesh m = cube_loops();
   auto w = m.split_edge(LoopCorner{0, 0}, {0, 0.5, 0});  // edge 0 -> 2
