@@ -219,6 +219,20 @@ TEST(Menger, TetrahedronKeepsItsInnerWallsAndBadOptionsFail) {
   EXPECT_FALSE(menger(cube, MengerOptions{3, 0.2, 0, 5000}).has_value());
 }
 
+TEST(Menger, TorusAndKleinBottleKeepTheirSidedness) {
+  // An 8 x 4 grid glued into a torus or a Klein bottle (V = 32, E = 64):
+  // χ' = 2(V − E) = −64 for both; the Klein bottle's sponge is single-sided (its walls
+  // cross the Möbius edges), the torus's two-sided.
+  for (Glue glue : {Glue::Torus, Glue::Klein}) {
+    auto r = menger(build(grid_soup(8, 4, glue, 0.01)), MengerOptions{1, 0.05, 0, 0});
+    ASSERT_TRUE(r.has_value()) << r.error().message;
+    ComponentTopology c = single(*r);
+    EXPECT_EQ(c.euler_characteristic, -64);
+    EXPECT_TRUE(c.is_closed);
+    EXPECT_EQ(c.is_orientable, glue == Glue::Torus);
+  }
+}
+
 // ---- handles ----
 
 TEST(Handle, PipeAddsOneToTheGenus) {
