@@ -243,10 +243,11 @@ Result<Mesh> connect_faces(const Mesh& mesh, const HandleOptions& o) {
 
 // ---- rind ----
 
-Result<Mesh> rind(const Mesh& mesh, const RindOptions& o) {
-  if (!(o.thickness > 0) || !std::isfinite(o.thickness)) {
-    return invalid(fmt::format("rind thickness must be positive, not {}", o.thickness));
-  }
+namespace {
+
+// Per face: 0, 1 punched or 2 peeled; refuses a face both punched and peeled, a punched
+// face next to a peeled one, and regions whose edges pass a vertex twice.
+Result<std::vector<uint8_t>> rind_roles(const Mesh& mesh, const RindOptions& o) {
   const int32_t F = mesh.face_count();
   std::vector<uint8_t> role(F, 0);  // 1 punched, 2 peeled
   for (int which = 1; which <= 2; ++which) {
@@ -298,6 +299,19 @@ Result<Mesh> rind(const Mesh& mesh, const RindOptions& o) {
       }
     }
   }
+  return role;
+}
+
+}  // namespace
+
+Result<Mesh> rind(const Mesh& mesh, const RindOptions& o) {
+  if (!(o.thickness > 0) || !std::isfinite(o.thickness)) {
+    return invalid(fmt::format("rind thickness must be positive, not {}", o.thickness));
+  }
+  auto roles = rind_roles(mesh, o);
+  if (!roles) return roles.error();
+  const std::vector<uint8_t>& role = *roles;
+  const int32_t F = mesh.face_count();
   auto slab = offset(mesh, OffsetOptions{o.thickness / 2});
   if (!slab) return slab.error();
   const Mesh& s = slab->mesh;
