@@ -217,16 +217,16 @@ class NodeLines {
         return;
       case NodeKind::Handle: {
         const auto& h = n.as<HandleData>();
-        if (!h.faces.empty()) line("faces", nodes_text(m_, h.faces));
-        if (!h.corners.empty()) line("corners", nodes_text(m_, h.corners));
+        for (const DeletedFace& f : m_.refs(h.faces)) line("face", deleted_text(f));
+        if (!h.corners.empty()) line("corners", vertices_text(m_, h.corners));
         operands(n);
         return;
       }
       case NodeKind::Rind: {
         const auto& r = n.as<RindData>();
         operands(n);
-        if (!r.punch.empty()) line("punch", nodes_text(m_, r.punch));
-        if (!r.peel.empty()) line("peel", nodes_text(m_, r.peel));
+        for (const DeletedFace& f : m_.refs(r.punch)) line("punch", deleted_text(f));
+        for (const DeletedFace& f : m_.refs(r.peel)) line("peel", deleted_text(f));
         return;
       }
       case NodeKind::Delete:

@@ -231,14 +231,17 @@ struct OffsetData {
   OperandId tolerance;
 };
 /// `handle h faces (F1 F2) [corners (V1 V2)] [segments E] [weights (E E)] [twist E] … endhandle`.
+/// `faces` are resolved from the block's instances (like `delete` entries); `corners` are
+/// vertices of those faces, or empty for the automatic pairing.
 struct HandleData {
-  Slice<NodeId> faces, corners;
+  Slice<DeletedFace> faces;
+  Slice<VertexRef> corners;
   OperandId segments, weights, twist;
 };
 /// `rind r thickness E [punch (F…)] [peel (F…)] … endrind`.
 struct RindData {
   OperandId thickness;
-  Slice<NodeId> punch, peel;
+  Slice<DeletedFace> punch, peel;
 };
 /// `sierpinski s level E … endsierpinski`.
 struct SierpinskiData {

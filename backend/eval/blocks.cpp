@@ -97,6 +97,13 @@ std::optional<BlockResult> run_block_whole(Context& c, ir::NodeId pid, Collected
     report(c, merged.error(), soup, p.range, short_name(p.name));
     return std::nullopt;
   }
+  if (is_high_genus(p.kind)) {
+    std::optional<kernel::Mesh> made = high_genus(c, pid, merged->mesh, soup, merged->vertex_map);
+    if (!made) return std::nullopt;
+    BlockResult r;
+    r.parts.push_back(block_part(c, std::move(*made), any_color, curves));
+    return r;
+  }
   std::variant<kernel::Mesh, StepFailure> ran;
   if (c.is_incremental) {
     BlockMemo& bm = c.block_memos[pid.index];
@@ -272,8 +279,9 @@ std::optional<BlockResult> run_block_by_clusters(Context& c, ir::NodeId pid, con
   return result;
 }
 
-// The operations the backend runs today; the others are reported.
-bool is_implemented(ir::NodeKind k) {
+// The blocks whose input may be merged and stepped cluster by cluster (a high-genus
+// block joins faces anywhere in its input, so it runs on all of it).
+bool is_clusterable(ir::NodeKind k) {
   return k == ir::NodeKind::Merge || k == ir::NodeKind::Subdivision || k == ir::NodeKind::Offset;
 }
 
@@ -292,7 +300,7 @@ std::optional<BlockResult> run_block(Context& c, ir::NodeId pid, const std::stri
   if (sink.is_deferred) {
     int32_t faces = in.soup.face_count();
     for (const EntryPart& part : sink.parts) faces += part.part->soup.face_count();
-    if (sink.is_pure && faces > 0 && in.curve_count == 0 && is_implemented(p.kind)) {
+    if (sink.is_pure && faces > 0 && in.curve_count == 0 && is_clusterable(p.kind)) {
       BlockSetup setup = block_setup(c, pid);
       if (auto r = run_block_by_clusters(c, pid, sink.parts, setup)) return r;
       for (const EntryPart& part : sink.parts) append_collected(in, *part.part);
@@ -310,10 +318,6 @@ std::optional<BlockResult> run_block(Context& c, ir::NodeId pid, const std::stri
     BlockResult r;
     r.parts.push_back(std::make_shared<const Collected>(std::move(in)));
     return r;
-  }
-  if (!is_implemented(p.kind)) {
-    c.diags().emit(DiagKind::GeometryFailed, p.range, fmt::format("`{}` blocks are not implemented in the backend yet", p.keyword));
-    return std::nullopt;
   }
   if (in.soup.face_count() == 0) {
     c.diags().emit(DiagKind::GeometryFailed, p.range, fmt::format("`{}` `{}` has no faces to work on", p.keyword, short_name(p.name)));

@@ -185,6 +185,15 @@ void make_eager(Context& c);
 /// SceneTooLarge error at `at`) when the budget is exhausted.
 bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_view path);
 
+// ---- highgenus.cpp: `handle`, `rind`, `sierpinski` and `menger` blocks ----
+/// True for the four high-genus block kinds.
+bool is_high_genus(ir::NodeKind k);
+/// Runs high-genus block `pid` on its merged input `mesh`; `soup` is the input before the
+/// merge (the same faces) and `vertex_map` maps its vertices to `mesh`'s. Nullopt when it
+/// failed (reported).
+std::optional<kernel::Mesh> high_genus(Context& c, ir::NodeId pid, const kernel::Mesh& mesh,
+                                       const kernel::PolygonSoup& soup, const std::vector<kernel::VertexId>& vertex_map);
+
 // ---- deletes.cpp: faces named by `delete` blocks ----
 /// Marks the faces of `out` from `first_face` on that a `delete` names: they were placed by
 /// the innermost instance `inst` through the current chain; `source` is a mesh's face node

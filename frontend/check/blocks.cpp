@@ -84,7 +84,11 @@ void take_instance(Context& c, ir::NodeId id, const OptionValue& v) {
 }
 
 // Stores an option of a pipeline block into its payload.
-void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
+void block_option(Context& c, ir::NodeId id, const OptionValue& v, BlockPaths& paths) {
+  if (v.spec->shape == Shape::Paths) {
+    note_block_paths(paths, v);
+    return;
+  }
   if (v.spec->key == Opt::InstanceRef) {
     take_instance(c, id, v);
     return;
@@ -123,8 +127,6 @@ void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
     }
     case ir::NodeKind::Handle: {
       ir::HandleData& d = n.as<ir::HandleData>();
-      if (v.spec->key == Opt::Faces) d.faces = v.names;
-      if (v.spec->key == Opt::Corners) d.corners = v.names;
       if (v.spec->key == Opt::Segments) d.segments = v.operand;
       if (v.spec->key == Opt::Weights) d.weights = v.operand;
       if (v.spec->key == Opt::Twist) d.twist = v.operand;
@@ -133,8 +135,6 @@ void block_option(Context& c, ir::NodeId id, const OptionValue& v) {
     case ir::NodeKind::Rind: {
       ir::RindData& d = n.as<ir::RindData>();
       if (v.spec->key == Opt::Thickness) d.thickness = v.operand;
-      if (v.spec->key == Opt::Punch) d.punch = v.names;
-      if (v.spec->key == Opt::Peel) d.peel = v.names;
       return;
     }
     case ir::NodeKind::Sierpinski:
@@ -163,7 +163,9 @@ ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const
   std::string name =
       scene_merge ? std::string("merge") : c.read_name(s, pos, fmt::format("{} name … end{}", kw, kw)).value_or("");
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
-  read_body(c, a, s, pos, id, options_for(s.kind), [&c, id](const OptionValue& v) { block_option(c, id, v); });
+  BlockPaths paths;
+  read_body(c, a, s, pos, id, options_for(s.kind), [&c, id, &paths](const OptionValue& v) { block_option(c, id, v, paths); });
+  finish_highgenus(c, s, id, paths);
   if (ctx.parent.is_valid()) c.module().deps.add_edge(id, ctx.parent);
   if (scene_merge && ctx.top) c.scene_merges.push_back(id);
   return id;

@@ -53,6 +53,12 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
                              bool* unresolved = nullptr);
 /// A face named in a `delete` block (`cube1_c4`, `fun2_5`, `cf.fun2.5`).
 ir::DeletedFace resolve_deleted_face(Context& c, const std::string& text, SourceRange use);
+/// A face named by a high-genus block (`handle h faces (c.f1 c.f2)`, `rind r punch (c.f3)`):
+/// a path from one of the block's own instances; reported as `UnknownBlockFace` with the
+/// closest `instance.face` as a fix-it. `scope` of the result is the block.
+ir::DeletedFace resolve_block_face(Context& c, const std::string& text, SourceRange use, ir::NodeId block);
+/// A vertex named by `handle h corners (c.v1 c.v5)`: a path from one of the block's instances.
+ir::VertexRef resolve_block_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId block);
 
 // ---- expressions.cpp: lowering expressions into the IR, with their checks ----
 /// Lowers a syntax expression and evaluates it once (a domain problem such as a division
@@ -132,6 +138,20 @@ ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const
 ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- highgenus.cpp: `handle`, `rind`, `sierpinski` and `menger` ----
+/// The face and vertex paths of a high-genus block, as written; resolved once the block's
+/// instances are read.
+struct BlockPaths {
+  std::vector<std::pair<std::string, SourceRange>> faces, corners, punch, peel;
+  SourceRange faces_range, corners_range;
+  bool has_faces = false, has_corners = false;
+};
+/// Takes a `Paths` option of a high-genus block into `p`.
+void note_block_paths(BlockPaths& p, const OptionValue& v);
+/// Resolves the paths of block `id` into its payload and checks its required options
+/// (`MissingArgument`), list lengths (`ListArity`) and levels (`LevelTooHigh`).
+void finish_highgenus(Context& c, const ast::Stmt& s, ir::NodeId id, const BlockPaths& p);
 
 // ---- colors.cpp: JIPCAD's viewer colours and back-face colours ----
 ir::NodeId handle_scene_color(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);

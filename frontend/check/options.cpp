@@ -88,12 +88,12 @@ const OptSpec kOffset[] = {{"offset_type", Shape::Symbol, Opt::OffsetType}, {"he
                            {"min", Shape::Scalar, Opt::Height},             {"max", Shape::Scalar, Opt::Ignored},
                            {"step", Shape::Scalar, Opt::Ignored},           {"instance", Shape::Any, Opt::InstanceRef},
                            SLIDE_DISPLAY};
-const OptSpec kHandle[] = {{"faces", Shape::Names, Opt::Faces},         {"corners", Shape::Names, Opt::Corners},
+const OptSpec kHandle[] = {{"faces", Shape::Paths, Opt::Faces},         {"corners", Shape::Paths, Opt::Corners},
                            {"segments", Shape::Scalar, Opt::Segments},  {"weights", Shape::Vec2, Opt::Weights},
                            {"twist", Shape::Scalar, Opt::Twist}};
 const OptSpec kRind[] = {{"thickness", Shape::Scalar, Opt::Thickness},
-                         {"punch", Shape::Names, Opt::Punch},
-                         {"peel", Shape::Names, Opt::Peel}};
+                         {"punch", Shape::Paths, Opt::Punch},
+                         {"peel", Shape::Paths, Opt::Peel}};
 const OptSpec kSierpinski[] = {{"level", Shape::Scalar, Opt::Level}};
 const OptSpec kMenger[] = {{"level", Shape::Scalar, Opt::Level},
                            {"thickness", Shape::Scalar, Opt::Thickness},
@@ -402,6 +402,26 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
       }
       ++pos;
       v.names = read_names(c, a, *n, id, spec.shape == Shape::PointNames ? Ns::Point : Ns::Count);
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Paths: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::List) {
+        missing("a list of names `(a.f1 b.f2 …)`");
+        return false;
+      }
+      ++pos;
+      c.check_commas(a, n->list);
+      for (ast::ExprId e : a.list(n->list).elems) {
+        const ast::Expr& x = a.expr(e);
+        if (x.kind != ast::ExprKind::Name) {
+          c.diags().emit(DiagKind::ExpectedNameList, x.range,
+                         fmt::format("expected a name in this list, found `{}`", Context::clip(c.sources().text(x.range))));
+          continue;
+        }
+        v.paths.emplace_back(std::string(x.text), x.range);
+      }
       v.value_range = n->range;
       return true;
     }

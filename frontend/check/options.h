@@ -31,6 +31,7 @@ enum class Shape : uint8_t {
   Names,         // `(n1 n2 …)`, any kind of definition
   PointNames,    // `(p1 p2 …)`: points
   Vertices,      // `(a.hc0 a.hc1)`: vertex references, as in faces
+  Paths,         // `(c.f1 c.f2)`: names the block resolves once its instances are read
   Symbol,        // `sd_type NOME_SD_CC_sharp`, or a value in SLIDE
   Raw,           // `funcX [ … ]`
   Any,           // one item of any kind (display options of SLIDE/NOME3 we accept and ignore)
@@ -70,6 +71,7 @@ struct OptionValue {
   ir::NodeId ref;                   // Surface, Ref
   ir::Slice<ir::NodeId> names;      // Names, PointNames
   ir::Slice<ir::VertexRef> vertices;  // Vertices
+  std::vector<std::pair<std::string, SourceRange>> paths;  // Paths, as written
   std::string_view symbol;          // Symbol or Any given as a word
   SourceRange value_range;          // where the value is
   ast::ExprId raw;                  // Raw

@@ -401,6 +401,29 @@ bool target_has_face(Context& c, ir::NodeId inst, const std::string& rest, std::
   return false;
 }
 
+// The chain and face a path matched, as a face entry: a face node of a mesh, or an index.
+void fill_face(Context& c, PathMatch match, ir::DeletedFace& face) {
+  face.instances = std::move(match.chain);
+  const ir::Module& m = c.module();
+  const ir::NodeId target = m.get<ir::InstanceData>(face.instances.back()).target;
+  if (target.is_valid() && m.node(target).kind == ir::NodeKind::Mesh) {
+    std::vector<ir::NodeId> faces = faces_of(m, target);
+    if (all_digits(match.rest)) {
+      face.face = faces[static_cast<size_t>(index_of(match.rest))];
+    } else {
+      for (ir::NodeId f : faces) {
+        std::string_view name = m.node(f).name;
+        if (name.substr(name.rfind('.') + 1) == match.rest) {
+          face.face = f;
+          break;
+        }
+      }
+    }
+  } else {
+    face.index = static_cast<int32_t>(index_of(match.rest));
+  }
+}
+
 }  // namespace
 
 ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh, bool* unresolved) {
@@ -547,26 +570,83 @@ ir::DeletedFace resolve_deleted_face(Context& c, const std::string& text, Source
                                  : fmt::format("`delete` names no face of an instance: {}; the entry is ignored", error));
     return face;
   }
-  face.instances = std::move(match.chain);
-  const ir::Module& m = c.module();
-  const ir::NodeId target = m.get<ir::InstanceData>(face.instances.back()).target;
-  if (target.is_valid() && m.node(target).kind == ir::NodeKind::Mesh) {
-    std::vector<ir::NodeId> faces = faces_of(m, target);
-    if (all_digits(match.rest)) {
-      face.face = faces[static_cast<size_t>(index_of(match.rest))];
-    } else {
-      for (ir::NodeId f : faces) {
-        std::string_view name = m.node(f).name;
-        if (name.substr(name.rfind('.') + 1) == match.rest) {
-          face.face = f;
-          break;
-        }
-      }
-    }
-  } else {
-    face.index = static_cast<int32_t>(index_of(match.rest));
-  }
+  fill_face(c, std::move(match), face);
   return face;
+}
+
+ir::DeletedFace resolve_block_face(Context& c, const std::string& text, SourceRange use, ir::NodeId block) {
+  ir::DeletedFace face;
+  face.text = text;
+  face.range = use;
+  face.scope = block;
+  const LeafCheck has_face = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
+    return target_has_face(c, inst, rest, why);
+  };
+  PathMatch match;
+  std::string error;
+  bool found = false;
+  if (text.find('.') != std::string::npos) {
+    found = match_dotted(c, text, match, error, has_face, block) && error.empty();
+  } else if (std::vector<PathMatch> matches = match_underscored(c, text, has_face, block, &error); !matches.empty()) {
+    match = matches[0];
+    found = true;
+  }
+  if (found) {
+    fill_face(c, std::move(match), face);
+    return face;
+  }
+  // Candidates: `inst.face` for the block's own instances of meshes.
+  const ir::Module& m = c.module();
+  std::vector<std::string> cands;
+  for (ir::NodeId k : m.node(block).children) {
+    if (m.node(k).kind != ir::NodeKind::Instance) continue;
+    const ir::NodeId t = m.get<ir::InstanceData>(k).target;
+    if (!t.is_valid() || m.node(t).kind != ir::NodeKind::Mesh) continue;
+    for (ir::NodeId f : faces_of(m, t)) {
+      std::string_view name = m.node(f).name;
+      cands.push_back(fmt::format("{}.{}", m.node(k).name.substr(m.node(k).name.rfind('.') + 1),
+                                  name.substr(name.rfind('.') + 1)));
+    }
+  }
+  const std::string hint = closest_match(text, cands);
+  const ir::Node& b = m.node(block);
+  std::string why = error.empty() ? "" : ": " + error;
+  why += hint.empty() ? (error.empty() ? std::string("; write the instance and the face, e.g. `c.f1`") : std::string())
+                      : fmt::format("; did you mean `{}`?", hint);
+  auto d = c.diags().emit(DiagKind::UnknownBlockFace, use,
+                          fmt::format("`{}` `{}` names `{}`, which is no face of its instances{}", b.keyword,
+                                      b.name.substr(b.name.rfind('.') + 1), text, why));
+  if (!hint.empty()) d.fixit(use, hint, fmt::format("replace with `{}`", hint));
+  return face;
+}
+
+ir::VertexRef resolve_block_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId block) {
+  ir::VertexRef ref;
+  ref.text = text;
+  ref.range = use;
+  const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
+    return target_has_vertex(c, inst, rest, why);
+  };
+  PathMatch match;
+  std::string error;
+  bool found = false;
+  if (text.find('.') != std::string::npos) {
+    found = match_dotted(c, text, match, error, has_vertex, block) && error.empty();
+  } else if (std::vector<PathMatch> matches = match_underscored(c, text, has_vertex, block, &error); !matches.empty()) {
+    match = matches[0];
+    found = true;
+  }
+  if (found) {
+    ref.instances = std::move(match.chain);
+    ref.vertex = std::move(match.rest);
+    return ref;
+  }
+  const ir::Node& b = c.module().node(block);
+  c.diags().emit(DiagKind::UnknownVertex, use,
+                 fmt::format("`{}` `{}` names `{}`, which is no vertex of its instances{}{}", b.keyword,
+                             b.name.substr(b.name.rfind('.') + 1), text, error.empty() ? "" : ": ",
+                             error.empty() ? std::string("; write the instance and the vertex, e.g. `c.v1`") : error));
+  return ref;
 }
 
 }  // namespace nomec::check

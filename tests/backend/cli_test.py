@@ -158,9 +158,16 @@ EXAMPLE_OFFSET = {
     "mobius_band.nome": ["--merge", "--subdivide", "2", "--offset", "0.08"],
     "perry_tetra_single_sided.nome": ["--merge", "--subdivide", "2", "--offset", "0.08"],
     "zero.nome": ["--merge", "--subdivide", "2", "--offset", "0.03"],
+    "handle_cube.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "handle_funnels.nome": ["--merge", "--subdivide", "1", "--offset", "0.05"],
+    "sierpinski_tetrahedron.nome": ["--merge", "--subdivide", "1", "--offset", "0.02"],
+    "menger_sponge.nome": ["--merge", "--subdivide", "1", "--offset", "0.01"],
+    "rind_sphere.nome": ["--merge", "--subdivide", "1", "--offset", "0.01"],
+    "mobius_handle.nome": ["--merge", "--subdivide", "2", "--offset", "0.05"],
 }
 # Examples whose surface is single-sided before the offset.
-NON_ORIENTABLE = ("mobius_band.nome", "perry_tetra_single_sided.nome", "klein_bottle_zipped.nome", "zero.nome")
+NON_ORIENTABLE = ("mobius_band.nome", "perry_tetra_single_sided.nome", "klein_bottle_zipped.nome", "zero.nome",
+                  "mobius_handle.nome")
 
 
 def case_admesh(nomec, admesh, corpus):
@@ -186,6 +193,8 @@ def case_admesh(nomec, admesh, corpus):
         # The seed's "Zero" from the corpus in place: Zero_6.sif plus zerosave.anom.
         (os.path.join(corpus, "nome1/zero/zerosave.anom"), ["--merge", "--subdivide", "2", "--offset", "0.002"]),
         ("tests/mesh/testdata/mobius_band_offset.nome", ["--merge", "--subdivide", "1", "--offset", "0.05"]),
+        # A Menger sponge through `subdivision` and `offset` blocks (no command-line steps).
+        ("tests/mesh/testdata/block_menger_subdivision_offset.nome", []),
         # Closed sweeps straight to STL: faces must already point outwards (none reversed).
         ("tests/mesh/testdata/sweep_capped.nome", []),
         (os.path.join(corpus, "nome3/sweeps_circle.nom"), []),

@@ -1,6 +1,7 @@
 // Tests of the editing session (backend/session.h): exact re-evaluation counts on the
 // funnel cube (a transform-only change re-places the six instances and runs no funnel, a
-// generator change runs the funnel once, an unused slider re-evaluates nothing), reuse of
+// generator change runs the funnel once, an unused slider re-evaluates nothing; a handle's
+// slider re-runs the handle only), reuse of
 // unchanged components in pipeline blocks, and a seeded property test: after random
 // slider sequences, every output equals a fresh build with those values given as -D
 // overrides (summaries and vertex data), on examples and corpus files.
@@ -118,6 +119,37 @@ TEST(Session, UnusedParameterReevaluatesNothing) {
   EXPECT_EQ(u.kernel_ops_rerun, 0);
   EXPECT_TRUE(u.changed_outputs.empty());
   EXPECT_EQ(s.outputs(), before);  // the very same mesh objects
+}
+
+TEST(Session, HandleSliderRerunsTheHandleNotTheFunnels) {
+  // examples/handle_funnels.nome: `tw.twist` is read by the handle block only. Moving it
+  // runs no generator and places no instance again; the block's kernel operations (the
+  // merge of its input and the handle) run again and its output changes, with the same
+  // counts (a twist changes positions only).
+  auto c = check("handle_funnels.nome", example("handle_funnels.nome"));
+  ASSERT_EQ(c->diags.error_count(), 0);
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  UpdateStats full = s.build(d);
+  EXPECT_EQ(d.error_count(), 0);
+  EXPECT_EQ(full.generators_rerun, 1);
+  const auto before = s.outputs();
+  ASSERT_EQ(before.size(), 1u);
+  UpdateStats u = s.set_parameter("tw.twist", 2, d);
+  ASSERT_TRUE(u.ok()) << u.error;
+  EXPECT_EQ(d.error_count(), 0);
+  EXPECT_EQ(u.generators_rerun, 0);
+  EXPECT_EQ(u.instances_retransformed, 0);
+  EXPECT_EQ(u.kernel_ops_rerun, 2);
+  ASSERT_EQ(s.outputs().size(), 1u);
+  EXPECT_NE(s.outputs()[0], before[0]);
+  EXPECT_EQ(s.outputs()[0]->soup.face_count(), before[0]->soup.face_count());
+  EXPECT_NE(s.outputs()[0]->soup.positions, before[0]->soup.positions);
+  // The segments slider changes the handle's counts: 10 → 4 segments, 6 rings fewer.
+  u = s.set_parameter("tw.segments", 4, d);
+  ASSERT_TRUE(u.ok()) << u.error;
+  EXPECT_EQ(u.generators_rerun, 0);
+  EXPECT_EQ(s.outputs()[0]->soup.face_count(), before[0]->soup.face_count() - 6 * 4);
 }
 
 TEST(Session, RefusesUnknownAndOutOfRangeSliders) {
@@ -398,6 +430,12 @@ TEST(SessionProperty, RandomSliderSequencesMatchFreshBuilds) {
       {ex + "funnel_cube.nome", sub_offset},
       {ex + "klein_bottle.nome", {}},
       {ex + "klein_bottle_zipped.nome", {}},
+      {ex + "handle_cube.nome", {}},
+      {ex + "handle_funnels.nome", {}},
+      {ex + "sierpinski_tetrahedron.nome", {}},
+      {ex + "menger_sponge.nome", {}},
+      {ex + "rind_sphere.nome", {}},
+      {ex + "mobius_handle.nome", {}},
       {corpus + "nome1/funnelCube/funnelCube.nom", {}},
       {corpus + "nome1/kleinbottle/kleinbottle.nom", {}},
       {corpus + "nome3/bank_sphere.nom", {}},

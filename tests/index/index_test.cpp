@@ -386,6 +386,35 @@ TEST(Index, HoverGeneratorInstanceKeyword) {
   EXPECT_FALSE(d->ix().hover(d->a.file, d->at("(0 0 0)") + 1));
 }
 
+TEST(Index, HighGenusBlocksInOutlineAndHover) {
+  auto d = open(R"(mesh sq
+  point a (0 0 0) endpoint
+  point b (1 0 0) endpoint
+  point c (1 1 0) endpoint
+  face f (a b c) endface
+endmesh
+menger sponge level 1 thickness 0.2
+  instance k sq endinstance
+endmenger
+handle h faces (k.f k.f)
+  instance k sq endinstance
+endhandle
+)");
+  auto top = d->ix().outline(d->a.file);
+  std::vector<std::string> names;
+  for (SymbolId s : top) names.push_back(d->ix().symbols()[s].name);
+  EXPECT_EQ(names, (std::vector<std::string>{"sq", "sponge", "h"}));
+  auto kw = d->ix().hover(d->a.file, d->at("menger sponge") + 1);
+  ASSERT_TRUE(kw);
+  EXPECT_NE(kw->markdown.find("generalized Menger sponge"), std::string::npos) << kw->markdown;
+  auto opt = d->ix().hover(d->a.file, d->at("thickness") + 1);
+  ASSERT_TRUE(opt);
+  EXPECT_NE(opt->markdown.find("tunnel depth"), std::string::npos) << opt->markdown;
+  auto faces = d->ix().hover(d->a.file, d->at("faces") + 1);
+  ASSERT_TRUE(faces);
+  EXPECT_NE(faces->markdown.find("the two faces a handle joins"), std::string::npos) << faces->markdown;
+}
+
 TEST(Index, IncludedFileSymbols) {
   CheckOptions opts;
   opts.read_file = [](const std::string& path) -> std::optional<std::string> {
