@@ -397,7 +397,9 @@ TEST(OriginalGenImplicitSurf, EveryRecordNameOfNome3ResolvesAfterWelding) {
                     implicit_args([](auto p) { return p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - 1; }, -1.5, 1.5, 7));
   EXPECT_EQ(g.soup.vertex_count(), 6 + 24 + 24);
   std::vector<std::string> names(g.soup.names.begin(), g.soup.names.end());
-  for (const auto& [name, position] : g.aliases) {
+  for (const auto& alias : g.aliases) {
+    const std::string& name = alias.first;
+    const glm::dvec3& position = alias.second;  // a plain reference: lambdas may capture it
     names.push_back(name);
     const auto same = std::find_if(g.soup.positions.begin(), g.soup.positions.end(),
                                    [&](const glm::dvec3& q) {
