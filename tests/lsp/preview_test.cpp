@@ -148,6 +148,8 @@ TEST(LspPreview, PipelineValuesAndKleinBottleTopology) {
   EXPECT_EQ(s["orientable"], false);
   EXPECT_EQ(s["closed"], true);
   EXPECT_TRUE(decode<uint32_t>(res["outputs"][0]["geometry"]["borderEdges"]).empty());
+  // Non-orientable: where the faces' orientations meet reversed, Möbius edges.
+  EXPECT_FALSE(decode<uint32_t>(res["outputs"][0]["geometry"]["mobiusEdges"]).empty());
 
   // Values a client moved before are applied to a rebuilt session: the same summary as
   // moving the slider afterwards.
