@@ -4,9 +4,10 @@
 // only the preview's requests (nome/preview, nome/setParameter, nome/saveScene). Requests
 // whose Host is not 127.0.0.1:PORT or localhost:PORT, or whose Origin (when sent) is not
 // http:// one of those, are refused with 403 (DNS rebinding, other sites' pages). The file
-// and the files it reads (includes, an `.anom` base) are polled every 200 ms; a change
-// re-sends the text to the server and tells the browser `nome/changed`, which asks for the
-// scene again. SIGINT/SIGTERM stop the server cleanly (exit 0).
+// and the files it reads (includes, an `.anom` base: the `files` of the latest nome/preview
+// reply) are polled every 200 ms; a change re-sends the text to the server and tells the
+// browser `nome/changed`, which asks for the scene again. SIGINT/SIGTERM stop the server
+// cleanly (exit 0).
 #include "tools/view_command.h"
 
 #include <iostream>
@@ -28,11 +29,11 @@
 #include <fmt/format.h>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string_view>
 
 #include "base/file_io.h"
-#include "frontend/check/check.h"
 #include "lsp/handler.h"
 #include "lsp/server.h"
 
@@ -103,20 +104,33 @@ bool allowed(const Site& site, const http::request<http::string_body>& req) {
   return o.substr(0, kHttp.size()) == kHttp && allowed_host(site, o.substr(kHttp.size()));
 }
 
-// The files the scene reads (itself first), found by checking it once.
-std::vector<std::string> scene_files(const std::string& path, const std::string& text) {
-  SourceManager sources;
-  DiagnosticEngine diags;
-  CheckOptions options;
-  options.read_file = read_file_bytes;
-  options.list_folder = list_folder;
-  check_source(sources, path, text, options, diags);
-  std::vector<std::string> files{path};
-  for (size_t i = 0; i < sources.file_count(); ++i) {
-    std::string name(sources.name(FileId(static_cast<int32_t>(i))));
-    if (std::find(files.begin(), files.end(), name) == files.end() && fs::exists(name)) files.push_back(name);
+// The `files` of a nome/preview reply (the scene and every file it read), found without
+// parsing the whole reply: nlohmann-json writes keys in order, `files` before `outputs`,
+// and the text `"files":[` can only be that key (inside a JSON string the quotes would be
+// escaped).
+std::optional<std::vector<std::string>> files_in_reply(std::string_view m) {
+  constexpr std::string_view kKey = "\"files\":[";
+  const size_t at = m.find(kKey);
+  if (at == std::string_view::npos) return std::nullopt;
+  const size_t begin = at + kKey.size() - 1;
+  bool in_string = false;
+  for (size_t i = begin + 1; i < m.size(); ++i) {
+    if (in_string) {
+      if (m[i] == '\\') ++i;
+      else if (m[i] == '"') in_string = false;
+    } else if (m[i] == '"') {
+      in_string = true;
+    } else if (m[i] == ']') {
+      json files = json::parse(m.substr(begin, i + 1 - begin), nullptr, false);
+      if (!files.is_array()) return std::nullopt;
+      std::vector<std::string> out;
+      for (const json& f : files) {
+        if (f.is_string()) out.push_back(f.get<std::string>());
+      }
+      return out;
+    }
   }
-  return files;
+  return std::nullopt;
 }
 
 class WsSession : public std::enable_shared_from_this<WsSession> {
@@ -134,6 +148,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   }
 
   void run(http::request<http::string_body> req) {
+    beast::error_code ignored;  // small replies go out at once (no Nagle delay)
+    ws_.next_layer().socket().set_option(tcp::no_delay(true), ignored);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
       if (!ec) self->start();
@@ -152,8 +168,12 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
           // Only answers to the browser's requests go out: not the host's own (ids
           // "view-…") nor the server's notifications (the preview carries diagnostics).
           if (m.rfind("{\"id\":", 0) != 0 || m.rfind("{\"id\":\"view-", 0) == 0) return;
-          net::post(ioc, [weak, m = std::move(m)]() mutable {
-            if (auto s = weak.lock()) s->send(std::move(m));
+          std::optional<std::vector<std::string>> files = files_in_reply(m);
+          net::post(ioc, [weak, m = std::move(m), files = std::move(files)]() mutable {
+            auto s = weak.lock();
+            if (!s) return;
+            if (files) s->watch(*files);
+            s->send(std::move(m));
           });
         },
         options);
@@ -166,17 +186,26 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
                          {"params", {{"textDocument", {{"uri", site_.uri}, {"languageId", "nome"}, {"version", version_},
                                                        {"text", text}}}}}}
                         .dump());
-    watch(text);
     send(json{{"jsonrpc", "2.0"}, {"method", "nome/open"},
               {"params", {{"uri", site_.uri}, {"title", fs::path(site_.path).filename().string()}}}}
              .dump());
+    watch({site_.path});  // the files it includes join once the first preview names them
     read();
     poll();
   }
 
-  void watch(const std::string& text) {
-    watched_.clear();
-    for (const std::string& f : scene_files(site_.path, text)) watched_.emplace_back(f, stamp_of(f));
+  // Watches `files` (and the scene itself), keeping the stamps of files already watched so
+  // a change between two previews is not missed.
+  void watch(const std::vector<std::string>& files) {
+    std::vector<std::pair<std::string, Stamp>> next;
+    auto add = [&](const std::string& f) {
+      if (std::find_if(next.begin(), next.end(), [&](const auto& w) { return w.first == f; }) != next.end()) return;
+      auto old = std::find_if(watched_.begin(), watched_.end(), [&](const auto& w) { return w.first == f; });
+      next.emplace_back(f, old != watched_.end() ? old->second : stamp_of(f));
+    };
+    add(site_.path);
+    for (const std::string& f : files) add(f);
+    watched_ = std::move(next);
   }
 
   void poll() {
@@ -198,7 +227,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
                          {"params", {{"textDocument", {{"uri", site_.uri}, {"version", version_}}},
                                      {"contentChanges", json::array({{{"text", *text}}})}}}}
                         .dump());
-    watch(*text);
+    for (auto& [file, stamp] : watched_) stamp = stamp_of(file);
     send(json{{"jsonrpc", "2.0"}, {"method", "nome/changed"}, {"params", {{"uri", site_.uri}, {"version", version_}}}}
              .dump());
   }

@@ -17,6 +17,8 @@ interface Timing {
   parameter: string;
   roundTripMs: number;  // request sent -> reply received
   frameMs: number;      // slider input -> the new frame drawn
+  applyMs: number;      // reply received -> geometry rebuilt (decoding, normals)
+  drawMs: number;       // geometry rebuilt -> the frame drawn by the GPU
   serverMs: number;     // evaluation time reported by nomec
   bytes: number;        // size of the reply's text
 }
@@ -24,6 +26,7 @@ interface Timing {
 class App {
   private uri = "";
   private sliders: Slider[] = [];
+  private inputs = new Map<string, HTMLInputElement[]>();  // slider id -> its range and number
   private moved: Record<string, number> = {};   // values the user moved, kept across reloads
   private summaries: Summary[] = [];
   private inFlight = false;
@@ -33,6 +36,8 @@ class App {
   private fittedOnce = false;
   readonly timings: Timing[] = [];
   state = { ready: false, ok: false, version: -1, previews: 0, error: "" };
+  /// Where the last full preview's time went (ms): request, slider panel, geometry, frame.
+  lastPreview = { requestMs: 0, panelMs: 0, geometryMs: 0, frameMs: 0 };
 
   constructor(private transport: Transport, private viewer: Viewer) {
     transport.onNotification = (method, params) => {
@@ -45,6 +50,7 @@ class App {
   }
 
   open(uri: string, title?: string): void {
+    performance.mark("nome-open");
     if (uri !== this.uri) {
       this.uri = uri;
       this.moved = {};
@@ -75,9 +81,12 @@ class App {
     this.previewing = true;
     this.status("Evaluating…");
     try {
+      const t0 = performance.now();
       const r = await this.transport.request<PreviewReply>("nome/preview", {
         uri: this.uri, pipeline: this.pipeline(), values: this.moved,
       });
+      const t1 = performance.now();
+      this.lastPreview = { requestMs: t1 - t0, panelMs: 0, geometryMs: 0, frameMs: 0 };
       this.state.version = r.version;
       this.state.previews++;
       this.showDiagnostics(r.diagnostics);
@@ -88,17 +97,21 @@ class App {
       } else {
         this.state.ok = true;
         this.showSliders(r.sliders ?? []);
-        this.viewer.apply(r.outputs, r.outputs.map((o) => o.name));
         this.summaries = r.outputs.map((o) => o.summary);
         this.showTopology();
+        const t2 = performance.now();
+        this.viewer.apply(r.outputs, r.outputs.map((o) => o.name));
         if (!this.fittedOnce) {
           this.viewer.fitView();
           this.fittedOnce = true;
         }
+        const t3 = performance.now();
         await this.viewer.nextFrame();
+        this.lastPreview = { requestMs: t1 - t0, panelMs: t2 - t1, geometryMs: t3 - t2, frameMs: performance.now() - t3 };
         this.status(`Version ${r.version}: ${r.outputs.length} output${r.outputs.length === 1 ? "" : "s"}.`);
       }
       this.state.ready = true;
+      performance.mark("nome-ready");
     } catch (e) {
       this.fail(e);
     } finally {
@@ -134,20 +147,38 @@ class App {
       return;
     }
     box.textContent = "";
+    this.inputs.clear();
     if (sliders.length === 0) {
       box.innerHTML = '<p class="muted">No sliders in this scene.</p>';
       return;
     }
-    let bank = "";
+    // One collapsible group per bank; a scene with many banks opens only the first, and a
+    // closed bank's rows are made when it is first opened (thousands of sliders stay cheap).
+    const banks = new Map<string, Slider[]>();
     for (const s of sliders) {
-      if (s.bank !== bank) {
-        bank = s.bank;
-        const h = document.createElement("div");
-        h.className = "bank";
-        h.textContent = `bank ${bank}`;
-        box.appendChild(h);
+      if (!banks.has(s.bank)) banks.set(s.bank, []);
+      banks.get(s.bank)!.push(s);
+    }
+    let first = true;
+    for (const [bank, list] of banks) {
+      const group = document.createElement("details");
+      group.className = "bank-group";
+      const summary = document.createElement("summary");
+      summary.className = "bank";
+      summary.textContent = `bank ${bank}`;
+      group.appendChild(summary);
+      const fill = () => {
+        if (group.dataset.filled) return;
+        group.dataset.filled = "1";
+        for (const s of list) group.appendChild(this.sliderRow(this.sliders.find((x) => x.id === s.id) ?? s));
+      };
+      group.addEventListener("toggle", () => { if (group.open) fill(); });
+      if (banks.size <= 6 || first) {
+        group.open = true;
+        fill();
       }
-      box.appendChild(this.sliderRow(s));
+      first = false;
+      box.appendChild(group);
     }
   }
 
@@ -189,13 +220,12 @@ class App {
       this.move(s.id, v);
     });
     row.append(label, range, num, hint);
+    this.inputs.set(s.id, [range, num]);
     return row;
   }
 
   private setSliderValue(id: string, value: number): void {
-    for (const el of document.querySelectorAll<HTMLInputElement>(`#sliders input`)) {
-      if (el.dataset.param === id) el.value = String(value);
-    }
+    for (const el of this.inputs.get(id) ?? []) el.value = String(value);
   }
 
   move(id: string, value: number): void {
@@ -219,10 +249,12 @@ class App {
         this.summaries = r.meshes;
         this.showTopology();
         this.showDiagnostics(r.diagnostics, true);
+        const applied = performance.now();
         await this.viewer.nextFrame();
+        const drawn = performance.now();
         this.timings.push({
-          parameter: id, roundTripMs: received - sent, frameMs: performance.now() - t0, serverMs: r.ms,
-          bytes: JSON.stringify(r).length,
+          parameter: id, roundTripMs: received - sent, frameMs: drawn - t0, applyMs: applied - received,
+          drawMs: drawn - applied, serverMs: r.ms, bytes: JSON.stringify(r).length,
         });
         if (this.timings.length > 1000) this.timings.shift();
         this.status(`${id} = ${value} (${r.ms.toFixed(1)} ms in nomec)`);
@@ -241,7 +273,8 @@ class App {
   private showTopology(): void {
     const box = $("topology");
     box.textContent = "";
-    for (const s of this.summaries) {
+    const kShown = 12;
+    for (const s of this.summaries.slice(0, kShown)) {
       const t = document.createElement("table");
       t.className = "topo";
       const cap = t.createCaption();
@@ -266,6 +299,16 @@ class App {
         td.textContent = v;
       }
       box.appendChild(t);
+    }
+    const rest = this.summaries.slice(kShown);
+    if (rest.length > 0) {
+      const sum = (f: (x: Summary) => number) => rest.reduce((a, x) => a + f(x), 0);
+      const p = document.createElement("p");
+      p.className = "muted";
+      p.textContent = `…and ${rest.length} more outputs: ${sum((x) => x.vertices)} / ${sum((x) => x.edges)} / ` +
+        `${sum((x) => x.faces)} V / E / F, ${rest.filter((x) => !x.orientable).length} non-orientable, ` +
+        `${sum((x) => x.border_loops)} borders.`;
+      box.appendChild(p);
     }
   }
 
@@ -356,14 +399,17 @@ class App {
 }
 
 function start(): void {
+  performance.mark("nome-start");
   const viewer = new Viewer($<HTMLCanvasElement>("view"));
   const vscodeApi = typeof acquireVsCodeApi === "function" ? acquireVsCodeApi() : undefined;
   const transport: Transport = vscodeApi !== undefined
     ? new VsCodeTransport(vscodeApi)
     : new WebSocketTransport(`ws://${location.host}/rpc`);
+  performance.mark("nome-viewer");
   const app = new App(transport, viewer);
   (window as any).nomePreview = {
     app, viewer, timings: app.timings,
+    lastPreview: () => app.lastPreview,
     state: app.state,
     vertexHash: () => viewer.vertexHash(),
     move: (id: string, value: number) => app.move(id, value),

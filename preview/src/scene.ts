@@ -1,9 +1,11 @@
-// scene.ts: the three.js side of the preview. Each output mesh becomes a shaded surface
+// scene.ts: the three.js side of the preview. Each output mesh gives a shaded surface
 // (triangles expanded per corner so face colours stay crisp; smooth normals are averaged
 // per vertex with orientation-consistent signs, so Möbius and Klein surfaces shade
 // smoothly too), a wireframe of the polygon edges (not the triangle diagonals), its border
-// edges and its Möbius edges. Orbit, pan and zoom by mouse or keyboard; "fit view" frames
-// everything.
+// edges and its Möbius edges. An update recomputes only the outputs it names; all outputs
+// are then drawn as four objects (surfaces, wireframe, borders, Möbius edges), so a scene
+// of hundreds of outputs costs four draw calls, not hundreds. Orbit, pan and zoom by mouse
+// or keyboard; "fit view" frames everything.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { LineSegments2 } from "three/examples/jsm/lines/LineSegments2.js";
@@ -22,11 +24,10 @@ interface Part {
   edges: Uint32Array;
   borderEdges: Uint32Array;
   mobiusEdges: Uint32Array;
-  group: THREE.Group;
-  surface: THREE.Mesh;
-  wire: THREE.LineSegments;
-  border: LineSegments2;
-  mobius: LineSegments2;
+  // Per triangle corner: position, normal, colour (what the surface draws).
+  cornerPositions: Float32Array;
+  cornerNormals: Float32Array;
+  cornerColors: Float32Array;
 }
 
 export class Viewer {
@@ -35,6 +36,10 @@ export class Viewer {
   readonly camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
   readonly controls: OrbitControls;
   private parts = new Map<string, Part>();
+  private surface: THREE.Mesh;
+  private wire: THREE.LineSegments;
+  private border: LineSegments2;
+  private mobius: LineSegments2;
   private surfaceMaterial = new THREE.MeshStandardMaterial({
     vertexColors: true,
     side: THREE.DoubleSide,
@@ -51,10 +56,13 @@ export class Viewer {
   smooth = true;
   wireframe = true;
   private frameWaiters: (() => void)[] = [];
+  private probe = new Uint8Array(4);
   private needsRender = true;
 
   constructor(readonly canvas: HTMLCanvasElement) {
-    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    // Multisampling is free on a GPU but quadruples the work of a software renderer
+    // (SwiftShader, as in headless Chromium or a machine without a GPU).
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: !Viewer.softwareGl(), preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
     this.camera.position.set(3, 2.5, 4);
     this.controls = new OrbitControls(this.camera, canvas);
@@ -65,12 +73,25 @@ export class Viewer {
     key.position.set(2, 3, 4);
     this.camera.add(key);
     this.scene.add(this.camera);
+    this.surface = new THREE.Mesh(new THREE.BufferGeometry(), this.surfaceMaterial);
+    this.wire = new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial);
+    this.border = new LineSegments2(new LineSegmentsGeometry(), this.borderMaterial);
+    this.mobius = new LineSegments2(new LineSegmentsGeometry(), this.mobiusMaterial);
+    this.border.renderOrder = 2;
+    this.mobius.renderOrder = 3;
+    this.scene.add(this.surface, this.wire, this.border, this.mobius);
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
     const loop = () => {
       if (this.needsRender) {
         this.needsRender = false;
         this.renderer.render(this.scene, this.camera);
+        // Someone waits for this picture (a slider move's timing, a test): wait until the
+        // GPU has drawn it, not only until the commands were sent.
+        if (this.frameWaiters.length > 0) {
+          const gl = this.renderer.getContext();
+          gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.probe);
+        }
         const waiters = this.frameWaiters;
         this.frameWaiters = [];
         for (const w of waiters) w();
@@ -78,6 +99,17 @@ export class Viewer {
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
+  }
+
+  static softwareGl(): boolean {
+    try {
+      const gl = document.createElement("canvas").getContext("webgl2");
+      const info = gl?.getExtension("WEBGL_debug_renderer_info");
+      const name = info ? String(gl!.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+      return /swiftshader|llvmpipe|software/i.test(name);
+    } catch {
+      return false;
+    }
   }
 
   setBackground(css: string): void {
@@ -113,32 +145,26 @@ export class Viewer {
       const old = this.parts.get(o.name);
       if (o.positionsOnly && old !== undefined) {
         old.positions = float32s(o.geometry.positions);
-        this.rebuild(old);
+        this.rebuild(old, false);
       } else {
-        if (old !== undefined) this.dispose(old);
         this.parts.set(o.name, this.create(o));
       }
     }
     if (keep !== undefined) {
-      for (const [name, p] of this.parts) {
-        if (!keep.includes(name)) {
-          this.dispose(p);
-          this.parts.delete(name);
-        }
+      for (const name of [...this.parts.keys()]) {
+        if (!keep.includes(name)) this.parts.delete(name);
       }
     }
-    this.requestRender();
+    this.compose();
   }
 
   clear(): void {
-    for (const p of this.parts.values()) this.dispose(p);
     this.parts.clear();
-    this.requestRender();
+    this.compose();
   }
 
   private create(o: WireOutput): Part {
     const g = o.geometry;
-    const group = new THREE.Group();
     const part: Part = {
       name: o.name,
       positions: float32s(g.positions),
@@ -148,48 +174,85 @@ export class Viewer {
       edges: uint32s(g.edges),
       borderEdges: uint32s(g.borderEdges),
       mobiusEdges: uint32s(g.mobiusEdges),
-      group,
-      surface: new THREE.Mesh(new THREE.BufferGeometry(), this.surfaceMaterial),
-      wire: new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial),
-      border: new LineSegments2(new LineSegmentsGeometry(), this.borderMaterial),
-      mobius: new LineSegments2(new LineSegmentsGeometry(), this.mobiusMaterial),
+      cornerPositions: new Float32Array(0),
+      cornerNormals: new Float32Array(0),
+      cornerColors: new Float32Array(0),
     };
-    part.border.renderOrder = 2;
-    part.mobius.renderOrder = 3;
-    group.add(part.surface, part.wire, part.border, part.mobius);
-    this.scene.add(group);
-    this.rebuild(part);
+    this.rebuild(part, true);
     return part;
   }
 
-  private dispose(p: Part): void {
-    this.scene.remove(p.group);
-    for (const o of [p.surface, p.wire, p.border, p.mobius]) o.geometry.dispose();
+  // Segment end points of `pairs` (vertex index pairs) of every part, for a fat line.
+  private static ends(parts: Part[], pick: (p: Part) => Uint32Array): Float32Array {
+    let n = 0;
+    for (const p of parts) n += pick(p).length;
+    const out = new Float32Array(n * 3);
+    let o = 0;
+    for (const p of parts) {
+      const pairs = pick(p);
+      for (let i = 0; i < pairs.length; ++i, o += 3) {
+        const v = 3 * pairs[i];
+        out[o] = p.positions[v];
+        out[o + 1] = p.positions[v + 1];
+        out[o + 2] = p.positions[v + 2];
+      }
+    }
+    return out;
   }
 
-  private lines(geometry: THREE.BufferGeometry, positions: Float32Array, pairs: Uint32Array): void {
-    geometry.setAttribute("position", new THREE.BufferAttribute(positions, 3));
-    geometry.setIndex(new THREE.BufferAttribute(pairs, 1));
-    geometry.computeBoundingSphere();
-  }
-
-  private fatLines(line: LineSegments2, positions: Float32Array, pairs: Uint32Array): void {
+  private static fat(line: LineSegments2, ends: Float32Array): void {
     line.geometry.dispose();
     const g = new LineSegmentsGeometry();
-    line.visible = pairs.length > 0;
-    if (pairs.length > 0) {
-      const ends = new Float32Array(pairs.length * 3);
-      for (let i = 0; i < pairs.length; ++i) {
-        ends[3 * i] = positions[3 * pairs[i]];
-        ends[3 * i + 1] = positions[3 * pairs[i] + 1];
-        ends[3 * i + 2] = positions[3 * pairs[i] + 2];
-      }
-      g.setPositions(ends);
-    }
+    if (ends.length > 0) g.setPositions(ends);
     line.geometry = g;
+    line.visible = ends.length > 0;
   }
 
-  private rebuild(p: Part): void {
+  // Draws every part as one surface, one wireframe and two fat-line sets.
+  private compose(): void {
+    const parts = [...this.parts.values()];
+    let corners = 0, vertices = 0, edges = 0;
+    for (const p of parts) {
+      corners += p.cornerPositions.length;
+      vertices += p.positions.length;
+      edges += p.edges.length;
+    }
+    const pos = new Float32Array(corners), nor = new Float32Array(corners), col = new Float32Array(corners);
+    const wirePos = new Float32Array(vertices);
+    const wireIndex = new Uint32Array(edges);
+    let c = 0, v = 0, e = 0;
+    for (const p of parts) {
+      pos.set(p.cornerPositions, c);
+      nor.set(p.cornerNormals, c);
+      col.set(p.cornerColors, c);
+      c += p.cornerPositions.length;
+      wirePos.set(p.positions, v);
+      const base = v / 3;
+      for (let i = 0; i < p.edges.length; ++i) wireIndex[e + i] = p.edges[i] + base;
+      v += p.positions.length;
+      e += p.edges.length;
+    }
+    this.surface.geometry.dispose();
+    const sg = new THREE.BufferGeometry();
+    sg.setAttribute("position", new THREE.BufferAttribute(pos, 3));
+    sg.setAttribute("normal", new THREE.BufferAttribute(nor, 3));
+    sg.setAttribute("color", new THREE.BufferAttribute(col, 3));
+    sg.computeBoundingSphere();
+    this.surface.geometry = sg;
+    this.wire.geometry.dispose();
+    const wg = new THREE.BufferGeometry();
+    wg.setAttribute("position", new THREE.BufferAttribute(wirePos, 3));
+    wg.setIndex(new THREE.BufferAttribute(wireIndex, 1));
+    wg.computeBoundingSphere();
+    this.wire.geometry = wg;
+    this.wire.visible = this.wireframe;
+    Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
+    Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
+    this.requestRender();
+  }
+
+  /// Recomputes the part's corners from its positions (colours too when `colors`).
+  private rebuild(p: Part, colors: boolean): void {
     const pos = p.positions;
     const tris = p.triangles;
     const nt = tris.length / 3;
@@ -218,13 +281,13 @@ export class Viewer {
         }
       }
     }
-    const outPos = new Float32Array(nt * 9);
-    const outNormal = new Float32Array(nt * 9);
-    const outColor = new Float32Array(nt * 9);
+    const outPos = p.cornerPositions.length === nt * 9 ? p.cornerPositions : new Float32Array(nt * 9);
+    const outNormal = p.cornerNormals.length === nt * 9 ? p.cornerNormals : new Float32Array(nt * 9);
+    const outColor = colors || p.cornerColors.length !== nt * 9 ? new Float32Array(nt * 9) : null;
     for (let t = 0; t < nt; ++t) {
       const fx = faceNormals[3 * t], fy = faceNormals[3 * t + 1], fz = faceNormals[3 * t + 2];
       const f = p.triangleFaces[t];
-      const col = p.faceColors
+      const col = outColor === null ? kDefaultColor : p.faceColors
         ? [p.faceColors[3 * f] / 255, p.faceColors[3 * f + 1] / 255, p.faceColors[3 * f + 2] / 255]
         : kDefaultColor;
       for (let k = 0; k < 3; ++k) {
@@ -244,31 +307,27 @@ export class Viewer {
         outNormal[o] = nx / len;
         outNormal[o + 1] = ny / len;
         outNormal[o + 2] = nz / len;
-        outColor[o] = col[0];
-        outColor[o + 1] = col[1];
-        outColor[o + 2] = col[2];
+        if (outColor !== null) {
+          outColor[o] = col[0];
+          outColor[o + 1] = col[1];
+          outColor[o + 2] = col[2];
+        }
       }
     }
-    const g = p.surface.geometry;
-    g.setAttribute("position", new THREE.BufferAttribute(outPos, 3));
-    g.setAttribute("normal", new THREE.BufferAttribute(outNormal, 3));
-    g.setAttribute("color", new THREE.BufferAttribute(outColor, 3));
-    g.computeBoundingSphere();
-    this.lines(p.wire.geometry, pos, p.edges);
-    this.fatLines(p.border, pos, p.borderEdges);
-    this.fatLines(p.mobius, pos, p.mobiusEdges);
-    p.wire.visible = this.wireframe;
+    p.cornerPositions = outPos;
+    p.cornerNormals = outNormal;
+    if (outColor !== null) p.cornerColors = outColor;
   }
 
   setSmooth(on: boolean): void {
     this.smooth = on;
-    for (const p of this.parts.values()) this.rebuild(p);
-    this.requestRender();
+    for (const p of this.parts.values()) this.rebuild(p, false);
+    this.compose();
   }
 
   setWireframe(on: boolean): void {
     this.wireframe = on;
-    for (const p of this.parts.values()) p.wire.visible = on;
+    this.wire.visible = on;
     this.requestRender();
   }
 
@@ -277,9 +336,8 @@ export class Viewer {
   }
 
   fitView(): void {
-    const box = new THREE.Box3();
-    for (const p of this.parts.values()) box.expandByObject(p.surface);
-    if (box.isEmpty()) return;
+    const box = new THREE.Box3().setFromObject(this.surface);
+    if (this.parts.size === 0 || box.isEmpty()) return;
     const sphere = box.getBoundingSphere(new THREE.Sphere());
     const r = Math.max(sphere.radius, 1e-3);
     const dist = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.05;

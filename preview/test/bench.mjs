@@ -67,10 +67,14 @@ async function sliderBench(browser, file, param, values, pipeline) {
     const t = await page.evaluate(() => window.nomePreview.timings);
     const frame = t.map((x) => x.frameMs);
     const server = t.map((x) => x.serverMs);
+    const rt = t.map((x) => x.roundTripMs);
+    const apply = t.map((x) => x.applyMs);
+    const draw = t.map((x) => x.drawMs);
     const bytes = t.map((x) => x.bytes);
     await page.close();
     return {
       p50: percentile(frame, 50), p90: percentile(frame, 90), server50: percentile(server, 50),
+      rt50: percentile(rt, 50), apply50: percentile(apply, 50), draw50: percentile(draw, 50),
       bytes50: percentile(bytes, 50), n: t.length, summary: summary.split("\n").slice(0, 4).join(" "),
     };
   } finally {
@@ -87,9 +91,10 @@ async function firstPicture(browser, file) {
     await waitFor(page, () => window.nomePreview?.state.ready && window.nomePreview.state.ok, undefined, 120000);
     await page.evaluate(() => window.nomePreview.viewer.nextFrame());
     const ms = performance.now() - t0;
-    const outputs = await page.locator("#topology table").count();
+    const outputs = await page.evaluate(() => window.nomePreview.app.summaries.length);
+    const parts = await page.evaluate(() => window.nomePreview.lastPreview());
     await page.close();
-    return { ms, outputs };
+    return { ms, outputs, parts };
   } finally {
     await stopView(view);
   }
@@ -99,7 +104,8 @@ const work = mkdtempSync(join(tmpdir(), "nome-bench-"));
 const browser = await launchBrowser();
 try {
   const line = (name, r) => console.log(`${name}: slider -> frame p50 ${r.p50.toFixed(1)} ms, p90 ${r.p90.toFixed(1)} ms ` +
-    `(nomec ${r.server50.toFixed(1)} ms, reply ${r.bytes50} bytes, ${r.n} moves)`);
+    `(p50 parts: round trip ${r.rt50.toFixed(1)} ms of which nomec ${r.server50.toFixed(1)} ms, rebuild ${r.apply50.toFixed(1)} ms, ` +
+    `draw ${r.draw50.toFixed(1)} ms; reply ${r.bytes50} bytes; ${r.n} moves)`);
   const zs = [-0.5, -0.45, -0.4, -0.35, -0.3, -0.35, -0.4, -0.45];
   line("funnel_cube fp.z", await sliderBench(browser, join(examples, "funnel_cube.nome"), "fp.z", zs));
   const hs = [1.5, 1.4, 1.3, 1.2, 1.1, 1.2, 1.3, 1.4];
@@ -109,7 +115,8 @@ try {
   const text = generatedScene(512 * 1024);
   writeFileSync(big, text);
   const f = await firstPicture(browser, big);
-  console.log(`first picture of a ${(text.length / 1024).toFixed(0)} KB scene (${f.outputs} outputs): ${f.ms.toFixed(0)} ms`);
+  const p = Object.entries(f.parts).map(([k, v]) => `${k} ${v.toFixed(0)}`).join(", ");
+  console.log(`first picture of a ${(text.length / 1024).toFixed(0)} KB scene (${f.outputs} outputs): ${f.ms.toFixed(0)} ms (${p})`);
 } finally {
   await browser.close();
   rmSync(work, { recursive: true, force: true });

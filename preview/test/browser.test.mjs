@@ -108,6 +108,24 @@ test("zipped Klein bottle: merged, the readout says χ = 0 and non-orientable", 
   }
 });
 
+test("an included mesh file saved on disk reloads the scene", async () => {
+  const dir = mkdtempSync(join(work, "inc-"));
+  const obj = (z) => `v 0 0 0\nv 1 0 0\nv 1 1 ${z}\nv 0 1 0\nf 1 2 3 4\n`;
+  writeFileSync(join(dir, "quad.obj"), obj(0));
+  writeFileSync(join(dir, "main.nome"), 'include "quad.obj"\ninstance q quad endinstance\n');
+  const view = await startView(nomec, join(dir, "main.nome"));
+  try {
+    const { page } = await openPage(view);
+    const h0 = await page.evaluate(() => window.nomePreview.vertexHash());
+    const previews = await page.evaluate(() => window.nomePreview.state.previews);
+    writeFileSync(join(dir, "quad.obj"), obj(0.5));
+    await waitFor(page, (n) => window.nomePreview.state.previews > n && window.nomePreview.state.ok, previews);
+    assert.notEqual(await page.evaluate(() => window.nomePreview.vertexHash()), h0);
+  } finally {
+    assert.equal(await stopView(view), 0);
+  }
+});
+
 function rawRequest(port, headers, path = "/") {
   return new Promise((resolve, reject) => {
     const req = http.request({ host: "127.0.0.1", port, path, headers }, (res) => {

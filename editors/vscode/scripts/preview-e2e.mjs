@@ -28,6 +28,11 @@ try {
   await row.waitFor({ timeout: 60000 });
   await row.dblclick();
   await page.waitForSelector('[id="status.editor.mode"]:has-text("NOME")', { timeout: 60000 });
+  // Room for the editor and the preview side by side.
+  await page.keyboard.press("F1");
+  await page.keyboard.type("View: Close Primary Side Bar");
+  await page.waitForSelector(".quick-input-list .monaco-list-row", { timeout: 20000 });
+  await page.keyboard.press("Enter");
   await page.keyboard.press("F1");
   await page.keyboard.type("NOME: Open Preview to the Side");
   await page.waitForSelector(".quick-input-list .monaco-list-row", { timeout: 20000 });
@@ -74,6 +79,8 @@ try {
   await frame.locator("#write-values").click();
   await page.waitForSelector('.monaco-editor .view-lines:has-text("-0.5")', { timeout: 20000 })
     .catch(() => fail("Write slider values into the file did not change the editor's text"));
+  const first = await page.locator(".monaco-editor .view-lines .view-line").first().innerText();
+  if (/Saved by nomec/.test(first)) fail(`the written file got the save header: ${first}`);
   await page.waitForTimeout(300);
   await page.screenshot({ path: shot });
   console.log(`preview-e2e: canvas ${(share * 100).toFixed(0)}% drawn; screenshot ${shot}`);

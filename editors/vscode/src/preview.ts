@@ -126,9 +126,17 @@ export class PreviewPanel {
     if (target) await vscode.workspace.fs.writeFile(target, data);
   }
 
-  private async writeIntoFile(text: string): Promise<void> {
+  private async writeIntoFile(saved: string): Promise<void> {
     const doc = this.document;
     if (doc === undefined) return;
+    if (doc.uri.path.endsWith(".anom")) {
+      // The saved form of saved work holds its base scene too: it belongs in a new file.
+      void vscode.window.showWarningMessage("NOME: saved work (.anom) cannot take the values in place; use \"Save scene with these values\".");
+      return;
+    }
+    // The saved scene starts with a `# Saved by nomec …` line of its own: not for the
+    // user's file (whose own text, comments included, follows it unchanged).
+    const text = saved.replace(/^# Saved by nomec --emit nome[^\n]*\n/, "");
     const edit = new vscode.WorkspaceEdit();
     edit.replace(doc.uri, new vscode.Range(doc.positionAt(0), doc.positionAt(doc.getText().length)), text);
     await vscode.workspace.applyEdit(edit);
