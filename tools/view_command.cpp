@@ -405,7 +405,7 @@ void accept(tcp::acceptor& acceptor, const Site& site, net::io_context& ioc) {
 // beside the installed binary.
 std::string find_app_dir(const ViewCommand& c) {
   std::vector<std::string> candidates;
-  if (!c.app_dir.empty()) candidates.push_back(c.app_dir);
+  if (!c.app_dir.empty()) candidates.push_back(c.app_dir);  // given: the only candidate
   if (const char* env = std::getenv("NOMEC_PREVIEW_DIR")) candidates.emplace_back(env);
 #ifdef NOMEC_PREVIEW_BUILD_DIR
   candidates.emplace_back(NOMEC_PREVIEW_BUILD_DIR);
@@ -413,6 +413,7 @@ std::string find_app_dir(const ViewCommand& c) {
   std::error_code ec;
   fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) candidates.push_back((exe.parent_path().parent_path() / "share/nomec/preview").string());
+  if (!c.app_dir.empty()) candidates.resize(1);
   for (const std::string& d : candidates) {
     if (fs::exists(fs::path(d) / "index.html") && fs::exists(fs::path(d) / "app.js")) return d;
   }
