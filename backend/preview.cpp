@@ -66,6 +66,15 @@ PreviewGeometry preview_geometry(const OutputMesh& out) {
       g.border_edges.push_back(static_cast<uint32_t>(m.edge_vertex(e, 1).index));
     }
   }
+  for (const Curve& k : out.curves) {
+    const uint32_t first = static_cast<uint32_t>(g.curve_points.size() / 3);
+    for (const glm::dvec3& p : k.points) {
+      g.curve_points.insert(g.curve_points.end(), {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+    }
+    const uint32_t n = static_cast<uint32_t>(k.points.size());
+    for (uint32_t i = 0; i + 1 < n; ++i) g.curve_segments.insert(g.curve_segments.end(), {first + i, first + i + 1});
+    if (k.is_closed && n > 2) g.curve_segments.insert(g.curve_segments.end(), {first + n - 1, first});
+  }
   return g;
 }
 

@@ -1,7 +1,7 @@
 // The drawable form of an output mesh for a live preview (the language server's
 // `nome/preview`, `nomec view`): float positions, the faces fanned into triangles with the
 // face each triangle came from, per-face RGB colours, and the mesh's edges, border edges
-// and Möbius edges as vertex-index pairs. Plain arrays, JSON-free: lsp/ encodes them. E.g.
+// and Möbius edges as vertex-index pairs, and its curves (polylines) as line segments. Plain arrays, JSON-free: lsp/ encodes them. E.g.
 // a unit quad gives 4 positions, 2 triangles (both from face 0), 4 edges, all 4 of them
 // border edges and no Möbius edge.
 #pragma once
@@ -21,6 +21,8 @@ struct PreviewGeometry {
   std::vector<uint32_t> edges;           // 2 vertex indices per edge of the mesh
   std::vector<uint32_t> border_edges;    // 2 per border edge, loop after loop
   std::vector<uint32_t> mobius_edges;    // 2 per Möbius edge
+  std::vector<float> curve_points;       // x y z per point of the output's curves
+  std::vector<uint32_t> curve_segments;  // 2 indices into curve_points per segment
   int32_t face_count = 0;
 };
 

@@ -147,7 +147,9 @@ json output_json(const backend::OutputMesh& mesh, bool positions_only) {
                    {"faceColors", g.face_colors.empty() ? json(nullptr) : json(b64(g.face_colors))},
                    {"edges", b64(g.edges)},
                    {"borderEdges", b64(g.border_edges)},
-                   {"mobiusEdges", b64(g.mobius_edges)}};
+                   {"mobiusEdges", b64(g.mobius_edges)},
+                   {"curvePoints", b64(g.curve_points)},
+                   {"curveSegments", b64(g.curve_segments)}};
   return o;
 }
 
@@ -205,7 +207,8 @@ json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::s
     }
     const uint64_t key = backend::preview_topology_key(*m);
     sent[m->name] = key;
-    const bool positions_only = !all && prev != held.sent.end() && prev->second == key;
+    // Curves travel whole (their points are not in `positions`).
+    const bool positions_only = !all && prev != held.sent.end() && prev->second == key && m->curves.empty();
     out.push_back(output_json(*m, positions_only));
   }
   held.sent = std::move(sent);

@@ -27,6 +27,8 @@ export interface WireGeometry {
   edges?: string;
   borderEdges?: string;
   mobiusEdges?: string;
+  curvePoints?: string;
+  curveSegments?: string;
 }
 
 export interface WireOutput {

@@ -3,8 +3,8 @@
 // per vertex with orientation-consistent signs, so Möbius and Klein surfaces shade
 // smoothly too), a wireframe of the polygon edges (not the triangle diagonals), its border
 // edges and its Möbius edges. An update recomputes only the outputs it names; all outputs
-// are then drawn as four objects (surfaces, wireframe, borders, Möbius edges), so a scene
-// of hundreds of outputs costs four draw calls, not hundreds. Orbit, pan and zoom by mouse
+// are then drawn as five objects (surfaces, wireframe, borders, Möbius edges, curves), so a
+// scene of hundreds of outputs costs five draw calls, not hundreds. Orbit, pan and zoom by mouse
 // or keyboard; "fit view" frames everything.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
@@ -24,6 +24,8 @@ interface Part {
   edges: Uint32Array;
   borderEdges: Uint32Array;
   mobiusEdges: Uint32Array;
+  curvePoints: Float32Array;    // the output's polylines and curves
+  curveSegments: Uint32Array;   // point index pairs
   // Per triangle corner: position, normal, colour (what the surface draws).
   cornerPositions: Float32Array;
   cornerNormals: Float32Array;
@@ -40,6 +42,7 @@ export class Viewer {
   private wire: THREE.LineSegments;
   private border: LineSegments2;
   private mobius: LineSegments2;
+  private curves: LineSegments2;
   private surfaceMaterial = new THREE.MeshStandardMaterial({
     vertexColors: true,
     side: THREE.DoubleSide,
@@ -53,6 +56,7 @@ export class Viewer {
   // Borders and Möbius edges are drawn 3 pixels wide so they read at a glance.
   private borderMaterial = new LineMaterial({ color: 0xff7a00, linewidth: 3 });
   private mobiusMaterial = new LineMaterial({ color: 0xd0208f, linewidth: 3.5 });
+  private curveMaterial = new LineMaterial({ color: 0x1f6feb, linewidth: 2.5 });
   smooth = true;
   wireframe = true;
   private frameWaiters: (() => void)[] = [];
@@ -77,9 +81,10 @@ export class Viewer {
     this.wire = new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial);
     this.border = new LineSegments2(new LineSegmentsGeometry(), this.borderMaterial);
     this.mobius = new LineSegments2(new LineSegmentsGeometry(), this.mobiusMaterial);
+    this.curves = new LineSegments2(new LineSegmentsGeometry(), this.curveMaterial);
     this.border.renderOrder = 2;
     this.mobius.renderOrder = 3;
-    this.scene.add(this.surface, this.wire, this.border, this.mobius);
+    this.scene.add(this.surface, this.wire, this.border, this.mobius, this.curves);
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
     const loop = () => {
@@ -133,6 +138,7 @@ export class Viewer {
     this.renderer.setSize(w, h, false);
     this.borderMaterial.resolution.set(w, h);
     this.mobiusMaterial.resolution.set(w, h);
+    this.curveMaterial.resolution.set(w, h);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     this.requestRender();
@@ -174,6 +180,8 @@ export class Viewer {
       edges: uint32s(g.edges),
       borderEdges: uint32s(g.borderEdges),
       mobiusEdges: uint32s(g.mobiusEdges),
+      curvePoints: g.curvePoints ? float32s(g.curvePoints) : new Float32Array(0),
+      curveSegments: uint32s(g.curveSegments),
       cornerPositions: new Float32Array(0),
       cornerNormals: new Float32Array(0),
       cornerColors: new Float32Array(0),
@@ -183,18 +191,20 @@ export class Viewer {
   }
 
   // Segment end points of `pairs` (vertex index pairs) of every part, for a fat line.
-  private static ends(parts: Part[], pick: (p: Part) => Uint32Array): Float32Array {
+  private static ends(parts: Part[], pick: (p: Part) => Uint32Array,
+                      points: (p: Part) => Float32Array = (p) => p.positions): Float32Array {
     let n = 0;
     for (const p of parts) n += pick(p).length;
     const out = new Float32Array(n * 3);
     let o = 0;
     for (const p of parts) {
       const pairs = pick(p);
+      const pos = points(p);
       for (let i = 0; i < pairs.length; ++i, o += 3) {
         const v = 3 * pairs[i];
-        out[o] = p.positions[v];
-        out[o + 1] = p.positions[v + 1];
-        out[o + 2] = p.positions[v + 2];
+        out[o] = pos[v];
+        out[o + 1] = pos[v + 1];
+        out[o + 2] = pos[v + 2];
       }
     }
     return out;
@@ -248,6 +258,7 @@ export class Viewer {
     this.wire.visible = this.wireframe;
     Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
     Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
+    Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
     this.requestRender();
   }
 
@@ -337,6 +348,10 @@ export class Viewer {
 
   fitView(): void {
     const box = new THREE.Box3().setFromObject(this.surface);
+    if (this.curves.visible) {
+      this.curves.geometry.computeBoundingBox();
+      if (this.curves.geometry.boundingBox) box.union(this.curves.geometry.boundingBox);
+    }
     if (this.parts.size === 0 || box.isEmpty()) return;
     const sphere = box.getBoundingSphere(new THREE.Sphere());
     const r = Math.max(sphere.radius, 1e-3);

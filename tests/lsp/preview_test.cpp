@@ -199,5 +199,35 @@ TEST(LspPreview, ListOrderAndDocumentsWithErrors) {
   EXPECT_TRUE(save.contains("error"));
 }
 
+TEST(LspPreview, CurvesAreLines) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/curve.nome";
+  c.open(uri,
+         "bank s\n  set z 2 0 3 0.5\nendbank\n"
+         "point a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint c (1 1 0) endpoint\n"
+         "polyline l (a b c) closed endpolyline\ninstance il l translate (0 0 {expr $s_z}) endinstance\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  ASSERT_EQ(r["result"]["ok"], true) << r["result"]["diagnostics"].dump(2);
+  ASSERT_EQ(r["result"]["outputs"].size(), 1u);
+  const json& o = r["result"]["outputs"][0];
+  EXPECT_EQ(o["summary"]["curves"], 1);
+  const auto points = decode<float>(o["geometry"]["curvePoints"]);
+  const auto segments = decode<uint32_t>(o["geometry"]["curveSegments"]);
+  ASSERT_EQ(points.size(), 9u);  // a b c, placed at z = 2
+  EXPECT_EQ(points[3], 1.0f);
+  EXPECT_EQ(points[8], 2.0f);
+  EXPECT_EQ(segments, (std::vector<uint32_t>{0, 1, 1, 2, 2, 0}));  // closed: back to a
+
+  // Moving the slider moves the curve (it travels whole, not as positions only).
+  json m = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "s.z"}, {"value", 0.5}, {"geometry", true}});
+  ASSERT_TRUE(m.contains("result")) << m.dump(2);
+  ASSERT_EQ(m["result"]["outputs"].size(), 1u);
+  EXPECT_EQ(m["result"]["outputs"][0]["positionsOnly"], false);
+  EXPECT_EQ(decode<float>(m["result"]["outputs"][0]["geometry"]["curvePoints"])[8], 0.5f);
+}
+
 }  // namespace
 }  // namespace nomec::lsp::test
