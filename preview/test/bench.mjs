@@ -2,7 +2,7 @@
 //   node test/bench.mjs PATH/TO/nomec [--moves N]
 // 1. slider move -> new frame drawn (p50/p90) on examples/funnel_cube.nome (fp.z);
 // 2. the same on examples/klein_bottle_zipped.nome with merge + subdivision 3 + offset
-//    (tp1.h), the seed's heaviest interactive case;
+//    (tp1.h), the seed's heaviest interactive case, with and without the wireframe;
 // 3. the first picture of a generated 0.5 MB scene (the scene of
 //    bench/common/generated_scene.h): from opening the page to the first frame drawn.
 // Frames are timed in the page, from the slider value set to the frame after the reply
@@ -44,7 +44,7 @@ function generatedScene(minBytes) {
   return out;
 }
 
-async function sliderBench(browser, file, param, values, pipeline) {
+async function sliderBench(browser, file, param, values, pipeline, wireframe = true) {
   const view = await startView(nomec, file);
   try {
     const page = await browser.newPage({ viewport: { width: 1000, height: 640 } });
@@ -58,6 +58,7 @@ async function sliderBench(browser, file, param, values, pipeline) {
       await page.locator("#offset").dispatchEvent("change");
       await waitFor(page, (k) => window.nomePreview.state.previews >= k + 2 && window.nomePreview.state.ok, n, 120000);
     }
+    if (!wireframe) await page.locator("#wire").click();
     const summary = await page.locator("#topology").innerText();
     for (let i = 0; i < moves; ++i) {
       const before = await page.evaluate(() => window.nomePreview.timings.length);
@@ -111,6 +112,8 @@ try {
   const hs = [1.5, 1.4, 1.3, 1.2, 1.1, 1.2, 1.3, 1.4];
   line("klein_bottle_zipped tp1.h, merge + subdivide 3 + offset 0.05",
     await sliderBench(browser, join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 }));
+  line("the same without the wireframe overlay",
+    await sliderBench(browser, join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 }, false));
   const big = join(work, "generated.nome");
   const text = generatedScene(512 * 1024);
   writeFileSync(big, text);
