@@ -89,9 +89,11 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
   };
   std::vector<const kernel::Mesh*> parts;
   int32_t curves = 0;
+  std::vector<Curve> curve_points;
   for (const OutputMesh* m : meshes) {
     parts.push_back(&m->mesh);
     curves += m->curve_count;
+    curve_points.insert(curve_points.end(), m->curves.begin(), m->curves.end());
   }
   auto t0 = Clock::now();
   say("merge");
@@ -173,6 +175,7 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
   out.soup = kernel::to_soup(mesh);
   out.mesh = std::move(mesh);
   out.curve_count = curves;
+  out.curves = std::move(curve_points);
   std::vector<OutputMesh> result;
   result.push_back(std::move(out));
   return result;

@@ -21,6 +21,13 @@
 
 namespace nomec::backend {
 
+/// A polyline or curve of an output, e.g. `polyline l (a b c) endpolyline` placed by an
+/// instance: its points in world space, in order; a closed one returns to its first point.
+struct Curve {
+  std::vector<glm::dvec3> points;
+  bool is_closed = false;
+};
+
 /// One output mesh, e.g. the faces of the top-level `instance kb kleinbottle endinstance`.
 /// `soup` holds world-space positions, faces (orientation already corrected for
 /// mirrors), colours, creases and provenance: `face_sources[i].source_face` is the IR node
@@ -33,6 +40,9 @@ struct OutputMesh {
   kernel::PolygonSoup soup;
   kernel::Mesh mesh;
   int32_t curve_count = 0;  // polylines and curves under this entry (no faces)
+  /// Their points, for drawing (previews). Curves inside pipeline blocks are counted in
+  /// `curve_count` but not carried through the block (its result is the mesh).
+  std::vector<Curve> curves;
 };
 
 /// The most vertices one evaluation may build (`--max-vertices`): placed leaves and the

@@ -92,6 +92,8 @@ struct DeletedFace {
 struct ParamData {
   double value = 0, min = 0, max = 0, step = 0;
   std::string bank;
+  /// Position in its bank's NOME3 `list (…)` (the order a slider panel shows), or -1.
+  int32_t list_index = -1;
 };
 /// The value of one operand whose expressions read parameters (a node of the graph).
 struct ValueData {

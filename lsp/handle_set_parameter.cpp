@@ -4,12 +4,16 @@
 // re-transformed, no generator re-run. One session is kept per document and version; a
 // new version of the text (or another document) starts a fresh one, so successive moves
 // at one version are incremental. Refused (InvalidParams) for unknown sliders, values out
-// of range, and documents with errors.
+// of range, and documents with errors. With `geometry: true` (the preview) the reply also
+// holds `outputs`, the geometry of the changed outputs only (see nome/preview), and
+// `outputNames`, every output's name in order. The session is the one nome/preview built
+// (with its pipeline) when there is one.
 #include <algorithm>
 #include <mutex>
 
 #include "backend/session.h"
 #include "lsp/handler.h"
+#include "lsp/preview.h"
 #include "lsp/summary_json.h"
 
 namespace nomec::lsp {
@@ -26,38 +30,25 @@ json set_parameter(Context& ctx) {
   const std::string uri = p["uri"].get<std::string>();
   std::shared_ptr<const Analysis> a = ctx.analysis(uri);
   if (a->too_large) throw LspError(error_code::InvalidParams, "the document is too large to evaluate");
-  for (const Diagnostic& d : a->diagnostics) {
-    if (d.severity == Severity::Error) {
-      throw LspError(error_code::InvalidParams,
-                     "the document has errors; fix them before moving sliders (" + d.message + ")");
-    }
+  if (const Diagnostic* d = first_error(*a)) {
+    throw LspError(error_code::InvalidParams, "the document has errors; fix them before moving sliders (" + d->message + ")");
   }
   SliderSessions& sessions = ctx.slider_sessions();
   std::lock_guard<std::mutex> lock(sessions.mu);
-  auto it = std::find_if(sessions.held.begin(), sessions.held.end(), [&](const SliderSessions::Held& h) { return h.uri == uri; });
-  if (it != sessions.held.end() && it->version != a->version) {
-    sessions.held.erase(it);
-    it = sessions.held.end();
-  }
   DiagnosticEngine diags;
-  if (it == sessions.held.end()) {
-    SliderSessions::Held h{uri, a->version, a, std::make_unique<backend::Session>(a->module())};
-    h.session->build(diags);
-    sessions.held.insert(sessions.held.begin(), std::move(h));
-    if (sessions.held.size() > SliderSessions::kMax) sessions.held.pop_back();
-    it = sessions.held.begin();
-  }
+  bool rebuilt = false;
+  SliderSessions::Held& held = session_for(sessions, a, std::nullopt, json(nullptr), diags, rebuilt);
   ctx.check_cancelled();
   diags = DiagnosticEngine();
   backend::UpdateStats u =
-      it->session->set_parameter(p["parameter"].get<std::string>(), p["value"].get<double>(), diags);
+      held.session->set_parameter(p["parameter"].get<std::string>(), p["value"].get<double>(), diags);
   if (!u.ok()) throw LspError(error_code::InvalidParams, u.error);
   diags.sort_and_dedupe();
   json geometry = json::array();
   for (const Diagnostic& d : diags.diagnostics()) geometry.push_back(diagnostic_json(*a, d));
   json meshes = json::array();
-  for (const backend::MeshSummary& m : it->session->summary()) meshes.push_back(lsp::mesh_summary_json(m));
-  return {{"uri", uri},
+  for (const backend::MeshSummary& m : held.session->summary()) meshes.push_back(lsp::mesh_summary_json(m));
+  json reply = {{"uri", uri},
           {"version", a->version},
           {"parameter", u.parameter},
           {"value", u.value},
@@ -70,6 +61,15 @@ json set_parameter(Context& ctx) {
           {"ms", u.ms},
           {"meshes", meshes},
           {"diagnostics", geometry}};
+  // A preview asks for the geometry of the outputs that changed (positions only when their
+  // topology did not), so an update's size follows what the move changed.
+  if (p.value("geometry", false)) {
+    reply["outputs"] = outputs_json(held, false, u.changed_outputs);
+    json names = json::array();
+    for (const auto& m : held.session->outputs()) names.push_back(m->name);
+    reply["outputNames"] = std::move(names);
+  }
+  return reply;
 }
 
 }  // namespace

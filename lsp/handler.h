@@ -113,6 +113,8 @@ struct SliderSessions {
     int64_t version = 0;
     std::shared_ptr<const Analysis> analysis;  // the IR the session was built from
     std::unique_ptr<backend::Session> session;
+    backend::PipelineOptions pipeline;          // the whole-scene steps it runs (nome/preview)
+    std::map<std::string, uint64_t> sent;       // output name -> topology key last sent
   };
   static constexpr size_t kMax = 4;
   std::mutex mu;

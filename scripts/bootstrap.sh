@@ -28,6 +28,7 @@ packages=(
   libglm-dev                     # kernel/ vector math
   nlohmann-json3-dev             # tools/ JSON output, lsp/
   libcli11-dev                   # tools/ command line
+  libboost-dev                   # tools/ `nomec view`: HTTP + WebSocket (Boost.Beast, headers only)
   libosd-dev                     # OpenSubdiv: test oracle and benchmark baseline only
   libbenchmark-dev               # bench/
   libjemalloc-dev                # allocator of nomec (language server speed on large files)
@@ -63,13 +64,18 @@ else
   echo "bootstrap: all ${#packages[@]} packages already installed; skipping apt"
 fi
 
-# Optional: Node.js and npm for editors/vscode's tests (CMake registers them only when node
-# and npm are found). A node already on PATH, from any source, is kept as it is.
-if ! command -v node >/dev/null 2>&1; then
-  echo "bootstrap: installing nodejs npm (editors/vscode tests)"
+# Optional: Node.js and npm for editors/vscode and the preview app (preview/; CMake builds
+# and tests them only when node and npm are found), and Chromium for the preview's browser
+# tests (label `browser`, registered only when chromium is found). A node already on PATH,
+# from any source, is kept as it is.
+optional=()
+command -v node >/dev/null 2>&1 || optional+=(nodejs npm)
+command -v chromium >/dev/null 2>&1 || optional+=(chromium)
+if ((${#optional[@]} > 0)); then
+  echo "bootstrap: installing ${optional[*]} (editor extension, preview app and its browser tests)"
   node_sudo=(); ((EUID == 0)) || node_sudo=(sudo)
-  DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends nodejs npm \
-    || { "${node_sudo[@]}" apt-get update && DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends nodejs npm; }
+  DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends "${optional[@]}" \
+    || { "${node_sudo[@]}" apt-get update && DEBIAN_FRONTEND=noninteractive "${node_sudo[@]}" apt-get install -y --no-install-recommends "${optional[@]}"; }
 fi
 
 if ((sanitize)); then

@@ -24,6 +24,15 @@ void add_fmt_command(CLI::App& app, Cli& cli, CLI::App*& fmt_app) {
   fmt_app->add_flag("--tabs", cli.fmt.use_tabs, "Indent with tabs");
 }
 
+void add_view_command(CLI::App& app, Cli& cli, CLI::App*& view_app) {
+  view_app = app.add_subcommand("view", "Live 3D preview in the browser, served on 127.0.0.1; reloads on save");
+  view_app->add_option("file", cli.view.file, "The scene to show")->required();
+  view_app->add_option("--port", cli.view.port, "Port on 127.0.0.1 (default 8642; 0 = any free port)")
+      ->check(CLI::Range(0, 65535));
+  view_app->add_flag("--open", cli.view.open, "Open the page in the default browser (xdg-open)");
+  view_app->add_option("--app-dir", cli.view.app_dir, "Folder of the built preview app (index.html, app.js)");
+}
+
 void add_emit_options(CLI::App& app, Cli& cli) {
   app.add_option("--emit", cli.emit,
                  "Emit `ir` (readable typed IR), `deps` (DOT graph), a mesh (`stl`, `obj`, `ply`) "
@@ -98,6 +107,8 @@ int parse_command_line(int argc, char** argv, Cli& cli) {
   app.set_version_flag("--version", fmt::format("nomec {} (allocator: {})", NOMEC_VERSION, allocator_name()));
   CLI::App* fmt_app = nullptr;
   add_fmt_command(app, cli, fmt_app);
+  CLI::App* view_app = nullptr;
+  add_view_command(app, cli, view_app);
   add_check_options(app, cli);
   add_emit_options(app, cli);
   try {
@@ -108,6 +119,8 @@ int parse_command_line(int argc, char** argv, Cli& cli) {
   }
   cli.is_fmt = fmt_app->parsed();
   if (cli.is_fmt) return -1;
+  cli.is_view = view_app->parsed();
+  if (cli.is_view) return -1;
   cli.pipeline.rule = cli.rule == "derose" ? kernel::VertexRule::DeRose : kernel::VertexRule::CatmullClark;
   if (std::string problem = combination_problem(cli); !problem.empty()) {
     std::cerr << "nomec: " << problem << "\n";

@@ -1,5 +1,5 @@
 // The `nomec` command line as data: every option of the check/emit command (`nomec FILE…`)
-// and of `nomec fmt`, read by CLI11 in cli.cpp; and the one-file-per-command entry points
+// and of `nomec fmt` and `nomec view`, read by CLI11 in cli.cpp; and the one-file-per-command entry points
 // that main (nomec.cpp) dispatches to.
 #pragma once
 
@@ -9,6 +9,7 @@
 #include "backend/evaluate.h"
 #include "frontend/check/check.h"
 #include "tools/fmt_command.h"
+#include "tools/view_command.h"
 
 namespace nomec::tools {
 
@@ -35,6 +36,8 @@ struct Cli {
   std::string what_if;  // --what-if bank.param=value
   bool is_fmt = false;  // the `fmt` subcommand was given
   FmtCommand fmt;
+  bool is_view = false;  // the `view` subcommand was given
+  ViewCommand view;
 
   bool emits_mesh() const { return emit == "stl" || emit == "obj" || emit == "ply" || emit == "summary"; }
 };

@@ -58,6 +58,7 @@ void apply_deletes(Context& c, Collected& in) {
       Collected k;
       k.soup = kernel::to_soup(del->mesh);
       k.curve_count = in.curve_count;
+      k.curves = std::move(in.curves);
       if (k.soup.face_colors.size() != static_cast<size_t>(k.soup.face_count())) {
         k.soup.face_colors.assign(k.soup.face_count(), kDefaultColor);
       }
@@ -75,6 +76,7 @@ void apply_deletes(Context& c, Collected& in) {
   k.soup.creases = in.soup.creases;
   k.soup.corners = in.soup.corners;
   k.curve_count = in.curve_count;
+  k.curves = std::move(in.curves);
   size_t at = 0;
   for (int32_t f = 0; f < in.soup.face_count(); ++f) {
     int32_t n = in.soup.face_sizes[f];

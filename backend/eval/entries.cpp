@@ -121,7 +121,10 @@ bool scene_entry(Context& c, ir::NodeId id, OutputMesh& out) {
   const bool can_assemble = c.is_incremental && sink.is_pure && !c.has_deletes() && !c.entry_parts.empty();
   if (sink.is_deferred) {
     c.entry_direct_curves = all.curve_count;
-    if (can_assemble && patch_entry(c, id, all.curve_count, out)) {
+    // Patching copies the previous output and moves its faces' vertices, not its curves.
+    const bool has_curves = !all.curves.empty() || std::any_of(c.entry_parts.begin(), c.entry_parts.end(),
+                                                                [](const EntryPart& p) { return !p.part->curves.empty(); });
+    if (can_assemble && !has_curves && patch_entry(c, id, all.curve_count, out)) {
       c.is_entry_assembled = true;
       return true;
     }
@@ -131,6 +134,7 @@ bool scene_entry(Context& c, ir::NodeId id, OutputMesh& out) {
   out.name = short_name(n.name);
   out.scene_node = id;
   out.curve_count = all.curve_count;
+  out.curves = std::move(all.curves);
   if (all.soup.face_count() == 0 && all.curve_count == 0) {
     return false;
   }

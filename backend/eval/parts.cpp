@@ -90,6 +90,14 @@ void append_collected(Collected& out, const Collected& c) {
   for (const auto& k : part.creases) s.creases.push_back({k.a + base, k.b + base, k.sharpness});
   for (const auto& k : part.corners) s.corners.push_back({k.vertex + base, k.sharpness});
   out.curve_count += c.curve_count;
+  out.curves.insert(out.curves.end(), c.curves.begin(), c.curves.end());
+}
+
+void append_curve(Collected& out, std::span<const glm::dvec3> points, bool is_closed, const glm::dmat4& t) {
+  Curve curve{{}, is_closed};
+  curve.points.reserve(points.size());
+  for (const glm::dvec3& p : points) curve.points.push_back(glm::dvec3(t * glm::dvec4(p, 1.0)));
+  out.curves.push_back(std::move(curve));
 }
 
 bool is_soup_edge(const kernel::PolygonSoup& s, int32_t a, int32_t b) {
@@ -129,6 +137,7 @@ void transform_into(Collected& out, const Collected& c, const glm::dmat4& t) {
     out.is_deleted[face_base + f] = c.is_deleted[f];
   }
   out.curve_count += c.curve_count;
+  for (const Curve& k : c.curves) append_curve(out, k.points, k.is_closed, t);
 }
 
 void reverse_faces(Collected& out, int32_t first_face) {
@@ -161,7 +170,8 @@ bool same_but_positions(const Collected& a, const Collected& b) {
       x.face_vertices != y.face_vertices || x.face_sources != y.face_sources ||
       x.face_colors != y.face_colors || x.names != y.names || !same_creases(x.creases, y.creases) ||
       !same_corners(x.corners, y.corners) || a.has_color != b.has_color || a.is_deleted != b.is_deleted ||
-      a.curve_count != b.curve_count || (a.built == nullptr) != (b.built == nullptr)) {
+      a.curve_count != b.curve_count || a.curves.size() != b.curves.size() ||
+      (a.built == nullptr) != (b.built == nullptr)) {
     return false;
   }
   return a.built == nullptr || kernel::has_same_topology(*a.built, *b.built);

@@ -7,8 +7,10 @@
 #include <glm/mat4x4.hpp>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
+#include "backend/evaluate.h"
 #include "kernel/mesh.h"
 
 namespace nomec::backend::eval {
@@ -27,6 +29,7 @@ struct Collected {
   std::vector<uint8_t> has_color;
   std::vector<uint8_t> is_deleted;
   int32_t curve_count = 0;
+  std::vector<Curve> curves;  // the drawable ones among them, in this collection's frame
   // A pipeline block's result: `soup` already built (lets an incremental entry reuse it).
   std::shared_ptr<const kernel::Mesh> built;
 };
@@ -37,6 +40,8 @@ void append_soup(Collected& out, const kernel::PolygonSoup& part, const glm::dma
                  const std::optional<glm::vec3>& color, bool part_colored);
 /// `append_soup` of a whole collection with the identity transform, in bulk copies.
 void append_collected(Collected& out, const Collected& c);
+/// Appends a curve through `points` (in the part's frame) transformed by `t`.
+void append_curve(Collected& out, std::span<const glm::dvec3> points, bool is_closed, const glm::dmat4& t);
 /// Appends `c` transformed by `t`, keeping its colour and deletion flags.
 void transform_into(Collected& out, const Collected& c, const glm::dmat4& t);
 /// Turns around every face of `out` from `first_face` on (NOME2's instance `reverse`).

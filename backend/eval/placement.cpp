@@ -11,6 +11,18 @@ namespace nomec::backend::eval {
 
 namespace {
 
+// The curves a generator made (vertex lists into its soup), placed by `t`.
+void append_generated_curves(Collected& out, const Generated& g, const glm::dmat4& t) {
+  std::vector<glm::dvec3> points;
+  for (const Generated::Curve& k : g.curves) {
+    points.clear();
+    for (int32_t v : k.vertices) {
+      if (v >= 0 && v < g.soup.vertex_count()) points.push_back(g.soup.positions[v]);
+    }
+    if (points.size() >= 2) append_curve(out, points, k.is_closed, t);
+  }
+}
+
 void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collected& out);
 
 // Appends the leaf `tid` placed by `at` to `out` (uncached), within the vertex budget.
@@ -43,6 +55,7 @@ void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collec
       append_soup(out, s, at.t, at.color, false);
       if (c.has_deletes()) mark_deleted(c, out, face_base, at.inst);
       out.curve_count += static_cast<int32_t>(g->curves.size());
+      append_generated_curves(out, *g, at.t);
       return;
     }
     case ir::NodeKind::FlatMesh: {
@@ -66,6 +79,7 @@ void place_leaf_unbudgeted(Context& c, ir::NodeId tid, const Placing& at, Collec
       if (!g) return;
       append_soup(out, g->soup, at.t, at.color, false);
       out.curve_count += static_cast<int32_t>(g->curves.size());
+      append_generated_curves(out, *g, at.t);
       return;
     }
     default:
@@ -173,9 +187,12 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
     case ir::NodeKind::MorphVisualizer:
       place(c, tid, at, out);
       return;
-    case ir::NodeKind::Polyline:
+    case ir::NodeKind::Polyline: {
       out.curve_count += 1;
+      PathPoints pp = path_points(c, tid, at.path);
+      if (pp.points.size() >= 2) append_curve(out, pp.points, pp.is_closed, at.t);
       return;
+    }
     case ir::NodeKind::Group: {
       std::optional<glm::vec3> color = at.color;
       if (auto sc = surface_color(c, tn.as<ir::GroupData>().surface)) color = sc;

@@ -1,6 +1,7 @@
 // Banks and sliders (see handlers.h): `bank fp set n 8 3 10 1 … list (n) endbank`, the
 // values saved work sets (`savedparameter`), `-D bank.param=value` overrides, the `list`
 // entries checked once all banks are known, and finding the slider a reference names.
+#include <map>
 #include <fmt/format.h>
 
 #include "frontend/check/handlers.h"
@@ -80,7 +81,7 @@ void handle_list(Context& c, const ast::Ast& a, const ast::Stmt& s, const std::s
       const ast::Expr& ex = a.expr(e);
       if (ex.kind != ast::ExprKind::Name) {
         c.diags().emit(DiagKind::ExpectedNameList, ex.range, "`list` names the sliders to show; expected a parameter name");
-      } else if (!c.params.contains(bank + "." + std::string(ex.text))) {
+      } else {  // resolved once every bank is known: an error or the slider's list position
         c.pending_lists.push_back({bank, std::string(ex.text), ex.range});
       }
     }
@@ -201,8 +202,13 @@ void apply_overrides(Context& c) {
 }
 
 void check_pending_lists(Context& c) {
+  std::map<std::string, int32_t> listed;  // per bank, how many names its lists gave so far
   for (const PendingList& pl : c.pending_lists) {
-    if (c.params.contains(pl.bank + "." + pl.name)) continue;
+    if (auto it = c.params.find(pl.bank + "." + pl.name); it != c.params.end()) {
+      ir::ParamData& d = c.module().param(it->second);
+      if (d.list_index < 0) d.list_index = listed[pl.bank]++;
+      continue;
+    }
     std::vector<std::string> cands;
     for (const auto& [k, v] : c.params) {
       if (k.rfind(pl.bank + ".", 0) == 0) cands.push_back(k.substr(pl.bank.size() + 1));

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ci.sh: the steps CTest runs for editors/vscode (see vscode.cmake). Works from any directory.
 #   ci.sh setup            npm ci when node_modules is missing or older than the lock file
-#                          (or package.json), then compile the TypeScript into out/
+#                          (or package.json), then compile the TypeScript into out/ and
+#                          bundle the preview app into media/preview/
 #   ci.sh package          npm run package, then check the .vsix: manifest, grammar, language
 #                          configuration, compiled client and its runtime dependency, no tests
 set -euo pipefail
@@ -17,9 +18,12 @@ case "${1:-}" in
       echo "ci.sh: node_modules is up to date with package-lock.json"
     fi
     npm run --silent compile
+    # The preview app (preview/), bundled into media/preview/ for the webview.
+    bash ../../preview/scripts/build.sh "$PWD/media/preview"
     ;;
   package)
     rm -f nome.vsix
+    [[ -f media/preview/app.js ]] || bash ../../preview/scripts/build.sh "$PWD/media/preview"
     npm run --silent package
     python3 - nome.vsix <<'PY'
 import json, sys, zipfile
@@ -27,7 +31,9 @@ with zipfile.ZipFile(sys.argv[1]) as z:
     names = set(z.namelist())
     need = ["extension/package.json", "extension/syntaxes/nome.tmLanguage.json",
             "extension/language-configuration.json", "extension/README.md",
-            "extension/out/src/extension.js",
+            "extension/out/src/extension.js", "extension/out/src/preview.js",
+            "extension/media/preview/app.js", "extension/media/preview/body.html",
+            "extension/media/preview/style.css",
             "extension/node_modules/vscode-languageclient/package.json",
             "extension.vsixmanifest"]
     missing = [n for n in need if n not in names]
@@ -45,6 +51,9 @@ with zipfile.ZipFile(sys.argv[1]) as z:
     conf = json.loads(z.read("extension/language-configuration.json"))
     assert conf["comments"] == {"lineComment": "#", "blockComment": ["(*", "*)"]}, conf["comments"]
     assert manifest["main"] == "./out/src/extension.js"
+    commands = {c["command"] for c in manifest["contributes"]["commands"]}
+    assert "nome.openPreviewToSide" in commands, commands
+    assert manifest["contributes"]["menus"]["editor/title"][0]["command"] == "nome.openPreviewToSide"
     print(f"ci.sh: {sys.argv[1]} holds {len(names)} files, manifest, grammar and client")
 PY
     ;;

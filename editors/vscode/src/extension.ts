@@ -1,7 +1,8 @@
 // extension.ts: the VS Code side of NOME support. It starts `nomec --lsp` (the language
 // server in nomec's lsp/ folder) over stdio for every `nome` document and restarts it on
 // demand or when its settings change. It knows nothing of the language: diagnostics,
-// hover, definitions, references and formatting all come from the server.
+// hover, definitions, references and formatting all come from the server, and so does the
+// geometry of the live preview (preview.ts).
 import * as vscode from "vscode";
 import {
   LanguageClient,
@@ -9,6 +10,7 @@ import {
   ServerOptions,
   TransportKind,
 } from "vscode-languageclient/node";
+import { PreviewPanel } from "./preview";
 
 let client: LanguageClient | undefined;
 let traceChannel: vscode.OutputChannel | undefined;
@@ -77,6 +79,7 @@ async function restartClient(): Promise<void> {
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   context.subscriptions.push(
     vscode.commands.registerCommand("nome.restartServer", restartClient),
+    vscode.commands.registerCommand("nome.openPreviewToSide", () => PreviewPanel.show(context, () => client)),
     vscode.workspace.onDidChangeConfiguration((event) => {
       if (
         event.affectsConfiguration("nome.server.path") ||

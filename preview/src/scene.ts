@@ -1,0 +1,436 @@
+// scene.ts: the three.js side of the preview. Each output mesh gives a shaded surface
+// (triangles expanded per corner so face colours stay crisp; smooth normals are averaged
+// per vertex with orientation-consistent signs, so Möbius and Klein surfaces shade
+// smoothly too), a wireframe of the polygon edges (not the triangle diagonals), its border
+// edges and its Möbius edges. An update recomputes only the outputs it names; all outputs
+// are then drawn as five objects (surfaces, wireframe, borders, Möbius edges, curves), so a
+// scene of hundreds of outputs costs five draw calls, not hundreds. Orbit, pan and zoom by mouse
+// or keyboard; "fit view" frames everything.
+import * as THREE from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { LineSegments2 } from "three/examples/jsm/lines/LineSegments2.js";
+import { LineSegmentsGeometry } from "three/examples/jsm/lines/LineSegmentsGeometry.js";
+import { LineMaterial } from "three/examples/jsm/lines/LineMaterial.js";
+import { WireOutput, float32s, uint32s, uint8s } from "./protocol";
+
+const kDefaultColor = [0.72, 0.76, 0.82];
+
+interface Part {
+  name: string;
+  positions: Float32Array;
+  triangles: Uint32Array;
+  triangleFaces: Uint32Array;
+  faceColors: Uint8Array | null;
+  edges: Uint32Array;
+  borderEdges: Uint32Array;
+  mobiusEdges: Uint32Array;
+  curvePoints: Float32Array;    // the output's polylines and curves
+  curveSegments: Uint32Array;   // point index pairs
+  // Per triangle corner: position, normal, colour (what the surface draws).
+  cornerPositions: Float32Array;
+  cornerNormals: Float32Array;
+  cornerColors: Float32Array;
+}
+
+export class Viewer {
+  readonly renderer: THREE.WebGLRenderer;
+  readonly scene = new THREE.Scene();
+  readonly camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
+  readonly controls: OrbitControls;
+  private parts = new Map<string, Part>();
+  private surface: THREE.Mesh;
+  private wire: THREE.LineSegments;
+  private border: LineSegments2;
+  private mobius: LineSegments2;
+  private curves: LineSegments2;
+  private surfaceMaterial = new THREE.MeshStandardMaterial({
+    vertexColors: true,
+    side: THREE.DoubleSide,
+    roughness: 0.55,
+    metalness: 0.05,
+    polygonOffset: true,
+    polygonOffsetFactor: 1,
+    polygonOffsetUnits: 1,
+  });
+  private wireMaterial = new THREE.LineBasicMaterial({ color: 0x1d2330, transparent: true, opacity: 0.55 });
+  // Borders and Möbius edges are drawn 3 pixels wide so they read at a glance.
+  private borderMaterial = new LineMaterial({ color: 0xff7a00, linewidth: 3 });
+  private mobiusMaterial = new LineMaterial({ color: 0xd0208f, linewidth: 3.5 });
+  private curveMaterial = new LineMaterial({ color: 0x1f6feb, linewidth: 2.5 });
+  smooth = true;
+  wireframe = true;
+  private frameWaiters: (() => void)[] = [];
+  private probe = new Uint8Array(4);
+  private needsRender = true;
+
+  constructor(readonly canvas: HTMLCanvasElement) {
+    // Multisampling is free on a GPU but quadruples the work of a software renderer
+    // (SwiftShader, as in headless Chromium or a machine without a GPU).
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: !Viewer.softwareGl(), preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.camera.position.set(3, 2.5, 4);
+    this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.enableDamping = false;
+    this.controls.addEventListener("change", () => this.requestRender());
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x445066, 1.6));
+    const key = new THREE.DirectionalLight(0xffffff, 1.6);
+    key.position.set(2, 3, 4);
+    this.camera.add(key);
+    this.scene.add(this.camera);
+    this.surface = new THREE.Mesh(new THREE.BufferGeometry(), this.surfaceMaterial);
+    this.wire = new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial);
+    this.border = new LineSegments2(new LineSegmentsGeometry(), this.borderMaterial);
+    this.mobius = new LineSegments2(new LineSegmentsGeometry(), this.mobiusMaterial);
+    this.curves = new LineSegments2(new LineSegmentsGeometry(), this.curveMaterial);
+    this.border.renderOrder = 2;
+    this.mobius.renderOrder = 3;
+    this.scene.add(this.surface, this.wire, this.border, this.mobius, this.curves);
+    new ResizeObserver(() => this.resize()).observe(canvas);
+    this.resize();
+    const loop = () => {
+      if (this.needsRender) {
+        this.needsRender = false;
+        this.renderer.render(this.scene, this.camera);
+        // Someone waits for this picture (a slider move's timing, a test): wait until the
+        // GPU has drawn it, not only until the commands were sent.
+        if (this.frameWaiters.length > 0) {
+          const gl = this.renderer.getContext();
+          gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.probe);
+        }
+        const waiters = this.frameWaiters;
+        this.frameWaiters = [];
+        for (const w of waiters) w();
+      }
+      requestAnimationFrame(loop);
+    };
+    requestAnimationFrame(loop);
+  }
+
+  static softwareGl(): boolean {
+    try {
+      const gl = document.createElement("canvas").getContext("webgl2");
+      const info = gl?.getExtension("WEBGL_debug_renderer_info");
+      const name = info ? String(gl!.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+      return /swiftshader|llvmpipe|software/i.test(name);
+    } catch {
+      return false;
+    }
+  }
+
+  setBackground(css: string): void {
+    this.scene.background = new THREE.Color(css);
+    this.requestRender();
+  }
+
+  requestRender(): void {
+    this.needsRender = true;
+  }
+
+  /// Resolves once the next frame with the current state has been drawn.
+  nextFrame(): Promise<void> {
+    this.requestRender();
+    return new Promise((resolve) => this.frameWaiters.push(resolve));
+  }
+
+  private resize(): void {
+    const w = Math.max(1, this.canvas.clientWidth);
+    const h = Math.max(1, this.canvas.clientHeight);
+    this.renderer.setSize(w, h, false);
+    this.borderMaterial.resolution.set(w, h);
+    this.mobiusMaterial.resolution.set(w, h);
+    this.curveMaterial.resolution.set(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  /// Replaces or updates the outputs named in `outputs`; with `keep`, drops every output
+  /// whose name is not in it.
+  apply(outputs: WireOutput[], keep?: string[]): void {
+    for (const o of outputs) {
+      const old = this.parts.get(o.name);
+      if (o.positionsOnly && old !== undefined) {
+        old.positions = float32s(o.geometry.positions);
+        this.rebuild(old, false);
+      } else {
+        this.parts.set(o.name, this.create(o));
+      }
+    }
+    if (keep !== undefined) {
+      for (const name of [...this.parts.keys()]) {
+        if (!keep.includes(name)) this.parts.delete(name);
+      }
+    }
+    this.compose();
+  }
+
+  clear(): void {
+    this.parts.clear();
+    this.compose();
+  }
+
+  private create(o: WireOutput): Part {
+    const g = o.geometry;
+    const part: Part = {
+      name: o.name,
+      positions: float32s(g.positions),
+      triangles: uint32s(g.triangles),
+      triangleFaces: uint32s(g.triangleFaces),
+      faceColors: uint8s(g.faceColors),
+      edges: uint32s(g.edges),
+      borderEdges: uint32s(g.borderEdges),
+      mobiusEdges: uint32s(g.mobiusEdges),
+      curvePoints: g.curvePoints ? float32s(g.curvePoints) : new Float32Array(0),
+      curveSegments: uint32s(g.curveSegments),
+      cornerPositions: new Float32Array(0),
+      cornerNormals: new Float32Array(0),
+      cornerColors: new Float32Array(0),
+    };
+    this.rebuild(part, true);
+    return part;
+  }
+
+  // Segment end points of `pairs` (vertex index pairs) of every part, for a fat line.
+  private static ends(parts: Part[], pick: (p: Part) => Uint32Array,
+                      points: (p: Part) => Float32Array = (p) => p.positions): Float32Array {
+    let n = 0;
+    for (const p of parts) n += pick(p).length;
+    const out = new Float32Array(n * 3);
+    let o = 0;
+    for (const p of parts) {
+      const pairs = pick(p);
+      const pos = points(p);
+      for (let i = 0; i < pairs.length; ++i, o += 3) {
+        const v = 3 * pairs[i];
+        out[o] = pos[v];
+        out[o + 1] = pos[v + 1];
+        out[o + 2] = pos[v + 2];
+      }
+    }
+    return out;
+  }
+
+  private static fat(line: LineSegments2, ends: Float32Array): void {
+    line.geometry.dispose();
+    const g = new LineSegmentsGeometry();
+    if (ends.length > 0) g.setPositions(ends);
+    line.geometry = g;
+    line.visible = ends.length > 0;
+  }
+
+  // Draws every part as one surface, one wireframe and two fat-line sets.
+  private compose(): void {
+    const parts = [...this.parts.values()];
+    let corners = 0, vertices = 0, edges = 0;
+    for (const p of parts) {
+      corners += p.cornerPositions.length;
+      vertices += p.positions.length;
+      edges += p.edges.length;
+    }
+    const pos = new Float32Array(corners), nor = new Float32Array(corners), col = new Float32Array(corners);
+    const wirePos = new Float32Array(vertices);
+    const wireIndex = new Uint32Array(edges);
+    let c = 0, v = 0, e = 0;
+    for (const p of parts) {
+      pos.set(p.cornerPositions, c);
+      nor.set(p.cornerNormals, c);
+      col.set(p.cornerColors, c);
+      c += p.cornerPositions.length;
+      wirePos.set(p.positions, v);
+      const base = v / 3;
+      for (let i = 0; i < p.edges.length; ++i) wireIndex[e + i] = p.edges[i] + base;
+      v += p.positions.length;
+      e += p.edges.length;
+    }
+    this.surface.geometry.dispose();
+    const sg = new THREE.BufferGeometry();
+    sg.setAttribute("position", new THREE.BufferAttribute(pos, 3));
+    sg.setAttribute("normal", new THREE.BufferAttribute(nor, 3));
+    sg.setAttribute("color", new THREE.BufferAttribute(col, 3));
+    sg.computeBoundingSphere();
+    this.surface.geometry = sg;
+    this.wire.geometry.dispose();
+    const wg = new THREE.BufferGeometry();
+    wg.setAttribute("position", new THREE.BufferAttribute(wirePos, 3));
+    wg.setIndex(new THREE.BufferAttribute(wireIndex, 1));
+    wg.computeBoundingSphere();
+    this.wire.geometry = wg;
+    this.wire.visible = this.wireframe;
+    Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
+    Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
+    Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
+    this.requestRender();
+  }
+
+  /// Recomputes the part's corners from its positions (colours too when `colors`).
+  private rebuild(p: Part, colors: boolean): void {
+    const pos = p.positions;
+    const tris = p.triangles;
+    const nt = tris.length / 3;
+    const nv = pos.length / 3;
+    const faceNormals = new Float32Array(nt * 3);
+    for (let t = 0; t < nt; ++t) {
+      const a = tris[3 * t] * 3, b = tris[3 * t + 1] * 3, c = tris[3 * t + 2] * 3;
+      const ux = pos[b] - pos[a], uy = pos[b + 1] - pos[a + 1], uz = pos[b + 2] - pos[a + 2];
+      const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2];
+      faceNormals[3 * t] = uy * vz - uz * vy;  // area-weighted
+      faceNormals[3 * t + 1] = uz * vx - ux * vz;
+      faceNormals[3 * t + 2] = ux * vy - uy * vx;
+    }
+    let vertexNormals: Float32Array | null = null;
+    if (this.smooth) {
+      vertexNormals = new Float32Array(nv * 3);
+      for (let t = 0; t < nt; ++t) {
+        for (let k = 0; k < 3; ++k) {
+          const v = tris[3 * t + k] * 3;
+          const nx = faceNormals[3 * t], ny = faceNormals[3 * t + 1], nz = faceNormals[3 * t + 2];
+          // Faces across a Möbius edge face the other way: add them with a consistent sign.
+          const s = vertexNormals[v] * nx + vertexNormals[v + 1] * ny + vertexNormals[v + 2] * nz < 0 ? -1 : 1;
+          vertexNormals[v] += s * nx;
+          vertexNormals[v + 1] += s * ny;
+          vertexNormals[v + 2] += s * nz;
+        }
+      }
+    }
+    const outPos = p.cornerPositions.length === nt * 9 ? p.cornerPositions : new Float32Array(nt * 9);
+    const outNormal = p.cornerNormals.length === nt * 9 ? p.cornerNormals : new Float32Array(nt * 9);
+    const outColor = colors || p.cornerColors.length !== nt * 9 ? new Float32Array(nt * 9) : null;
+    for (let t = 0; t < nt; ++t) {
+      const fx = faceNormals[3 * t], fy = faceNormals[3 * t + 1], fz = faceNormals[3 * t + 2];
+      const f = p.triangleFaces[t];
+      const col = outColor === null ? kDefaultColor : p.faceColors
+        ? [p.faceColors[3 * f] / 255, p.faceColors[3 * f + 1] / 255, p.faceColors[3 * f + 2] / 255]
+        : kDefaultColor;
+      for (let k = 0; k < 3; ++k) {
+        const v = tris[3 * t + k] * 3;
+        const o = 9 * t + 3 * k;
+        outPos[o] = pos[v];
+        outPos[o + 1] = pos[v + 1];
+        outPos[o + 2] = pos[v + 2];
+        let nx = fx, ny = fy, nz = fz;
+        if (vertexNormals) {
+          const s = vertexNormals[v] * fx + vertexNormals[v + 1] * fy + vertexNormals[v + 2] * fz < 0 ? -1 : 1;
+          nx = s * vertexNormals[v];
+          ny = s * vertexNormals[v + 1];
+          nz = s * vertexNormals[v + 2];
+        }
+        const len = Math.hypot(nx, ny, nz) || 1;
+        outNormal[o] = nx / len;
+        outNormal[o + 1] = ny / len;
+        outNormal[o + 2] = nz / len;
+        if (outColor !== null) {
+          outColor[o] = col[0];
+          outColor[o + 1] = col[1];
+          outColor[o + 2] = col[2];
+        }
+      }
+    }
+    p.cornerPositions = outPos;
+    p.cornerNormals = outNormal;
+    if (outColor !== null) p.cornerColors = outColor;
+  }
+
+  setSmooth(on: boolean): void {
+    this.smooth = on;
+    for (const p of this.parts.values()) this.rebuild(p, false);
+    this.compose();
+  }
+
+  setWireframe(on: boolean): void {
+    this.wireframe = on;
+    this.wire.visible = on;
+    this.requestRender();
+  }
+
+  hasGeometry(): boolean {
+    return this.parts.size > 0;
+  }
+
+  fitView(): void {
+    const box = new THREE.Box3().setFromObject(this.surface);
+    if (this.curves.visible) {
+      this.curves.geometry.computeBoundingBox();
+      if (this.curves.geometry.boundingBox) box.union(this.curves.geometry.boundingBox);
+    }
+    if (this.parts.size === 0 || box.isEmpty()) return;
+    const sphere = box.getBoundingSphere(new THREE.Sphere());
+    const r = Math.max(sphere.radius, 1e-3);
+    const dist = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.05;
+    const dir = this.camera.position.clone().sub(this.controls.target).normalize();
+    if (dir.lengthSq() === 0) dir.set(0.5, 0.4, 0.75).normalize();
+    this.controls.target.copy(sphere.center);
+    this.camera.position.copy(sphere.center).addScaledVector(dir, dist);
+    this.camera.near = dist / 100;
+    this.camera.far = dist * 100;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.requestRender();
+  }
+
+  /// Keyboard orbit (arrows), pan (shift + arrows) and zoom (+/-).
+  nudge(key: string, shift: boolean): boolean {
+    const offset = this.camera.position.clone().sub(this.controls.target);
+    const spherical = new THREE.Spherical().setFromVector3(offset);
+    const step = Math.PI / 24;
+    if (shift && key.startsWith("Arrow")) {
+      const d = offset.length() * 0.05;
+      const right = new THREE.Vector3().setFromMatrixColumn(this.camera.matrix, 0);
+      const up = new THREE.Vector3().setFromMatrixColumn(this.camera.matrix, 1);
+      const move = key === "ArrowLeft" ? right.multiplyScalar(-d) : key === "ArrowRight" ? right.multiplyScalar(d)
+        : key === "ArrowUp" ? up.multiplyScalar(d) : up.multiplyScalar(-d);
+      this.camera.position.add(move);
+      this.controls.target.add(move);
+    } else if (key === "ArrowLeft") spherical.theta -= step;
+    else if (key === "ArrowRight") spherical.theta += step;
+    else if (key === "ArrowUp") spherical.phi = Math.max(0.01, spherical.phi - step);
+    else if (key === "ArrowDown") spherical.phi = Math.min(Math.PI - 0.01, spherical.phi + step);
+    else if (key === "+" || key === "=") spherical.radius *= 0.85;
+    else if (key === "-" || key === "_") spherical.radius /= 0.85;
+    else return false;
+    if (!(shift && key.startsWith("Arrow"))) {
+      this.camera.position.copy(this.controls.target).add(new THREE.Vector3().setFromSpherical(spherical));
+    }
+    this.camera.lookAt(this.controls.target);
+    this.controls.update();
+    this.requestRender();
+    return true;
+  }
+
+  /// FNV-1a over every output's positions (the tests' "did the mesh change").
+  vertexHash(): string {
+    let h = 0x811c9dc5;
+    for (const name of [...this.parts.keys()].sort()) {
+      const b = new Uint8Array(this.parts.get(name)!.positions.slice().buffer);
+      for (let i = 0; i < b.length; ++i) h = Math.imul(h ^ b[i], 0x01000193) >>> 0;
+    }
+    return h.toString(16).padStart(8, "0");
+  }
+
+  /// Binary STL of every output's triangles.
+  stl(): Uint8Array {
+    let total = 0;
+    for (const p of this.parts.values()) total += p.triangles.length / 3;
+    const buf = new ArrayBuffer(84 + 50 * total);
+    const view = new DataView(buf);
+    const header = "nomec view: binary STL";
+    for (let i = 0; i < header.length; ++i) view.setUint8(i, header.charCodeAt(i));
+    view.setUint32(80, total, true);
+    let o = 84;
+    for (const p of this.parts.values()) {
+      for (let t = 0; t < p.triangles.length / 3; ++t) {
+        const a = p.triangles[3 * t] * 3, b = p.triangles[3 * t + 1] * 3, c = p.triangles[3 * t + 2] * 3;
+        const ux = p.positions[b] - p.positions[a], uy = p.positions[b + 1] - p.positions[a + 1], uz = p.positions[b + 2] - p.positions[a + 2];
+        const vx = p.positions[c] - p.positions[a], vy = p.positions[c + 1] - p.positions[a + 1], vz = p.positions[c + 2] - p.positions[a + 2];
+        const n = [uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx];
+        const len = Math.hypot(n[0], n[1], n[2]) || 1;
+        for (let k = 0; k < 3; ++k, o += 4) view.setFloat32(o, n[k] / len, true);
+        for (const v of [a, b, c]) {
+          for (let k = 0; k < 3; ++k, o += 4) view.setFloat32(o, p.positions[v + k], true);
+        }
+        view.setUint16(o, 0, true);
+        o += 2;
+      }
+    }
+    return new Uint8Array(buf);
+  }
+}

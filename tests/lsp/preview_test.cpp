@@ -1,0 +1,233 @@
+// In-process transcripts of the live preview's requests (lsp/README.md): nome/preview
+// answers every output's geometry as base64 typed arrays that decode to the summary's
+// counts, the sliders (NOME3 `list` order first), and the pipeline used; a slider move with
+// `geometry: true` answers the changed outputs only, positions alone when the topology
+// stayed; a document with errors answers `ok: false` and no geometry; nome/saveScene saves
+// the moved values.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <set>
+
+#include "lsp/preview.h"
+#include "lsp_client.h"
+
+namespace nomec::lsp::test {
+namespace {
+
+std::string example(const char* name) { return read_text(std::string(NOMEC_SOURCE_DIR) + "/examples/" + name); }
+
+std::vector<uint8_t> unbase64(const std::string& s) {
+  auto val = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    return c == '+' ? 62 : c == '/' ? 63 : -1;
+  };
+  std::vector<uint8_t> out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : s) {
+    if (c == '=') break;
+    acc = (acc << 6) | static_cast<uint32_t>(val(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<uint8_t>((acc >> bits) & 0xff));
+    }
+  }
+  return out;
+}
+
+template <typename T>
+std::vector<T> decode(const json& field) {
+  std::vector<uint8_t> bytes = unbase64(field.get<std::string>());
+  EXPECT_EQ(bytes.size() % sizeof(T), 0u);
+  std::vector<T> v(bytes.size() / sizeof(T));
+  std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));
+  return v;
+}
+
+TEST(LspPreview, Base64IsRfc4648) {
+  EXPECT_EQ(base64("Man", 3), "TWFu");
+  EXPECT_EQ(base64("Ma", 2), "TWE=");
+  EXPECT_EQ(base64("M", 1), "TQ==");
+  EXPECT_EQ(base64("", 0), "");
+  const unsigned char high[] = {0xfb, 0xff, 0xbf};
+  EXPECT_EQ(base64(high, 3), "+/+/");
+}
+
+TEST(LspPreview, AnswersGeometrySlidersAndTopology) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/funnel_cube.nome";
+  c.open(uri, example("funnel_cube.nome"), 1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  const json& res = r["result"];
+  EXPECT_EQ(res["ok"], true);
+  EXPECT_EQ(res["version"], 1);
+  EXPECT_EQ(res["pipeline"]["merge"], false);
+  EXPECT_EQ(res["files"][0], "/tmp/lsp-test/funnel_cube.nome");
+  // The sliders of bank fp with their ranges.
+  ASSERT_FALSE(res["sliders"].empty());
+  const json& n = res["sliders"][0];
+  EXPECT_EQ(n["id"], "fp.n");
+  EXPECT_EQ(n["bank"], "fp");
+  EXPECT_EQ(n["name"], "n");
+  EXPECT_EQ(n["min"], 3);
+  EXPECT_EQ(n["max"], 10);
+  EXPECT_EQ(n["step"], 1);
+  ASSERT_EQ(res["outputs"].size(), 1u);
+  const json& cf = res["outputs"][0];
+  EXPECT_EQ(cf["name"], "cf");
+  EXPECT_EQ(cf["positionsOnly"], false);
+  const json& s = cf["summary"];
+  const json& g = cf["geometry"];
+  const auto positions = decode<float>(g["positions"]);
+  const auto triangles = decode<uint32_t>(g["triangles"]);
+  const auto tri_faces = decode<uint32_t>(g["triangleFaces"]);
+  const auto edges = decode<uint32_t>(g["edges"]);
+  const auto borders = decode<uint32_t>(g["borderEdges"]);
+  EXPECT_EQ(positions.size(), 3u * s["vertices"].get<size_t>());
+  EXPECT_EQ(edges.size(), 2u * s["edges"].get<size_t>());
+  EXPECT_EQ(triangles.size(), 3u * tri_faces.size());
+  std::set<uint32_t> faces(tri_faces.begin(), tri_faces.end());
+  EXPECT_EQ(faces.size(), s["faces"].get<size_t>());  // every face has triangles
+  for (uint32_t v : triangles) ASSERT_LT(v, s["vertices"].get<uint32_t>());
+  // Six funnels, unmerged: every rim is a border, and borders are edges of the mesh.
+  EXPECT_GT(s["border_loops"].get<int>(), 0);
+  EXPECT_FALSE(borders.empty());
+  EXPECT_TRUE(decode<uint32_t>(g["mobiusEdges"]).empty());
+  EXPECT_TRUE(g["faceColors"].is_null());
+  float zmax = -1e9f;
+  for (size_t i = 2; i < positions.size(); i += 3) zmax = std::max(zmax, positions[i]);
+  EXPECT_NEAR(zmax, s["bounding_box"]["max"][2].get<double>(), 1e-5);
+
+  // A move of fp.z re-places the funnels: the changed output, positions only.
+  json z = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "fp.z"}, {"value", -0.5}, {"geometry", true}});
+  ASSERT_TRUE(z.contains("result")) << z.dump(2);
+  EXPECT_EQ(z["result"]["outputNames"], json::array({"cf"}));
+  ASSERT_EQ(z["result"]["outputs"].size(), 1u);
+  const json& moved = z["result"]["outputs"][0];
+  EXPECT_EQ(moved["positionsOnly"], true);
+  EXPECT_FALSE(moved["geometry"].contains("triangles"));
+  EXPECT_EQ(decode<float>(moved["geometry"]["positions"]).size(), positions.size());
+  EXPECT_NE(moved["geometry"]["positions"], g["positions"]);
+  // fp.n changes the topology: everything again.
+  json nn = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "fp.n"}, {"value", 5}, {"geometry", true}});
+  ASSERT_TRUE(nn.contains("result")) << nn.dump(2);
+  ASSERT_EQ(nn["result"]["outputs"].size(), 1u);
+  EXPECT_EQ(nn["result"]["outputs"][0]["positionsOnly"], false);
+  EXPECT_EQ(nn["result"]["outputs"][0]["summary"]["faces"], 30);
+  // Without `geometry` the reply is as before.
+  json plain = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "fp.n"}, {"value", 6}});
+  EXPECT_FALSE(plain["result"].contains("outputs"));
+
+  // The saved scene carries the moved values.
+  json saved = c.request("nome/saveScene", {{"uri", uri}});
+  ASSERT_TRUE(saved.contains("result")) << saved.dump(2);
+  const std::string text = saved["result"]["text"].get<std::string>();
+  EXPECT_NE(text.find("-0.5"), std::string::npos) << text;
+}
+
+TEST(LspPreview, PipelineValuesAndKleinBottleTopology) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/klein_bottle_zipped.nome";
+  c.open(uri, example("klein_bottle_zipped.nome"), 1);
+  json r = c.request("nome/preview", {{"uri", uri}, {"pipeline", {{"merge", true}, {"subdivide", 1}}}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  const json& res = r["result"];
+  EXPECT_EQ(res["ok"], true) << res["diagnostics"].dump(2);
+  EXPECT_EQ(res["pipeline"]["subdivide"], 1);
+  ASSERT_EQ(res["outputs"].size(), 1u);
+  const json& s = res["outputs"][0]["summary"];
+  EXPECT_EQ(res["outputs"][0]["name"], "klein_bottle_zipped");
+  EXPECT_EQ(s["euler"], 0);
+  EXPECT_EQ(s["orientable"], false);
+  EXPECT_EQ(s["closed"], true);
+  EXPECT_TRUE(decode<uint32_t>(res["outputs"][0]["geometry"]["borderEdges"]).empty());
+  // Non-orientable: where the faces' orientations meet reversed, Möbius edges.
+  EXPECT_FALSE(decode<uint32_t>(res["outputs"][0]["geometry"]["mobiusEdges"]).empty());
+
+  // Values a client moved before are applied to a rebuilt session: the same summary as
+  // moving the slider afterwards.
+  json v = c.request("nome/preview", {{"uri", uri}, {"values", {{"tp1.h", 1.0}}}});
+  ASSERT_TRUE(v.contains("result")) << v.dump(2);
+  EXPECT_EQ(v["result"]["rebuilt"], true);
+  const json h = v["result"]["sliders"];
+  auto it = std::find_if(h.begin(), h.end(), [](const json& x) { return x["id"] == "tp1.h"; });
+  ASSERT_NE(it, h.end());
+  EXPECT_EQ((*it)["value"], 1.0);
+  json again = c.request("nome/preview", {{"uri", uri}, {"values", {{"tp1.h", 1.0}}}});
+  EXPECT_EQ(again["result"]["rebuilt"], false);  // same version and pipeline: the held session
+
+  json bad = c.request("nome/preview", {{"uri", uri}, {"pipeline", {{"subdivide", "two"}}}});
+  ASSERT_TRUE(bad.contains("error"));
+  EXPECT_EQ(bad["error"]["code"], -32602);
+}
+
+TEST(LspPreview, ListOrderAndDocumentsWithErrors) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/listed.nome";
+  c.open(uri,
+         "bank b\n  set a 1 0 2 0.1\n  set z 1 0 2 0.1\n  set m 1 0 2 0.1\n  list (m a)\nendbank\n"
+         "funnel f ({expr $b.a} 0.5 0.2 8) endfunnel\ninstance i f endinstance\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  EXPECT_EQ(r["result"]["ok"], true) << r["result"]["diagnostics"].dump(2);
+  const json& sl = r["result"]["sliders"];
+  ASSERT_EQ(sl.size(), 3u) << sl.dump(2);
+  EXPECT_EQ(sl[0]["id"], "b.m");
+  EXPECT_EQ(sl[1]["id"], "b.a");
+  EXPECT_EQ(sl[2]["id"], "b.z");
+  EXPECT_EQ(sl[0]["listed"], true);
+  EXPECT_EQ(sl[2]["listed"], false);
+
+  const char* broken = "file:///tmp/lsp-test/broken.nome";
+  c.open(broken, "bank fp\n  set n 8 3 10 1\nendbank\nfunnel f ({expr $fp_q} 1 0.2 0.5) endfunnel\n", 1);
+  json e = c.request("nome/preview", {{"uri", broken}});
+  ASSERT_TRUE(e.contains("result")) << e.dump(2);
+  EXPECT_EQ(e["result"]["ok"], false);
+  EXPECT_FALSE(e["result"].contains("outputs"));
+  ASSERT_FALSE(e["result"]["diagnostics"].empty());
+  EXPECT_NE(e["result"]["diagnostics"][0]["message"].get<std::string>().find("fp_q"), std::string::npos);
+  json save = c.request("nome/saveScene", {{"uri", broken}});
+  EXPECT_TRUE(save.contains("error"));
+}
+
+TEST(LspPreview, CurvesAreLines) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/curve.nome";
+  c.open(uri,
+         "bank s\n  set z 2 0 3 0.5\nendbank\n"
+         "point a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint c (1 1 0) endpoint\n"
+         "polyline l (a b c) closed endpolyline\ninstance il l translate (0 0 {expr $s_z}) endinstance\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  ASSERT_EQ(r["result"]["ok"], true) << r["result"]["diagnostics"].dump(2);
+  ASSERT_EQ(r["result"]["outputs"].size(), 1u);
+  const json& o = r["result"]["outputs"][0];
+  EXPECT_EQ(o["summary"]["curves"], 1);
+  const auto points = decode<float>(o["geometry"]["curvePoints"]);
+  const auto segments = decode<uint32_t>(o["geometry"]["curveSegments"]);
+  ASSERT_EQ(points.size(), 9u);  // a b c, placed at z = 2
+  EXPECT_EQ(points[3], 1.0f);
+  EXPECT_EQ(points[8], 2.0f);
+  EXPECT_EQ(segments, (std::vector<uint32_t>{0, 1, 1, 2, 2, 0}));  // closed: back to a
+
+  // Moving the slider moves the curve (it travels whole, not as positions only).
+  json m = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "s.z"}, {"value", 0.5}, {"geometry", true}});
+  ASSERT_TRUE(m.contains("result")) << m.dump(2);
+  ASSERT_EQ(m["result"]["outputs"].size(), 1u);
+  EXPECT_EQ(m["result"]["outputs"][0]["positionsOnly"], false);
+  EXPECT_EQ(decode<float>(m["result"]["outputs"][0]["geometry"]["curvePoints"])[8], 0.5f);
+}
+
+}  // namespace
+}  // namespace nomec::lsp::test
