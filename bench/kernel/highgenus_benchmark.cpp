@@ -9,22 +9,12 @@
 #include "bench/kernel/bench_shapes.h"
 #include "kernel/highgenus.h"
 #include "kernel/subdivide.h"
+#include "tests/kernel/shapes.h"
 
 namespace nomec::kernel::bench {
 namespace {
 
-PolygonSoup tetra() {
-  PolygonSoup s;
-  s.add_vertex({1, 1, 1});
-  s.add_vertex({1, -1, -1});
-  s.add_vertex({-1, 1, -1});
-  s.add_vertex({-1, -1, 1});
-  s.add_face({0, 1, 2});
-  s.add_face({0, 2, 3});
-  s.add_face({0, 3, 1});
-  s.add_face({1, 3, 2});
-  return s;
-}
+using testing::tetra_soup;
 
 PolygonSoup cube() {
   PolygonSoup s;
@@ -88,9 +78,9 @@ void run_cc_like(benchmark::State& state, int64_t faces) {
 
 int64_t faces_of(Result<Mesh> r) { return r ? r->face_count() : 1000; }
 
-void BM_Sierpinski_Tetra_L3(benchmark::State& s) { run_fractal(s, tetra(), 3, sierpinski_of); }
+void BM_Sierpinski_Tetra_L3(benchmark::State& s) { run_fractal(s, tetra_soup(), 3, sierpinski_of); }
 void BM_CatmullClark_LikeSierpinskiL3(benchmark::State& s) {
-  static const int64_t faces = faces_of(sierpinski_of(*build_mesh(tetra()), 3));
+  static const int64_t faces = faces_of(sierpinski_of(*build_mesh(tetra_soup()), 3));
   run_cc_like(s, faces);
 }
 void BM_Menger_Cube_L3(benchmark::State& s) { run_fractal(s, cube(), 3, menger_of); }
@@ -98,7 +88,7 @@ void BM_CatmullClark_LikeMengerL3(benchmark::State& s) {
   static const int64_t faces = faces_of(menger_of(*build_mesh(cube()), 3));
   run_cc_like(s, faces);
 }
-void BM_Sierpinski_Smoke_L1(benchmark::State& s) { run_fractal(s, tetra(), 1, sierpinski_of); }
+void BM_Sierpinski_Smoke_L1(benchmark::State& s) { run_fractal(s, tetra_soup(), 1, sierpinski_of); }
 void BM_Menger_Smoke_L1(benchmark::State& s) { run_fractal(s, cube(), 1, menger_of); }
 
 BENCHMARK(BM_Sierpinski_Tetra_L3)->Unit(benchmark::kMillisecond);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "kernel/topology.h"
+#include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -13,11 +14,7 @@ namespace {
 using testing::Glue;
 using testing::grid_soup;
 
-Mesh build(const PolygonSoup& s) {
-  auto mesh = build_mesh(s);
-  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
-  return std::move(*mesh);
-}
+using testing::build;
 
 TEST(DeleteFaces, CubeMinusOneFaceIsOpenBox) {
   Mesh cube = build(testing::cube_soup());

@@ -10,6 +10,7 @@
 
 #include "kernel/subdivide.h"
 #include "kernel/topology.h"
+#include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -18,11 +19,7 @@ namespace {
 using testing::Glue;
 using testing::grid_soup;
 
-Mesh build(const PolygonSoup& s) {
-  auto mesh = build_mesh(s);
-  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
-  return std::move(*mesh);
-}
+using testing::build;
 
 /// A box of `n` unit cubes in a row: 4(n + 1) V, 4n + 2 quads (top faces t_i = 0 … n−1
 /// first), a sphere.
@@ -41,18 +38,7 @@ PolygonSoup box_soup(int n) {
   return s;
 }
 
-PolygonSoup tetra_soup() {
-  PolygonSoup s;
-  s.add_vertex({1, 1, 1});
-  s.add_vertex({1, -1, -1});
-  s.add_vertex({-1, 1, -1});
-  s.add_vertex({-1, -1, 1});
-  s.add_face({0, 1, 2});
-  s.add_face({0, 2, 3});
-  s.add_face({0, 3, 1});
-  s.add_face({1, 3, 2});
-  return s;
-}
+using testing::tetra_soup;
 
 // The one component's report, after checking the mesh's invariants.
 ComponentTopology single(const Mesh& m) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "kernel/topology.h"
+#include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -14,11 +15,7 @@ namespace {
 using testing::Glue;
 using testing::grid_soup;
 
-Mesh build(const PolygonSoup& s) {
-  auto mesh = build_mesh(s);
-  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
-  return std::move(*mesh);
-}
+using testing::build;
 
 // Each face of `soup` as its own mesh with its own vertices.
 std::vector<Mesh> explode(const PolygonSoup& soup) {

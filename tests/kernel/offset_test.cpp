@@ -9,6 +9,7 @@
 
 #include "kernel/subdivide.h"
 #include "kernel/topology.h"
+#include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -17,11 +18,7 @@ namespace {
 using testing::Glue;
 using testing::grid_soup;
 
-Mesh build(const PolygonSoup& s) {
-  auto mesh = build_mesh(s);
-  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
-  return std::move(*mesh);
-}
+using testing::build;
 
 // Closed, orientable, no Möbius edges, one component per expected entry.
 void expect_closed_orientable(const Mesh& m, int32_t euler, size_t components) {

@@ -14,6 +14,20 @@
 
 namespace nomec::kernel::testing {
 
+/// Regular tetrahedron inscribed in the cube [-1, 1]³, 4 V, 6 E, 4 F, outward orientation.
+inline PolygonSoup tetra_soup() {
+  PolygonSoup s;
+  s.add_vertex({1, 1, 1});
+  s.add_vertex({1, -1, -1});
+  s.add_vertex({-1, 1, -1});
+  s.add_vertex({-1, -1, 1});
+  s.add_face({0, 1, 2});
+  s.add_face({0, 2, 3});
+  s.add_face({0, 3, 1});
+  s.add_face({1, 3, 2});
+  return s;
+}
+
 /// Unit cube, 8 V, 12 E, 6 F, outward orientation.
 inline PolygonSoup cube_soup() {
   PolygonSoup s;

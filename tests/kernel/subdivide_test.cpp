@@ -9,6 +9,7 @@
 #include <array>
 
 #include "kernel/topology.h"
+#include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
 
 namespace nomec::kernel {
@@ -18,11 +19,7 @@ using testing::cube_soup;
 using testing::Glue;
 using testing::grid_soup;
 
-Mesh build(const PolygonSoup& s) {
-  auto mesh = build_mesh(s);
-  EXPECT_TRUE(mesh.has_value()) << (mesh ? "" : mesh.error().message);
-  return std::move(*mesh);
-}
+using testing::build;
 
 // Consistent wings (kernel::mesh_problem) and only quads.
 void expect_wings_consistent(const Mesh& m) {
