@@ -409,9 +409,11 @@ TEST(SessionProperty, RandomSliderSequencesMatchFreshBuilds) {
   uint32_t seed = 20261122;
   for (const PropertyCase& pc : cases) run_property(pc, seed++, 6);
   // Corpus files with pipeline blocks, and generated fields in a group and in a block
-  // (patched entries, clusters of the block's input).
+  // (patched entries, clusters of the block's input). The SLIDE files' sliders are made by
+  // their Tcl (`subdivision.slf` is left out: its meshes come from SLIDE's lost `slideui`
+  // package, so its scene has nothing to subdivide).
   for (const char* f : {"nome3/sharp_specs.nom", "nome3/hello_cube.nom", "nome3/light_test.nom",
-                        "slide/subdivision.slf", "slide/CHS_Merge-Saddle.slf"}) {
+                        "slide/minSubdiv.slf", "slide/spiral.slf", "slide/CHS_Merge-Saddle.slf"}) {
     const std::string path = corpus + f;
     auto c = check(path, read(path));
     if (c->diags.error_count() == 0 && !c->check.module.params().empty()) run_property({path, {}}, seed++, 4);
