@@ -193,7 +193,7 @@ word
 // ---------------------------------------------------------------------------------------
 
 // `tclinit { … }` is kept whole, braces balanced, as raw text with its range.
-TCLINIT : 'tclinit' [ \t\r\n]* TCL_BRACES ;
+TCLINIT : ('tclinit' | 'tclupdate') [ \t\r\n]* TCL_BRACES ;
 fragment TCL_BRACES : '{' ( TCL_BRACES | '\\' . | ~[{}\\] )* '}' ;
 
 // Nested `(* … *)` block comments (SLIDE semantics). An unclosed one does not match this

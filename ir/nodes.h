@@ -182,7 +182,8 @@ struct CrossSectionData {
   NodeId curve;
   SourceRange curve_range;
   bool is_circle = false;
-  OperandId radius, slices;
+  bool is_star = false;  // SLIDE `type star outerradius R innerradius r slices n`
+  OperandId radius, inner_radius, slices;
   FlagArg begin_cap, end_cap;
   bool reverse = false;
 };

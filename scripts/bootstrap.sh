@@ -32,6 +32,7 @@ packages=(
   libosd-dev                     # OpenSubdiv: test oracle and benchmark baseline only
   libbenchmark-dev               # bench/
   libjemalloc-dev                # allocator of nomec (language server speed on large files)
+  tcl8.6-dev                     # frontend/tcl: the Tcl 8.6 interpreter SLIDE scenes run in
   admesh                         # STL sanity checks in tests
   cmake ninja-build g++ clang
   libclang-rt-14-dev             # clang's sanitizer and libFuzzer runtimes (build-sanitize/)

@@ -116,7 +116,42 @@ PathPoints path_points(Context& c, ir::NodeId path_id, std::string_view inst_pat
         out.names.push_back(r.text);
       }
     }
+    // SLIDE `pointlist ( p … )`: points or controlpoints by name.
+    for (ir::NodeId id : c.m.refs(p.point_list)) {
+      ir::NodeId point = id;
+      if (id.is_valid() && c.m.node(id).kind == ir::NodeKind::ControlPoint) point = c.m.get<ir::ControlPointData>(id).point;
+      if (!point.is_valid() || c.m.node(point).kind != ir::NodeKind::Point) continue;
+      if (auto pos = point_position(c, point)) {
+        out.points.push_back(*pos);
+        out.names.push_back(c.m.node(point).name);
+      }
+    }
     out.is_closed = flag_set(c, p.closed);
+  } else if (pn.kind == ir::NodeKind::CrossSection) {
+    // SLIDE: a sweep's cross section names a top-level one, which names its curve or is a
+    // circle or a star in the xy plane (defaults: docs/dialects.md).
+    // Follow cross sections that name another one (at most a few: a cycle is no curve).
+    ir::NodeId at = path_id;
+    for (int hops = 0; hops < 8; ++hops) {
+      const ir::CrossSectionData& y = c.m.get<ir::CrossSectionData>(at);
+      if (!y.curve.is_valid() || y.curve == at) break;
+      if (c.m.node(y.curve).kind != ir::NodeKind::CrossSection) return path_points(c, y.curve, inst_path);
+      at = y.curve;
+    }
+    const ir::CrossSectionData& x = c.m.get<ir::CrossSectionData>(at);
+    if (x.is_circle || x.is_star) {
+      const double r = x.radius.is_valid() ? scalar(c, x.radius, 0, 0) : 1.0;
+      const double inner = x.inner_radius.is_valid() ? scalar(c, x.inner_radius, 0, 0) : r / 2;
+      const int n = std::clamp(static_cast<int>(x.slices.is_valid() ? scalar(c, x.slices, 0, 0) : (x.is_star ? 5 : 16)), 3, 10000);
+      const int count = x.is_star ? 2 * n : n;
+      for (int k = 0; k < count; ++k) {
+        const double t = 2 * M_PI * k / count;
+        const double rr = x.is_star && k % 2 == 1 ? inner : r;
+        out.points.emplace_back(rr * std::cos(t), rr * std::sin(t), 0.0);
+        out.names.emplace_back();
+      }
+      out.is_closed = true;
+    }
   } else if (pn.kind == ir::NodeKind::Generator) {
     if (const Generated* g = generated(c, path_id, inst_path); g && !g->curves.empty()) {
       for (int32_t v : g->curves[0].vertices) {

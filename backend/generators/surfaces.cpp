@@ -21,10 +21,12 @@ namespace {
 // names stay aliases), which drops NOME3's degenerate faces there.
 template <typename A>
 Generated spheroid(const ArgReader& a, double polar, double eq) {
-  const double theta_max = std::trunc(a.number(A::theta_max));
+  // Every argument is given in NOME and NOME3; SLIDE's named fields may be left out.
+  const bool slide = a.dialect() == Dialect::Slide;
+  const double theta_max = std::trunc(slide ? a.number_or(A::theta_max, 360.0) : a.number(A::theta_max));
   const bool wrap = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
-  const double phi_min = std::trunc(a.number(A::phi_min));
-  const double phi_max = std::trunc(a.number(A::phi_max));
+  const double phi_min = std::trunc(slide ? a.number_or(A::phi_min, -90.0) : a.number(A::phi_min));
+  const double phi_max = std::trunc(slide ? a.number_or(A::phi_max, 90.0) : a.number(A::phi_max));
   if (phi_min < -90.0 || phi_min > 90.0) {
     fail(ir::arg_index(A::phi_min), "`phi_min` is a latitude and must be within [-90, 90] degrees, got " + fmt_number(phi_min));
   }
@@ -34,8 +36,8 @@ Generated spheroid(const ArgReader& a, double polar, double eq) {
   if (!(phi_max > phi_min)) fail(ir::arg_index(A::phi_max), "`phi_max` must be greater than `phi_min`");
   const bool north = phi_min == -90.0;
   const bool south = phi_max == 90.0;
-  const int ts = a.count(A::theta_segs, wrap ? 3 : 1);
-  const int ps = a.count(A::phi_segs, south && north ? 2 : 1);
+  const int ts = slide && !a.has(A::theta_segs) ? 16 : a.count(A::theta_segs, wrap ? 3 : 1);
+  const int ps = slide && !a.has(A::phi_segs) ? 8 : a.count(A::phi_segs, south && north ? 2 : 1);
   check_size(static_cast<long long>(ts + 1) * (ps + 1), ir::arg_index(A::phi_segs));
 
   OriginalMesh m;
@@ -88,17 +90,19 @@ Generated spheroid(const ArgReader& a, double polar, double eq) {
 // closing quads NOME3 made for a full tube.
 Generated make_Torus(const ArgReader& a) {
   using A = ir::gen_arg::Torus;
-  const double R = a.positive(A::major_radius);
-  const double r = a.positive(A::minor_radius);
-  const double theta_max = a.number(A::theta_max);
-  const double phi_min = a.number(A::phi_min);
-  const double phi_max = a.number(A::phi_max);
+  // Every argument is given in NOME and NOME3; SLIDE's named fields may be left out.
+  const bool slide = a.dialect() == Dialect::Slide;
+  const double R = slide && !a.has(A::major_radius) ? 1.0 : a.positive(A::major_radius);
+  const double r = slide && !a.has(A::minor_radius) ? 0.25 : a.positive(A::minor_radius);
+  const double theta_max = slide ? a.number_or(A::theta_max, 360.0) : a.number(A::theta_max);
+  const double phi_min = slide ? a.number_or(A::phi_min, 0.0) : a.number(A::phi_min);
+  const double phi_max = slide ? a.number_or(A::phi_max, 360.0) : a.number(A::phi_max);
   const bool wrap_i = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
   const bool wrap_j = full_turn(phi_max - phi_min, ir::arg_index(A::phi_max), a.name(A::phi_max));
-  const int ts = a.count(A::theta_segs, wrap_i ? 3 : 1);
+  const int ts = slide && !a.has(A::theta_segs) ? 16 : a.count(A::theta_segs, wrap_i ? 3 : 1);
   // A partial tube on a partial turn is closed by a quad back to row 0: one segment
   // would put that quad on the back of the only other one.
-  const int ps = a.count(A::phi_segs, wrap_j ? 3 : (wrap_i ? 1 : 2));
+  const int ps = slide && !a.has(A::phi_segs) ? 8 : a.count(A::phi_segs, wrap_j ? 3 : (wrap_i ? 1 : 2));
   check_size(static_cast<long long>(ts + 1) * (ps + 1), ir::arg_index(A::theta_segs));
   OriginalMesh m;
   auto v = [&](int i, int j) { return i * (ps + 1) + j; };
@@ -131,7 +135,8 @@ Generated make_Torus(const ArgReader& a) {
 }
 
 Generated make_Sphere(const ArgReader& a) {
-  const double r = a.positive(ir::gen_arg::Sphere::radius);
+  const bool slide_default = a.dialect() == Dialect::Slide && !a.has(ir::gen_arg::Sphere::radius);
+  const double r = slide_default ? 1.0 : a.positive(ir::gen_arg::Sphere::radius);
   return spheroid<ir::gen_arg::Sphere>(a, r, r);
 }
 
@@ -153,7 +158,9 @@ Generated make_Ellipsoid(const ArgReader& a) {
 Generated make_Cylinder(const ArgReader& a) {
   using A = ir::gen_arg::Cylinder;
   const double r = a.has(A::radius) ? a.positive(A::radius) : 1.0;
-  const double h = a.has(A::height) ? a.positive(A::height) : 1.0;
+  const double zmin = a.number_or(A::zmin, 0.0);
+  const double h = a.has(A::zmin) ? a.number_or(A::height, 1.0) : (a.has(A::height) ? a.positive(A::height) : 1.0);
+  if (!(h > zmin)) fail(ir::arg_index(A::height), "`zmax` must be greater than `zmin`");
   const double theta_max = std::trunc(a.number_or(A::theta_max, 360.0));
   const bool full = full_turn(theta_max, ir::arg_index(A::theta_max), a.name(A::theta_max));
   const int ts = a.has(A::theta_segs) ? a.count(A::theta_segs, full ? 3 : 1) : 16;
@@ -164,7 +171,7 @@ Generated make_Cylinder(const ArgReader& a) {
     ring[j] = g.soup.vertex_count();
     for (int i = 0; i <= ts; ++i) {
       const double th = radians(theta_max * i / ts);
-      g.soup.add_vertex({r * std::cos(th), r * std::sin(th), j * h}, "v" + std::to_string(j) + "_" + std::to_string(i));
+      g.soup.add_vertex({r * std::cos(th), r * std::sin(th), j == 0 ? zmin : h}, "v" + std::to_string(j) + "_" + std::to_string(i));
     }
   }
   auto v = [&](int j, int i) { return ring[j] + i; };
@@ -173,7 +180,7 @@ Generated make_Cylinder(const ArgReader& a) {
   if (full) {
     g.soup.add_face({v(1, 0), v(1, ts), v(0, ts), v(0, 0)});
   } else {
-    top_center = g.soup.add_vertex({0.0, 0.0, 0.0}, "top_center");
+    top_center = g.soup.add_vertex({0.0, 0.0, zmin}, "top_center");
     bottom_center = g.soup.add_vertex({0.0, 0.0, h}, "bottom_center");
     g.soup.add_face({top_center, bottom_center, v(1, ts), v(0, ts)});
     g.soup.add_face({v(0, 0), v(1, 0), bottom_center, top_center});

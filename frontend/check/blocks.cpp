@@ -253,9 +253,13 @@ ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, 
         d.curve = v.ref;
         d.curve_range = v.value_range;
         break;
-      case Opt::Type: d.is_circle = d.is_circle || v.symbol == "circle"; break;
+      case Opt::Type:
+        d.is_circle = d.is_circle || v.symbol == "circle";
+        d.is_star = d.is_star || v.symbol == "star";
+        break;
       case Opt::Circle: d.is_circle = true; break;
       case Opt::Radius: d.radius = v.operand; break;
+      case Opt::InnerRadius: d.inner_radius = v.operand; break;
       case Opt::Slices: d.slices = v.operand; break;
       case Opt::BeginCap: d.begin_cap = ir::FlagArg{true, v.operand, v.word}; break;
       case Opt::EndCap: d.end_cap = ir::FlagArg{true, v.operand, v.word}; break;

@@ -64,6 +64,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     check::apply_saved(c, *base_ast);
   }
   check::collect_tcl(c, main_ast);
+  check::run_tcl(c, main_ast, path);
   check::collect_banks(c, main_ast);
   check::apply_saved(c, main_ast);
   check::apply_overrides(c);
@@ -79,7 +80,10 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     std::swap(scratch, diags);
   }
   check::declare(c, main_ast, 0);
+  if (c.tcl_ast != nullptr) check::declare(c, *c.tcl_ast, 1 << 20);  // what `slide create` made
   check::process(c, main_ast, 0);
+  if (c.tcl_ast != nullptr) check::process(c, *c.tcl_ast, 1 << 20);
+  check::report_unplaced_tcl_instances(c);
   check::finish_scene_merges(c);
   check::resolve_pending_deletes(c);
   check::finish_dependencies(c);

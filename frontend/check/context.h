@@ -19,6 +19,7 @@
 #include "frontend/ast/ast.h"
 #include "frontend/check/check.h"
 #include "frontend/diagnostics/diagnostic.h"
+#include "frontend/tcl/interp.h"
 #include "ir/ir.h"
 
 namespace nomec::check {
@@ -127,6 +128,12 @@ class Context {
   std::set<std::string> tcl_suffixes;
   std::set<std::string> tcl_reported;
   bool has_tcl = false;
+  std::unique_ptr<tcl::Interp> tcl;              // the scene's interpreter (SLIDE files, tcl.cpp)
+  std::map<std::string, ir::NodeId> tcl_sliders;  // Tcl variable bound to a `scale` → its parameter
+  const ast::Ast* tcl_ast = nullptr;               // the statements `slide create` made (in owned_asts)
+  /// `slide create instance I G N` into a group G the file defines: a `group G … endgroup`
+  /// of `tcl_ast` (not processed itself) whose instances handle_group adds to G.
+  std::map<std::string, std::pair<const ast::Ast*, const ast::Stmt*>> tcl_group_additions;
   /// Names only Tcl defines are reported once per name (real SLIDE files use them hundreds
   /// of times); later uses stay quiet.
   bool first_tcl_report(const std::string& name) { return tcl_reported.insert(name).second; }

@@ -115,6 +115,15 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
     }
     return param_expr(c, p, x.range);
   }
+  if (c.dialect() == Dialect::Slide && dollar && c.tcl) {
+    // A Tcl global: its value after `tclinit` (slide.md §6).
+    if (std::optional<double> v = tcl_number(c, name)) return constant_expr(c, *v, x.range);
+    if (c.first_tcl_report("$" + name)) {
+      c.diags().emit(DiagKind::TclDefinedName, x.range,
+                     fmt::format("`${}` is not a slider, and the scene's Tcl code does not set it to a number", name));
+    }
+    return error_expr(c, x.range);
+  }
   if (c.dialect() == Dialect::Slide && dollar) {
     std::string why = tcl_var_hint(c, name);
     if (c.first_tcl_report("$" + name)) {
@@ -158,6 +167,19 @@ ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
     case ast::ExprKind::Name:
       return lower_name(c, x, scope);
     case ast::ExprKind::TclArrayRef:
+      if (c.dialect() == Dialect::Slide && c.tcl) {
+        // `$oSubdivision(type)`: a slider bound to the element, or the element's value.
+        std::string_view t = x.text.substr(1);
+        const size_t open = t.find('(');
+        const std::string arr(t.substr(0, open)), key(t.substr(open + 1, t.size() - open - 2));
+        if (auto it = c.params.find(arr + "." + key); it != c.params.end()) return param_expr(c, it->second, x.range);
+        if (std::optional<double> v = tcl_number(c, t)) return constant_expr(c, *v, x.range);
+        if (c.first_tcl_report(std::string(x.text))) {
+          c.diags().emit(DiagKind::TclDefinedName, x.range,
+                         fmt::format("`{}` is not set to a number by the scene's Tcl code", x.text));
+        }
+        return error_expr(c, x.range);
+      }
       if (c.dialect() == Dialect::Slide) {
         if (c.first_tcl_report(std::string(x.text))) {
           c.diags().emit(DiagKind::TclDefinedName, x.range,
@@ -418,7 +440,21 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
   return done.back();
 }
 
+// A SLIDE value in braces (`{expr $r*2}`, `{if {…} {expr 1} else {expr 0}}`, `%{ … }%`),
+// evaluated by Tcl (slide.md §1, §6). Tcl's value is the value. When the expression is one
+// nomec can also evaluate itself with the same result, that expression is kept, so a slider
+// change re-evaluates it (the dependency graph sees its sliders); otherwise the value is a
+// constant, with a warning when it read a slider.
+ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope);
+
+bool is_tcl_raw(const ast::Expr& x) {
+  return x.kind == ast::ExprKind::Raw && (x.in_braces || x.text.rfind("%{", 0) == 0);
+}
+
 ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope) {
+  if (scope.variables.empty() && c.tcl && (a.expr(id).in_braces || is_tcl_raw(a.expr(id)))) {
+    return lower_tcl_value(c, a, id, scope);
+  }
   ir::ExprId out = lower_tree(c, a, id, scope);
   if (!scope.variables.empty()) return out;  // a function is evaluated where it is used
   ir::EvalResult r = ir::evaluate(c.module(), out);
@@ -427,6 +463,62 @@ ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Sc
     return error_expr(c, a.expr(id).range);
   }
   return out;
+}
+
+ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope) {
+  const ast::Expr& x = a.expr(id);
+  const bool raw = x.kind == ast::ExprKind::Raw;
+  std::string script;
+  if (raw) {
+    std::string_view t = x.text;
+    const size_t cut = t.rfind("%{", 0) == 0 ? 2 : 1;
+    script = std::string(t.size() >= 2 * cut ? t.substr(cut, t.size() - 2 * cut) : t);
+  } else {
+    // The text inside the braces around the expression (its range may exclude parentheses).
+    // The nearest `{` before the expression whose matching `}` comes after it (braces
+    // inside the expression, `{expr {$r} * 2}`, are skipped).
+    std::string_view file = c.sources().text(x.range.file);
+    size_t open = x.range.begin, close = file.size();
+    while (open > 0) {
+      size_t depth = 0;
+      while (open > 0) {
+        --open;
+        if (file[open] == '}') ++depth;
+        if (file[open] == '{' && depth-- == 0) break;
+      }
+      if (file[open] != '{') break;
+      close = open + 1;
+      for (size_t d = 0; close < file.size(); ++close) {
+        if (file[close] == '{') ++d;
+        if (file[close] == '}' && d-- == 0) break;
+      }
+      if (close >= x.range.end) break;
+    }
+    std::string_view inner = file[open] == '{' && close < file.size() ? file.substr(open + 1, close - open - 1)
+                                                                       : c.sources().text(x.range);
+    size_t first = inner.find_first_not_of(" \t\r\n");
+    const bool has_expr = first != std::string_view::npos && inner.substr(first, 4) == "expr" &&
+                          (inner.size() == first + 4 || std::isspace(static_cast<unsigned char>(inner[first + 4])));
+    script = has_expr ? std::string(inner) : fmt::format("expr {{{}}}", inner);
+  }
+  std::optional<TclValue> v = tcl_value(c, script, x.range);
+  if (!v || !v->ok) return error_expr(c, x.range);
+  if (!raw) {
+    // nomec's own reading of the expression, checked quietly against Tcl's value.
+    DiagnosticEngine scratch;
+    std::swap(scratch, c.diags());
+    ir::ExprId out = lower_tree(c, a, id, scope);
+    std::swap(scratch, c.diags());
+    ir::EvalResult r = ir::evaluate(c.module(), out);
+    if (r.ok && std::fabs(r.value - v->value) <= 1e-9 * std::max(1.0, std::fabs(v->value))) return out;
+  }
+  if (!v->sliders.empty()) {
+    c.diags().emit(DiagKind::TclValueFixed, x.range,
+                   fmt::format("Tcl computes {} here from the slider `{}`, in a way nomec cannot repeat when the slider "
+                               "moves (Tcl integer arithmetic or a script); the value stays {} (use `-D` to change it)",
+                               v->value, c.module().node(v->sliders.front()).name, v->value));
+  }
+  return constant_expr(c, v->value, x.range);
 }
 
 }  // namespace

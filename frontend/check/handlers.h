@@ -17,6 +17,23 @@ namespace nomec::check {
 std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& path);
 void collect_tcl(Context& c, const ast::Ast& a);
 
+// ---- tcl.cpp: SLIDE's Tcl: `tclinit`/`tclupdate` blocks, sliders, `{expr …}` values ----
+/// Runs the file's Tcl blocks in the scene's interpreter and makes its sliders parameters
+/// (SLIDE files only; before the banks, so `-D` reaches the sliders).
+void run_tcl(Context& c, const ast::Ast& a, const std::string& path);
+struct TclValue {
+  bool ok = false;
+  double value = 0;
+  std::vector<ir::NodeId> sliders;  // the sliders the script read
+};
+/// A SLIDE value evaluated by Tcl (`expr …` or any script), with the sliders it read; its
+/// problems are reported at `where`. Nullopt without an interpreter (not a SLIDE file).
+std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRange where);
+/// `slide create instance I G N` whose group G the scene never defines.
+void report_unplaced_tcl_instances(Context& c);
+/// A Tcl global's numeric value (`par_x`, `oOffset(height)`), if it has one.
+std::optional<double> tcl_number(Context& c, std::string_view name);
+
 // ---- banks.cpp: banks and sliders, saved values, `-D` overrides, `list` entries ----
 void collect_banks(Context& c, const ast::Ast& a);
 void apply_saved(Context& c, const ast::Ast& a);

@@ -178,9 +178,16 @@ ir::NodeId handle_group(Context& c, const ast::Ast& a, const ast::Stmt& s, const
   size_t pos = 0;
   std::string name = c.read_name(s, pos, "group g … endgroup").value_or("");
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
-  read_body(c, a, s, pos, id, options_for(s.kind), [&c, id](const OptionValue& v) {
+  auto option = [&c, id](const OptionValue& v) {
     if (v.spec->key == Opt::Surface) c.module().get<ir::GroupData>(id).surface = v.ref;
-  });
+  };
+  read_body(c, a, s, pos, id, options_for(s.kind), option);
+  // SLIDE: instances Tcl code added with `slide create instance I G N` (tcl.cpp).
+  if (auto it = c.tcl_group_additions.find(name); it != c.tcl_group_additions.end() && ctx.top) {
+    const auto [added_ast, added] = it->second;
+    c.tcl_group_additions.erase(it);
+    read_body(c, *added_ast, *added, 1, id, options_for(s.kind), option);
+  }
   if (ctx.parent.is_valid()) c.module().deps.add_edge(id, ctx.parent);
   return id;
 }

@@ -45,7 +45,7 @@ enum class Opt : uint8_t {
   Closed, PointList, Surface,
   Translate, Rotate, Scale, Mirror, Hidden, Id,
   Azimuth, Twist, Mintorsion, MinimizeTorsion,
-  Type, Curve, Circle, Radius, Slices, BeginCap, EndCap, Reverse,
+  Type, Curve, Circle, Radius, InnerRadius, Slices, BeginCap, EndCap, Reverse,
   Point, Border, Penalty, Tolerance,
   SubdivisionType, Levels, OffsetType, Height, Width,
   Faces, Corners, Segments, Weights, Thickness, Punch, Peel, Level, Collapse,

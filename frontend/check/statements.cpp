@@ -28,6 +28,7 @@ void report_stray(Context& c, const ast::Item& it) {
     std::vector<std::string_view> k = ast::all_open_keywords();
     k.push_back("include");
     k.push_back("tclinit");
+    k.push_back("tclupdate");
     return k;
   }();
   std::string hint = closest_match(it.text, kws);

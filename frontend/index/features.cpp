@@ -173,7 +173,7 @@ std::string Index::rename_problem(const Symbol& s, std::string_view new_name) co
   }
   ast::BlockKind bk;
   if (block_by_open(new_name, &bk) || block_by_close(new_name, &bk) || new_name == "set" || new_name == "list" ||
-      new_name == "include" || new_name == "expr" || new_name == "tclinit") {
+      new_name == "include" || new_name == "expr" || new_name == "tclinit" || new_name == "tclupdate") {
     return fmt::format("`{}` is a NOME keyword and cannot be used as a name", new_name);
   }
   if (is_keyword(new_name) && s.kind != SymbolKind::Parameter && s.kind != SymbolKind::Bank) {

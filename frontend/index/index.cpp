@@ -112,6 +112,7 @@ class Builder {
         if (it.kind == ItemKind::Block) visit(a->stmt(it.block), -1, BlockKind::Bank, true);
       }
     }
+    tcl_sliders();
     collect_uses();
     finish();
   }
@@ -222,6 +223,26 @@ class Builder {
     ix_.symbols_[me].detail = std::move(detail);
   }
 
+  // SLIDE sliders: Tk `scale` widgets the scene's Tcl made (frontend/check/tcl.cpp), with
+  // their bank (`swp` of `swp_q0x`) in the detail; defined where the checker found the
+  // slider's name.
+  void tcl_sliders() {
+    for (ir::NodeId p : m_.params()) {
+      const ir::Node& n = m_.node(p);
+      if (n.keyword != "scale" || sym(p) >= 0) continue;
+      const ir::ParamData& pd = m_.param(p);
+      // A bank the file writes (`bank swp … endbank`) is its parent; Tcl's have no symbol.
+      SymbolId bank = -1;
+      if (auto b = bank_symbol_.find(pd.bank); b != bank_symbol_.end()) bank = b->second;
+      std::string_view shortname = std::string_view(n.name).substr(std::min(n.name.size(), pd.bank.size() + 1));
+      if (sm_.text(n.range) != shortname) continue;  // made by a proc the file does not spell out
+      SymbolId sid = add_symbol(std::string(shortname), SymbolKind::Parameter, n.range, n.range, bank, p);
+      ix_.symbols_[sid].detail = fmt::format("{} = {} in [{}, {}] step {} (a Tk `scale` made by the scene's Tcl code)",
+                                             n.name, pd.value, pd.min, pd.max, pd.step);
+      if (bank >= 0) member_params_.emplace(member_key(bank, shortname), sid);
+    }
+  }
+
   // `set NAME value min max step` lines and `list (names)` in a bank.
   void read_bank(const ast::Stmt& s, SymbolId bank) {
     for (size_t i = 1; i < s.items.size(); ++i) {
@@ -271,6 +292,11 @@ class Builder {
     std::string_view rest = text.substr(o);
     std::string_view bank = m_.param(p).bank;
     std::string_view shortname = std::string_view(pn.name).substr(std::min(pn.name.size(), bank.size() + 1));
+    if (rest.size() == bank.size() + 2 + shortname.size() && rest.substr(0, bank.size()) == bank &&
+        rest[bank.size()] == '(' && rest.back() == ')') {  // SLIDE's Tcl array element `$oOffset(height)`
+      use(SourceRange{r.file, static_cast<uint32_t>(r.begin + o + bank.size() + 1), r.end - 1}, ps);
+      return;
+    }
     if (rest.size() == bank.size() + 1 + shortname.size() && rest.substr(0, bank.size()) == bank &&
         (rest[bank.size()] == '.' || rest[bank.size()] == '_') && rest.substr(bank.size() + 1) == shortname) {
       SymbolId bs = ix_.symbols_[ps].parent;

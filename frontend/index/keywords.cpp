@@ -77,7 +77,8 @@ const KwDoc kDocs[] = {
     {"cross", "NOME3: a control point's cross-section curve (`crosssection` in JIPCAD)"},
     {"include", "reads another file: `include \"file.slf\"`"},
     {"expr", "an expression value: `{expr $fp.n * 2}`"},
-    {"tclinit", "SLIDE Tcl code run at start-up (kept, not evaluated)"},
+    {"tclinit", "SLIDE Tcl code, run once when the scene is read (before names are resolved); `scale` widgets bound to a variable become sliders"},
+    {"tclupdate", "SLIDE Tcl code run before every frame; nomec compiles one frame, so it runs once after every `tclinit`"},
     {"translate", "moves the instance: `translate (x y z)`"},
     {"rotate", "rotates the instance: `rotate (ax ay az) (degrees)` about an axis through the origin"},
     {"scale", "scales the instance: `scale (x y z)`"},
@@ -149,7 +150,7 @@ const Tables& tables() {
       out.end_docs.emplace(close, "closes `" + std::string(open) + "`");
       for (std::string_view w : option_words(open)) out.keywords.insert(w);
     }
-    for (std::string_view w : {"set", "list", "include", "expr", "tclinit"}) out.keywords.insert(w);
+    for (std::string_view w : {"set", "list", "include", "expr", "tclinit", "tclupdate"}) out.keywords.insert(w);
     return out;
   }();
   return t;

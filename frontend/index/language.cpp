@@ -210,6 +210,7 @@ class Completer {
     }
     add_keyword("include");
     add_keyword("tclinit");
+    add_keyword("tclupdate");
   }
 
   // Inside `( … )`: faces of an object, vertices of a face-like list, or values.

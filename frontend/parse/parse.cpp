@@ -571,9 +571,9 @@ std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
         continue;
       }
     }
-    if (type == NomeLexer::IDENT && tok->getText() == "tclinit") {
+    if (type == NomeLexer::IDENT && (tok->getText() == "tclinit" || tok->getText() == "tclupdate")) {
       diags.emit(DiagKind::UnclosedTclBlock, range(*tok),
-                 "`tclinit` block is not enclosed in balanced braces `{ … }`");
+                 fmt::format("`{}` block is not enclosed in balanced braces `{{ … }}`", tok->getText()));
       stopped = true;
       while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
         ++i;

@@ -343,6 +343,26 @@ face q (g_ab_hc0 g_ab_hc1 g_xy_hc0) endface
   EXPECT_NE(std::get<std::string>(r).find("already defined"), std::string::npos);
 }
 
+TEST(Index, HoverSlideSliderMadeByTcl) {
+  // A SLIDE slider is a Tk `scale` the scene's Tcl makes: hover shows its value and range.
+  auto d = open(R"(tclinit {
+  package require slideui
+  set swp_q0x 0.9
+  CreateScale .w q0x swp_q0x "q0x" 0 2 0.1
+}
+point q0 ({expr $swp_q0x} 0 0) endpoint
+)",
+                "t.slf");
+  ASSERT_EQ(d->diags.error_count(), 0);
+  auto h = d->ix().hover(d->a.file, d->at("$swp_q0x", 0, 6));
+  ASSERT_TRUE(h);
+  EXPECT_EQ(d->str(h->range), "q0x");
+  const std::string& md = h->markdown;
+  EXPECT_NE(md.find("0.9"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 0.9 | 0 | 2 | 0.1 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("bank `swp`"), std::string::npos) << md;
+}
+
 TEST(Index, HoverSlider) {
   auto d = open(kFunnels);
   auto h = d->ix().hover(d->a.file, d->at("$fp_n", 0, 4));

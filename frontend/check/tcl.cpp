@@ -1,0 +1,398 @@
+// SLIDE's Tcl (see handlers.h, slide.md §2, §6, §7): after the whole file is parsed, its
+// `tclinit` blocks run in file order in the scene's own interpreter (frontend/tcl), then its
+// `tclupdate` blocks once; every Tk `scale` bound to a variable becomes a slider (a
+// parameter like a bank entry); Tcl's problems become diagnostics at the line they happened
+// on; and `{expr …}` values are evaluated by Tcl's `expr`, reading sliders as parameters.
+#include <cmath>
+#include <fmt/format.h>
+
+#include "frontend/check/handlers.h"
+#include "frontend/parse/parse.h"
+
+namespace nomec::check {
+
+namespace {
+
+// The body of a `tclinit { … }` item: its offset in the file and its text (inside the braces).
+struct TclBody {
+  uint32_t begin = 0;
+  std::string_view text;
+  bool update = false;  // `tclupdate`
+  SourceRange keyword;
+};
+
+TclBody body_of(const ast::Item& it) {
+  TclBody b;
+  const size_t open = it.text.find('{');
+  const size_t close = it.text.rfind('}');
+  b.update = it.text.rfind("tclupdate", 0) == 0;
+  const size_t kw_len = b.update ? 9 : 7;
+  b.keyword = SourceRange{it.range.file, it.range.begin, static_cast<uint32_t>(it.range.begin + kw_len)};
+  if (open == std::string_view::npos || close == std::string_view::npos || close <= open) return b;
+  b.begin = static_cast<uint32_t>(it.range.begin + open + 1);
+  b.text = it.text.substr(open + 1, close - open - 1);
+  return b;
+}
+
+// The range of line `line` (1-based) of a script that starts at `begin` in the file, without
+// its leading blanks; the whole `fallback` when the line is unknown.
+SourceRange line_range(FileId file, uint32_t begin, std::string_view text, int line, SourceRange fallback) {
+  if (line <= 0) return fallback;
+  size_t at = 0;
+  for (int l = 1; l < line; ++l) {
+    size_t nl = text.find('\n', at);
+    if (nl == std::string_view::npos) return fallback;
+    at = nl + 1;
+  }
+  size_t end = text.find('\n', at);
+  if (end == std::string_view::npos) end = text.size();
+  while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
+  while (end > at && (text[end - 1] == '\r' || text[end - 1] == ' ' || text[end - 1] == '\t')) --end;
+  if (end <= at) return fallback;
+  return SourceRange{file, static_cast<uint32_t>(begin + at), static_cast<uint32_t>(begin + end)};
+}
+
+// The first line of Tcl's errorInfo trace that names a procedure or a sourced file, as a note.
+std::string trace_note(const std::string& trace) {
+  std::string out;
+  size_t at = 0;
+  while (at < trace.size()) {
+    size_t nl = trace.find('\n', at);
+    std::string_view line = std::string_view(trace).substr(at, nl == std::string::npos ? std::string::npos : nl - at);
+    if (line.find("(procedure") != std::string_view::npos || line.find("(file") != std::string_view::npos) {
+      while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+      if (!out.empty()) out += "; ";
+      out += line;
+    }
+    if (nl == std::string::npos) break;
+    at = nl + 1;
+  }
+  return out;
+}
+
+void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_view what) {
+  switch (p.kind) {
+    case tcl::ProblemKind::Error: {
+      auto d = c.diags().emit(DiagKind::TclError, where, fmt::format("Tcl error in {}: {}", what, p.message));
+      if (std::string n = trace_note(p.trace); !n.empty()) d.note(where, fmt::format("Tcl's trace: {}", n));
+      return;
+    }
+    case tcl::ProblemKind::Limit:
+      c.diags()
+          .emit(DiagKind::TclLimit, where, fmt::format("{} was stopped: {} (a loop that never ends?)", what, p.message))
+          .note(where, "nomec stops a scene's Tcl script after 5 seconds (or 20 million commands)");
+      return;
+    case tcl::ProblemKind::Refused:
+      c.diags().emit(DiagKind::TclRefused, where, p.message);
+      return;
+    case tcl::ProblemKind::MissingSource:
+      c.diags().emit(DiagKind::TclSourceMissing, where, fmt::format("{}: {}", what, p.message));
+      return;
+    case tcl::ProblemKind::Fallback:
+      c.diags().emit(DiagKind::TclFallback, where, p.message);
+      return;
+  }
+}
+
+// `swp_q0x` → bank `swp`, slider `q0x`; `oSubdivision(subdivisions)` → `oSubdivision`,
+// `subdivisions`; a name without `_` is its own bank.
+std::pair<std::string, std::string> slider_key(const std::string& var) {
+  if (size_t open = var.find('('); open != std::string::npos && var.back() == ')') {
+    return {var.substr(0, open), var.substr(open + 1, var.size() - open - 2)};
+  }
+  if (size_t u = var.find('_'); u != std::string::npos && u > 0 && u + 1 < var.size()) {
+    return {var.substr(0, u), var.substr(u + 1)};
+  }
+  return {var, var};
+}
+
+// Where a slider is defined: the first `tclinit` word naming its variable's slider part
+// (`q0x` in `CreateScale swp $root q0x …`), else the block's keyword.
+SourceRange slider_range(const std::vector<TclBody>& bodies, const std::string& short_name, SourceRange fallback) {
+  for (const TclBody& b : bodies) {
+    size_t at = 0;
+    while ((at = b.text.find(short_name, at)) != std::string_view::npos) {
+      auto word_char = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; };
+      const bool starts = at == 0 || !word_char(b.text[at - 1]);
+      const bool ends = at + short_name.size() >= b.text.size() || !word_char(b.text[at + short_name.size()]);
+      if (starts && ends) {
+        return SourceRange{b.keyword.file, static_cast<uint32_t>(b.begin + at),
+                           static_cast<uint32_t>(b.begin + at + short_name.size())};
+      }
+      at += short_name.size();
+    }
+  }
+  return fallback;
+}
+
+void make_sliders(Context& c, const std::vector<TclBody>& bodies) {
+  for (const tcl::Slider& s : c.tcl->sliders()) {
+    auto [bank, name] = slider_key(s.variable);
+    std::string key = bank + "." + name;
+    if (c.params.contains(key)) continue;
+    SourceRange at = slider_range(bodies, name, bodies.empty() ? SourceRange{} : bodies.front().keyword);
+    ir::NodeId id = c.module().add_node(ir::NodeKind::Param, "scale", key, at);
+    ir::ParamData& p = c.module().param(id);
+    p.bank = bank;
+    p.value = s.value;
+    p.min = std::min(s.from, s.to);
+    p.max = std::max(s.from, s.to);
+    p.step = s.resolution > 0 ? s.resolution : 0;
+    c.params[key] = id;
+    c.tcl_sliders[s.variable] = id;
+    if (!c.banks.contains(bank)) c.banks[bank] = at;
+    c.tcl->watch(s.variable);
+  }
+  c.param_text_memo.clear();
+}
+
+// A `-D` value for a Tcl variable that is about to become a slider (set before the rest of
+// `tclinit` reads it), when it is within the slider's range or out-of-range values are allowed.
+std::optional<double> preset_for(const CheckOptions& o, const std::string& var, double from, double to) {
+  auto [bank, name] = slider_key(var);
+  const std::string dotted = bank + "." + name;
+  for (auto it = o.overrides.rbegin(); it != o.overrides.rend(); ++it) {
+    if (it->first != dotted && it->first != var && it->first != bank + "_" + name) continue;
+    if (!o.allow_out_of_range && (it->second < std::min(from, to) || it->second > std::max(from, to))) return std::nullopt;
+    return it->second;
+  }
+  return std::nullopt;
+}
+
+// One element of a Tcl list (`{expr $r * cos(0.3)}` → `expr $r * cos(0.3)`), split the way
+// Tcl's own `list` quoting writes them: words separated by blanks, braces grouping.
+std::vector<std::string> tcl_list(std::string_view s) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+    if (i >= s.size()) break;
+    if (s[i] == '{') {
+      size_t depth = 0, j = i;
+      for (; j < s.size(); ++j) {
+        if (s[j] == '{') ++depth;
+        if (s[j] == '}' && --depth == 0) break;
+      }
+      out.emplace_back(s.substr(i + 1, j - i - 1));
+      i = j + 1;
+      continue;
+    }
+    size_t j = i;
+    while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
+    out.emplace_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+// A coordinate as SLIDE text: a number stays, a script becomes a `{…}` value.
+std::string slide_value(const std::string& v) {
+  if (!v.empty() && (std::isalpha(static_cast<unsigned char>(v[0])) || v[0] == '_') &&
+      std::all_of(v.begin(), v.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; })) {
+    return v;  // a name (`-surface sRed`)
+  }
+  char* end = nullptr;
+  std::strtod(v.c_str(), &end);
+  if (!v.empty() && end != nullptr && *end == '\0') return v;
+  if (v.rfind("expr", 0) == 0) return "{" + v + "}";
+  return "{expr " + v + "}";
+}
+
+// `-xforms { {rotate (0 0 1) 45} {translate (1 0 0)} }` as SLIDE transforms.
+std::string slide_xforms(const std::string& list) {
+  std::string out;
+  for (const std::string& x : tcl_list(list)) {
+    const size_t open = x.find('('), close = x.find(')');
+    if (open == std::string::npos || close == std::string::npos || close < open) continue;
+    std::string head = x.substr(0, open), axis = x.substr(open, close - open + 1), rest = x.substr(close + 1);
+    while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.front()))) rest.erase(0, 1);
+    out += " " + head + axis;
+    if (!rest.empty()) out += rest.front() == '(' ? " " + rest : " (" + slide_value(rest) + ")";
+  }
+  return out;
+}
+
+// The options after the positional arguments (`-surface sRed`) as SLIDE fields.
+std::string slide_fields(const std::vector<std::string>& w, size_t from) {
+  std::string out;
+  for (size_t i = from; i + 1 < w.size(); i += 2) {
+    if (w[i].empty() || w[i][0] != '-') continue;
+    const std::string field = w[i].substr(1);
+    if (field == "xforms") continue;
+    const std::vector<std::string> parts = tcl_list(w[i + 1]);
+    if (field == "pointlist" || field == "controlpointlist" || parts.size() > 1) {
+      out += " " + field + " (";
+      for (const std::string& p : parts) out += " " + (field.find("list") != std::string::npos ? p : slide_value(p));
+      out += " )";
+    } else {
+      out += " " + field + " " + (parts.empty() ? std::string("0") : slide_value(parts[0]));
+    }
+  }
+  return out;
+}
+
+// The SLIDE text of the `slide create` calls that survive the `slide delete`s: statements,
+// and (for instances into groups the file itself defines) a group per target group.
+std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::string, std::string>& into) {
+  std::vector<std::pair<std::string, std::string>> made;  // (type:name, text)
+  std::map<std::string, std::string> group_items;           // instances for Tcl-made groups
+  for (const tcl::SlideCall& call : calls) {
+    const std::vector<std::string>& w = call.words;
+    const std::string key = w[1] + ":" + w[2];
+    std::erase_if(made, [&](const auto& m) { return m.first == key; });
+    if (w[0] == "delete") continue;
+    const std::string& type = w[1];
+    const std::string& name = w[2];
+    std::string text;
+    if (type == "point" && w.size() >= 4) {
+      text = "point " + name + " (";
+      for (const std::string& v : tcl_list(w[3])) text += " " + slide_value(v);
+      text += " )" + slide_fields(w, 4) + " endpoint";
+    } else if ((type == "face" || type == "object") && w.size() >= 4) {
+      text = type + " " + name + " (";
+      size_t i = 3;
+      for (; i < w.size() && (w[i].empty() || w[i][0] != '-'); ++i) {
+        for (const std::string& v : tcl_list(w[i])) text += " " + v;
+      }
+      text += " )" + slide_fields(w, i) + " end" + type;
+    } else if (type == "instance" && w.size() >= 5) {
+      std::string xf;
+      for (size_t i = 5; i + 1 < w.size(); i += 2) {
+        if (w[i] == "-xforms") xf = slide_xforms(w[i + 1]);
+      }
+      into[w[3]] += "instance " + w[4] + " id " + name + xf + " endinstance\n";
+      continue;
+    } else if (type == "group" || type == "polyline" || type == "beziercurve" || type == "bsplinecurve" ||
+               type == "surface") {
+      text = type + " " + name + slide_fields(w, 3) + " end" + type;
+    } else {
+      continue;  // reported by the caller
+    }
+    made.emplace_back(key, std::move(text));
+  }
+  std::string out;
+  for (auto& [key, text] : made) {
+    const size_t colon = key.find(':');
+    if (key.compare(0, colon, "group") == 0) {
+      const std::string name = key.substr(colon + 1);
+      if (auto it = into.find(name); it != into.end()) {
+        text = "group " + name + "\n" + it->second + "endgroup";
+        into.erase(it);
+      }
+    }
+    out += text + "\n";
+  }
+  return out;
+}
+
+void make_slide_nodes(Context& c, const std::string& path, const std::vector<TclBody>& bodies) {
+  const std::vector<tcl::SlideCall>& calls = c.tcl->slide_calls();
+  if (calls.empty()) return;
+  static const std::set<std::string> kKnown = {"point", "face", "object", "instance", "group", "polyline",
+                                               "beziercurve", "bsplinecurve", "surface"};
+  std::set<std::string> reported;
+  for (const tcl::SlideCall& call : calls) {
+    if (kKnown.contains(call.words[1]) || !reported.insert(call.words[1]).second) continue;
+    c.diags().emit(DiagKind::UnsupportedSlideSyntax, bodies.front().keyword,
+                   fmt::format("`slide {} {}` in Tcl: nomec makes points, faces, objects, instances, groups, curves "
+                               "and surfaces from Tcl, not `{}`; it is ignored",
+                               call.words[0], call.words[1], call.words[1]));
+  }
+  std::map<std::string, std::string> into;
+  std::string text = slide_text(calls, into);
+  // The Tcl-made statements are files of their own (named after the scene), parsed like it:
+  // the statements, and the instances added to groups the scene defines.
+  FileId file = c.sources().add_file(path + " (made by slide create)", std::move(text));
+  c.owned_asts.push_back(std::make_unique<ast::Ast>(parse_file(c.sources(), file, c.diags())));
+  c.tcl_ast = c.owned_asts.back().get();
+  if (into.empty()) return;
+  std::string added;
+  for (const auto& [group, items] : into) added += "group " + group + "\n" + items + "endgroup\n";
+  FileId added_file = c.sources().add_file(path + " (instances added by slide create)", std::move(added));
+  c.owned_asts.push_back(std::make_unique<ast::Ast>(parse_file(c.sources(), added_file, c.diags())));
+  const ast::Ast& adds = *c.owned_asts.back();
+  for (const ast::Item& it : adds.top) {
+    if (it.kind != ItemKind::Block) continue;
+    const ast::Stmt& s = adds.stmt(it.block);
+    if (s.kind == BlockKind::Group && !s.items.empty()) c.tcl_group_additions[std::string(s.items[0].text)] = {&adds, &s};
+  }
+}
+
+}  // namespace
+
+void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
+  if (c.dialect() != Dialect::Slide || c.tcl) return;
+  const size_t slash = path.rfind('/');
+  std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  tcl::ReadFile reader;
+  if (c.options().read_file) reader = c.options().read_file;
+  const CheckOptions& opts = c.options();
+  c.tcl = std::make_unique<tcl::Interp>(dir, reader, tcl::Limits{},
+                                        [&opts](const std::string& var, double from, double to) {
+                                          return preset_for(opts, var, from, to);
+                                        });
+  std::vector<TclBody> bodies;
+  for (const ast::Item& it : a.top) {
+    if (it.kind == ItemKind::Tcl) bodies.push_back(body_of(it));
+  }
+  bool noted_update = false;
+  for (int pass = 0; pass < 2; ++pass) {  // `tclinit` blocks, then `tclupdate` blocks
+    for (const TclBody& b : bodies) {
+      if (b.update != (pass == 1)) continue;
+      c.has_tcl = true;
+      if (b.update && !noted_update) {
+        noted_update = true;
+        c.diags().emit(DiagKind::TclUpdateStatic, b.keyword,
+                       "`tclupdate` runs before every frame in SLIDE; nomec compiles one static frame, so it runs once, "
+                       "after every `tclinit` block");
+      }
+      tcl::Outcome o = c.tcl->run(b.text);
+      for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, b.keyword, "");
+      for (const tcl::Problem& p : o.problems) {
+        report(c, p, line_range(b.keyword.file, b.begin, b.text, p.line, b.keyword),
+               b.update ? "this `tclupdate` block" : "this `tclinit` block");
+      }
+    }
+  }
+  make_sliders(c, bodies);
+  make_slide_nodes(c, path, bodies);
+}
+
+std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRange where) {
+  if (!c.tcl) return std::nullopt;
+  tcl::Outcome o = c.tcl->value(script);
+  for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, where, "");
+  if (!o.ok) {
+    for (const tcl::Problem& p : o.problems) report(c, p, where, "this value");
+    return TclValue{false, 0, {}};
+  }
+  TclValue v{true, o.number, {}};
+  for (const std::string& r : o.reads) {
+    if (auto it = c.tcl_sliders.find(r); it != c.tcl_sliders.end()) v.sliders.push_back(it->second);
+  }
+  return v;
+}
+
+void report_unplaced_tcl_instances(Context& c) {
+  for (const auto& [group, added] : c.tcl_group_additions) {
+    c.diags().emit(DiagKind::UnknownName, added.second->items.empty() ? added.second->range : added.second->items[0].range,
+                   fmt::format("`slide create instance … {} …` in Tcl adds to the group `{}`, which the scene does not "
+                               "define; the instance is not drawn",
+                               group, group));
+  }
+  c.tcl_group_additions.clear();
+}
+
+std::optional<double> tcl_number(Context& c, std::string_view name) {
+  if (!c.tcl) return std::nullopt;
+  std::optional<std::string> v = c.tcl->get(name);
+  if (!v) return std::nullopt;
+  char* end = nullptr;
+  double d = std::strtod(v->c_str(), &end);
+  if (end == v->c_str()) return std::nullopt;
+  while (*end == ' ') ++end;
+  if (*end != '\0' || !std::isfinite(d)) return std::nullopt;
+  return d;
+}
+
+}  // namespace nomec::check

@@ -1,0 +1,440 @@
+// The embedded Tcl interpreter (see interp.h): a safe Tcl 8.6 interpreter per scene, the
+// commands a SLIDE scene may use in place of the hidden ones, the Tk stubs, the `slide`
+// command, limits, and read traces.
+#include "frontend/tcl/interp.h"
+
+#include <tcl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <set>
+
+#include "frontend/tcl/fallback.h"
+
+namespace nomec::tcl {
+
+struct Interp::State {
+  Tcl_Interp* interp = nullptr;
+  std::string dir;
+  ReadFile read_file;
+  Limits limits;
+  Preset preset;
+  std::vector<Slider> sliders;
+  std::vector<SlideCall> calls;
+  std::vector<Problem> notes;
+  std::set<std::string> noted;
+  std::set<std::string> watched;
+  std::vector<std::string>* reads = nullptr;  // set while a value is evaluated
+  std::optional<Problem> refusal;             // the last refused command (for its kind)
+  int source_depth = 0;
+};
+
+namespace {
+
+using State = Interp::State;
+
+const std::vector<std::string_view> kRefused = {"exec", "open", "socket", "cd", "exit", "load", "file", "glob",
+                                                "pwd", "fconfigure", "unload", "after", "vwait", "interp"};
+
+std::string_view arg(Tcl_Obj* o) {
+  int n = 0;
+  const char* s = Tcl_GetStringFromObj(o, &n);
+  return {s, static_cast<size_t>(n)};
+}
+
+void set_result(Tcl_Interp* interp, std::string_view text) {
+  Tcl_SetObjResult(interp, Tcl_NewStringObj(text.data(), static_cast<int>(text.size())));
+}
+
+int refuse(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
+  auto* s = static_cast<State*>(data);
+  std::string name(objc > 0 ? arg(objv[0]) : "");
+  std::string msg = name == "open"
+                        ? "`open` is not available in a SLIDE scene checked by nomec (a scene may not write files, "
+                          "and reads only the files it `source`s next to it)"
+                        : "`" + name + "` is not available in a SLIDE scene checked by nomec (a scene may not run "
+                          "programs, use files, sockets or the process, or wait)";
+  s->refusal = Problem{ProblemKind::Refused, msg, 0, name};
+  set_result(interp, msg);
+  return TCL_ERROR;
+}
+
+// A widget path's own command (`$root.sample conf -bg …`): does nothing.
+int widget_self(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
+  Tcl_ResetResult(interp);
+  return TCL_OK;
+}
+
+// Does nothing and returns "" (`pack`, `wm`, `bind` …).
+int noop(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
+  Tcl_ResetResult(interp);
+  return TCL_OK;
+}
+
+// `winfo exists .w` and the like: no window exists headless.
+int winfo(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
+  set_result(interp, "0");
+  return TCL_OK;
+}
+
+// The value of option `name` (Tk accepts unique abbreviations: `-var` for `-variable`).
+std::optional<std::string> option(int objc, Tcl_Obj* const objv[], std::string_view name, size_t min_len) {
+  std::optional<std::string> found;
+  for (int i = 2; i + 1 < objc; i += 2) {
+    std::string_view o = arg(objv[i]);
+    if (o.size() >= min_len && o.size() <= name.size() && name.substr(0, o.size()) == o) found = std::string(arg(objv[i + 1]));
+  }
+  return found;
+}
+
+double number_or(const std::optional<std::string>& s, double fallback) {
+  if (!s) return fallback;
+  char* end = nullptr;
+  double v = std::strtod(s->c_str(), &end);
+  return end != s->c_str() ? v : fallback;
+}
+
+int decimals_of(double res) {
+  int d = 0;
+  while (d < 9 && std::fabs(res * std::pow(10.0, d) - std::round(res * std::pow(10.0, d))) > 1e-9) ++d;
+  return d;
+}
+
+// Creates the variable with `value` when it is unset (Tk's check and radio buttons, entries).
+void create_if_unset(Tcl_Interp* interp, const std::optional<std::string>& var, const char* value) {
+  if (!var || var->empty()) return;
+  if (Tcl_GetVar2(interp, var->c_str(), nullptr, TCL_GLOBAL_ONLY) == nullptr) {
+    Tcl_SetVar2(interp, var->c_str(), nullptr, value, TCL_GLOBAL_ONLY);
+  }
+}
+
+// A scale bound to a variable: Tk rounds the value to the resolution counted from `-from`,
+// clamps it to the range and writes it back when it changed (slide.md §7.2).
+void record_scale(State& s, int objc, Tcl_Obj* const objv[]) {
+  std::optional<std::string> var = option(objc, objv, "-variable", 4);
+  if (!var || var->empty()) return;
+  Slider sl;
+  sl.variable = *var;
+  sl.from = number_or(option(objc, objv, "-from", 3), 0);
+  sl.to = number_or(option(objc, objv, "-to", 3), 100);
+  sl.resolution = number_or(option(objc, objv, "-resolution", 4), 1);
+  const char* cur = Tcl_GetVar2(s.interp, var->c_str(), nullptr, TCL_GLOBAL_ONLY);
+  double v = sl.from;
+  bool numeric = false;
+  if (cur != nullptr) {
+    char* end = nullptr;
+    double parsed = std::strtod(cur, &end);
+    numeric = end != cur;
+    if (numeric) v = parsed;
+  }
+  double r = v;
+  if (sl.resolution > 0) r = sl.from + std::round((v - sl.from) / sl.resolution) * sl.resolution;
+  r = std::clamp(r, std::min(sl.from, sl.to), std::max(sl.from, sl.to));
+  if (cur == nullptr || !numeric || std::fabs(r - v) > 1e-12) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", sl.resolution > 0 ? decimals_of(sl.resolution) : 6, r);
+    Tcl_SetVar2(s.interp, var->c_str(), nullptr, text, TCL_GLOBAL_ONLY);
+    r = std::strtod(text, nullptr);
+    sl.rounded = cur != nullptr && numeric;
+    sl.written = v;
+  }
+  sl.value = r;
+  if (std::optional<double> given = s.preset ? s.preset(sl.variable, sl.from, sl.to) : std::nullopt) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", *given);
+    Tcl_SetVar2(s.interp, var->c_str(), nullptr, text, TCL_GLOBAL_ONLY);
+    sl.value = *given;
+  }
+  auto same = std::find_if(s.sliders.begin(), s.sliders.end(), [&](const Slider& o) { return o.variable == sl.variable; });
+  if (same != s.sliders.end()) {
+    *same = sl;
+  } else {
+    s.sliders.push_back(sl);
+  }
+}
+
+// `frame .p.x …`, `scale …`, `radiobutton …`: returns the path and gives it a command.
+int widget(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
+  auto* s = static_cast<State*>(data);
+  if (objc < 2) {
+    set_result(interp, std::string("wrong # args: should be \"") + std::string(arg(objv[0])) + " pathName ?-option value ...?\"");
+    return TCL_ERROR;
+  }
+  std::string_view kind = arg(objv[0]);
+  if (kind == "scale") record_scale(*s, objc, objv);
+  if (kind == "checkbutton") create_if_unset(interp, option(objc, objv, "-variable", 4), "0");
+  if (kind == "radiobutton") create_if_unset(interp, option(objc, objv, "-variable", 4), "");
+  if (kind == "entry") create_if_unset(interp, option(objc, objv, "-textvariable", 3), "");
+  std::string path(arg(objv[1]));
+  Tcl_CreateObjCommand(interp, path.c_str(), widget_self, nullptr, nullptr);
+  set_result(interp, path);
+  return TCL_OK;
+}
+
+// `slide create TYPE NAME …` / `slide delete TYPE NAME`: recorded for the checker.
+int slide_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
+  auto* s = static_cast<State*>(data);
+  if (objc == 4 && arg(objv[1]) == "unavailable") {  // from the prelude's lost-package procs
+    std::string proc(arg(objv[2])), group(arg(objv[3]));
+    s->notes.push_back({ProblemKind::Fallback,
+                        "`" + proc + "` belongs to SLIDE's lost `slideui`/`parselib` packages; nomec makes `g" + group + "` an empty group and `o" +
+                            group + "` an empty object",
+                        0, proc});
+    Tcl_ResetResult(interp);
+    return TCL_OK;
+  }
+  if (objc < 4 || (arg(objv[1]) != "create" && arg(objv[1]) != "delete")) {
+    set_result(interp, "wrong # args: should be \"slide create|delete type id ?args …?\"");
+    return TCL_ERROR;
+  }
+  SlideCall call;
+  for (int i = 1; i < objc; ++i) call.words.emplace_back(arg(objv[i]));
+  s->calls.push_back(std::move(call));
+  set_result(interp, arg(objv[3]));
+  return TCL_OK;
+}
+
+bool safe_relative(std::string_view p) {
+  if (p.empty() || p[0] == '/' || p[0] == '~') return false;
+  size_t at = 0;
+  while (at <= p.size()) {
+    size_t slash = p.find('/', at);
+    std::string_view part = p.substr(at, slash == std::string_view::npos ? std::string_view::npos : slash - at);
+    if (part == "..") return false;
+    if (slash == std::string_view::npos) break;
+    at = slash + 1;
+  }
+  return true;
+}
+
+// `source FILE`: a file next to the scene, read through the checker's reader. A missing
+// SLIDE helper file (SLIDEUI.tcl …) is replaced by nomec's own version of it.
+int source_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
+  auto* s = static_cast<State*>(data);
+  if (objc != 2 && objc != 4) {
+    set_result(interp, "wrong # args: should be \"source ?-encoding name? fileName\"");
+    return TCL_ERROR;
+  }
+  std::string name(arg(objv[objc - 1]));
+  if (!safe_relative(name)) {
+    std::string msg = "`source " + name + "`: a SLIDE scene may only source files in its own folder";
+    s->refusal = Problem{ProblemKind::Refused, msg, 0, name};
+    set_result(interp, msg);
+    return TCL_ERROR;
+  }
+  std::optional<std::string> text = s->read_file ? s->read_file(s->dir + name) : std::nullopt;
+  const size_t slash = name.rfind('/');
+  std::string_view base = std::string_view(name).substr(slash == std::string::npos ? 0 : slash + 1);
+  if (!text) {
+    if (std::optional<std::string_view> own = fallback_script(base)) {
+      if (s->noted.insert("fallback:" + name).second) {
+        s->notes.push_back({ProblemKind::Fallback,
+                            "`" + name + "` is not next to the scene; nomec uses its own version of it (slide.md §7)", 0, name});
+      }
+      text = std::string(*own);
+    } else {
+      std::string msg = "couldn't read file \"" + name + "\" (looked for " + s->dir + name + ")";
+      s->refusal = Problem{ProblemKind::MissingSource, msg, 0, name};
+      set_result(interp, msg);
+      return TCL_ERROR;
+    }
+  }
+  if (s->source_depth > 32) {
+    set_result(interp, "`source` nests too deeply (a file sources itself?)");
+    return TCL_ERROR;
+  }
+  std::string script = normalize_newlines(*text);
+  ++s->source_depth;
+  int rc = Tcl_EvalEx(interp, script.c_str(), static_cast<int>(script.size()), 0);
+  --s->source_depth;
+  if (rc == TCL_ERROR) {
+    std::string info = "\n    (file \"" + name + "\" line " + std::to_string(Tcl_GetErrorLine(interp)) + ")";
+    Tcl_AddErrorInfo(interp, info.c_str());
+  }
+  return rc == TCL_RETURN ? TCL_OK : rc;
+}
+
+char* read_trace(ClientData data, Tcl_Interp*, const char* name1, const char* name2, int) {
+  auto* s = static_cast<State*>(data);
+  if (s->reads != nullptr) {
+    std::string n = name2 != nullptr ? std::string(name1) + "(" + name2 + ")" : std::string(name1);
+    if (std::find(s->reads->begin(), s->reads->end(), n) == s->reads->end()) s->reads->push_back(n);
+  }
+  return nullptr;
+}
+
+void install(State& s) {
+  Tcl_Interp* in = s.interp;
+  Tcl_MakeSafe(in);  // hides exec, open, socket, cd, exit, load, source, file, glob …
+  for (std::string_view name : kRefused) {
+    Tcl_CreateObjCommand(in, std::string(name).c_str(), refuse, &s, nullptr);
+  }
+  Tcl_CreateObjCommand(in, "source", source_cmd, &s, nullptr);
+  Tcl_CreateObjCommand(in, "slide", slide_cmd, &s, nullptr);
+  for (const char* w : {"toplevel", "frame", "labelframe", "scale", "label", "button", "checkbutton", "radiobutton",
+                        "entry", "canvas", "listbox", "menu", "menubutton", "message", "text", "scrollbar", "spinbox",
+                        "panedwindow"}) {
+    Tcl_CreateObjCommand(in, w, widget, &s, nullptr);
+  }
+  for (const char* w : {"pack", "grid", "place", "wm", "bind", "focus", "raise", "lower", "destroy", "tk_chooseColor",
+                        "tkwait", "image", "font", "option", "tk", "bell", "grab", "slfwin", "bindtags", "selection",
+                        "clipboard", "puts"}) {
+    Tcl_CreateObjCommand(in, w, noop, &s, nullptr);
+  }
+  Tcl_CreateObjCommand(in, "winfo", winfo, &s, nullptr);
+  std::string setup(prelude_script());
+  Tcl_EvalEx(in, setup.c_str(), static_cast<int>(setup.size()), TCL_EVAL_GLOBAL);
+}
+
+}  // namespace
+
+std::string normalize_newlines(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\r') {
+      size_t j = i;
+      while (j < text.size() && text[j] == '\r') ++j;
+      if (j < text.size() && text[j] == '\n') {
+        i = j - 1;  // `\r*\n` → `\n`
+        continue;
+      }
+      out += '\n';  // a lone `\r` ends a line too
+      i = j - 1;
+      continue;
+    }
+    out += text[i];
+  }
+  return out;
+}
+
+const std::vector<std::string_view>& refused_commands() { return kRefused; }
+
+Interp::Interp(std::string dir, ReadFile read_file, Limits limits, Preset preset) : s_(std::make_unique<State>()) {
+  static std::once_flag once;
+  std::call_once(once, [] { Tcl_FindExecutable(nullptr); });
+  s_->interp = Tcl_CreateInterp();
+  s_->dir = std::move(dir);
+  s_->read_file = std::move(read_file);
+  s_->limits = limits;
+  s_->preset = std::move(preset);
+  install(*s_);
+}
+
+Interp::~Interp() {
+  if (s_ && s_->interp != nullptr) Tcl_DeleteInterp(s_->interp);
+}
+
+namespace {
+
+// Arms the command-count and time limits for one script.
+void arm_limits(State& s) {
+  Tcl_Interp* in = s.interp;
+  Tcl_LimitTypeReset(in, TCL_LIMIT_COMMANDS);
+  Tcl_LimitTypeReset(in, TCL_LIMIT_TIME);
+  Tcl_EvalEx(in, "info cmdcount", -1, TCL_EVAL_GLOBAL);
+  Tcl_WideInt count = 0;
+  Tcl_GetWideIntFromObj(nullptr, Tcl_GetObjResult(in), &count);
+  Tcl_ResetResult(in);
+  const int64_t limit = count + s.limits.commands;
+  Tcl_LimitSetCommands(in, limit > INT32_MAX ? INT32_MAX : static_cast<int>(limit));
+  Tcl_Time t;
+  Tcl_GetTime(&t);
+  t.sec += s.limits.milliseconds / 1000;
+  t.usec += static_cast<long>(s.limits.milliseconds % 1000) * 1000;
+  if (t.usec >= 1000000) {
+    t.sec += 1;
+    t.usec -= 1000000;
+  }
+  Tcl_LimitSetTime(in, &t);
+  Tcl_LimitSetGranularity(in, TCL_LIMIT_TIME, 100);
+  Tcl_LimitTypeSet(in, TCL_LIMIT_COMMANDS);
+  Tcl_LimitTypeSet(in, TCL_LIMIT_TIME);
+}
+
+void disarm_limits(State& s) {
+  Tcl_LimitTypeReset(s.interp, TCL_LIMIT_COMMANDS);
+  Tcl_LimitTypeReset(s.interp, TCL_LIMIT_TIME);
+}
+
+Outcome finish(State& s, int rc) {
+  Outcome o;
+  Tcl_Interp* in = s.interp;
+  o.result = Tcl_GetStringResult(in);
+  const bool limited = Tcl_LimitExceeded(in) != 0;
+  disarm_limits(s);
+  if (rc == TCL_OK || rc == TCL_RETURN) {
+    o.ok = true;
+  } else if (limited) {
+    o.problems.push_back({ProblemKind::Limit, o.result, Tcl_GetErrorLine(in), ""});
+  } else if (rc == TCL_BREAK || rc == TCL_CONTINUE) {
+    o.problems.push_back({ProblemKind::Error, rc == TCL_BREAK ? "`break` outside a loop" : "`continue` outside a loop", 0, ""});
+  } else {
+    const char* info = Tcl_GetVar2(in, "errorInfo", nullptr, TCL_GLOBAL_ONLY);
+    Problem p{ProblemKind::Error, o.result, Tcl_GetErrorLine(in), info != nullptr ? info : ""};
+    if (s.refusal && o.result == s.refusal->message) p.kind = s.refusal->kind;
+    o.problems.push_back(std::move(p));
+  }
+  s.refusal.reset();
+  Tcl_ResetResult(in);
+  return o;
+}
+
+}  // namespace
+
+Outcome Interp::run(std::string_view script) {
+  std::string text = normalize_newlines(script);
+  arm_limits(*s_);
+  int rc = Tcl_EvalEx(s_->interp, text.c_str(), static_cast<int>(text.size()), TCL_EVAL_GLOBAL);
+  return finish(*s_, rc);
+}
+
+Outcome Interp::value(std::string_view script) {
+  std::string text = normalize_newlines(script);
+  std::vector<std::string> reads;
+  s_->reads = &reads;
+  arm_limits(*s_);
+  int rc = Tcl_EvalEx(s_->interp, text.c_str(), static_cast<int>(text.size()), TCL_EVAL_GLOBAL);
+  s_->reads = nullptr;
+  Outcome o = finish(*s_, rc);
+  o.reads = std::move(reads);
+  if (!o.ok) return o;
+  char* end = nullptr;
+  o.number = std::strtod(o.result.c_str(), &end);
+  while (end != nullptr && *end == ' ') ++end;
+  if (o.result.empty() || end == o.result.c_str() || (end != nullptr && *end != '\0') || !std::isfinite(o.number)) {
+    o.ok = false;
+    o.problems.push_back({ProblemKind::Error, "the value is `" + o.result + "`, not a number", 0, ""});
+  }
+  return o;
+}
+
+std::optional<std::string> Interp::get(std::string_view name) const {
+  const char* v = Tcl_GetVar2(s_->interp, std::string(name).c_str(), nullptr, TCL_GLOBAL_ONLY);
+  if (v == nullptr) return std::nullopt;
+  return std::string(v);
+}
+
+void Interp::set(std::string_view name, std::string_view value) {
+  Tcl_SetVar2(s_->interp, std::string(name).c_str(), nullptr, std::string(value).c_str(), TCL_GLOBAL_ONLY);
+}
+
+void Interp::watch(const std::string& name) {
+  if (!s_->watched.insert(name).second) return;
+  Tcl_TraceVar2(s_->interp, name.c_str(), nullptr, TCL_GLOBAL_ONLY | TCL_TRACE_READS, read_trace, s_.get());
+}
+
+const std::vector<Slider>& Interp::sliders() const { return s_->sliders; }
+const std::vector<SlideCall>& Interp::slide_calls() const { return s_->calls; }
+
+std::vector<Problem> Interp::take_notes() {
+  std::vector<Problem> out;
+  out.swap(s_->notes);
+  return out;
+}
+
+}  // namespace nomec::tcl

@@ -1,0 +1,172 @@
+// The embedded Tcl interpreter (frontend/tcl): Tk stubs and sliders, the `slide` command,
+// `source` next to the scene with nomec's own helper files as fallback, the refused
+// commands, read traces, and the command-count and time limits.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "frontend/tcl/interp.h"
+
+namespace nomec::tcl {
+namespace {
+
+Interp make(std::map<std::string, std::string> files = {}, Limits limits = {}) {
+  return Interp("scene/", [files](const std::string& p) -> std::optional<std::string> {
+    auto it = files.find(p);
+    if (it == files.end()) return std::nullopt;
+    return it->second;
+  }, limits);
+}
+
+TEST(TclInterp, ScaleBoundToAVariableIsASlider) {
+  Interp in = make();
+  Outcome o = in.run("set par_r 0.5\nframe .w\nscale .w.r -from 0 -to 2 -resolution 0.1 -var par_r\nscale .w.n\n");
+  ASSERT_TRUE(o.ok) << o.result;
+  ASSERT_EQ(in.sliders().size(), 1u);  // the scale without a variable is no slider
+  const Slider& s = in.sliders()[0];
+  EXPECT_EQ(s.variable, "par_r");
+  EXPECT_DOUBLE_EQ(s.value, 0.5);
+  EXPECT_DOUBLE_EQ(s.from, 0);
+  EXPECT_DOUBLE_EQ(s.to, 2);
+  EXPECT_DOUBLE_EQ(s.resolution, 0.1);
+}
+
+TEST(TclInterp, ScaleRoundsAndClampsLikeTk) {
+  Interp in = make();
+  ASSERT_TRUE(in.run("set a 0.707\nscale .a -from 0.5 -to 2 -resolution 0.1 -variable a\n"
+                     "set b 0\nscale .b -from 0.1 -to 1.0 -resolution 0.01 -variable b\n"
+                     "scale .c -from 3 -to 9 -variable c\n").ok);
+  EXPECT_EQ(in.get("a"), "0.7");
+  EXPECT_EQ(in.get("b"), "0.10");
+  EXPECT_EQ(in.get("c"), "3");  // a missing variable is made with the scale's start
+  EXPECT_TRUE(in.sliders()[0].rounded);
+}
+
+TEST(TclInterp, TkStubsDoNothingAndReturnPaths) {
+  Interp in = make();
+  Outcome o = in.run("toplevel .slfWindow.ui\npack [label .x -text hi] -side top\nwm geometry .x +1+1\n"
+                     "bind .x <1> {puts hi}\ngrid .x\ncheckbutton .c -variable writeRib\nradiobutton .r -variable rv\n"
+                     "entry .e -textvariable ev\n.x conf -bg red\nset w [frame .f]\nwinfo exists .f");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_EQ(o.result, "0");
+  EXPECT_EQ(in.get("w"), ".f");
+  EXPECT_EQ(in.get("writeRib"), "0");
+  EXPECT_EQ(in.get("rv"), "");
+  EXPECT_EQ(in.get("ev"), "");
+}
+
+TEST(TclInterp, SlideCreateIsRecorded) {
+  Interp in = make();
+  ASSERT_TRUE(in.run("slide create point p1 {1 2 3}\nslide create face f {p1 p2 p3} -surface s\n").ok);
+  ASSERT_EQ(in.slide_calls().size(), 2u);
+  EXPECT_EQ(in.slide_calls()[0].words, (std::vector<std::string>{"create", "point", "p1", "1 2 3"}));
+  EXPECT_FALSE(in.run("slide frobnicate x").ok);
+}
+
+TEST(TclInterp, SourceReadsFilesNextToTheScene) {
+  Interp in = make({{"scene/lib.tcl", "proc Twice {x} { expr {2*$x} }"}});
+  Outcome o = in.run("source lib.tcl\nTwice 4");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_EQ(o.result, "8");
+  Outcome missing = in.run("source nothere.tcl");
+  ASSERT_FALSE(missing.ok);
+  EXPECT_EQ(missing.problems[0].kind, ProblemKind::MissingSource);
+  Outcome outside = in.run("source ../secret.tcl");
+  ASSERT_FALSE(outside.ok);
+  EXPECT_EQ(outside.problems[0].kind, ProblemKind::Refused);
+}
+
+TEST(TclInterp, MissingHelperFilesUseNomecsOwn) {
+  Interp in = make();
+  Outcome o = in.run("source SLIDEUI.tcl\nCreateScale par .w thick Thickness 0.25 0 1 0.05 4 horizontal\n"
+                     "CreateGroupUI .slfWindow gRoot\nDegToRad 180");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_NEAR(std::stod(o.result), 3.14159265358979, 1e-12);
+  EXPECT_EQ(in.get("par_thick"), "0.25");
+  EXPECT_EQ(in.get("gRoot_lod"), "3");
+  EXPECT_EQ(in.get("gRoot_shading"), "0");
+  ASSERT_EQ(in.sliders().size(), 1u);
+  std::vector<Problem> notes = in.take_notes();
+  ASSERT_EQ(notes.size(), 3u);  // SLIDEUI.tcl and the two files it sources
+  EXPECT_EQ(notes[0].kind, ProblemKind::Fallback);
+}
+
+TEST(TclInterp, SlideuiPackageObjectsAndSliders) {
+  Interp in = make();
+  ASSERT_TRUE(in.run("package require slideui\nCreateSLIDESubdivisionObject oS\nCreateSLIDESubdivisionUI .u oS\n").ok);
+  EXPECT_EQ(in.get("oS(subdivisions)"), "2");
+  ASSERT_EQ(in.sliders().size(), 1u);
+  EXPECT_EQ(in.sliders()[0].variable, "oS(subdivisions)");
+}
+
+TEST(TclInterp, EveryWorldTouchingCommandIsRefused) {
+  for (std::string_view cmd : refused_commands()) {
+    Interp in = make();
+    std::string script = std::string(cmd) + (cmd == "open" ? " /tmp/x w" : " x");
+    Outcome o = in.run(script);
+    ASSERT_FALSE(o.ok) << cmd;
+    ASSERT_EQ(o.problems.size(), 1u) << cmd;
+    EXPECT_EQ(o.problems[0].kind, ProblemKind::Refused) << cmd;
+    EXPECT_NE(o.problems[0].message.find("not available"), std::string::npos) << cmd;
+  }
+  // Nor can a script get them back.
+  Interp in = make();
+  EXPECT_FALSE(in.run("interp expose {} exec").ok);
+  EXPECT_FALSE(in.run("rename exec {}; exec ls").ok);
+}
+
+TEST(TclInterp, ValuesRecordTheWatchedVariablesTheyRead) {
+  Interp in = make();
+  ASSERT_TRUE(in.run("set a 2\nset b 3\nset c 4\nproc viaB {} { global b; return $b }").ok);
+  in.watch("a");
+  in.watch("b");
+  Outcome o = in.value("expr {$a * [viaB] + $c}");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_DOUBLE_EQ(o.number, 10);
+  EXPECT_EQ(o.reads, (std::vector<std::string>{"a", "b"}));
+  Outcome nan = in.value("set x hello");
+  EXPECT_FALSE(nan.ok);
+  Outcome div = in.value("expr {7/2}");  // Tcl's integer division
+  EXPECT_DOUBLE_EQ(div.number, 3);
+}
+
+TEST(TclInterp, ErrorsCarryTheirLine) {
+  Interp in = make();
+  Outcome o = in.run("set a 1\n\nset b [expr {$a +}]\n");
+  ASSERT_FALSE(o.ok);
+  EXPECT_EQ(o.problems[0].kind, ProblemKind::Error);
+  EXPECT_EQ(o.problems[0].line, 3);
+  Outcome p = in.run("proc f {} {\n  error boom\n}\nset x 1\nf\n");
+  ASSERT_FALSE(p.ok);
+  EXPECT_EQ(p.problems[0].line, 5);
+  EXPECT_NE(p.problems[0].trace.find("(procedure \"f\" line 2)"), std::string::npos);
+}
+
+TEST(TclInterp, RunawayScriptsStopAtTheTimeLimit) {
+  // An empty loop body runs no commands: only the time limit stops it.
+  Interp in = make({}, Limits{int64_t{1} << 40, 200});
+  Outcome o = in.run("while 1 {}");
+  ASSERT_FALSE(o.ok);
+  EXPECT_EQ(o.problems[0].kind, ProblemKind::Limit);
+  EXPECT_NE(o.problems[0].message.find("time"), std::string::npos) << o.problems[0].message;
+  // The interpreter stays usable, with a fresh budget.
+  Outcome after = in.run("set x 5");
+  EXPECT_TRUE(after.ok) << after.result;
+}
+
+TEST(TclInterp, NormalizesCarriageReturns) {
+  EXPECT_EQ(normalize_newlines("a \\\r\r\nb\rc"), "a \\\nb\nc");
+  Interp in = make();
+  Outcome o = in.run("set x [expr 1 + \\\r\r\n 2]");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_EQ(in.get("x"), "3");
+}
+
+TEST(TclInterp, TwoInterpretersAreIndependent) {
+  Interp a = make(), b = make();
+  ASSERT_TRUE(a.run("set v 1").ok);
+  EXPECT_FALSE(b.get("v").has_value());
+}
+
+}  // namespace
+}  // namespace nomec::tcl
