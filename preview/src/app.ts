@@ -21,6 +21,7 @@ interface Timing {
   drawMs: number;       // geometry rebuilt -> the frame drawn by the GPU
   serverMs: number;     // evaluation time reported by nomec
   bytes: number;        // size of the reply's text
+  bufferWidth: number;  // the drawing buffer's width for this frame (smaller while dragging)
 }
 
 class App {
@@ -82,9 +83,12 @@ class App {
     this.status("Evaluating…");
     try {
       const t0 = performance.now();
-      const r = await this.transport.request<PreviewReply>("nome/preview", {
+      const request = this.transport.request<PreviewReply>("nome/preview", {
         uri: this.uri, pipeline: this.pipeline(), values: this.moved,
       });
+      // The shaders compile while nomec evaluates (once; later previews reuse them).
+      this.viewer.warmUp();
+      const r = await request;
       const t1 = performance.now();
       this.lastPreview = { requestMs: t1 - t0, panelMs: 0, geometryMs: 0, frameMs: 0 };
       this.state.version = r.version;
@@ -229,6 +233,7 @@ class App {
   }
 
   move(id: string, value: number): void {
+    this.viewer.interact();
     this.moved[id] = value;
     this.pending = { id, value, t0: performance.now() };
     if (!this.inFlight) void this.sendMove();
@@ -245,6 +250,7 @@ class App {
           uri: this.uri, parameter: id, value, geometry: true,
         });
         const received = performance.now();
+        const bytes = this.transport.lastBytes;
         this.viewer.apply(r.outputs ?? [], r.outputNames);
         this.summaries = r.meshes;
         this.showTopology();
@@ -254,7 +260,8 @@ class App {
         const drawn = performance.now();
         this.timings.push({
           parameter: id, roundTripMs: received - sent, frameMs: drawn - t0, applyMs: applied - received,
-          drawMs: drawn - applied, serverMs: r.ms, bytes: JSON.stringify(r).length,
+          drawMs: drawn - applied, serverMs: r.ms, bytes: bytes >= 0 ? bytes : JSON.stringify(r).length,
+          bufferWidth: this.viewer.bufferSize().width,
         });
         if (this.timings.length > 1000) this.timings.shift();
         this.status(`${id} = ${value} (${r.ms.toFixed(1)} ms in nomec)`);
@@ -267,6 +274,7 @@ class App {
         this.inFlight = false;
       }
     }
+    this.viewer.settleSoon();
   }
 
   // ---- topology and diagnostics ----
