@@ -137,19 +137,6 @@ export class Viewer {
     this.needsRender = true;
   }
 
-  /// Compiles the shaders of every object (surface, wireframe, fat lines) before there is
-  /// geometry to draw: called while the first request is in flight, so the first picture
-  /// does not wait for the compiler (a software renderer's compiler is slow).
-  warmUp(): void {
-    if (this.warmedUp) return;
-    this.warmedUp = true;
-    const hidden = [this.wire, this.border, this.mobius, this.curves].filter((o) => !o.visible);
-    for (const o of hidden) o.visible = true;
-    this.renderer.compile(this.scene, this.camera);
-    for (const o of hidden) o.visible = false;
-  }
-  private warmedUp = false;
-
   /// A slider moved: frames are drawn cheaply until `settleSoon` is followed by
   /// `settleMs` without another move.
   interact(): void {
