@@ -46,8 +46,9 @@ json set_parameter(Context& ctx) {
   diags.sort_and_dedupe();
   json geometry = json::array();
   for (const Diagnostic& d : diags.diagnostics()) geometry.push_back(diagnostic_json(*a, d));
+  const std::vector<backend::MeshSummary> summaries = held.session->summary();  // once: the outputs reuse them
   json meshes = json::array();
-  for (const backend::MeshSummary& m : held.session->summary()) meshes.push_back(lsp::mesh_summary_json(m));
+  for (const backend::MeshSummary& m : summaries) meshes.push_back(lsp::mesh_summary_json(m));
   json reply = {{"uri", uri},
           {"version", a->version},
           {"parameter", u.parameter},
@@ -64,7 +65,7 @@ json set_parameter(Context& ctx) {
   // A preview asks for the geometry of the outputs that changed (positions only when their
   // topology did not), so an update's size follows what the move changed.
   if (p.value("geometry", false)) {
-    reply["outputs"] = outputs_json(held, false, u.changed_outputs);
+    reply["outputs"] = outputs_json(held, false, u.changed_outputs, &summaries);
     json names = json::array();
     for (const auto& m : held.session->outputs()) names.push_back(m->name);
     reply["outputNames"] = std::move(names);

@@ -132,8 +132,9 @@ json sliders_json(const ir::Module& m) {
   return out;
 }
 
-json output_json(const backend::OutputMesh& mesh, bool positions_only) {
-  json o = {{"name", mesh.name}, {"summary", mesh_summary_json(backend::summarize(mesh))}};
+json output_json(const backend::OutputMesh& mesh, bool positions_only, const backend::MeshSummary* summary) {
+  json o = {{"name", mesh.name},
+            {"summary", mesh_summary_json(summary != nullptr ? *summary : backend::summarize(mesh))}};
   if (positions_only) {
     o["positionsOnly"] = true;
     o["geometry"] = {{"positions", b64(backend::preview_positions(mesh))}};
@@ -196,10 +197,14 @@ SliderSessions::Held& session_for(SliderSessions& sessions, const std::shared_pt
   return *it;
 }
 
-json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::string>& changed) {
+json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::string>& changed,
+                  const std::vector<backend::MeshSummary>* summaries) {
   json out = json::array();
   std::map<std::string, uint64_t> sent;
-  for (const auto& m : held.session->outputs()) {
+  const auto& outputs = held.session->outputs();
+  if (summaries != nullptr && summaries->size() != outputs.size()) summaries = nullptr;
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const auto& m = outputs[i];
     auto prev = held.sent.find(m->name);
     if (!all && std::find(changed.begin(), changed.end(), m->name) == changed.end()) {
       sent[m->name] = prev != held.sent.end() ? prev->second : backend::preview_topology_key(*m);
@@ -209,7 +214,7 @@ json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::s
     sent[m->name] = key;
     // Curves travel whole (their points are not in `positions`).
     const bool positions_only = !all && prev != held.sent.end() && prev->second == key && m->curves.empty();
-    out.push_back(output_json(*m, positions_only));
+    out.push_back(output_json(*m, positions_only, summaries != nullptr ? &(*summaries)[i] : nullptr));
   }
   held.sent = std::move(sent);
   return out;

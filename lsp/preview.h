@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "backend/evaluate.h"
+#include "backend/summary.h"
 #include "lsp/handler.h"
 
 namespace nomec::lsp {
@@ -28,8 +29,9 @@ json pipeline_json(const backend::PipelineOptions& p);
 json sliders_json(const ir::Module& module);
 
 /// One output: name, summary and, unless `positions_only`, the triangles, face colours,
-/// edges, border edges and Möbius edges (see backend/preview.h).
-json output_json(const backend::OutputMesh& mesh, bool positions_only);
+/// edges, border edges and Möbius edges (see backend/preview.h). `summary`, when given, is
+/// the mesh's summary already computed (it is not computed again).
+json output_json(const backend::OutputMesh& mesh, bool positions_only, const backend::MeshSummary* summary = nullptr);
 
 /// The session of `a`'s document (made or rebuilt when its version or `pipeline` differ,
 /// or when `pipeline` is nullopt and none is held); geometry diagnostics of a build go to
@@ -40,8 +42,10 @@ SliderSessions::Held& session_for(SliderSessions& sessions, const std::shared_pt
 
 /// Outputs of `held`'s session as JSON: every output when `all`, else those named in
 /// `changed`; positions only when an output's topology equals what was last sent under its
-/// name. Updates `held.sent`.
-json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::string>& changed);
+/// name. Updates `held.sent`. `summaries`, when given, are the session's output summaries
+/// in output order, already computed.
+json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::string>& changed,
+                  const std::vector<backend::MeshSummary>* summaries = nullptr);
 
 /// The first error among `a`'s diagnostics, if any.
 const Diagnostic* first_error(const Analysis& a);

@@ -21,6 +21,7 @@ interface Timing {
   drawMs: number;       // geometry rebuilt -> the frame drawn by the GPU
   serverMs: number;     // evaluation time reported by nomec
   bytes: number;        // size of the reply's text
+  bufferWidth: number;  // the drawing buffer's width for this frame (smaller while dragging)
 }
 
 class App {
@@ -107,6 +108,7 @@ class App {
         }
         const t3 = performance.now();
         await this.viewer.nextFrame();
+        if (performance.getEntriesByName("nome-first-picture").length === 0) performance.mark("nome-first-picture");
         this.lastPreview = { requestMs: t1 - t0, panelMs: t2 - t1, geometryMs: t3 - t2, frameMs: performance.now() - t3 };
         this.status(`Version ${r.version}: ${r.outputs.length} output${r.outputs.length === 1 ? "" : "s"}.`);
       }
@@ -229,6 +231,7 @@ class App {
   }
 
   move(id: string, value: number): void {
+    this.viewer.interact();
     this.moved[id] = value;
     this.pending = { id, value, t0: performance.now() };
     if (!this.inFlight) void this.sendMove();
@@ -245,6 +248,7 @@ class App {
           uri: this.uri, parameter: id, value, geometry: true,
         });
         const received = performance.now();
+        const bytes = this.transport.lastBytes;
         this.viewer.apply(r.outputs ?? [], r.outputNames);
         this.summaries = r.meshes;
         this.showTopology();
@@ -254,7 +258,8 @@ class App {
         const drawn = performance.now();
         this.timings.push({
           parameter: id, roundTripMs: received - sent, frameMs: drawn - t0, applyMs: applied - received,
-          drawMs: drawn - applied, serverMs: r.ms, bytes: JSON.stringify(r).length,
+          drawMs: drawn - applied, serverMs: r.ms, bytes: bytes >= 0 ? bytes : JSON.stringify(r).length,
+          bufferWidth: this.viewer.bufferSize().width,
         });
         if (this.timings.length > 1000) this.timings.shift();
         this.status(`${id} = ${value} (${r.ms.toFixed(1)} ms in nomec)`);
@@ -267,6 +272,7 @@ class App {
         this.inFlight = false;
       }
     }
+    this.viewer.settleSoon();
   }
 
   // ---- topology and diagnostics ----

@@ -122,6 +122,8 @@ export abstract class Transport {
   private pending = new Map<number, { resolve: (v: any) => void; reject: (e: RpcError) => void }>();
   onNotification: Handler = () => {};
   onClose: () => void = () => {};
+  /// The size of the last message's text, when the channel carries text (-1 otherwise).
+  lastBytes = -1;
 
   request<T>(method: string, params: unknown): Promise<T> {
     const id = this.nextId++;
@@ -161,7 +163,11 @@ export class WebSocketTransport extends Transport {
   constructor(url: string) {
     super();
     this.ws = new WebSocket(url);
-    this.ws.onmessage = (e) => this.receive(JSON.parse(String(e.data)));
+    this.ws.onmessage = (e) => {
+      const text = String(e.data);
+      this.lastBytes = text.length;
+      this.receive(JSON.parse(text));
+    };
     this.ws.onclose = () => {
       this.failAll("the connection to nomec view closed");
       this.onClose();

@@ -62,12 +62,23 @@ export class Viewer {
   private frameWaiters: (() => void)[] = [];
   private probe = new Uint8Array(4);
   private needsRender = true;
+  // While a slider is dragged the frame is drawn with fewer pixels and no wireframe (a
+  // software renderer's cost is mostly per pixel and per line); the frame after the drag
+  // settles is drawn at full resolution with every overlay, as at rest.
+  private interacting = false;
+  private settleTimer: ReturnType<typeof setTimeout> | undefined;
+  /// Share of the full resolution (per axis) used while dragging.
+  dragScale = 0.5;
+  /// Quiet time after the last slider move before the full-resolution frame.
+  settleMs = 200;
+  private fullPixelRatio = 1;
 
   constructor(readonly canvas: HTMLCanvasElement) {
     // Multisampling is free on a GPU but quadruples the work of a software renderer
     // (SwiftShader, as in headless Chromium or a machine without a GPU).
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: !Viewer.softwareGl(), preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.fullPixelRatio = Math.min(window.devicePixelRatio, 2);
+    this.renderer.setPixelRatio(this.fullPixelRatio);
     this.camera.position.set(3, 2.5, 4);
     this.controls = new OrbitControls(this.camera, canvas);
     this.controls.enableDamping = false;
@@ -126,6 +137,44 @@ export class Viewer {
     this.needsRender = true;
   }
 
+  /// A slider moved: frames are drawn cheaply until `settleSoon` is followed by
+  /// `settleMs` without another move.
+  interact(): void {
+    if (this.settleTimer !== undefined) clearTimeout(this.settleTimer);
+    this.settleTimer = undefined;
+    if (this.interacting || this.dragScale >= 1) return;
+    this.interacting = true;
+    this.renderer.setPixelRatio(this.fullPixelRatio * this.dragScale);
+    this.wire.visible = false;
+    this.requestRender();
+  }
+
+  /// The frame of the last move is drawn and no other move waits: unless a move comes
+  /// within `settleMs`, draw again at full resolution with every overlay.
+  settleSoon(): void {
+    if (this.settleTimer !== undefined) clearTimeout(this.settleTimer);
+    this.settleTimer = setTimeout(() => this.settle(), this.settleMs);
+  }
+
+  private settle(): void {
+    this.settleTimer = undefined;
+    if (!this.interacting) return;
+    this.interacting = false;
+    this.renderer.setPixelRatio(this.fullPixelRatio);
+    this.wire.visible = this.wireframe;
+    this.requestRender();
+  }
+
+  /// Whether frames are drawn in the cheap dragging mode now.
+  get dragging(): boolean {
+    return this.interacting;
+  }
+
+  /// The drawing buffer's size in pixels.
+  bufferSize(): { width: number; height: number } {
+    return { width: this.canvas.width, height: this.canvas.height };
+  }
+
   /// Resolves once the next frame with the current state has been drawn.
   nextFrame(): Promise<void> {
     this.requestRender();
@@ -147,6 +196,9 @@ export class Viewer {
   /// Replaces or updates the outputs named in `outputs`; with `keep`, drops every output
   /// whose name is not in it.
   apply(outputs: WireOutput[], keep?: string[]): void {
+    // Only positions moved (the same outputs, each with its topology): the GPU buffers are
+    // updated in place instead of being made anew.
+    let samePlaces = outputs.every((o) => o.positionsOnly && this.parts.has(o.name));
     for (const o of outputs) {
       const old = this.parts.get(o.name);
       if (o.positionsOnly && old !== undefined) {
@@ -158,10 +210,48 @@ export class Viewer {
     }
     if (keep !== undefined) {
       for (const name of [...this.parts.keys()]) {
-        if (!keep.includes(name)) this.parts.delete(name);
+        if (!keep.includes(name)) {
+          this.parts.delete(name);
+          samePlaces = false;
+        }
       }
     }
-    this.compose();
+    if (!samePlaces || !this.updateInPlace()) this.compose();
+  }
+
+  // Copies every part's corners and positions into the current buffers when their sizes
+  // still match (false when they do not: compose anew).
+  private updateInPlace(): boolean {
+    const sg = this.surface.geometry;
+    const pos = sg.getAttribute("position") as THREE.BufferAttribute | undefined;
+    const nor = sg.getAttribute("normal") as THREE.BufferAttribute | undefined;
+    const wirePos = this.wire.geometry.getAttribute("position") as THREE.BufferAttribute | undefined;
+    if (pos === undefined || nor === undefined || wirePos === undefined) return false;
+    let corners = 0, vertices = 0;
+    for (const p of this.parts.values()) {
+      corners += p.cornerPositions.length;
+      vertices += p.positions.length;
+    }
+    if (corners !== pos.array.length || vertices !== wirePos.array.length) return false;
+    const parts = [...this.parts.values()];
+    let c = 0, v = 0;
+    for (const p of parts) {
+      (pos.array as Float32Array).set(p.cornerPositions, c);
+      (nor.array as Float32Array).set(p.cornerNormals, c);
+      c += p.cornerPositions.length;
+      (wirePos.array as Float32Array).set(p.positions, v);
+      v += p.positions.length;
+    }
+    pos.needsUpdate = true;
+    nor.needsUpdate = true;
+    wirePos.needsUpdate = true;
+    sg.computeBoundingSphere();
+    this.wire.geometry.computeBoundingSphere();
+    Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
+    Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
+    Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
+    this.requestRender();
+    return true;
   }
 
   clear(): void {
@@ -255,7 +345,7 @@ export class Viewer {
     wg.setIndex(new THREE.BufferAttribute(wireIndex, 1));
     wg.computeBoundingSphere();
     this.wire.geometry = wg;
-    this.wire.visible = this.wireframe;
+    this.wire.visible = this.wireframe && !this.interacting;
     Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
     Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
     Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
@@ -338,7 +428,7 @@ export class Viewer {
 
   setWireframe(on: boolean): void {
     this.wireframe = on;
-    this.wire.visible = on;
+    this.wire.visible = on && !this.interacting;
     this.requestRender();
   }
 

@@ -50,6 +50,7 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
 
     // Move fp.z with the keyboard, as a person without a mouse would.
     const h0 = await page.evaluate(() => window.nomePreview.vertexHash());
+    const full = await page.evaluate(() => window.nomePreview.viewer.bufferSize());
     const z = page.locator("#s-fp_z");
     await z.focus();
     for (let i = 0; i < 10; ++i) {
@@ -60,6 +61,14 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
     const timings = await page.evaluate(() => window.nomePreview.timings);
     const h1 = await page.evaluate(() => window.nomePreview.vertexHash());
     assert.notEqual(h1, h0, "the mesh changed");
+    // While dragging, frames are drawn with half the pixels per axis and no wireframe; once
+    // the moves stop, the picture is drawn again at full resolution with the wireframe.
+    assert.equal(timings[0].bufferWidth, Math.floor(full.width / 2), "the first move's frame is drawn at half resolution");
+    await waitFor(page, () => !window.nomePreview.viewer.dragging);
+    await page.evaluate(() => window.nomePreview.viewer.nextFrame());
+    assert.deepEqual(await page.evaluate(() => window.nomePreview.viewer.bufferSize()), full, "full resolution at rest");
+    assert.equal(await page.evaluate(() => window.nomePreview.viewer.wire.visible), true, "the wireframe is back");
+    assert.ok(await drawnShare(page) > 0.03, "drawn at rest");
     const frame = timings.map((t) => t.frameMs);
     const rt = timings.map((t) => t.roundTripMs);
     console.log(`# slider move -> new frame: p50 ${percentile(frame, 50).toFixed(1)} ms, p90 ${percentile(frame, 90).toFixed(1)} ms; ` +
