@@ -176,7 +176,11 @@ Result<bool> LoopMesh::insert_edges(const std::vector<std::pair<LoopCorner, Loop
       return KernelError{KernelError::Kind::InvalidArgument,
                          fmt::format("insert_edges: vertices {} and {} are already joined by an edge", u, v), {}, {}, {}};
     }
-    ends.emplace_back(dart_of(a), dart_of(b));
+    // One after the other: dart_of adds faces in call order, and argument evaluation order
+    // is unspecified (GCC and clang differ), which made the result compiler-dependent.
+    const int32_t da = dart_of(a);
+    const int32_t db = dart_of(b);
+    ends.emplace_back(da, db);
   }
   used.assign(vertex.size(), 0);
   for (const auto& [x, y] : ends) {

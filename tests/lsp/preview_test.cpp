@@ -44,7 +44,7 @@ std::vector<T> decode(const json& field) {
   std::vector<uint8_t> bytes = unbase64(field.get<std::string>());
   EXPECT_EQ(bytes.size() % sizeof(T), 0u);
   std::vector<T> v(bytes.size() / sizeof(T));
-  std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));  // never with null pointers
   return v;
 }
 
