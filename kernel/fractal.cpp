@@ -12,6 +12,7 @@
 
 #include "kernel/dlfl.h"
 #include "kernel/highgenus.h"
+#include "kernel/offset.h"
 
 namespace nomec::kernel {
 
@@ -116,14 +117,13 @@ void sponge_faces(SpongeBuilder& b) {
     return it->second;
   };
   b.q.resize(mesh.face_count());
+  const std::vector<glm::dvec3> normals = face_normals(mesh);  // unit Newell normals (0 if degenerate)
   for (int32_t f = 0; f < mesh.face_count(); ++f) {
     const std::vector<VertexId> vs = mesh.face_vertices(FaceId(f));
     const int32_t n = static_cast<int32_t>(vs.size());
     std::vector<glm::dvec3> p;
     for (VertexId v : vs) p.push_back(mesh.position(v));
-    glm::dvec3 normal(0.0);
-    for (int32_t i = 0; i < n; ++i) normal += glm::cross(p[i], p[(i + 1) % n]);
-    normal = glm::length(normal) > 0 ? glm::normalize(normal) : glm::dvec3(0.0);
+    const glm::dvec3& normal = normals[f];
     // Per edge i (v_i -> v_{i+1}): the frame width, at most 45% of the edge.
     std::vector<double> w(n);
     for (int32_t i = 0; i < n; ++i) w[i] = std::min(b.t, 0.45 * glm::length(p[(i + 1) % n] - p[i]));
