@@ -327,6 +327,13 @@ Generated make_Dupin(const ArgReader& a) {
 
 namespace {
 
+// The torus knot's centre at t (generators-original.md §3.1): p turns around the tube, q
+// around the z axis.
+glm::dvec3 knot_centre(double p, double q, double R, double r, double t) {
+  const double rr = R + r * std::cos(p * t);
+  return {rr * std::cos(q * t), rr * std::sin(q * t), r * std::sin(p * t)};
+}
+
 // NOME3's torus knot with tube_radius 0 (generators-original.md §3.4, TorusKnot.cpp:132-172):
 // no tube, but the centre curve itself as an open line strip `knotpoint{i}`, i = 0 …
 // sweep_segs − 1 at t_i = 2πi/sweep_segs, for use as a sweep path. Open as NOME3 left it: the
@@ -335,10 +342,7 @@ Generated knot_points(double p, double q, double R, double r, int ss) {
   Generated g;
   Generated::Curve c;
   for (int i = 0; i < ss; ++i) {
-    const double t = 2.0 * kPi * i / ss;
-    const double rr = R + r * std::cos(p * t);
-    c.vertices.push_back(g.soup.add_vertex({rr * std::cos(q * t), rr * std::sin(q * t), r * std::sin(p * t)},
-                                           "knotpoint" + std::to_string(i)));
+    c.vertices.push_back(g.soup.add_vertex(knot_centre(p, q, R, r, 2.0 * kPi * i / ss), "knotpoint" + std::to_string(i)));
   }
   g.curves.push_back(std::move(c));
   return g;
@@ -376,7 +380,7 @@ Generated make_Torusknot(const ArgReader& a) {
   for (int i = 0; i < ss; ++i) {
     const double t = 2.0 * kPi * i / ss;
     const double rr = R + r * std::cos(p * t);
-    const glm::dvec3 c0(rr * std::cos(q * t), rr * std::sin(q * t), r * std::sin(p * t));
+    const glm::dvec3 c0 = knot_centre(p, q, R, r, t);
     const glm::dvec3 tan = norm({-r * p * std::sin(p * t) * std::cos(q * t) - rr * q * std::sin(q * t),
                                  -r * p * std::sin(p * t) * std::sin(q * t) + rr * q * std::cos(q * t),
                                  r * p * std::cos(p * t)});
