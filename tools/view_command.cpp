@@ -151,6 +151,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     beast::error_code ignored;  // small replies go out at once (no Nagle delay)
     ws_.next_layer().socket().set_option(tcp::no_delay(true), ignored);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    // A reply goes out as one frame, not as 4 KB fragments (60 system calls and as many
+    // frames for the browser to join, for a Klein bottle's positions).
+    ws_.auto_fragment(false);
     ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
       if (!ec) self->start();
     });

@@ -83,9 +83,11 @@ class App {
     this.status("Evaluating…");
     try {
       const t0 = performance.now();
-      const r = await this.transport.request<PreviewReply>("nome/preview", {
+      const reply = this.transport.request<PreviewReply>("nome/preview", {
         uri: this.uri, pipeline: this.pipeline(), values: this.moved,
       });
+      this.viewer.warmUp();  // nomec works meanwhile
+      const r = await reply;
       const t1 = performance.now();
       this.lastPreview = { requestMs: t1 - t0, panelMs: 0, geometryMs: 0, frameMs: 0 };
       this.state.version = r.version;
@@ -101,6 +103,9 @@ class App {
         this.summaries = r.outputs.map((o) => o.summary);
         this.showTopology();
         const t2 = performance.now();
+        // The new scene is drawn first as while dragging (fewer pixels, simpler lighting),
+        // so it is seen sooner; the full picture follows once nothing else changes.
+        this.viewer.interact();
         this.viewer.apply(r.outputs, r.outputs.map((o) => o.name));
         if (!this.fittedOnce) {
           this.viewer.fitView();
@@ -108,6 +113,7 @@ class App {
         }
         const t3 = performance.now();
         await this.viewer.nextFrame();
+        this.viewer.settleSoon();
         if (performance.getEntriesByName("nome-first-picture").length === 0) performance.mark("nome-first-picture");
         this.lastPreview = { requestMs: t1 - t0, panelMs: t2 - t1, geometryMs: t3 - t2, frameMs: performance.now() - t3 };
         this.status(`Version ${r.version}: ${r.outputs.length} output${r.outputs.length === 1 ? "" : "s"}.`);

@@ -1,19 +1,20 @@
-// scene.ts: the three.js side of the preview. Each output mesh gives a shaded surface
-// (triangles expanded per corner so face colours stay crisp; smooth normals are averaged
-// per vertex with orientation-consistent signs, so Möbius and Klein surfaces shade
-// smoothly too), a wireframe of the polygon edges (not the triangle diagonals), its border
-// edges and its Möbius edges. An update recomputes only the outputs it names; all outputs
-// are then drawn as five objects (surfaces, wireframe, borders, Möbius edges, curves), so a
-// scene of hundreds of outputs costs five draw calls, not hundreds. Orbit, pan and zoom by mouse
-// or keyboard; "fit view" frames everything.
+// scene.ts: the three.js side of the preview. Each output mesh gives a shaded surface, a
+// wireframe of the polygon edges (not the triangle diagonals), its border edges and its
+// Möbius edges. The surface is drawn indexed: one drawn vertex per mesh vertex, side of its
+// fan and face colour (see `Topology`), so the GPU shades each vertex once instead of once
+// per triangle corner; smooth normals are averaged over each vertex's fan with the signs
+// that orient the fan consistently, so Möbius and Klein surfaces shade smoothly too, and
+// flat shading takes the face normal in the fragment shader. An update recomputes only the
+// outputs it names; all outputs are then drawn as five objects (surfaces, wireframe,
+// borders, Möbius edges, curves), so a scene of hundreds of outputs costs five draw calls,
+// not hundreds. Orbit, pan and zoom by mouse or keyboard; "fit view" frames everything.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { LineSegments2 } from "three/examples/jsm/lines/LineSegments2.js";
 import { LineSegmentsGeometry } from "three/examples/jsm/lines/LineSegmentsGeometry.js";
 import { LineMaterial } from "three/examples/jsm/lines/LineMaterial.js";
 import { WireOutput, float32s, uint32s, uint8s } from "./protocol";
-
-const kDefaultColor = [0.72, 0.76, 0.82];
+import { Drawn, buildDrawn, placeDrawn } from "./drawn";
 
 interface Part {
   name: string;
@@ -26,10 +27,46 @@ interface Part {
   mobiusEdges: Uint32Array;
   curvePoints: Float32Array;    // the output's polylines and curves
   curveSegments: Uint32Array;   // point index pairs
-  // Per triangle corner: position, normal, colour (what the surface draws).
-  cornerPositions: Float32Array;
-  cornerNormals: Float32Array;
-  cornerColors: Float32Array;
+  // What the surface draws: shared vertices (see drawn.ts) with positions and normals.
+  drawn: Drawn;
+  drawPositions: Float32Array;
+  drawNormals: Float32Array;
+}
+
+// Line segments drawn fat (LineSegments2, a few pixels wide) at rest and one pixel wide
+// while a slider is dragged: a fat line is a quad per segment with its own shaders, which a
+// software renderer pays dearly for when a scene has thousands of border edges.
+class Overlay {
+  readonly fat: LineSegments2;
+  readonly thin: THREE.LineSegments;
+  /// Whether there is anything to draw.
+  present = false;
+
+  constructor(readonly material: LineMaterial, order: number) {
+    this.fat = new LineSegments2(new LineSegmentsGeometry(), material);
+    this.thin = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: material.color }));
+    this.fat.renderOrder = order;
+    this.thin.renderOrder = order;
+    this.fat.visible = this.thin.visible = false;
+  }
+
+  /// Segment end points, two per segment.
+  set(ends: Float32Array): void {
+    this.fat.geometry.dispose();
+    const g = new LineSegmentsGeometry();
+    if (ends.length > 0) g.setPositions(ends);
+    this.fat.geometry = g;
+    this.thin.geometry.dispose();
+    const t = new THREE.BufferGeometry();
+    t.setAttribute("position", new THREE.BufferAttribute(ends, 3));
+    this.thin.geometry = t;
+    this.present = ends.length > 0;
+  }
+
+  show(dragging: boolean): void {
+    this.fat.visible = this.present && !dragging;
+    this.thin.visible = this.present && dragging;
+  }
 }
 
 export class Viewer {
@@ -40,14 +77,23 @@ export class Viewer {
   private parts = new Map<string, Part>();
   private surface: THREE.Mesh;
   private wire: THREE.LineSegments;
-  private border: LineSegments2;
-  private mobius: LineSegments2;
-  private curves: LineSegments2;
+  private border: Overlay;
+  private mobius: Overlay;
+  private curves: Overlay;
   private surfaceMaterial = new THREE.MeshStandardMaterial({
     vertexColors: true,
     side: THREE.DoubleSide,
     roughness: 0.55,
     metalness: 0.05,
+    polygonOffset: true,
+    polygonOffsetFactor: 1,
+    polygonOffsetUnits: 1,
+  });
+  // While a slider is dragged: diffuse lighting only, a fraction of the standard material's
+  // cost per pixel on a software renderer.
+  private dragMaterial = new THREE.MeshLambertMaterial({
+    vertexColors: true,
+    side: THREE.DoubleSide,
     polygonOffset: true,
     polygonOffsetFactor: 1,
     polygonOffsetUnits: 1,
@@ -62,9 +108,10 @@ export class Viewer {
   private frameWaiters: (() => void)[] = [];
   private probe = new Uint8Array(4);
   private needsRender = true;
-  // While a slider is dragged the frame is drawn with fewer pixels and no wireframe (a
-  // software renderer's cost is mostly per pixel and per line); the frame after the drag
-  // settles is drawn at full resolution with every overlay, as at rest.
+  // While a slider is dragged (and for the first frame of a new scene) the frame is drawn
+  // with fewer pixels, diffuse lighting, one-pixel borders and no wireframe (a software
+  // renderer's cost is mostly per pixel and per fat line); the frame after the drag settles
+  // is drawn at full resolution with every overlay, as at rest.
   private interacting = false;
   private settleTimer: ReturnType<typeof setTimeout> | undefined;
   /// Share of the full resolution (per axis) used while dragging.
@@ -90,31 +137,81 @@ export class Viewer {
     this.scene.add(this.camera);
     this.surface = new THREE.Mesh(new THREE.BufferGeometry(), this.surfaceMaterial);
     this.wire = new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial);
-    this.border = new LineSegments2(new LineSegmentsGeometry(), this.borderMaterial);
-    this.mobius = new LineSegments2(new LineSegmentsGeometry(), this.mobiusMaterial);
-    this.curves = new LineSegments2(new LineSegmentsGeometry(), this.curveMaterial);
-    this.border.renderOrder = 2;
-    this.mobius.renderOrder = 3;
-    this.scene.add(this.surface, this.wire, this.border, this.mobius, this.curves);
+    this.border = new Overlay(this.borderMaterial, 2);
+    this.mobius = new Overlay(this.mobiusMaterial, 3);
+    this.curves = new Overlay(this.curveMaterial, 0);
+    this.scene.add(this.surface, this.wire);
+    for (const o of [this.border, this.mobius, this.curves]) this.scene.add(o.fat, o.thin);
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
     const loop = () => {
-      if (this.needsRender) {
-        this.needsRender = false;
-        this.renderer.render(this.scene, this.camera);
-        // Someone waits for this picture (a slider move's timing, a test): wait until the
-        // GPU has drawn it, not only until the commands were sent.
-        if (this.frameWaiters.length > 0) {
-          const gl = this.renderer.getContext();
-          gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.probe);
-        }
-        const waiters = this.frameWaiters;
-        this.frameWaiters = [];
-        for (const w of waiters) w();
-      }
+      if (this.needsRender) this.draw();
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
+  }
+
+  // Draws the frame now, in the dragging or the resting mode, and answers whoever waits for
+  // it once the GPU has drawn it (not only when the commands were sent).
+  private draw(): void {
+    this.needsRender = false;
+    const ratio = this.interacting ? this.fullPixelRatio * this.dragScale : this.fullPixelRatio;
+    if (this.renderer.getPixelRatio() !== ratio) this.renderer.setPixelRatio(ratio);
+    this.wire.visible = this.wireframe && !this.interacting;
+    this.surface.material = this.interacting ? this.dragMaterial : this.surfaceMaterial;
+    for (const o of [this.border, this.mobius, this.curves]) o.show(this.interacting);
+    this.renderer.render(this.scene, this.camera);
+    if (this.frameWaiters.length > 0) {
+      const gl = this.renderer.getContext();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.probe);
+    }
+    const waiters = this.frameWaiters;
+    this.frameWaiters = [];
+    for (const w of waiters) w();
+    if (!this.dragMaterialReady && this.parts.size > 0) this.prepareDragMaterial();
+    if (!this.interacting && this.parts.size > 0 && !this.fullPictureMarked) {
+      this.fullPictureMarked = true;
+      performance.mark("nome-first-full-picture");  // the first picture drawn at rest
+    }
+  }
+  private fullPictureMarked = false;
+
+  /// Compiles every material's shaders now, while the first scene is being evaluated by
+  /// nomec (another process), instead of when the first picture is drawn.
+  warmUp(): void {
+    if (this.parts.size > 0) return;
+    const tri = new THREE.BufferGeometry();
+    tri.setAttribute("position", new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), 3));
+    tri.setAttribute("normal", new THREE.BufferAttribute(new Float32Array([0, 0, 1, 0, 0, 1, 0, 0, 1]), 3));
+    tri.setAttribute("color", new THREE.BufferAttribute(new Float32Array(9).fill(0.5), 3));
+    tri.setIndex([0, 1, 2]);
+    const fat = new LineSegmentsGeometry();
+    fat.setPositions([0, 0, 0, 1, 0, 0]);
+    const probes: THREE.Object3D[] = [
+      new THREE.Mesh(tri, this.surfaceMaterial), new THREE.Mesh(tri, this.dragMaterial),
+      new THREE.LineSegments(tri, this.wireMaterial), new LineSegments2(fat, this.borderMaterial),
+      new LineSegments2(fat, this.mobiusMaterial), new LineSegments2(fat, this.curveMaterial),
+      new THREE.LineSegments(tri, this.border.thin.material),
+    ];
+    this.scene.add(...probes);
+    this.renderer.compile(this.scene, this.camera);
+    this.scene.remove(...probes);
+    tri.dispose();
+    fat.dispose();
+    this.dragMaterialReady = true;
+  }
+
+  // Compiles the dragging material's shaders soon after the first picture, so the first
+  // slider move does not wait for them.
+  private dragMaterialReady = false;
+  private prepareDragMaterial(): void {
+    this.dragMaterialReady = true;
+    setTimeout(() => {
+      const resting = this.surface.material;
+      this.surface.material = this.dragMaterial;
+      this.renderer.compile(this.scene, this.camera);
+      this.surface.material = resting;
+    }, 50);
   }
 
   static softwareGl(): boolean {
@@ -143,10 +240,9 @@ export class Viewer {
     if (this.settleTimer !== undefined) clearTimeout(this.settleTimer);
     this.settleTimer = undefined;
     if (this.interacting || this.dragScale >= 1) return;
+    // Nothing is drawn yet: the next frame, with the moved geometry, is the first one drawn
+    // cheaply (drawing the old geometry now would only delay the new one).
     this.interacting = true;
-    this.renderer.setPixelRatio(this.fullPixelRatio * this.dragScale);
-    this.wire.visible = false;
-    this.requestRender();
   }
 
   /// The frame of the last move is drawn and no other move waits: unless a move comes
@@ -160,8 +256,6 @@ export class Viewer {
     this.settleTimer = undefined;
     if (!this.interacting) return;
     this.interacting = false;
-    this.renderer.setPixelRatio(this.fullPixelRatio);
-    this.wire.visible = this.wireframe;
     this.requestRender();
   }
 
@@ -175,10 +269,12 @@ export class Viewer {
     return { width: this.canvas.width, height: this.canvas.height };
   }
 
-  /// Resolves once the next frame with the current state has been drawn.
+  /// Draws the current state now (not at the next animation frame) and resolves once the
+  /// GPU has drawn it.
   nextFrame(): Promise<void> {
-    this.requestRender();
-    return new Promise((resolve) => this.frameWaiters.push(resolve));
+    const drawn = new Promise<void>((resolve) => this.frameWaiters.push(resolve));
+    this.draw();
+    return drawn;
   }
 
   private resize(): void {
@@ -203,7 +299,7 @@ export class Viewer {
       const old = this.parts.get(o.name);
       if (o.positionsOnly && old !== undefined) {
         old.positions = float32s(o.geometry.positions);
-        this.rebuild(old, false);
+        Viewer.place(old);
       } else {
         this.parts.set(o.name, this.create(o));
       }
@@ -219,7 +315,7 @@ export class Viewer {
     if (!samePlaces || !this.updateInPlace()) this.compose();
   }
 
-  // Copies every part's corners and positions into the current buffers when their sizes
+  // Copies every part's drawn vertices and positions into the current buffers when their sizes
   // still match (false when they do not: compose anew).
   private updateInPlace(): boolean {
     const sg = this.surface.geometry;
@@ -227,18 +323,18 @@ export class Viewer {
     const nor = sg.getAttribute("normal") as THREE.BufferAttribute | undefined;
     const wirePos = this.wire.geometry.getAttribute("position") as THREE.BufferAttribute | undefined;
     if (pos === undefined || nor === undefined || wirePos === undefined) return false;
-    let corners = 0, vertices = 0;
+    let drawn = 0, vertices = 0;
     for (const p of this.parts.values()) {
-      corners += p.cornerPositions.length;
+      drawn += p.drawPositions.length;
       vertices += p.positions.length;
     }
-    if (corners !== pos.array.length || vertices !== wirePos.array.length) return false;
+    if (drawn !== pos.array.length || vertices !== wirePos.array.length) return false;
     const parts = [...this.parts.values()];
     let c = 0, v = 0;
     for (const p of parts) {
-      (pos.array as Float32Array).set(p.cornerPositions, c);
-      (nor.array as Float32Array).set(p.cornerNormals, c);
-      c += p.cornerPositions.length;
+      (pos.array as Float32Array).set(p.drawPositions, c);
+      (nor.array as Float32Array).set(p.drawNormals, c);
+      c += p.drawPositions.length;
       (wirePos.array as Float32Array).set(p.positions, v);
       v += p.positions.length;
     }
@@ -247,9 +343,9 @@ export class Viewer {
     wirePos.needsUpdate = true;
     sg.computeBoundingSphere();
     this.wire.geometry.computeBoundingSphere();
-    Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
-    Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
-    Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
+    this.border.set(Viewer.ends(parts, (p) => p.borderEdges));
+    this.mobius.set(Viewer.ends(parts, (p) => p.mobiusEdges));
+    this.curves.set(Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
     this.requestRender();
     return true;
   }
@@ -261,23 +357,29 @@ export class Viewer {
 
   private create(o: WireOutput): Part {
     const g = o.geometry;
+    const positions = float32s(g.positions);
+    const triangles = uint32s(g.triangles);
+    const triangleFaces = uint32s(g.triangleFaces);
+    const faceColors = uint8s(g.faceColors);
+    const drawn = buildDrawn(positions.length / 3, triangles, triangleFaces, faceColors);
     const part: Part = {
-      name: o.name,
-      positions: float32s(g.positions),
-      triangles: uint32s(g.triangles),
-      triangleFaces: uint32s(g.triangleFaces),
-      faceColors: uint8s(g.faceColors),
+      name: o.name, positions, triangles, triangleFaces, faceColors,
       edges: uint32s(g.edges),
       borderEdges: uint32s(g.borderEdges),
       mobiusEdges: uint32s(g.mobiusEdges),
       curvePoints: g.curvePoints ? float32s(g.curvePoints) : new Float32Array(0),
       curveSegments: uint32s(g.curveSegments),
-      cornerPositions: new Float32Array(0),
-      cornerNormals: new Float32Array(0),
-      cornerColors: new Float32Array(0),
+      drawn,
+      drawPositions: new Float32Array(3 * drawn.source.length),
+      drawNormals: new Float32Array(3 * drawn.source.length),
     };
-    this.rebuild(part, true);
+    Viewer.place(part);
     return part;
+  }
+
+  // The drawn vertices' positions and normals from the part's current positions.
+  private static place(p: Part): void {
+    placeDrawn(p.drawn, p.triangles, p.positions, p.drawPositions, p.drawNormals);
   }
 
   // Segment end points of `pairs` (vertex index pairs) of every part, for a fat line.
@@ -300,32 +402,29 @@ export class Viewer {
     return out;
   }
 
-  private static fat(line: LineSegments2, ends: Float32Array): void {
-    line.geometry.dispose();
-    const g = new LineSegmentsGeometry();
-    if (ends.length > 0) g.setPositions(ends);
-    line.geometry = g;
-    line.visible = ends.length > 0;
-  }
-
   // Draws every part as one surface, one wireframe and two fat-line sets.
   private compose(): void {
     const parts = [...this.parts.values()];
-    let corners = 0, vertices = 0, edges = 0;
+    let drawn = 0, corners = 0, vertices = 0, edges = 0;
     for (const p of parts) {
-      corners += p.cornerPositions.length;
+      drawn += p.drawPositions.length;
+      corners += p.drawn.index.length;
       vertices += p.positions.length;
       edges += p.edges.length;
     }
-    const pos = new Float32Array(corners), nor = new Float32Array(corners), col = new Float32Array(corners);
+    const pos = new Float32Array(drawn), nor = new Float32Array(drawn), col = new Float32Array(drawn);
+    const index = new Uint32Array(corners);
     const wirePos = new Float32Array(vertices);
     const wireIndex = new Uint32Array(edges);
-    let c = 0, v = 0, e = 0;
+    let c = 0, k = 0, v = 0, e = 0;
     for (const p of parts) {
-      pos.set(p.cornerPositions, c);
-      nor.set(p.cornerNormals, c);
-      col.set(p.cornerColors, c);
-      c += p.cornerPositions.length;
+      pos.set(p.drawPositions, c);
+      nor.set(p.drawNormals, c);
+      col.set(p.drawn.colors, c);
+      const first = c / 3;
+      for (let i = 0; i < p.drawn.index.length; ++i) index[k + i] = p.drawn.index[i] + first;
+      k += p.drawn.index.length;
+      c += p.drawPositions.length;
       wirePos.set(p.positions, v);
       const base = v / 3;
       for (let i = 0; i < p.edges.length; ++i) wireIndex[e + i] = p.edges[i] + base;
@@ -337,6 +436,7 @@ export class Viewer {
     sg.setAttribute("position", new THREE.BufferAttribute(pos, 3));
     sg.setAttribute("normal", new THREE.BufferAttribute(nor, 3));
     sg.setAttribute("color", new THREE.BufferAttribute(col, 3));
+    sg.setIndex(new THREE.BufferAttribute(index, 1));
     sg.computeBoundingSphere();
     this.surface.geometry = sg;
     this.wire.geometry.dispose();
@@ -345,85 +445,21 @@ export class Viewer {
     wg.setIndex(new THREE.BufferAttribute(wireIndex, 1));
     wg.computeBoundingSphere();
     this.wire.geometry = wg;
-    this.wire.visible = this.wireframe && !this.interacting;
-    Viewer.fat(this.border, Viewer.ends(parts, (p) => p.borderEdges));
-    Viewer.fat(this.mobius, Viewer.ends(parts, (p) => p.mobiusEdges));
-    Viewer.fat(this.curves, Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
+    this.border.set(Viewer.ends(parts, (p) => p.borderEdges));
+    this.mobius.set(Viewer.ends(parts, (p) => p.mobiusEdges));
+    this.curves.set(Viewer.ends(parts, (p) => p.curveSegments, (p) => p.curvePoints));
     this.requestRender();
   }
 
-  /// Recomputes the part's corners from its positions (colours too when `colors`).
-  private rebuild(p: Part, colors: boolean): void {
-    const pos = p.positions;
-    const tris = p.triangles;
-    const nt = tris.length / 3;
-    const nv = pos.length / 3;
-    const faceNormals = new Float32Array(nt * 3);
-    for (let t = 0; t < nt; ++t) {
-      const a = tris[3 * t] * 3, b = tris[3 * t + 1] * 3, c = tris[3 * t + 2] * 3;
-      const ux = pos[b] - pos[a], uy = pos[b + 1] - pos[a + 1], uz = pos[b + 2] - pos[a + 2];
-      const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2];
-      faceNormals[3 * t] = uy * vz - uz * vy;  // area-weighted
-      faceNormals[3 * t + 1] = uz * vx - ux * vz;
-      faceNormals[3 * t + 2] = ux * vy - uy * vx;
-    }
-    let vertexNormals: Float32Array | null = null;
-    if (this.smooth) {
-      vertexNormals = new Float32Array(nv * 3);
-      for (let t = 0; t < nt; ++t) {
-        for (let k = 0; k < 3; ++k) {
-          const v = tris[3 * t + k] * 3;
-          const nx = faceNormals[3 * t], ny = faceNormals[3 * t + 1], nz = faceNormals[3 * t + 2];
-          // Faces across a Möbius edge face the other way: add them with a consistent sign.
-          const s = vertexNormals[v] * nx + vertexNormals[v + 1] * ny + vertexNormals[v + 2] * nz < 0 ? -1 : 1;
-          vertexNormals[v] += s * nx;
-          vertexNormals[v + 1] += s * ny;
-          vertexNormals[v + 2] += s * nz;
-        }
-      }
-    }
-    const outPos = p.cornerPositions.length === nt * 9 ? p.cornerPositions : new Float32Array(nt * 9);
-    const outNormal = p.cornerNormals.length === nt * 9 ? p.cornerNormals : new Float32Array(nt * 9);
-    const outColor = colors || p.cornerColors.length !== nt * 9 ? new Float32Array(nt * 9) : null;
-    for (let t = 0; t < nt; ++t) {
-      const fx = faceNormals[3 * t], fy = faceNormals[3 * t + 1], fz = faceNormals[3 * t + 2];
-      const f = p.triangleFaces[t];
-      const col = outColor === null ? kDefaultColor : p.faceColors
-        ? [p.faceColors[3 * f] / 255, p.faceColors[3 * f + 1] / 255, p.faceColors[3 * f + 2] / 255]
-        : kDefaultColor;
-      for (let k = 0; k < 3; ++k) {
-        const v = tris[3 * t + k] * 3;
-        const o = 9 * t + 3 * k;
-        outPos[o] = pos[v];
-        outPos[o + 1] = pos[v + 1];
-        outPos[o + 2] = pos[v + 2];
-        let nx = fx, ny = fy, nz = fz;
-        if (vertexNormals) {
-          const s = vertexNormals[v] * fx + vertexNormals[v + 1] * fy + vertexNormals[v + 2] * fz < 0 ? -1 : 1;
-          nx = s * vertexNormals[v];
-          ny = s * vertexNormals[v + 1];
-          nz = s * vertexNormals[v + 2];
-        }
-        const len = Math.hypot(nx, ny, nz) || 1;
-        outNormal[o] = nx / len;
-        outNormal[o + 1] = ny / len;
-        outNormal[o + 2] = nz / len;
-        if (outColor !== null) {
-          outColor[o] = col[0];
-          outColor[o + 1] = col[1];
-          outColor[o + 2] = col[2];
-        }
-      }
-    }
-    p.cornerPositions = outPos;
-    p.cornerNormals = outNormal;
-    if (outColor !== null) p.cornerColors = outColor;
-  }
-
+  /// Smooth normals, or each triangle's own (taken in the fragment shader: the drawn
+  /// vertices stay shared either way).
   setSmooth(on: boolean): void {
     this.smooth = on;
-    for (const p of this.parts.values()) this.rebuild(p, false);
-    this.compose();
+    for (const m of [this.surfaceMaterial, this.dragMaterial]) {
+      m.flatShading = !on;
+      m.needsUpdate = true;
+    }
+    this.requestRender();
   }
 
   setWireframe(on: boolean): void {
@@ -438,9 +474,9 @@ export class Viewer {
 
   fitView(): void {
     const box = new THREE.Box3().setFromObject(this.surface);
-    if (this.curves.visible) {
-      this.curves.geometry.computeBoundingBox();
-      if (this.curves.geometry.boundingBox) box.union(this.curves.geometry.boundingBox);
+    if (this.curves.present) {
+      this.curves.thin.geometry.computeBoundingBox();
+      if (this.curves.thin.geometry.boundingBox) box.union(this.curves.thin.geometry.boundingBox);
     }
     if (this.parts.size === 0 || box.isEmpty()) return;
     const sphere = box.getBoundingSphere(new THREE.Sphere());

@@ -1,12 +1,16 @@
 // bench.mjs: the preview's speed, in headless Chromium against `nomec view`
-//   node test/bench.mjs PATH/TO/nomec [--moves N] [--drag-scale S]
+//   node test/bench.mjs PATH/TO/nomec [--moves N] [--drag-scale S] [--app-dir DIR]...
+// With several --app-dir (built apps, e.g. before and after a change), every case runs for
+// each app in turn, twice, interleaved (A B A B), and each app's figures are printed: a
+// ratio measured in one run on one machine state.
 // 1. slider move -> new frame drawn (p50/p90) on examples/funnel_cube.nome (fp.z);
 // 2. the same on examples/klein_bottle_zipped.nome with merge + subdivision 3 + offset
 //    (tp1.h), the seed's heaviest interactive case, with and without the wireframe
 //    (frames during a drag are drawn without it anyway, so the two differ little now);
 // 3. the first picture of a generated 0.5 MB scene (the scene of
 //    bench/common/generated_scene.h): from navigation to the first frame with the scene
-//    drawn (the page's `nome-first-picture` mark), and from goto to one more frame.
+//    drawn (the page's `nome-first-picture` mark; drawn as while dragging), to the first
+//    frame drawn at rest (`nome-first-full-picture`), and from goto to one more frame.
 // Frames are timed in the page, from the slider value set to the frame after the reply
 // was drawn (`nomePreview.timings`); bytes are the reply's JSON text. While a slider is
 // dragged the app draws with `dragScale` of the resolution per axis and no wireframe
@@ -27,6 +31,9 @@ const movesAt = process.argv.indexOf("--moves");
 const moves = movesAt > 0 ? Number(process.argv[movesAt + 1]) : 40;
 const scaleAt = process.argv.indexOf("--drag-scale");
 const dragScale = scaleAt > 0 ? Number(process.argv[scaleAt + 1]) : undefined;
+const appDirs = process.argv.flatMap((a, i) => (a === "--app-dir" ? [process.argv[i + 1]] : []));
+const apps = appDirs.length > 0 ? appDirs : [undefined];
+let appDir;  // the app of the case being run
 const examples = join(dirname(fileURLToPath(import.meta.url)), "../../examples");
 
 function generatedScene(minBytes) {
@@ -50,8 +57,12 @@ function generatedScene(minBytes) {
   return out;
 }
 
+function viewArgs() {
+  return appDir === undefined ? [] : ["--app-dir", appDir];
+}
+
 async function sliderBench(browser, file, param, values, pipeline, wireframe = true) {
-  const view = await startView(nomec, file);
+  const view = await startView(nomec, file, viewArgs());
   try {
     const page = await browser.newPage({ viewport: { width: 1000, height: 640 } });
     await page.goto(view.url);
@@ -72,7 +83,7 @@ async function sliderBench(browser, file, param, values, pipeline, wireframe = t
       await page.evaluate(([p, v]) => window.nomePreview.move(p, v), [param, values[i % values.length]]);
       await waitFor(page, (n) => window.nomePreview.timings.length > n, before, 60000);
     }
-    const t = await page.evaluate(() => window.nomePreview.timings);
+    const t = (await page.evaluate(() => window.nomePreview.timings)).slice(-moves);
     const frame = t.map((x) => x.frameMs);
     const server = t.map((x) => x.serverMs);
     const rt = t.map((x) => x.roundTripMs);
@@ -81,6 +92,7 @@ async function sliderBench(browser, file, param, values, pipeline, wireframe = t
     const bytes = t.map((x) => x.bytes);
     await page.close();
     return {
+      timings: t,
       p50: percentile(frame, 50), p90: percentile(frame, 90), server50: percentile(server, 50),
       rt50: percentile(rt, 50), apply50: percentile(apply, 50), draw50: percentile(draw, 50),
       bytes50: percentile(bytes, 50), n: t.length, summary: summary.split("\n").slice(0, 4).join(" "),
@@ -91,7 +103,7 @@ async function sliderBench(browser, file, param, values, pipeline, wireframe = t
 }
 
 async function firstPicture(browser, file) {
-  const view = await startView(nomec, file);
+  const view = await startView(nomec, file, viewArgs());
   try {
     const page = await browser.newPage({ viewport: { width: 1000, height: 640 } });
     const t0 = performance.now();
@@ -101,10 +113,14 @@ async function firstPicture(browser, file) {
     const ms = performance.now() - t0;
     // The page's own clock: navigation start -> the first frame with the scene drawn.
     const firstMs = await page.evaluate(() => performance.getEntriesByName("nome-first-picture")[0].startTime);
+    // ... and to the first one drawn at rest (full resolution and lighting, every overlay).
+    // (An app older than that mark draws the first picture at rest: the same time.)
+    const fullMs = await waitFor(page, () => performance.getEntriesByName("nome-first-full-picture").length > 0, undefined, 10000)
+      .then(() => page.evaluate(() => performance.getEntriesByName("nome-first-full-picture")[0].startTime), () => firstMs);
     const outputs = await page.evaluate(() => window.nomePreview.app.summaries.length);
     const parts = await page.evaluate(() => window.nomePreview.lastPreview());
     await page.close();
-    return { ms, firstMs, outputs, parts };
+    return { ms, firstMs, fullMs, outputs, parts };
   } finally {
     await stopView(view);
   }
@@ -116,20 +132,46 @@ try {
   const line = (name, r) => console.log(`${name}: slider -> frame p50 ${r.p50.toFixed(1)} ms, p90 ${r.p90.toFixed(1)} ms ` +
     `(p50 parts: round trip ${r.rt50.toFixed(1)} ms of which nomec ${r.server50.toFixed(1)} ms, rebuild ${r.apply50.toFixed(1)} ms, ` +
     `draw ${r.draw50.toFixed(1)} ms; reply ${r.bytes50} bytes; ${r.n} moves)`);
+  // Runs `run` for each app (twice each, interleaved when there are several apps) and
+  // prints each app's figures with `show`.
+  const each = async (show, run) => {
+    const results = new Map(apps.map((a) => [a, []]));
+    for (let round = 0; round < (apps.length > 1 ? 2 : 1); ++round) {
+      for (const a of apps) {
+        appDir = a;
+        results.get(a).push(await run());
+      }
+    }
+    for (const a of apps) show(a === undefined ? "" : `[${a}] `, results.get(a));
+  };
+  const merged = (rs) => {
+    const t = rs.flatMap((r) => r.timings);
+    const pick = (k) => t.map((x) => x[k]);
+    return {
+      p50: percentile(pick("frameMs"), 50), p90: percentile(pick("frameMs"), 90), server50: percentile(pick("serverMs"), 50),
+      rt50: percentile(pick("roundTripMs"), 50), apply50: percentile(pick("applyMs"), 50), draw50: percentile(pick("drawMs"), 50),
+      bytes50: percentile(pick("bytes"), 50), n: t.length,
+    };
+  };
+  const slider = (name, ...args) => each((tag, rs) => line(tag + name, merged(rs)), () => sliderBench(browser, ...args));
   const zs = [-0.5, -0.45, -0.4, -0.35, -0.3, -0.35, -0.4, -0.45];
-  line("funnel_cube fp.z", await sliderBench(browser, join(examples, "funnel_cube.nome"), "fp.z", zs));
+  await slider("funnel_cube fp.z", join(examples, "funnel_cube.nome"), "fp.z", zs);
   const hs = [1.5, 1.4, 1.3, 1.2, 1.1, 1.2, 1.3, 1.4];
-  line("klein_bottle_zipped tp1.h, merge + subdivide 3 + offset 0.05",
-    await sliderBench(browser, join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 }));
-  line("the same without the wireframe overlay",
-    await sliderBench(browser, join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 }, false));
+  await slider("klein_bottle_zipped tp1.h, merge + subdivide 3 + offset 0.05",
+    join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 });
+  await slider("the same without the wireframe overlay",
+    join(examples, "klein_bottle_zipped.nome"), "tp1.h", hs, { subdivide: 3, offset: 0.05 }, false);
   const big = join(work, "generated.nome");
   const text = generatedScene(512 * 1024);
   writeFileSync(big, text);
-  const f = await firstPicture(browser, big);
-  const p = Object.entries(f.parts).map(([k, v]) => `${k} ${v.toFixed(0)}`).join(", ");
-  console.log(`first picture of a ${(text.length / 1024).toFixed(0)} KB scene (${f.outputs} outputs): ${f.firstMs.toFixed(0)} ms ` +
-    `from navigation to the first frame drawn (${p}); ${f.ms.toFixed(0)} ms from goto to one more frame drawn`);
+  await each((tag, fs) => {
+    for (const f of fs) {
+      const p = Object.entries(f.parts).map(([k, v]) => `${k} ${v.toFixed(0)}`).join(", ");
+      console.log(`${tag}first picture of a ${(text.length / 1024).toFixed(0)} KB scene (${f.outputs} outputs): ${f.firstMs.toFixed(0)} ms ` +
+        `from navigation to the first frame drawn (${p}), ${f.fullMs.toFixed(0)} ms to the first drawn at rest; ` +
+        `${f.ms.toFixed(0)} ms from goto to one more frame drawn`);
+    }
+  }, () => firstPicture(browser, big));
 } finally {
   await browser.close();
   rmSync(work, { recursive: true, force: true });

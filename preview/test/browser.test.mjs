@@ -4,7 +4,9 @@
 // says χ = 0 and non-orientable, a slider moved by keyboard changes the mesh (vertex hash;
 // the round trips are timed and printed), saving the file on disk reloads the picture, a
 // file with an error shows its diagnostic and keeps the last good mesh; and the server
-// refuses other Hosts/Origins and stops cleanly on Ctrl-C.
+// refuses other Hosts/Origins and stops cleanly on Ctrl-C. Also how frames are drawn: a new
+// scene's first frame cheaply then at rest, shared (indexed) vertices, one-pixel overlays
+// while dragging; and a SLIDE file from the shared corpus with its CreateScale sliders.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, readFileSync, writeFileSync, rmSync } from "node:fs";
@@ -44,6 +46,11 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
   try {
     const { page, errors } = await openPage(view);
     assert.ok(await drawnShare(page) > 0.03, "the canvas shows the sculpture");
+    // A new scene is drawn first as while dragging, then at rest.
+    await waitFor(page, () => performance.getEntriesByName("nome-first-full-picture").length > 0);
+    const marks = await page.evaluate(() => ["nome-first-picture", "nome-first-full-picture"]
+      .map((m) => performance.getEntriesByName(m)[0].startTime));
+    assert.ok(marks[0] < marks[1], `the first picture (${marks[0]} ms) comes before the one at rest (${marks[1]} ms)`);
     assert.match(await page.locator("#topology").innerText(), /cf/);
     const sliders = await page.locator("#sliders input[type=range]").count();
     assert.ok(sliders >= 3, `a slider per parameter (${sliders})`);
@@ -52,6 +59,7 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
     const h0 = await page.evaluate(() => window.nomePreview.vertexHash());
     const full = await page.evaluate(() => window.nomePreview.viewer.bufferSize());
     const z = page.locator("#s-fp_z");
+    await page.evaluate(() => { window.nomePreview.viewer.settleMs = 60000; });  // stay in the dragging mode
     await z.focus();
     for (let i = 0; i < 10; ++i) {
       const before = await page.evaluate(() => window.nomePreview.timings.length);
@@ -64,10 +72,19 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
     // While dragging, frames are drawn with half the pixels per axis and no wireframe; once
     // the moves stop, the picture is drawn again at full resolution with the wireframe.
     assert.equal(timings[0].bufferWidth, Math.floor(full.width / 2), "the first move's frame is drawn at half resolution");
+    // The funnels' open ends are drawn one pixel wide while dragging, fat at rest.
+    const overlay = () => page.evaluate(() => {
+      const v = window.nomePreview.viewer;
+      return { dragging: v.dragging, fat: v.border.fat.visible, thin: v.border.thin.visible, wire: v.wire.visible,
+               material: v.surface.material.type };
+    });
+    assert.deepEqual(await overlay(), { dragging: true, fat: false, thin: true, wire: false, material: "MeshLambertMaterial" });
+    await page.evaluate(() => { const v = window.nomePreview.viewer; v.settleMs = 0; v.settleSoon(); });
     await waitFor(page, () => !window.nomePreview.viewer.dragging);
     await page.evaluate(() => window.nomePreview.viewer.nextFrame());
     assert.deepEqual(await page.evaluate(() => window.nomePreview.viewer.bufferSize()), full, "full resolution at rest");
     assert.equal(await page.evaluate(() => window.nomePreview.viewer.wire.visible), true, "the wireframe is back");
+    assert.deepEqual(await overlay(), { dragging: false, fat: true, thin: false, wire: true, material: "MeshStandardMaterial" });
     assert.ok(await drawnShare(page) > 0.03, "drawn at rest");
     const frame = timings.map((t) => t.frameMs);
     const rt = timings.map((t) => t.roundTripMs);
@@ -113,6 +130,35 @@ test("zipped Klein bottle: merged, the readout says χ = 0 and non-orientable", 
     assert.match(topo, /non-orientable/);
     assert.match(topo, /closed/);
     assert.ok(await drawnShare(page) > 0.03);
+    // Drawn indexed: a vertex is shared by the triangles around it (a quad mesh draws about
+    // one vertex per quad instead of six corners); only vertices on the Klein bottle's Möbius
+    // seam are drawn twice, once per side.
+    const v = Number(/V \/ E \/ F\s+(\d+)/.exec(topo)[1]);
+    const drawn = await page.evaluate(() => {
+      const g = window.nomePreview.viewer.surface.geometry;
+      return { vertices: g.getAttribute("position").count, corners: g.index.count };
+    });
+    assert.ok(drawn.vertices >= v && drawn.vertices < 1.25 * v, `${drawn.vertices} drawn vertices for ${v} mesh vertices`);
+    assert.ok(drawn.corners >= 5 * drawn.vertices, `${drawn.corners} corners share ${drawn.vertices} vertices`);
+  } finally {
+    assert.equal(await stopView(view), 0);
+  }
+});
+
+test("a SLIDE file: its Tcl runs, its CreateScale sliders move the surface", async () => {
+  const bell = join(dirname(fileURLToPath(import.meta.url)), "../../../shared/corpus/slide/BellShape.slf");
+  const view = await startView(nomec, bell);
+  try {
+    const { page, errors } = await openPage(view);
+    assert.ok(await drawnShare(page) > 0.01, "the bell is drawn");
+    const ids = await page.locator("#sliders input[type=range]").evaluateAll((els) => els.map((e) => e.dataset.param));
+    assert.ok(ids.includes("swp.q0x"), `CreateScale sliders in the panel: ${ids.join(" ")}`);
+    const h0 = await page.evaluate(() => window.nomePreview.vertexHash());
+    const before = await page.evaluate(() => window.nomePreview.timings.length);
+    await page.evaluate(() => window.nomePreview.move("swp.q0x", 1.5));
+    await waitFor(page, (n) => window.nomePreview.timings.length > n, before);
+    assert.notEqual(await page.evaluate(() => window.nomePreview.vertexHash()), h0, "moving q0x reshapes the bell");
+    assert.deepEqual(errors, []);
   } finally {
     assert.equal(await stopView(view), 0);
   }
