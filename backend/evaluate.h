@@ -40,8 +40,8 @@ struct OutputMesh {
   kernel::PolygonSoup soup;
   kernel::Mesh mesh;
   int32_t curve_count = 0;  // polylines and curves under this entry (no faces)
-  /// Their points, for drawing (previews). Curves inside pipeline blocks are counted in
-  /// `curve_count` but not carried through the block (its result is the mesh).
+  /// Their points, for drawing (previews); curves inside pipeline blocks pass through the
+  /// block unchanged (a block steps faces only).
   std::vector<Curve> curves;
 };
 

@@ -61,11 +61,14 @@ BlockSetup block_setup(Context& c, ir::NodeId pid) {
 }
 
 // A block's result mesh as a part, with the block's colour rule: if no input face has a
-// colour, every face gets the neutral grey.
-std::shared_ptr<const Collected> block_part(Context& c, kernel::Mesh result, bool any_color, int32_t curves) {
+// colour, every face gets the neutral grey. The input's curves pass through unchanged (a
+// block steps faces only), in the same frame, so they are still drawn.
+std::shared_ptr<const Collected> block_part(Context& c, kernel::Mesh result, bool any_color, int32_t curve_count,
+                                            std::vector<Curve> curves) {
   Collected part;
   part.soup = kernel::to_soup(result);
-  part.curve_count = curves;
+  part.curve_count = curve_count;
+  part.curves = std::move(curves);
   if (c.is_incremental) part.built = std::make_shared<const kernel::Mesh>(std::move(result));
   part.has_color.assign(part.soup.face_count(), any_color ? 1 : 0);
   if (!any_color) part.soup.face_colors.assign(part.soup.face_count(), kDefaultColor);
@@ -101,7 +104,7 @@ std::optional<BlockResult> run_block_whole(Context& c, ir::NodeId pid, Collected
     std::optional<kernel::Mesh> made = high_genus(c, pid, merged->mesh, soup, merged->vertex_map);
     if (!made) return std::nullopt;
     BlockResult r;
-    r.parts.push_back(block_part(c, std::move(*made), any_color, curves));
+    r.parts.push_back(block_part(c, std::move(*made), any_color, curves, std::move(in.curves)));
     return r;
   }
   std::variant<kernel::Mesh, StepFailure> ran;
@@ -120,7 +123,7 @@ std::optional<BlockResult> run_block_whole(Context& c, ir::NodeId pid, Collected
     return std::nullopt;
   }
   BlockResult r;
-  r.parts.push_back(block_part(c, std::move(std::get<kernel::Mesh>(ran)), any_color, curves));
+  r.parts.push_back(block_part(c, std::move(std::get<kernel::Mesh>(ran)), any_color, curves, std::move(in.curves)));
   return r;
 }
 
@@ -270,7 +273,7 @@ std::optional<BlockResult> run_block_by_clusters(Context& c, ir::NodeId pid, con
     auto ran = run_steps_by_component(merged->mesh, setup.steps, pool, cm.components, c.counters.kernel_ops,
                                       step_limit(c));
     if (std::holds_alternative<StepFailure>(ran)) return std::nullopt;
-    cm.result = block_part(c, std::move(std::get<kernel::Mesh>(ran)), any_color, curves);
+    cm.result = block_part(c, std::move(std::get<kernel::Mesh>(ran)), any_color, curves, std::move(cc.curves));
     result.parts.push_back(cm.result);
   }
   bm.clusters = std::move(next);

@@ -229,5 +229,32 @@ TEST(LspPreview, CurvesAreLines) {
   EXPECT_EQ(decode<float>(m["result"]["outputs"][0]["geometry"]["curvePoints"])[8], 0.5f);
 }
 
+// A polyline placed inside a subdivision block is still drawn: the block steps the faces
+// and passes the curves through, in place.
+TEST(LspPreview, CurvesInsideBlocksAreLines) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/block_curve.nom";
+  c.open(uri,
+         "point a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint c (1 1 0) endpoint\npoint d (0 1 0) endpoint\n"
+         "mesh sq\n  face f (a b c d) endface\nendmesh\n"
+         "polyline l (a b c) endpolyline\n"
+         "subdivision sub0\n  instance s sq endinstance\n  instance il l translate (0 0 2) endinstance\nendsubdivision\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  ASSERT_EQ(r["result"]["ok"], true) << r["result"]["diagnostics"].dump(2);
+  ASSERT_EQ(r["result"]["outputs"].size(), 1u) << r.dump(2);
+  const json& o = r["result"]["outputs"][0];
+  EXPECT_EQ(o["summary"]["curves"], 1);
+  EXPECT_GT(o["summary"]["faces"].get<int>(), 1);  // the square was subdivided
+  const auto points = decode<float>(o["geometry"]["curvePoints"]);
+  const auto segments = decode<uint32_t>(o["geometry"]["curveSegments"]);
+  ASSERT_EQ(points.size(), 9u);  // a b c, placed at z = 2
+  EXPECT_EQ(points[3], 1.0f);
+  EXPECT_EQ(points[8], 2.0f);
+  EXPECT_EQ(segments, (std::vector<uint32_t>{0, 1, 1, 2}));  // open
+}
+
 }  // namespace
 }  // namespace nomec::lsp::test
