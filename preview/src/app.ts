@@ -412,11 +412,13 @@ class App {
 
 function start(): void {
   performance.mark("nome-start");
-  const viewer = new Viewer($<HTMLCanvasElement>("view"));
+  // Connect first: nomec starts checking the scene when the page connects, meanwhile the
+  // viewer sets up WebGL.
   const vscodeApi = typeof acquireVsCodeApi === "function" ? acquireVsCodeApi() : undefined;
   const transport: Transport = vscodeApi !== undefined
     ? new VsCodeTransport(vscodeApi)
     : new WebSocketTransport(`ws://${location.host}/rpc`);
+  const viewer = new Viewer($<HTMLCanvasElement>("view"));
   performance.mark("nome-viewer");
   const app = new App(transport, viewer);
   (window as any).nomePreview = {
