@@ -104,6 +104,25 @@ void BM_CheckSmallFile(benchmark::State& state) {
   state.counters["file_bytes"] = static_cast<double>(text.size());
 }
 
+// A small SLIDE file (the front-end fuzzer's third kind of input): without Tcl, with one
+// `{expr}` value, and with an (empty) `tclinit` block. The interpreter is made only when the
+// file uses Tcl, so the first pays no interpreter; the difference is its cost.
+void BM_CheckSmallSlideFile(benchmark::State& state) {
+  static const std::string kTexts[] = {
+      "sphere s radius 2 endsphere\ngroup g instance s endinstance endgroup\n",
+      "sphere s radius {expr 2} endsphere\ngroup g instance s endinstance endgroup\n",
+      "tclinit { }\nsphere s radius 2 endsphere\ngroup g instance s endinstance endgroup\n",
+  };
+  const std::string& text = kTexts[state.range(0)];
+  for (auto _ : state) {
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::CheckResult r = nomec::check_source(sources, "small.slf", text, nomec::CheckOptions{}, diags);
+    benchmark::DoNotOptimize(r.module.nodes.size());
+  }
+}
+BENCHMARK(BM_CheckSmallSlideFile)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+
 void BM_ParseOnly(benchmark::State& state) {
   const std::string& text = scene(static_cast<size_t>(state.range(0)));
   size_t stmts = 0;

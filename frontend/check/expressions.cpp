@@ -115,7 +115,7 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
     }
     return param_expr(c, p, x.range);
   }
-  if (c.dialect() == Dialect::Slide && dollar && c.tcl) {
+  if (c.dialect() == Dialect::Slide && dollar && c.tcl_available) {
     // A Tcl global: its value after `tclinit` (slide.md §6).
     if (std::optional<double> v = tcl_number(c, name)) return constant_expr(c, *v, x.range);
     if (c.first_tcl_report("$" + name)) {
@@ -167,7 +167,7 @@ ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
     case ast::ExprKind::Name:
       return lower_name(c, x, scope);
     case ast::ExprKind::TclArrayRef:
-      if (c.dialect() == Dialect::Slide && c.tcl) {
+      if (c.dialect() == Dialect::Slide && c.tcl_available) {
         // `$oSubdivision(type)`: a slider bound to the element, or the element's value.
         std::string_view t = x.text.substr(1);
         const size_t open = t.find('(');
@@ -452,7 +452,7 @@ bool is_tcl_raw(const ast::Expr& x) {
 }
 
 ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope) {
-  if (scope.variables.empty() && c.tcl && (a.expr(id).in_braces || is_tcl_raw(a.expr(id)))) {
+  if (scope.variables.empty() && c.tcl_available && (a.expr(id).in_braces || is_tcl_raw(a.expr(id)))) {
     return lower_tcl_value(c, a, id, scope);
   }
   ir::ExprId out = lower_tree(c, a, id, scope);

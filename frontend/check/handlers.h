@@ -21,6 +21,9 @@ void collect_tcl(Context& c, const ast::Ast& a);
 /// Runs the file's Tcl blocks in the scene's interpreter and makes its sliders parameters
 /// (SLIDE files only; before the banks, so `-D` reaches the sliders).
 void run_tcl(Context& c, const ast::Ast& a, const std::string& path);
+/// The scene's interpreter, made on first use (a SLIDE file without Tcl blocks makes one
+/// only when a value needs Tcl); nullptr outside SLIDE files.
+tcl::Interp* scene_tcl(Context& c);
 struct TclValue {
   bool ok = false;
   double value = 0;

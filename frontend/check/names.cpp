@@ -190,7 +190,7 @@ std::vector<std::string_view> names_in(const Context& c, Ns ns) {
 }
 
 ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
-  if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl) {
+  if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl_available) {
     if (!c.first_tcl_report(name)) return ir::NodeId::None();
     c.diags().emit(DiagKind::TclDefinedName, use,
                    fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, "

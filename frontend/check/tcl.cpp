@@ -80,10 +80,15 @@ void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_vi
     case tcl::ProblemKind::Limit:
       c.diags()
           .emit(DiagKind::TclLimit, where, fmt::format("{} was stopped: {} (a loop that never ends?)", what, p.message))
-          .note(where, "nomec stops a scene's Tcl script after 5 seconds (or 20 million commands)");
+          .note(where, "nomec stops a scene's Tcl script after 2 million commands or 5 seconds");
       return;
     case tcl::ProblemKind::Refused:
       c.diags().emit(DiagKind::TclRefused, where, p.message);
+      return;
+    case tcl::ProblemKind::Memory:
+      c.diags()
+          .emit(DiagKind::TclMemory, where, fmt::format("{} was stopped: {}", what.empty() ? "the scene's Tcl" : what, p.message))
+          .note(where, "a scene is code; nomec bounds the values and memory its Tcl may use so that no scene can exhaust them");
       return;
     case tcl::ProblemKind::MissingSource:
       c.diags().emit(DiagKind::TclSourceMissing, where, fmt::format("{}: {}", what, p.message));
@@ -320,21 +325,29 @@ void make_slide_nodes(Context& c, const std::string& path, const std::vector<Tcl
 
 }  // namespace
 
-void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
-  if (c.dialect() != Dialect::Slide || c.tcl) return;
-  const size_t slash = path.rfind('/');
-  std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+tcl::Interp* scene_tcl(Context& c) {
+  if (c.tcl || !c.tcl_available) return c.tcl.get();
   tcl::ReadFile reader;
   if (c.options().read_file) reader = c.options().read_file;
   const CheckOptions& opts = c.options();
-  c.tcl = std::make_unique<tcl::Interp>(dir, reader, tcl::Limits{},
+  c.tcl = std::make_unique<tcl::Interp>(c.tcl_dir, reader, tcl::Limits{},
                                         [&opts](const std::string& var, double from, double to) {
                                           return preset_for(opts, var, from, to);
                                         });
+  return c.tcl.get();
+}
+
+void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
+  if (c.dialect() != Dialect::Slide || c.tcl_available) return;
+  const size_t slash = path.rfind('/');
+  c.tcl_dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  c.tcl_available = true;
   std::vector<TclBody> bodies;
   for (const ast::Item& it : a.top) {
     if (it.kind == ItemKind::Tcl) bodies.push_back(body_of(it));
   }
+  if (bodies.empty()) return;  // the interpreter is made when a value needs it
+  scene_tcl(c);
   bool noted_update = false;
   for (int pass = 0; pass < 2; ++pass) {  // `tclinit` blocks, then `tclupdate` blocks
     for (const TclBody& b : bodies) {
@@ -359,7 +372,7 @@ void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
 }
 
 std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRange where) {
-  if (!c.tcl) return std::nullopt;
+  if (scene_tcl(c) == nullptr) return std::nullopt;
   tcl::Outcome o = c.tcl->value(script);
   for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, where, "");
   if (!o.ok) {
@@ -384,7 +397,7 @@ void report_unplaced_tcl_instances(Context& c) {
 }
 
 std::optional<double> tcl_number(Context& c, std::string_view name) {
-  if (!c.tcl) return std::nullopt;
+  if (scene_tcl(c) == nullptr) return std::nullopt;
   std::optional<std::string> v = c.tcl->get(name);
   if (!v) return std::nullopt;
   char* end = nullptr;

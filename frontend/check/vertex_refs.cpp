@@ -490,7 +490,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     *unresolved = true;
     return ref;
   }
-  if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl) {
+  if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl_available) {
     if (c.first_tcl_report(text)) {
       c.diags().emit(DiagKind::TclDefinedName, use,
                      fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, "

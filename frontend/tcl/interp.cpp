@@ -14,6 +14,7 @@
 #include <set>
 
 #include "frontend/tcl/fallback.h"
+#include "frontend/tcl/guard.h"
 
 namespace nomec::tcl {
 
@@ -31,6 +32,8 @@ struct Interp::State {
   std::vector<std::string>* reads = nullptr;  // set while a value is evaluated
   std::optional<Problem> refusal;             // the last refused command (for its kind)
   int source_depth = 0;
+  Guard guard;
+  std::optional<std::string> broken;  // Tcl panicked (the interpreter is abandoned): why
 };
 
 namespace {
@@ -286,6 +289,8 @@ void install(State& s) {
     Tcl_CreateObjCommand(in, w, noop, &s, nullptr);
   }
   Tcl_CreateObjCommand(in, "winfo", winfo, &s, nullptr);
+  s.guard.interp = in;
+  install_guards(s.guard);
   std::string setup(prelude_script());
   Tcl_EvalEx(in, setup.c_str(), static_cast<int>(setup.size()), TCL_EVAL_GLOBAL);
 }
@@ -326,7 +331,8 @@ Interp::Interp(std::string dir, ReadFile read_file, Limits limits, Preset preset
 }
 
 Interp::~Interp() {
-  if (s_ && s_->interp != nullptr) Tcl_DeleteInterp(s_->interp);
+  // An interpreter Tcl panicked in is left as it is (its state is half-changed).
+  if (s_ && s_->interp != nullptr && !s_->broken) Tcl_DeleteInterp(s_->interp);
 }
 
 namespace {
@@ -369,6 +375,8 @@ Outcome finish(State& s, int rc) {
   disarm_limits(s);
   if (rc == TCL_OK || rc == TCL_RETURN) {
     o.ok = true;
+  } else if (s.guard.refusal) {
+    o.problems.push_back({ProblemKind::Memory, *s.guard.refusal, Tcl_GetErrorLine(in), ""});
   } else if (limited) {
     o.problems.push_back({ProblemKind::Limit, o.result, Tcl_GetErrorLine(in), ""});
   } else if (rc == TCL_BREAK || rc == TCL_CONTINUE) {
@@ -380,27 +388,51 @@ Outcome finish(State& s, int rc) {
     o.problems.push_back(std::move(p));
   }
   s.refusal.reset();
+  s.guard.refusal.reset();
   Tcl_ResetResult(in);
   return o;
+}
+
+// Runs `text` at global level within the limits and guards; nullopt and `o` filled when the
+// interpreter cannot run it (Tcl panicked now or earlier).
+std::optional<int> eval_guarded(State& s, const std::string& text, Outcome& o) {
+  if (s.broken) {
+    o.problems.push_back({ProblemKind::Memory, *s.broken, 0, ""});
+    return std::nullopt;
+  }
+  Tcl_Obj* script = Tcl_NewStringObj(text.c_str(), static_cast<int>(text.size()));
+  Tcl_IncrRefCount(script);
+  arm_limits(s);
+  arm_guard(s.guard);
+  int rc = TCL_OK;
+  std::string panic;
+  if (!guarded_eval(s.interp, script, &rc, &panic)) {
+    s.broken = "Tcl gave up (" + panic + "); nomec stopped this scene's Tcl here, and runs none of it after";
+    o.problems.push_back({ProblemKind::Memory, *s.broken, 0, ""});
+    return std::nullopt;  // the script object stays: the abandoned interpreter may hold it
+  }
+  Tcl_DecrRefCount(script);
+  return rc;
 }
 
 }  // namespace
 
 Outcome Interp::run(std::string_view script) {
   std::string text = normalize_newlines(script);
-  arm_limits(*s_);
-  int rc = Tcl_EvalEx(s_->interp, text.c_str(), static_cast<int>(text.size()), TCL_EVAL_GLOBAL);
-  return finish(*s_, rc);
+  Outcome failed;
+  std::optional<int> rc = eval_guarded(*s_, text, failed);
+  return rc ? finish(*s_, *rc) : failed;
 }
 
 Outcome Interp::value(std::string_view script) {
   std::string text = normalize_newlines(script);
   std::vector<std::string> reads;
   s_->reads = &reads;
-  arm_limits(*s_);
-  int rc = Tcl_EvalEx(s_->interp, text.c_str(), static_cast<int>(text.size()), TCL_EVAL_GLOBAL);
+  Outcome failed;
+  std::optional<int> rc = eval_guarded(*s_, text, failed);
   s_->reads = nullptr;
-  Outcome o = finish(*s_, rc);
+  if (!rc) return failed;
+  Outcome o = finish(*s_, *rc);
   o.reads = std::move(reads);
   if (!o.ok) return o;
   char* end = nullptr;
@@ -414,17 +446,19 @@ Outcome Interp::value(std::string_view script) {
 }
 
 std::optional<std::string> Interp::get(std::string_view name) const {
+  if (s_->broken) return std::nullopt;
   const char* v = Tcl_GetVar2(s_->interp, std::string(name).c_str(), nullptr, TCL_GLOBAL_ONLY);
   if (v == nullptr) return std::nullopt;
   return std::string(v);
 }
 
 void Interp::set(std::string_view name, std::string_view value) {
+  if (s_->broken) return;
   Tcl_SetVar2(s_->interp, std::string(name).c_str(), nullptr, std::string(value).c_str(), TCL_GLOBAL_ONLY);
 }
 
 void Interp::watch(const std::string& name) {
-  if (!s_->watched.insert(name).second) return;
+  if (s_->broken || !s_->watched.insert(name).second) return;
   Tcl_TraceVar2(s_->interp, name.c_str(), nullptr, TCL_GLOBAL_ONLY | TCL_TRACE_READS, read_trace, s_.get());
 }
 

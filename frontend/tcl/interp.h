@@ -34,6 +34,7 @@ enum class ProblemKind : uint8_t {
   Refused,        // a command a scene may not use (exec, open for writing, socket, cd, exit, load …)
   MissingSource,  // `source FILE` of a file that cannot be read
   Fallback,       // a missing SLIDEUI.tcl/MATH.tcl/SLFCONSTS.tcl/MOVIE.tcl replaced by nomec's own
+  Memory,         // a value or memory use past nomec's bounds refused, or Tcl gave up (see guard.h)
 };
 
 struct Problem {
@@ -62,7 +63,7 @@ struct SlideCall {
 using Preset = std::function<std::optional<double>(const std::string& variable, double from, double to)>;
 
 struct Limits {
-  int64_t commands = 20'000'000;  // Tcl commands per script
+  int64_t commands = 2'000'000;  // Tcl commands per script
   int milliseconds = 5000;        // wall time per script
 };
 

@@ -154,6 +154,89 @@ TEST(TclInterp, RunawayScriptsStopAtTheTimeLimit) {
   EXPECT_TRUE(after.ok) << after.result;
 }
 
+TEST(TclInterp, RunawayLoopsStopAtTheCommandLimit) {
+  // Loops whose body Tcl compiles (at top level and in a procedure) count their commands.
+  for (const char* script : {"set i 0; while 1 {incr i}", "proc p {} {while 1 {set x 1}}; p",
+                             "for {set i 0} {1} {incr i} {set y [expr {$i * 2}]}"}) {
+    Interp in = make({}, Limits{100000, 60000});
+    Outcome o = in.run(script);
+    ASSERT_FALSE(o.ok) << script;
+    EXPECT_EQ(o.problems[0].kind, ProblemKind::Limit) << script;
+    EXPECT_NE(o.problems[0].message.find("command count"), std::string::npos) << o.problems[0].message;
+    EXPECT_TRUE(in.run("set after 1").ok) << script;
+  }
+}
+
+TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
+  for (const char* script : {
+           "string repeat x 1000000000",
+           "string repeat abc 400000000",
+           "lrepeat 1000000000 a",
+           "format %1000000000s x",
+           "format %.1000000000f 1.0",
+           "format %*s 1000000000 x",
+           "binary format x1000000000",
+           "binary format a1000000000 x",
+           "set s x; while 1 {append s $s}",
+           "set l a; while 1 {lappend l {*}$l}",
+           "set s x; while 1 {set s $s$s}",
+           "set s x; while 1 {set s \"$s$s$s\"}",
+           "set s x; while 1 {set s [string cat $s $s]}",
+           "set l a; while 1 {set l [concat $l $l]}",
+           "set l a; while 1 {set l [list {*}$l {*}$l]}",
+           "string map {a xxxxxxxxxx} [string repeat a 3000000]",
+           "regsub -all a [string repeat a 3000] {&&&&}",
+           "join [lrepeat 3000 [string repeat x 3000]]",
+           "proc grow {s} {return $s$s}; set s x; while 1 {set s [grow $s]}",
+       }) {
+    Interp in = make({}, Limits{int64_t{1} << 40, 60000});
+    Outcome o = in.run(script);
+    ASSERT_FALSE(o.ok) << script;
+    EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory) << script << ": " << o.problems[0].message;
+    EXPECT_NE(o.problems[0].message.find("at most"), std::string::npos) << o.problems[0].message;
+    // A refusal is an ordinary Tcl error: `catch` sees it, and the interpreter goes on.
+    EXPECT_TRUE(in.run("set after 1").ok) << script;
+  }
+}
+
+TEST(TclInterp, OrdinaryUseOfTheGuardedCommandsStillWorks) {
+  Interp in = make();
+  Outcome o = in.run(
+      "set s [string repeat ab 3]; append s c; lappend l 1 2; set f [format %5.2f 3.14159];"
+      "set r [lrepeat 2 x]; set j [join {a b} -]; set m [string map {a A} abc]; regsub -all b abab B g;"
+      "set c [concat {1 2} 3]; set b [binary format a3 xyz]; set k [string cat $s $f]");
+  ASSERT_TRUE(o.ok) << o.result;
+  EXPECT_EQ(in.get("s"), "abababc");
+  EXPECT_EQ(in.get("f"), " 3.14");
+  EXPECT_EQ(in.get("r"), "x x");
+  EXPECT_EQ(in.get("j"), "a-b");
+  EXPECT_EQ(in.get("m"), "Abc");
+  EXPECT_EQ(in.get("g"), "aBaB");
+  EXPECT_EQ(in.get("c"), "1 2 3");
+  EXPECT_EQ(in.get("k"), "abababc 3.14");
+}
+
+TEST(TclInterp, ATclPanicStopsTheScenesTclInsteadOfTheProcess) {
+  // One word joining 720 copies of a 3-million-character value passes Tcl's 2 GB limit for
+  // a value, which Tcl answers by aborting the process; nomec turns that into a problem.
+  std::string script = "set s [string repeat x 3000000]; set t ";
+  for (int i = 0; i < 720; ++i) script += "$s";
+  Interp in = make();
+  Outcome o = in.run(script);
+  ASSERT_FALSE(o.ok);
+  EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory);
+  EXPECT_NE(o.problems[0].message.find("Tcl gave up"), std::string::npos) << o.problems[0].message;
+  // The abandoned interpreter runs nothing more, and says so.
+  Outcome after = in.run("set x 1");
+  ASSERT_FALSE(after.ok);
+  EXPECT_EQ(after.problems[0].kind, ProblemKind::Memory);
+  EXPECT_FALSE(in.get("s").has_value());
+  // Other interpreters are not affected.
+  Interp other = make();
+  EXPECT_TRUE(other.run("set y [string repeat y 3]").ok);
+  EXPECT_EQ(other.get("y"), "yyy");
+}
+
 TEST(TclInterp, NormalizesCarriageReturns) {
   EXPECT_EQ(normalize_newlines("a \\\r\r\nb\rc"), "a \\\nb\nc");
   Interp in = make();
