@@ -172,9 +172,9 @@ def main():
     if not args.no_clang:
         candidates = [args.clang] if args.clang else ["clang", "clang-18", "clang-17", "clang-16", "clang-15", "clang-14"]
         clang = next((shutil.which(x) for x in candidates if x and shutil.which(x)), None)
-    if clang is None:
+    if clang is None and not args.no_clang:
         print("clang not found: no ratio (install clang or pass --clang)")
-    else:
+    elif clang is not None:
         t_c, rss_c = run([clang, "-fsyntax-only", "-w", c_path], args.repeat)
         report("clang -fsyntax-only", c_size, t_c, rss_c)
         print(f"ratio nomec/clang: time {t_n / t_c:.2f}x, throughput {(nome_size / t_n) / (c_size / t_c):.2f}x, "
