@@ -359,17 +359,23 @@ class AstBuilder {
   void build_file(NomeParser::FileContext* file) {
     for (antlr4::tree::ParseTree* t : file->children) {
       Child top = classify(t);
-      if (top.rule == nullptr || top.rule_index() != NomeParser::RuleTopStmt) continue;
-      Child inner = child(top.rule, 0);
+      if (top.rule != nullptr && top.rule_index() == NomeParser::RuleTopStmt) build_top(top.rule);
+    }
+  }
+
+  /// One `topStmt`: its item is appended to the AST's top level.
+  void build_top(antlr4::ParserRuleContext* top) {
+    {
+      Child inner = child(top, 0);
       if (inner.token_type() == NomeParser::TCLINIT) {
         ast::Item item;
         item.kind = ast::ItemKind::Tcl;
         item.range = token_range(inner.terminal->getSymbol());
         item.text = view(item.range);
         ast_.top.push_back(item);
-        continue;
+        return;
       }
-      if (inner.rule == nullptr) continue;
+      if (inner.rule == nullptr) return;
       switch (inner.rule_index()) {
         case NomeParser::RuleIncludeStmt: {
           ast::Item item;
@@ -805,18 +811,41 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   stream.parser_ = &parser;
   parser.removeErrorListeners();
 
-  // Stage 1: fast SLL prediction that bails on the first error.
+  // Stage 1: fast SLL prediction that bails on the first error, one top-level statement at
+  // a time: each statement's AST is built and its parse tree freed before the next is read,
+  // so the parse tree never holds more than one statement. (SLL prediction does not look at
+  // the rules around the statement, so the statement parses as inside `file`; the loop
+  // reads the end of the text without the stream's lookahead watch, as `file` would see it
+  // with every statement consumed.)
   parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
       antlr4::atn::PredictionMode::SLL);
   parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
-  NomeParser::FileContext* tree = nullptr;
-  try {
-    tree = parser.file();
-  } catch (const antlr4::ParseCancellationException&) {
-    tree = nullptr;
+  std::vector<int32_t> unanchored;
+  bool parsed = false;
+  {
+    DiagnosticEngine builder_diags;
+    AstBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
+    builder.repairs_ = &repairs;
+    try {
+      while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+        builder.build_top(parser.topStmt());
+        parser.getTreeTracker().reset();
+      }
+      parsed = true;
+    } catch (const antlr4::ParseCancellationException&) {
+      parsed = false;
+    }
+    if (parsed) {
+      sinks.syntax.append(std::move(builder_diags));
+    } else {
+      result = ast::Ast{};
+      result.file = file;
+      unanchored.clear();
+    }
   }
+  NomeParser::FileContext* tree = nullptr;
   SyntaxErrorListener listener(file, offsets, sinks.syntax);
-  if (tree == nullptr) {
+  if (!parsed) {
     // Stage 2: error reporting and recovery. Still SLL prediction: the grammar needs no
     // more (stage 1 would fail on a valid file that did), and full LL costs four times as
     // much on the files that reach this stage, those with syntax errors.
@@ -844,11 +873,11 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
   }
   if (tree != nullptr) {
-    AstBuilder builder(file, text, offsets, result,
-                       info != nullptr ? &info->unanchored_exprs : nullptr, &sinks.syntax);
+    AstBuilder builder(file, text, offsets, result, &unanchored, &sinks.syntax);
     builder.repairs_ = &repairs;
     builder.build_file(tree);
   }
+  if (info != nullptr) info->unanchored_exprs = std::move(unanchored);
   return result;
 }
 
