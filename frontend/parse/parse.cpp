@@ -595,9 +595,10 @@ class AstBuilder {
   }
 
   // The expression rules (`expr`, `listExpr`, `itemExpr`) are flat runs
-  // `sign* atom (op sign* atom)*`; this applies the precedence, loosest to tightest:
-  // `+ -`; `* / % //`; unary signs; `^` (right-associative; its right operand may carry
-  // signs). An atom (`atom`, `itemAtom`) converts directly.
+  // `sign* operand (op sign* operand)*`, an operand being a NUMBER or DOLLAR_REF token or
+  // an atom; this applies the precedence, loosest to tightest: `+ -`; `* / % //`; unary
+  // signs; `^` (right-associative; its right operand may carry signs). An atom (`atom`,
+  // `itemAtom`) converts directly.
   ast::ExprId convert_expr(antlr4::ParserRuleContext* ctx) {
     if (ctx == nullptr || ctx->children.empty() || ctx->exception != nullptr) {
       return error_expr(ctx);
@@ -667,7 +668,7 @@ class AstBuilder {
   // Signs, then a power.
   ast::ExprId unary(Run& run) {
     const Child* sign = run.peek();
-    if (sign == nullptr || sign->terminal == nullptr) return power(run);
+    if (sign == nullptr || sign->terminal == nullptr || is_token_operand(sign->token_type())) return power(run);
     const size_t type = sign->token_type();
     if (type != NomeParser::PLUS && type != NomeParser::MINUS && type != NomeParser::SPLUS &&
         type != NomeParser::SMINUS) {
@@ -683,12 +684,20 @@ class AstBuilder {
     return add(e);
   }
 
-  // An atom, and `^` with its (signed) right operand.
+  // An operand the expression rules read as a token (not through `atom`).
+  static bool is_token_operand(size_t type) { return type == NomeParser::NUMBER || type == NomeParser::DOLLAR_REF; }
+
+  // An operand (a NUMBER or DOLLAR_REF token, or an atom), and `^` with its (signed) right
+  // operand.
   ast::ExprId power(Run& run) {
     const Child* operand = run.peek();
-    if (operand == nullptr || operand->rule == nullptr) return error_expr(run.ctx);
+    if (operand == nullptr) return error_expr(run.ctx);
+    const size_t type = operand->token_type();
+    if (operand->rule == nullptr && !is_token_operand(type)) return error_expr(run.ctx);
     ++run.pos;
-    ast::ExprId base = convert_expr(operand->rule);
+    ast::ExprId base = operand->rule != nullptr ? convert_expr(operand->rule)
+                       : token_expr(type == NomeParser::NUMBER ? ast::ExprKind::Number : ast::ExprKind::DollarRef,
+                                    operand->terminal->getSymbol());
     const Child* caret = run.peek();
     if (caret == nullptr || caret->token_type() != NomeParser::CARET) return base;
     ++run.pos;
@@ -726,8 +735,6 @@ class AstBuilder {
   ast::ExprId convert_atom(antlr4::ParserRuleContext* ctx) {
     Child first = child(ctx, 0);
     switch (first.token_type()) {
-      case NomeParser::NUMBER: return token_expr(ast::ExprKind::Number, first.terminal->getSymbol());
-      case NomeParser::DOLLAR_REF: return token_expr(ast::ExprKind::DollarRef, first.terminal->getSymbol());
       case NomeParser::TCL_ARRAY_REF: return token_expr(ast::ExprKind::TclArrayRef, first.terminal->getSymbol());
       case NomeParser::BRACKET_RAW:
       case NomeParser::PCT_RAW: return token_expr(ast::ExprKind::Raw, first.terminal->getSymbol());
