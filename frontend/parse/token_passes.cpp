@@ -125,8 +125,7 @@ void retype_block_instance_names(std::vector<Tok>& toks, std::string_view text) 
 // in messages (`file`, or `function` for a function text parsed on its own).
 std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, uint32_t base, FileId file,
                                 DiagnosticEngine& diags, bool& stopped, std::string_view what) {
-  std::vector<Tok> out;
-  out.reserve(tokens.size());
+  size_t kept = 0;  // tokens[0, kept) are the output (written in place, never ahead of i)
   int brace_depth = 0;
   constexpr int kMaxNesting = 200;
   int nesting = 0;
@@ -139,7 +138,7 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
     auto& tok = tokens[i];
     size_t type = tok.type;
     if (type == kEof) {
-      out.push_back(std::move(tok));
+      tokens[kept++] = tok;
       break;
     }
     const size_t start = tok.begin;  // index into `text`
@@ -172,7 +171,7 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
     if (type == L::IDENT) {
       if (size_t gen = generator_token_type(text.substr(start, tok.end - start))) {
         tok.type = static_cast<uint16_t>(gen);
-        out.push_back(std::move(tok));
+        tokens[kept++] = tok;
         continue;
       }
     }
@@ -193,7 +192,7 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
     if (type == L::UNEXPECTED_CHAR && brace_depth > 0 && text[start] != '"') {
       // Inside braces any character may belong to a Tcl script (`{if {$n >= 2} …}`); the
       // parser keeps such a value raw and the checker explains it.
-      out.push_back(std::move(tok));
+      tokens[kept++] = tok;
       continue;
     }
     if (type == L::UNEXPECTED_CHAR) {
@@ -223,7 +222,6 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
                 "a no-break space (U+00A0) here is read as a space; it is invisible in most editors and other "
                 "tools may read it as part of a name or number")
           .fixit(r, std::string((r.end - r.begin) / 2, ' '), "replace with a plain space");
-      out.push_back(std::move(tok));
       continue;
     }
     if ((type == L::PLUS || type == L::MINUS) &&
@@ -238,10 +236,11 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
         tok.type = type == L::PLUS ? L::SPLUS : L::SMINUS;
       }
     }
-    out.push_back(std::move(tok));
+    if (!tok.hidden) tokens[kept++] = tok;  // whitespace and comments are no use after this pass
   }
-  retype_block_instance_names(out, text);
-  return out;
+  tokens.resize(kept);
+  retype_block_instance_names(tokens, text);
+  return tokens;
 }
 
 namespace {

@@ -28,7 +28,7 @@ bool is_operator(size_t type);
 
 /// Diagnostics for stray characters and unclosed constructs, generator keywords, the
 /// list-sign rule and NOME2's block instance names. Returns the tokens the parser should see
-/// (hidden ones included). `stopped` is set when a limit made the pass stop reading; `what`
+/// (default-channel ones only: the passes after this one and the parser skip the others). `stopped` is set when a limit made the pass stop reading; `what`
 /// names the text in messages (`file`, or `function` for a function text).
 std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, uint32_t base, FileId file,
                                 DiagnosticEngine& diags, bool& stopped, std::string_view what = "file");
