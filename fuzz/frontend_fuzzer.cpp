@@ -1,13 +1,15 @@
 // libFuzzer target for the front end: any bytes go through `nomec::check_source` as a NOME,
 // NOME3 or SLIDE file (chosen by the first byte). The run must not crash, trip a sanitizer
 // or throw, and every diagnostic range must lie inside its file. No file system access:
-// includes and `.anom` base scenes are reported as unreadable.
+// includes and `.anom` base scenes are reported as unreadable. Also differential: the
+// hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
 #include "frontend/check/check.h"
+#include "frontend/parse/tokens.h"
 
 namespace {
 
@@ -17,12 +19,25 @@ bool inside(const nomec::SourceManager& sources, const nomec::SourceRange& r) {
   return r.begin <= r.end && r.end <= sources.text(r.file).size();
 }
 
+// The two lexers agree on the text (when the hand-written one does not leave it to NomeLexer).
+bool lexers_agree(std::string_view text) {
+  nomec::DiagnosticEngine ignored;
+  std::string storage;
+  bool open = false;
+  const std::string_view blanked = nomec::parse_detail::blank_block_comments(text, storage, nomec::FileId{}, ignored, open);
+  nomec::parse_detail::Lexed fast, reference;
+  if (!nomec::parse_detail::lex_fast(blanked, fast)) return true;
+  nomec::parse_detail::lex_antlr(blanked, reference);
+  return fast.tokens == reference.tokens && fast.eof_touch_start == reference.eof_touch_start;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const char* const kPaths[] = {"fuzz.nome", "fuzz.nom", "fuzz.slf"};
   const char* path = kPaths[size > 0 ? data[0] % 3 : 0];
   std::string text(reinterpret_cast<const char*>(data), size);
+  if (!lexers_agree(text)) std::abort();
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions options;

@@ -124,24 +124,24 @@ item
 parenList : LPAREN (listExpr | COMMA)* RPAREN ;
 
 // ----- Expressions -----
-// An expression is a flat run of operands and operators: `sign* atom (op sign* atom)*`.
+// An expression is a flat run of operands and operators: `sign* operand (op sign* operand)*`.
 // The AST builder applies the precedence (loosest to tightest: `+ -`; `* / % //`; unary
 // `+ -`; `^`, right-associative, whose right operand may carry signs: `-2^2` is −4, `2^-1`
-// is 0.5), so the parse tree holds two nodes per operand instead of one per level.
+// is 0.5), so the parse tree holds at most two nodes per operand instead of one per level.
 // `expr` (nested contexts: calls, parentheses, braces) also takes `SPLUS`/`SMINUS` as
 // binary operators; a list element (`listExpr`) ends before one (the sign rule).
+// An operand is a NUMBER or DOLLAR_REF token (the most frequent operands: one tree node,
+// no rule of their own) or an `atom`.
 expr
-  : (PLUS | MINUS | SPLUS | SMINUS)* atom
-    ((PLUS | MINUS | SPLUS | SMINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  : (PLUS | MINUS | SPLUS | SMINUS)* (NUMBER | DOLLAR_REF | atom)
+    ((PLUS | MINUS | SPLUS | SMINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* (NUMBER | DOLLAR_REF | atom))*
   ;
 listExpr
-  : (PLUS | MINUS | SPLUS | SMINUS)* atom
-    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  : (PLUS | MINUS | SPLUS | SMINUS)* (NUMBER | DOLLAR_REF | atom)
+    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* (NUMBER | DOLLAR_REF | atom))*
   ;
 atom
-  : NUMBER                                          # numberAtom
-  | DOLLAR_REF                                      # dollarAtom
-  | TCL_ARRAY_REF                                   # tclArrayAtom
+  : TCL_ARRAY_REF                                   # tclArrayAtom
   | word LPAREN (expr (COMMA expr)*)? RPAREN        # callAtom
   | word                                            # nameAtom
   | LPAREN expr RPAREN                              # parenAtom
@@ -157,13 +157,11 @@ functionText : expr EOF ;
 // A value in a block body: like `listExpr` but never starting with a bare word or `(`
 // (those are the `word` and `parenList` items), which keeps `item` LL(1).
 itemExpr
-  : ((PLUS | MINUS | SPLUS | SMINUS)+ atom | itemAtom)
-    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* atom)*
+  : ((PLUS | MINUS | SPLUS | SMINUS)+ (NUMBER | DOLLAR_REF | atom) | NUMBER | DOLLAR_REF | itemAtom)
+    ((PLUS | MINUS | STAR | SLASH | DSLASH | PERCENT | CARET) (PLUS | MINUS | SPLUS | SMINUS)* (NUMBER | DOLLAR_REF | atom))*
   ;
 itemAtom
-  : NUMBER          # itemNumber
-  | DOLLAR_REF      # itemDollar
-  | TCL_ARRAY_REF   # itemTclArray
+  : TCL_ARRAY_REF   # itemTclArray
   | braceExpr       # itemBrace
   | BRACKET_RAW     # itemRaw
   | STRING          # itemString

@@ -26,6 +26,11 @@
 #include "frontend/index/index.h"
 #include "bench/common/generated_scene.h"
 #include "frontend/parse/parse.h"
+#include "tools/allocator.h"
+
+// The same allocator and options as `nomec` (see tools/allocator.h), so the figures are those
+// of the program users run.
+NOMEC_JEMALLOC_CONFIG();
 
 namespace {
 
@@ -433,6 +438,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   benchmark::Initialize(&argc, argv);
+  benchmark::AddCustomContext("allocator", std::string(nomec::allocator_name()));
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

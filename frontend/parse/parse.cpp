@@ -1,6 +1,8 @@
-// Parse layer implementation. Stages: lex with the generated NomeLexer; a token pass that
-// reports stray characters and unclosed comments/blocks, assigns the list-sign token types
-// (SPLUS/SMINUS, language.md §3) and retypes generator keywords (K_GEN/E_GEN); parse with
+// Parse layer implementation. Stages: lex with the hand-written lexer (lexer.cpp; ANTLR's
+// generated NomeLexer is its reference and fallback); the token passes (token_passes.cpp)
+// that report stray characters and unclosed comments/blocks, assign the list-sign token
+// types (SPLUS/SMINUS, language.md §3), retype generator keywords (K_GEN/E_GEN) and insert
+// repairs; parse the default-channel tokens (token_stream.h) with the generated parser,
 // SLL prediction that bails on the first error, then again with error recovery if it did;
 // then convert the parse tree into the ANTLR-free AST of frontend/ast.
 #include "frontend/parse/parse.h"
@@ -28,209 +30,28 @@
 #include "antlr4-runtime.h"
 #pragma GCC diagnostic pop
 
+#include "frontend/parse/token_passes.h"
+#include "frontend/parse/token_stream.h"
+#include "frontend/parse/tokens.h"
+
 namespace nomec {
 
 namespace {
 
 using nomec_antlr::NomeLexer;
 using nomec_antlr::NomeParser;
+using namespace parse_detail;
 
-// ANTLR indexes code points; diagnostics use byte offsets. The input is decoded here (not by
-// ANTLR, whose decoder throws on invalid UTF-8): every invalid byte becomes one U+FFFD, so
-// any byte sequence lexes, and `byte_of` maps a code-point index back to its byte offset.
-// A text parsed on its own but lying inside a file (the function of `funcX [ … ]`) has the
-// offset of its first byte in `base`, so ranges are file offsets.
+// Token offsets are bytes of the text parsed. A text parsed on its own but lying inside a
+// file (the function of `funcX [ … ]`) has the offset of its first byte in `base`, so
+// ranges are file offsets.
 struct Offsets {
-  std::vector<uint32_t> cp_to_byte;  // empty when the text is ASCII (identity)
   uint32_t text_size = 0;
   uint32_t base = 0;
   // Clamped to the text: tokens the parser conjures during recovery have no real position.
-  uint32_t local_of(size_t cp) const {
-    if (cp_to_byte.empty()) return static_cast<uint32_t>(std::min<size_t>(cp, text_size));
-    return cp < cp_to_byte.size() ? cp_to_byte[cp] : cp_to_byte.back();
-  }
-  uint32_t byte_of(size_t cp) const { return base + local_of(cp); }
+  uint32_t local_of(size_t at) const { return static_cast<uint32_t>(std::min<size_t>(at, text_size)); }
+  uint32_t byte_of(size_t at) const { return base + local_of(at); }
 };
-
-std::u32string decode_utf8(std::string_view text, Offsets& offsets) {
-  std::u32string out;
-  out.reserve(text.size());
-  bool ascii = std::all_of(text.begin(), text.end(), [](char c) { return (c & 0x80) == 0; });
-  for (size_t i = 0; i < text.size();) {
-    auto b = static_cast<unsigned char>(text[i]);
-    char32_t cp = 0xFFFD;
-    size_t len = 1;
-    if (b < 0x80) {
-      cp = b;
-    } else {
-      size_t need = (b & 0xE0) == 0xC0 ? 2 : (b & 0xF0) == 0xE0 ? 3 : (b & 0xF8) == 0xF0 ? 4 : 0;
-      if (need > 0 && i + need <= text.size()) {
-        char32_t v = b & (0x7F >> need);
-        bool ok = true;
-        for (size_t k = 1; k < need; ++k) {
-          auto c = static_cast<unsigned char>(text[i + k]);
-          if ((c & 0xC0) != 0x80) { ok = false; break; }
-          v = (v << 6) | (c & 0x3F);
-        }
-        if (ok && v <= 0x10FFFF && !(v >= 0xD800 && v <= 0xDFFF)) {
-          cp = v;
-          len = need;
-        }
-      }
-    }
-    if (!ascii) offsets.cp_to_byte.push_back(static_cast<uint32_t>(i));
-    out.push_back(cp);
-    i += len;
-  }
-  if (!ascii) offsets.cp_to_byte.push_back(static_cast<uint32_t>(text.size()));
-  return out;
-}
-
-// Nested `(* … *)` comments are removed before ANTLR sees the text: each comment character
-// (except newlines) becomes a space, so offsets do not move. An iterative scan handles any
-// nesting depth (ANTLR's recursive comment rule does not) and finds an unclosed comment at
-// its opening. `#` line comments and `"…"` strings are skipped so a `(*` inside them stays.
-bool blank_block_comments(std::u32string& text, const Offsets& offsets, FileId file,
-                          DiagnosticEngine& diags) {
-  size_t depth = 0;
-  size_t outer_open = 0;
-  for (size_t i = 0; i < text.size(); ++i) {
-    char32_t c = text[i];
-    char32_t next = i + 1 < text.size() ? text[i + 1] : 0;
-    if (depth == 0) {
-      if (c == '#') {
-        while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
-      } else if (c == '"') {
-        while (i + 1 < text.size() && text[i + 1] != '"' && text[i + 1] != '\n') ++i;
-        ++i;
-      } else if (c == '(' && next == '*') {
-        depth = 1;
-        outer_open = i;
-        text[i] = text[i + 1] = ' ';
-        ++i;
-      }
-      continue;
-    }
-    if (c == '(' && next == '*') {
-      ++depth;
-      text[i] = text[i + 1] = ' ';
-      ++i;
-    } else if (c == '*' && next == ')') {
-      --depth;
-      text[i] = text[i + 1] = ' ';
-      ++i;
-    } else if (c != '\n') {
-      text[i] = ' ';
-    }
-  }
-  if (depth > 0) {
-    uint32_t at = offsets.byte_of(outer_open);
-    diags.emit(DiagKind::UnclosedBlockComment, SourceRange{file, at, at + 2},
-               "block comment `(*` is never closed by a matching `*)`");
-  }
-  return depth > 0;
-}
-
-// The decoded text as ANTLR's character stream. It also records the start of the earliest
-// token whose lexing looked at the end of the input: when a piece of a file is parsed on its
-// own (ParseCache), only its trailing whitespace may do that, or the lexer might have
-// produced different tokens with the rest of the file behind the piece.
-class DecodedInput : public antlr4::ANTLRInputStream {
- public:
-  explicit DecodedInput(std::u32string data) {
-    _data = std::move(data);
-    p = 0;
-  }
-  size_t LA(ssize_t i) override {
-    size_t c = antlr4::ANTLRInputStream::LA(i);
-    if (c == antlr4::IntStream::EOF && i > 0 && lexer_ != nullptr) {
-      eof_touch_start_ = std::min(eof_touch_start_, lexer_->tokenStartCharIndex);
-    }
-    return c;
-  }
-  antlr4::Lexer* lexer_ = nullptr;
-  size_t eof_touch_start_ = static_cast<size_t>(-1);
-};
-
-// The parser's token stream. It records whether the parser looked at the end of the input
-// before it had consumed every token (inside a statement, or further ahead than the next
-// token): a piece parsed on its own is only equivalent to the same text inside the whole
-// file when the end was seen at the top level with nothing left to read.
-class WatchedTokenStream : public antlr4::CommonTokenStream {
- public:
-  using antlr4::CommonTokenStream::CommonTokenStream;
-  antlr4::Token* LT(ssize_t k) override {
-    antlr4::Token* t = antlr4::CommonTokenStream::LT(k);
-    if (k > 0 && t != nullptr && t->getType() == antlr4::Token::EOF && parser_ != nullptr &&
-        !eof_seen_early_ &&
-        (!all_consumed() || parser_->getErrorHandler()->inErrorRecoveryMode(parser_))) {
-      eof_seen_early_ = true;
-    }
-    return t;
-  }
-  NomeParser* parser_ = nullptr;
-  antlr4::Token* last_real_ = nullptr;  // the last default-channel token before EOF
-  // Set when the end was seen too early, or at the top level while the error strategy was
-  // still recovering from an error (it would then stay quiet about an error that follows).
-  bool eof_seen_early_ = false;
-
- private:
-  bool all_consumed() const {
-    antlr4::ParserRuleContext* ctx = parser_->getContext();
-    if (ctx == nullptr || ctx->getRuleIndex() != NomeParser::RuleFile) return false;
-    if (last_real_ == nullptr) return true;
-    if (ctx->children.empty()) return false;
-    antlr4::tree::ParseTree* child = ctx->children.back();
-    if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child);
-        term != nullptr && term->getSymbol()->getType() == antlr4::Token::EOF) {
-      return true;  // `file` matched EOF: nothing is left
-    }
-    if (auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child)) {
-      return rule->stop == last_real_;
-    }
-    if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) {
-      return term->getSymbol() == last_real_;
-    }
-    return false;
-  }
-};
-
-// Maps keyword token types to block kinds, derived from the lexer's literal names so the
-// grammar and block_kinds.def cannot drift apart silently (a missing keyword fails a test).
-// Every generator keyword is the one token type K_GEN (its end keyword E_GEN), assigned by
-// the token pass from the generator catalogue.
-struct KeywordTable {
-  std::unordered_map<size_t, ast::BlockKind> open;
-  std::unordered_map<size_t, ast::BlockKind> close;
-};
-
-const KeywordTable& keyword_table() {
-  static const KeywordTable table = [] {
-    KeywordTable t;
-    antlr4::ANTLRInputStream empty(std::string{});
-    NomeLexer lexer(&empty);
-    const antlr4::dfa::Vocabulary& vocab = lexer.getVocabulary();
-    for (size_t type = 1; type <= vocab.getMaxTokenType(); ++type) {
-      std::string lit = vocab.getLiteralName(type);
-      if (lit.size() <= 2) continue;
-      std::string word = lit.substr(1, lit.size() - 2);
-      if (auto kind = ast::block_of_keyword(word)) t.open[type] = *kind;
-      if (auto kind = ast::block_of_end_keyword(word)) t.close[type] = *kind;
-    }
-    t.open[NomeParser::K_GEN] = ast::BlockKind::Generator;
-    t.close[NomeParser::E_GEN] = ast::BlockKind::Generator;
-    return t;
-  }();
-  return table;
-}
-
-// The generator token type a name takes (K_GEN, E_GEN), or 0 when it is no generator keyword.
-size_t generator_token_type(std::string_view word) {
-  if (word.size() < 4) return 0;  // shorter than any generator keyword
-  if (ast::block_of_keyword(word) == ast::BlockKind::Generator) return NomeParser::K_GEN;
-  if (word.starts_with("end") && ast::block_of_end_keyword(word) == ast::BlockKind::Generator) return NomeParser::E_GEN;
-  return 0;
-}
 
 std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
   if (type == antlr4::Token::EOF) {
@@ -257,18 +78,6 @@ std::string token_display(const antlr4::dfa::Vocabulary& vocab, size_t type) {
     return "a `$` reference";
   }
   return sym;
-}
-
-bool is_end_token(size_t type) { return keyword_table().close.contains(type); }
-
-// An arithmetic operator or sign token.
-bool is_operator(size_t type) {
-  switch (type) {
-    case NomeParser::PLUS: case NomeParser::MINUS: case NomeParser::SPLUS: case NomeParser::SMINUS:
-    case NomeParser::STAR: case NomeParser::SLASH: case NomeParser::DSLASH: case NomeParser::PERCENT:
-    case NomeParser::CARET: return true;
-    default: return false;
-  }
 }
 
 // Converts ANTLR syntax errors into diagnostics, phrased in terms of NOME statements.
@@ -300,7 +109,7 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
       bool is_block_rule = rule.size() > 4 && rule.ends_with("Stmt") && rule != "topStmt" &&
                            rule != "includeStmt";
       if (is_block_rule && c->start != nullptr &&
-          keyword_table().open.contains(c->start->getType())) {
+          is_open_type(c->start->getType())) {
         opener = c->start;
         break;
       }
@@ -441,13 +250,9 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   }
   // The last default-channel token before the parser's current one.
   static antlr4::Token* previous_token(NomeParser* parser) {
-    auto* stream = dynamic_cast<antlr4::BufferedTokenStream*>(parser->getTokenStream());
-    if (stream == nullptr) return nullptr;
-    for (ssize_t i = static_cast<ssize_t>(stream->index()) - 1; i >= 0; --i) {
-      antlr4::Token* t = stream->get(static_cast<size_t>(i));
-      if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) return t;
-    }
-    return nullptr;
+    antlr4::TokenStream* stream = parser->getTokenStream();
+    const size_t at = stream->index();
+    return at > 0 ? stream->get(at - 1) : nullptr;  // the stream holds default-channel tokens only
   }
 };
 
@@ -477,503 +282,6 @@ class QuietErrorStrategy : public antlr4::DefaultErrorStrategy {
   }
 };
 
-// Silences ANTLR's console output from the lexer (all characters are tokens, so the lexer
-// itself has nothing to report).
-class SilentListener : public antlr4::BaseErrorListener {};
-
-// NOME2 (2018) names a top-level instance inside `subdivision`, `offset` and `merge` blocks
-// with `instance X`, without `endinstance` (`subdivision s instance c type T subdivisions 2
-// endsubdivision`). Such an `instance` becomes a name, which the block reads as its
-// `instance` option (frontend/check/blocks.cpp): it is inside one of those blocks and the
-// word after its name continues the block (`type`, `min`, …, another `instance`, or the
-// block's end keyword), where an instance statement would have its target.
-void retype_block_instance_names(std::vector<std::unique_ptr<antlr4::Token>>& toks) {
-  auto next = [&](size_t i) {
-    while (++i < toks.size() && toks[i]->getChannel() != antlr4::Token::DEFAULT_CHANNEL) {
-    }
-    return i;
-  };
-  int depth = 0;  // open subdivision, offset and merge blocks
-  for (size_t i = 0; i < toks.size(); ++i) {
-    if (toks[i]->getChannel() != antlr4::Token::DEFAULT_CHANNEL) continue;
-    const size_t type = toks[i]->getType();
-    if (type == NomeLexer::K_SUBDIVISION || type == NomeLexer::K_OFFSET || type == NomeLexer::K_MERGE) ++depth;
-    if ((type == NomeLexer::E_SUBDIVISION || type == NomeLexer::E_OFFSET || type == NomeLexer::E_MERGE) && depth > 0) --depth;
-    if (type != NomeLexer::K_INSTANCE || depth == 0) continue;
-    const size_t name = next(i);
-    const size_t after = next(name);
-    if (after >= toks.size() || toks[name]->getType() != NomeLexer::IDENT) continue;
-    const size_t t = toks[after]->getType();
-    const bool is_word = t == NomeLexer::IDENT || t == NomeLexer::K_INSTANCE || t == NomeLexer::E_SUBDIVISION ||
-                         t == NomeLexer::E_OFFSET || t == NomeLexer::E_MERGE;
-    if (!is_word || !continues_block_after_instance_name(toks[after]->getText())) continue;
-    if (auto* common = dynamic_cast<antlr4::CommonToken*>(toks[i].get())) common->setType(NomeLexer::IDENT);
-  }
-}
-
-// Token pass: diagnostics for stray characters and unclosed constructs, and the list-sign
-// rule. Returns the tokens the parser should see.
-// `stopped` is set when a limit made the pass stop reading the text; `what` names the text
-// in messages (`file`, or `function` for a function text parsed on its own).
-std::vector<std::unique_ptr<antlr4::Token>> prepare_tokens(
-    std::vector<std::unique_ptr<antlr4::Token>> tokens, std::string_view text,
-    const Offsets& offsets, FileId file, DiagnosticEngine& diags, bool& stopped,
-    std::string_view what = "file") {
-  std::vector<std::unique_ptr<antlr4::Token>> out;
-  out.reserve(tokens.size());
-  int brace_depth = 0;
-  constexpr int kMaxNesting = 200;
-  int nesting = 0;
-  int sign_run = 0;
-  int caret_run = 0;
-  auto range = [&](const antlr4::Token& t) {
-    return SourceRange{file, offsets.byte_of(t.getStartIndex()),
-                       offsets.byte_of(t.getStopIndex() + 1)};
-  };
-  for (size_t i = 0; i < tokens.size(); ++i) {
-    auto& tok = tokens[i];
-    size_t type = tok->getType();
-    if (type == antlr4::Token::EOF) {
-      out.push_back(std::move(tok));
-      break;
-    }
-    size_t start = offsets.local_of(tok->getStartIndex());  // index into `text`
-    // The parser is recursive: bound how deep brackets, signs and `^` chains nest, and stop
-    // reading the file where a limit is crossed (one error, no stack overflow).
-    if (type == NomeLexer::LPAREN || type == NomeLexer::LBRACE) {
-      ++nesting;
-    } else if ((type == NomeLexer::RPAREN || type == NomeLexer::RBRACE) && nesting > 0) {
-      --nesting;
-    }
-    bool is_sign = type == NomeLexer::PLUS || type == NomeLexer::MINUS;
-    sign_run = is_sign ? sign_run + 1 : 0;
-    if (type == NomeLexer::CARET) {
-      ++caret_run;
-    } else if (type != NomeLexer::NUMBER && type != NomeLexer::IDENT &&
-               type != NomeLexer::DOLLAR_REF && !is_sign) {
-      caret_run = 0;
-    }
-    if (nesting > kMaxNesting || sign_run > kMaxNesting || caret_run > kMaxNesting) {
-      diags.emit(DiagKind::NestingTooDeep, range(*tok),
-                 fmt::format("brackets, signs or `^` nest more than {} levels deep here; nomec "
-                             "stops reading the {} at this point",
-                             kMaxNesting, what));
-      stopped = true;
-      while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
-        ++i;
-      }
-      continue;
-    }
-    if (type == NomeLexer::IDENT) {
-      if (size_t gen = generator_token_type(text.substr(start, offsets.local_of(tok->getStopIndex() + 1) - start))) {
-        if (auto* common = dynamic_cast<antlr4::CommonToken*>(tok.get())) common->setType(gen);
-        out.push_back(std::move(tok));
-        continue;
-      }
-    }
-    if (type == NomeLexer::IDENT && (tok->getText() == "tclinit" || tok->getText() == "tclupdate")) {
-      diags.emit(DiagKind::UnclosedTclBlock, range(*tok),
-                 fmt::format("`{}` block is not enclosed in balanced braces `{{ … }}`", tok->getText()));
-      stopped = true;
-      while (i + 1 < tokens.size() && tokens[i + 1]->getType() != antlr4::Token::EOF) {
-        ++i;
-      }
-      continue;
-    }
-    if (type == NomeLexer::LBRACE) {
-      ++brace_depth;
-    } else if (type == NomeLexer::RBRACE && brace_depth > 0) {
-      --brace_depth;
-    }
-    if (type == NomeLexer::UNEXPECTED_CHAR && brace_depth > 0 && text[start] != '"') {
-      // Inside braces any character may belong to a Tcl script (`{if {$n >= 2} …}`); the
-      // parser keeps such a value raw and the checker explains it.
-      out.push_back(std::move(tok));
-      continue;
-    }
-    if (type == NomeLexer::UNEXPECTED_CHAR) {
-      char c = text[start];
-      if (c == '"') {
-        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
-                   "string is not closed: `\"` has no matching `\"` on this line");
-      } else if (c == '[') {
-        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
-                   "`[` is not closed by a matching `]`");
-      } else if (c == ';') {
-        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
-                   "unexpected `;`: NOME statements end with their `end…` keyword")
-            .fixit(range(*tok), "", "remove `;`");
-      } else {
-        unsigned char uc = static_cast<unsigned char>(c);
-        std::string shown = std::isprint(uc) ? std::string(1, c) : fmt::format("\\x{:02x}", uc);
-        diags.emit(DiagKind::UnexpectedCharacter, range(*tok),
-                   fmt::format("unexpected character `{}`", shown));
-      }
-      continue;
-    }
-    if (type == NomeLexer::NBSP) {
-      const SourceRange r = range(*tok);
-      diags
-          .emit(DiagKind::NonBreakingSpace, r,
-                "a no-break space (U+00A0) here is read as a space; it is invisible in most editors and other "
-                "tools may read it as part of a name or number")
-          .fixit(r, std::string((r.end - r.begin) / 2, ' '), "replace with a plain space");
-      out.push_back(std::move(tok));
-      continue;
-    }
-    if ((type == NomeLexer::PLUS || type == NomeLexer::MINUS) &&
-        tok->getChannel() == antlr4::Token::DEFAULT_CHANNEL) {
-      // U+00A0 is C2 A0 in UTF-8 and separates like a space.
-      auto nbsp_at = [&](size_t i) { return i + 1 < text.size() && text[i] == '\xC2' && text[i + 1] == '\xA0'; };
-      bool before = start == 0 || std::isspace(static_cast<unsigned char>(text[start - 1])) ||
-                    text[start - 1] == '(' || (start >= 2 && nbsp_at(start - 2));
-      bool after = start + 1 < text.size() &&
-                   !std::isspace(static_cast<unsigned char>(text[start + 1])) && !nbsp_at(start + 1);  // ASCII sign
-      if (before && after) {
-        auto* common = dynamic_cast<antlr4::CommonToken*>(tok.get());
-        if (common != nullptr) {
-          common->setType(type == NomeLexer::PLUS ? NomeParser::SPLUS : NomeParser::SMINUS);
-        }
-      }
-    }
-    out.push_back(std::move(tok));
-  }
-  retype_block_instance_names(out);
-  return out;
-}
-
-// A zero-width token of `type` at code point `at` (a repair the parser reads as written).
-std::unique_ptr<antlr4::Token> conjured_token(size_t type, const antlr4::Token& near, size_t at) {
-  // With the lexer and input as its source, like every other token: ANTLR's recovery copies
-  // them into the tokens it conjures.
-  auto t = std::make_unique<antlr4::CommonToken>(
-      std::pair<antlr4::TokenSource*, antlr4::CharStream*>{near.getTokenSource(), near.getInputStream()}, type,
-      antlr4::Token::DEFAULT_CHANNEL, at, at - 1);
-  t->setLine(near.getLine());
-  t->setCharPositionInLine(near.getCharPositionInLine());
-  return t;
-}
-
-// NOME3 evaluated function texts with exprtk, which reads a product without its `*` (`5x`,
-// `10(x^2+y^2)`, `(u+1)v`, `u v`; generators-original.md §11.2): between a number and a name
-// or `(`, a name and a number, `)` and a number or name, and two names. The same pairs
-// are never valid otherwise, so a `*` is put between them and the text is read as exprtk
-// read it.
-void insert_implicit_multiplication(std::vector<std::unique_ptr<antlr4::Token>>& tokens) {
-  auto product_pair = [](size_t a, size_t b) {
-    const bool number = a == NomeParser::NUMBER, name = a == NomeParser::IDENT, close = a == NomeParser::RPAREN;
-    if (number) return b == NomeParser::IDENT || b == NomeParser::LPAREN;
-    if (name) return b == NomeParser::NUMBER || b == NomeParser::IDENT;
-    if (close) return b == NomeParser::NUMBER || b == NomeParser::IDENT;
-    return false;
-  };
-  std::vector<std::unique_ptr<antlr4::Token>> out;
-  out.reserve(tokens.size());
-  const antlr4::Token* last = nullptr;  // the previous default-channel token
-  for (std::unique_ptr<antlr4::Token>& t : tokens) {
-    if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL && t->getType() != antlr4::Token::EOF) {
-      if (last != nullptr && product_pair(last->getType(), t->getType())) {
-        out.push_back(conjured_token(NomeParser::STAR, *t, t->getStartIndex()));
-      }
-      last = t.get();
-    }
-    out.push_back(std::move(t));
-  }
-  tokens = std::move(out);
-}
-
-// `point p 0 0 0) endpoint`: a `)` that closes nothing, after a run of values (or of names
-// after a statement's own name) on its line, is missing its `(`. One error with the fix-it,
-// and a `(` is put before the run so the statement is read as meant.
-void insert_missing_open_parens(std::vector<std::unique_ptr<antlr4::Token>>& tokens, const Offsets& offsets,
-                                FileId file, DiagnosticEngine& diags) {
-  auto real = [&](size_t i) {
-    return tokens[i]->getChannel() == antlr4::Token::DEFAULT_CHANNEL && tokens[i]->getType() != antlr4::Token::EOF;
-  };
-  auto is_value = [](size_t t) {
-    return t == NomeParser::NUMBER || t == NomeParser::DOLLAR_REF || t == NomeParser::TCL_ARRAY_REF || is_operator(t);
-  };
-  std::vector<std::pair<size_t, size_t>> inserts;  // (position in `tokens` to insert before, code point)
-  int depth = 0;
-  for (size_t i = 0; i < tokens.size(); ++i) {
-    if (!real(i)) continue;
-    const size_t type = tokens[i]->getType();
-    if (type == NomeParser::LPAREN) ++depth;
-    if (type != NomeParser::RPAREN) continue;
-    if (depth > 0) {
-      --depth;
-      continue;
-    }
-    // Walk back over the values on the `)`'s line (a `{…}` group counts as one value).
-    const size_t line = tokens[i]->getLine();
-    size_t first = i;
-    int braces = 0;
-    for (size_t k = i; k-- > 0;) {
-      if (!real(k)) continue;
-      const antlr4::Token& t = *tokens[k];
-      if (t.getLine() != line && braces == 0) break;
-      if (t.getType() == NomeParser::RBRACE) ++braces;
-      else if (t.getType() == NomeParser::LBRACE && braces > 0) --braces;
-      else if (braces == 0 && !is_value(t.getType())) break;
-      if (braces == 0) first = k;
-    }
-    if (first == i) {
-      // Names: `face f a b c)`; the run starts after the statement's keyword and name.
-      size_t names = i, keyword = i;
-      for (size_t k = i; k-- > 0;) {
-        if (!real(k)) continue;
-        const antlr4::Token& t = *tokens[k];
-        if (t.getLine() != line) break;
-        if (keyword_table().open.contains(t.getType())) {
-          keyword = k;
-          break;
-        }
-        if (t.getType() != NomeParser::IDENT) break;
-        names = k;
-      }
-      if (keyword == i) continue;
-      size_t after_name = keyword + 1;
-      while (after_name < i && !real(after_name)) ++after_name;
-      ++after_name;  // past the statement's own name
-      while (after_name < i && !real(after_name)) ++after_name;
-      if (after_name >= i || names > after_name) continue;
-      first = after_name;
-    }
-    const size_t at = tokens[first]->getStartIndex();
-    const uint32_t byte = offsets.byte_of(at);
-    const uint32_t close_at = offsets.byte_of(tokens[i]->getStartIndex());
-    diags
-        .emit(DiagKind::SyntaxError, SourceRange{file, close_at, close_at + 1},
-              fmt::format("`)` closes nothing here: the list it ends is missing its `(`"))
-        .note(SourceRange{file, byte, byte}, "the list would start here")
-        .fixit(SourceRange{file, byte, byte}, "(", "insert `(`");
-    inserts.emplace_back(first, at);
-  }
-  if (inserts.empty()) return;
-  std::vector<std::unique_ptr<antlr4::Token>> out;
-  out.reserve(tokens.size() + inserts.size());
-  size_t next = 0;
-  for (size_t i = 0; i < tokens.size(); ++i) {
-    while (next < inserts.size() && inserts[next].first == i) {
-      out.push_back(conjured_token(NomeParser::LPAREN, *tokens[i], inserts[next].second));
-      ++next;
-    }
-    out.push_back(std::move(tokens[i]));
-  }
-  tokens = std::move(out);
-}
-
-// NOME 2016 read `point`, `face`, `polyline`, `instance`, `funnel` and `tunnel` statements a
-// line at a time: the statement ended at its end keyword or at the end of its line, and a
-// wrong or misspelt end keyword there went unnoticed (compat.md §B2). So that such a file
-// parses as its author saw it, a statement of these kinds that is not closed on its first
-// line gets its end at the end of that line, in every dialect: a wrong end keyword
-// or a misspelt one (`endinstnace`) that ends the line is taken as its end, and where none
-// is there and the statement does not go on to its end keyword on later lines (the next
-// line starts another statement, or ends an enclosing one), an end is inserted. The parser
-// then reads the rest of the file as it is; the checker warns in `nome` files and reports
-// an error in the others (ast::CloseRepair says which repair was made).
-struct LineEndRepairs {
-  // By the start (code point) of the end token: those inserted (zero width) and those retyped.
-  std::unordered_set<size_t> inserted, replaced;
-};
-
-bool is_open_type(size_t type) { return keyword_table().open.contains(type); }
-
-// The end token type of a single-line statement opened by `type` (with its text `word`),
-// or 0 when the statement is not one of them.
-size_t line_statement_end(size_t type, std::string_view word) {
-  switch (type) {
-    case NomeParser::K_POINT: return NomeParser::E_POINT;
-    case NomeParser::K_FACE: return NomeParser::E_FACE;
-    case NomeParser::K_POLYLINE: return NomeParser::E_POLYLINE;
-    case NomeParser::K_INSTANCE: return NomeParser::E_INSTANCE;
-    case NomeParser::K_GEN: return word == "funnel" || word == "tunnel" ? NomeParser::E_GEN : 0;
-    default: return 0;
-  }
-}
-
-// A block the statement may contain on later lines (`instance … lookat … endlookat …`).
-bool nests_in(size_t open, size_t inner) {
-  return (open == NomeParser::K_INSTANCE && inner == NomeParser::K_LOOKAT) ||
-         (open == NomeParser::K_FACE && inner == NomeParser::K_VERTEX);
-}
-
-// A keyword that is also an option word of these statements (`surface RED`, the 2016
-// instance transform `mirror (…)`), so a line it starts may continue the statement.
-bool is_option_keyword(size_t type) { return type == NomeParser::K_SURFACE || type == NomeParser::K_MIRROR; }
-
-void end_line_statements(std::vector<std::unique_ptr<antlr4::Token>>& tokens, std::string_view text,
-                         const Offsets& offsets, LineEndRepairs& repairs) {
-  // The default-channel tokens, by position in `tokens`.
-  std::vector<size_t> real;
-  for (size_t i = 0; i < tokens.size(); ++i) {
-    if (tokens[i]->getChannel() == antlr4::Token::DEFAULT_CHANNEL && tokens[i]->getType() != antlr4::Token::EOF) {
-      real.push_back(i);
-    }
-  }
-  auto tok = [&](size_t r) -> antlr4::Token& { return *tokens[real[r]]; };
-  auto word = [&](size_t r) {
-    const size_t b = offsets.local_of(tok(r).getStartIndex()), e = offsets.local_of(tok(r).getStopIndex() + 1);
-    return text.substr(b, e - b);
-  };
-  auto line = [&](size_t r) { return tok(r).getLine(); };
-  auto first_on_line = [&](size_t r) { return r == 0 || line(r - 1) != line(r); };
-  struct Insert {
-    size_t after;  // position in `tokens` of the token the end follows
-    size_t type;
-  };
-  std::vector<Insert> inserts;
-  // Where a statement may start, judged from the tokens before it, never from line breaks
-  // (the formatter moves statements onto lines of their own and must not change how they
-  // are read): at the start of the text, after an end keyword (or an end inserted here),
-  // after a `tclinit` block or an `include "…"`, or first in the body of a block that holds
-  // statements (`group g instance …`, `mesh m face …`).
-  std::unordered_set<size_t> ended;  // real positions an end was inserted after
-  auto holds_statements = [](size_t t) {
-    switch (t) {
-      case NomeParser::K_MESH: case NomeParser::K_GROUP: case NomeParser::K_DELETE: case NomeParser::K_CONSOLIDATE:
-      case NomeParser::K_CONSOLIDATEFACE: case NomeParser::K_SAVEDWORKINGMESH: case NomeParser::K_MERGE:
-      case NomeParser::K_SUBDIVISION: case NomeParser::K_OFFSET: case NomeParser::K_HANDLE: case NomeParser::K_RIND:
-      case NomeParser::K_SIERPINSKI: case NomeParser::K_MENGER: case NomeParser::K_MIRROR: case NomeParser::K_SWEEP:
-        return true;
-      default: return false;
-    }
-  };
-  auto may_start = [&](size_t r) {
-    if (r == 0) return true;
-    const size_t prev = tok(r - 1).getType();
-    if (is_end_token(prev) || ended.contains(r - 1) || prev == NomeParser::TCLINIT || prev == NomeParser::STRING ||
-        holds_statements(prev)) {
-      return true;
-    }
-    return r >= 2 && holds_statements(tok(r - 2).getType()) &&
-           (prev == NomeParser::IDENT || is_open_type(prev) || prev == NomeParser::K_GEN);
-  };
-  // Each statement looks at its own line and then jumps between the places where a scan
-  // for its end could stop, so the pass stays linear in the text (a long line of
-  // statements, or many unclosed ones, must not make it quadratic).
-  const size_t n = real.size();
-  std::vector<size_t> line_last(n);
-  for (size_t k = n; k-- > 0;) line_last[k] = k + 1 < n && line(k + 1) == line(k) ? line_last[k + 1] : k;
-  std::vector<int> depth_at(n);  // `(` and `{` open before token k
-  for (size_t k = 0, d = 0; k < n; ++k) {
-    depth_at[k] = static_cast<int>(d);
-    const size_t t = tok(k).getType();
-    if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++d;
-    if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && d > 0) --d;
-  }
-  // The next token, from k on, outside brackets, where a scan for an end may stop: an end
-  // keyword, a block nested in an instance or face, or a statement keyword opening a line.
-  std::vector<size_t> next_stop(n + 1, n);
-  for (size_t k = n; k-- > 0;) {
-    const size_t t = tok(k).getType();
-    const bool stop = depth_at[k] == 0 &&
-                      (is_end_token(t) || t == NomeParser::K_LOOKAT || t == NomeParser::K_VERTEX ||
-                       (first_on_line(k) && (is_open_type(t) || t == NomeParser::K_GEN) && !is_option_keyword(t)));
-    next_stop[k] = stop ? k : next_stop[k + 1];
-  }
-  constexpr size_t kMaxStops = 4096;  // beyond this many nested blocks, leave the statement as written
-  for (size_t r = 0; r < n; ++r) {
-    const size_t type = tok(r).getType();
-    const bool at_start = depth_at[r] == 0 && may_start(r);
-    const size_t end_type = at_start ? line_statement_end(type, word(r)) : 0;
-    if (end_type == 0) continue;
-    // The rest of its line, at its own bracket depth, up to its end or an enclosing one's.
-    const size_t last = line_last[r];
-    bool closed = false;
-    int d = 0;
-    size_t foreign = 0;  // a token on the line that ends an enclosing statement
-    for (size_t k = r + 1; k <= last; ++k) {
-      const size_t t = tok(k).getType();
-      if (t == NomeParser::LPAREN || t == NomeParser::LBRACE) ++d;
-      if ((t == NomeParser::RPAREN || t == NomeParser::RBRACE) && d > 0) --d;
-      if (d != 0) continue;
-      if (t == end_type) {
-        closed = true;
-        // `funnel … endtunnel`: one token type closes every generator; the checker decides.
-        const std::optional<ir::GenKind> gen = ir::generator_by_keyword(word(r));
-        if (t == NomeParser::E_GEN && gen && !ir::generator(*gen).closes_with(word(r), word(k))) {
-          repairs.replaced.insert(tok(k).getStartIndex());
-        }
-        break;
-      }
-      if (is_end_token(t)) {
-        foreign = k;
-        break;
-      }
-    }
-    // Closed on its line, or a bracket left open there (another error, reported as such).
-    if (closed || d != 0) continue;
-    const std::string expected = ast::end_keyword(word(r));
-    if (foreign != 0) {
-      // A wrong end keyword of this family that ends the line is this statement's end; any
-      // other (`endmesh`) closes an enclosing block, and this statement ends before it.
-      const std::string_view w = word(foreign);
-      const bool family = w == "endpoint" || w == "endface" || w == "endpolyline" || w == "endinstance" ||
-                          tok(foreign).getType() == NomeParser::E_GEN;
-      if (family && foreign == last) {
-        static_cast<antlr4::CommonToken&>(tok(foreign)).setType(end_type);
-        repairs.replaced.insert(tok(foreign).getStartIndex());
-      } else {
-        inserts.push_back({real[foreign - 1], end_type});
-        ended.insert(foreign - 1);
-      }
-      continue;
-    }
-    if (last != r && tok(last).getType() == NomeParser::IDENT && word(last).starts_with("end") &&
-        !closest_match(word(last), std::vector<std::string>{expected}).empty()) {
-      static_cast<antlr4::CommonToken&>(tok(last)).setType(end_type);  // `endinstnace`
-      repairs.replaced.insert(tok(last).getStartIndex());
-      continue;
-    }
-    // Not closed on its line: does it go on to its end keyword before the next statement?
-    bool continues = false;
-    size_t inner = 0;
-    size_t stops = 0;
-    for (size_t k = next_stop[last + 1]; k < n; k = next_stop[k + 1]) {
-      if (++stops > kMaxStops) {
-        continues = true;
-        break;
-      }
-      const size_t t = tok(k).getType();
-      if (t == end_type && inner == 0) {
-        continues = true;
-        break;
-      }
-      if (nests_in(type, t)) {  // `face` … `vertex v endvertex` …
-        ++inner;
-        continue;
-      }
-      if (is_end_token(t)) {
-        if (inner == 0) break;
-        --inner;
-        continue;
-      }
-      if (first_on_line(k) && (is_open_type(t) || t == NomeParser::K_GEN) && !is_option_keyword(t)) break;
-    }
-    if (!continues) {
-      inserts.push_back({real[last], end_type});
-      ended.insert(last);
-    }
-  }
-  if (inserts.empty()) return;
-  std::vector<std::unique_ptr<antlr4::Token>> out;
-  out.reserve(tokens.size() + inserts.size());
-  size_t next = 0;
-  for (size_t i = 0; i < tokens.size(); ++i) {
-    out.push_back(std::move(tokens[i]));
-    while (next < inserts.size() && inserts[next].after == i) {
-      const antlr4::Token& before = *out.back();
-      // A zero-width token right after the last token of the line.
-      const size_t at = before.getStopIndex() + 1;
-      repairs.inserted.insert(at);
-      out.push_back(conjured_token(inserts[next].type, before, at));
-      ++next;
-    }
-  }
-  tokens = std::move(out);
-}
 
 // One child of a parse-tree node: a rule context or a token (an error node is a token the
 // parser conjured or skipped). Told apart with one virtual call instead of dynamic_cast:
@@ -1051,17 +359,23 @@ class AstBuilder {
   void build_file(NomeParser::FileContext* file) {
     for (antlr4::tree::ParseTree* t : file->children) {
       Child top = classify(t);
-      if (top.rule == nullptr || top.rule_index() != NomeParser::RuleTopStmt) continue;
-      Child inner = child(top.rule, 0);
+      if (top.rule != nullptr && top.rule_index() == NomeParser::RuleTopStmt) build_top(top.rule);
+    }
+  }
+
+  /// One `topStmt`: its item is appended to the AST's top level.
+  void build_top(antlr4::ParserRuleContext* top) {
+    {
+      Child inner = child(top, 0);
       if (inner.token_type() == NomeParser::TCLINIT) {
         ast::Item item;
         item.kind = ast::ItemKind::Tcl;
         item.range = token_range(inner.terminal->getSymbol());
         item.text = view(item.range);
         ast_.top.push_back(item);
-        continue;
+        return;
       }
-      if (inner.rule == nullptr) continue;
+      if (inner.rule == nullptr) return;
       switch (inner.rule_index()) {
         case NomeParser::RuleIncludeStmt: {
           ast::Item item;
@@ -1132,12 +446,12 @@ class AstBuilder {
     if (ctx->start == nullptr) {
       return std::nullopt;
     }
-    auto open_it = keyword_table().open.find(ctx->start->getType());
-    if (open_it == keyword_table().open.end()) {
+    const std::optional<ast::BlockKind> open = open_kind(ctx->start->getType());
+    if (!open) {
       return std::nullopt;
     }
     ast::Stmt stmt;
-    stmt.kind = open_it->second;
+    stmt.kind = *open;
     stmt.range = ctx_range(ctx);
     stmt.open_kw = token_range(ctx->start);
     stmt.keyword = view(stmt.open_kw);
@@ -1153,7 +467,7 @@ class AstBuilder {
             t->getStartIndex() != static_cast<size_t>(-1)) {
           const size_t start = t->getStartIndex();
           if (t->getStopIndex() + 1 == start) {  // zero width: inserted, or conjured by recovery
-            if (repairs_ != nullptr && repairs_->inserted.contains(start)) {
+            if (repairs_ != nullptr && repairs_->inserted.contains(static_cast<uint32_t>(start))) {
               const uint32_t at = offsets_.byte_of(start);
               stmt.close_kw = SourceRange{file_, at, at};
               stmt.close_repair = ast::CloseRepair::Inserted;
@@ -1161,7 +475,7 @@ class AstBuilder {
           } else if (t->getStopIndex() >= start) {
             stmt.close_kw = token_range(t);
             stmt.close_text = view(stmt.close_kw);
-            if (repairs_ != nullptr && repairs_->replaced.contains(start)) stmt.close_repair = ast::CloseRepair::Replaced;
+            if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) stmt.close_repair = ast::CloseRepair::Replaced;
           }
         }
         continue;
@@ -1281,9 +595,10 @@ class AstBuilder {
   }
 
   // The expression rules (`expr`, `listExpr`, `itemExpr`) are flat runs
-  // `sign* atom (op sign* atom)*`; this applies the precedence, loosest to tightest:
-  // `+ -`; `* / % //`; unary signs; `^` (right-associative; its right operand may carry
-  // signs). An atom (`atom`, `itemAtom`) converts directly.
+  // `sign* operand (op sign* operand)*`, an operand being a NUMBER or DOLLAR_REF token or
+  // an atom; this applies the precedence, loosest to tightest: `+ -`; `* / % //`; unary
+  // signs; `^` (right-associative; its right operand may carry signs). An atom (`atom`,
+  // `itemAtom`) converts directly.
   ast::ExprId convert_expr(antlr4::ParserRuleContext* ctx) {
     if (ctx == nullptr || ctx->children.empty() || ctx->exception != nullptr) {
       return error_expr(ctx);
@@ -1353,7 +668,7 @@ class AstBuilder {
   // Signs, then a power.
   ast::ExprId unary(Run& run) {
     const Child* sign = run.peek();
-    if (sign == nullptr || sign->terminal == nullptr) return power(run);
+    if (sign == nullptr || sign->terminal == nullptr || is_token_operand(sign->token_type())) return power(run);
     const size_t type = sign->token_type();
     if (type != NomeParser::PLUS && type != NomeParser::MINUS && type != NomeParser::SPLUS &&
         type != NomeParser::SMINUS) {
@@ -1369,12 +684,20 @@ class AstBuilder {
     return add(e);
   }
 
-  // An atom, and `^` with its (signed) right operand.
+  // An operand the expression rules read as a token (not through `atom`).
+  static bool is_token_operand(size_t type) { return type == NomeParser::NUMBER || type == NomeParser::DOLLAR_REF; }
+
+  // An operand (a NUMBER or DOLLAR_REF token, or an atom), and `^` with its (signed) right
+  // operand.
   ast::ExprId power(Run& run) {
     const Child* operand = run.peek();
-    if (operand == nullptr || operand->rule == nullptr) return error_expr(run.ctx);
+    if (operand == nullptr) return error_expr(run.ctx);
+    const size_t type = operand->token_type();
+    if (operand->rule == nullptr && !is_token_operand(type)) return error_expr(run.ctx);
     ++run.pos;
-    ast::ExprId base = convert_expr(operand->rule);
+    ast::ExprId base = operand->rule != nullptr ? convert_expr(operand->rule)
+                       : token_expr(type == NomeParser::NUMBER ? ast::ExprKind::Number : ast::ExprKind::DollarRef,
+                                    operand->terminal->getSymbol());
     const Child* caret = run.peek();
     if (caret == nullptr || caret->token_type() != NomeParser::CARET) return base;
     ++run.pos;
@@ -1412,8 +735,6 @@ class AstBuilder {
   ast::ExprId convert_atom(antlr4::ParserRuleContext* ctx) {
     Child first = child(ctx, 0);
     switch (first.token_type()) {
-      case NomeParser::NUMBER: return token_expr(ast::ExprKind::Number, first.terminal->getSymbol());
-      case NomeParser::DOLLAR_REF: return token_expr(ast::ExprKind::DollarRef, first.terminal->getSymbol());
       case NomeParser::TCL_ARRAY_REF: return token_expr(ast::ExprKind::TclArrayRef, first.terminal->getSymbol());
       case NomeParser::BRACKET_RAW:
       case NomeParser::PCT_RAW: return token_expr(ast::ExprKind::Raw, first.terminal->getSymbol());
@@ -1465,66 +786,73 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
 
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
-  std::u32string decoded = decode_utf8(text, offsets);
-  bool comment_open = blank_block_comments(decoded, offsets, file, sinks.comments);
-  DecodedInput input(std::move(decoded));
-  NomeLexer lexer(&input);
-  input.lexer_ = &lexer;
-  lexer.removeErrorListeners();
-  SilentListener silent;
-  lexer.addErrorListener(&silent);
-  std::vector<std::unique_ptr<antlr4::Token>> raw = lexer.getAllTokens();
-  input.lexer_ = nullptr;
-  // Only the trailing whitespace may have looked at the end of the text (see DecodedInput).
-  bool lexer_contained = raw.empty() ? input.eof_touch_start_ == static_cast<size_t>(-1)
-                                     : (raw.back()->getType() == NomeLexer::WS || raw.back()->getType() == NomeLexer::NBSP) &&
-                                           input.eof_touch_start_ >= raw.back()->getStartIndex();
-  // getAllTokens() stops before EOF; add it so the parser sees a proper end.
-  raw.push_back(lexer.getTokenFactory()->create(
-      {&lexer, &input}, antlr4::Token::EOF, "<EOF>", antlr4::Token::DEFAULT_CHANNEL,
-      input.size(), input.size() - 1, 0, 0));
+  std::string blanked_storage;
+  Lexed lexed = lex_text(text, file, sinks.comments, blanked_storage);
+  const std::string_view lexed_text = blanked_storage.empty() ? text : std::string_view(blanked_storage);
+  std::vector<Tok>& raw = lexed.tokens;
+  // Only the trailing whitespace may have looked at the end of the text (see Lexed).
+  const bool lexer_contained =
+      raw.empty() ? lexed.eof_touch_start == static_cast<size_t>(-1)
+                  : (raw.back().type == NomeLexer::WS || raw.back().type == NomeLexer::NBSP) &&
+                        lexed.eof_touch_start >= raw.back().begin;
+  // The parser needs a proper end.
+  const auto size = static_cast<uint32_t>(text.size());
+  raw.push_back(Tok{size, size, 0, kEof, false});
   bool stopped = false;
   DiagnosticEngine token_diags;
-  std::vector<std::unique_ptr<antlr4::Token>> tokens =
-      prepare_tokens(std::move(raw), text, offsets, file, token_diags, stopped);
+  std::vector<Tok> tokens = prepare_tokens(std::move(raw), text, 0, file, token_diags, stopped);
   // Repairs only where the whole text was read (a limit may have cut it short). Their
   // diagnostics join the token pass's in position order, as a piece of the file reports them.
   LineEndRepairs repairs;
   if (!stopped) {
     DiagnosticEngine repair_diags;
-    insert_missing_open_parens(tokens, offsets, file, repair_diags);
+    insert_missing_open_parens(tokens, 0, file, repair_diags);
     token_diags.merge_in_order(std::move(repair_diags));
-    end_line_statements(tokens, text, offsets, repairs);
+    end_line_statements(tokens, text, repairs);
   }
   sinks.tokens.append(std::move(token_diags));
-  antlr4::Token* last_real = nullptr;
-  size_t first_type = antlr4::Token::EOF;
-  for (const auto& t : tokens) {
-    if (t->getType() != antlr4::Token::EOF && t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) {
-      if (last_real == nullptr) first_type = t->getType();
-      last_real = t.get();
-    }
-  }
 
-  antlr4::ListTokenSource source(std::move(tokens));
-  WatchedTokenStream stream(&source);
+  ArenaTokenStream stream(tokens, lexed_text);
+  std::vector<Tok>().swap(tokens);
   NomeParser parser(&stream);
   stream.parser_ = &parser;
-  stream.last_real_ = last_real;
   parser.removeErrorListeners();
 
-  // Stage 1: fast SLL prediction that bails on the first error.
+  // Stage 1: fast SLL prediction that bails on the first error, one top-level statement at
+  // a time: each statement's AST is built and its parse tree freed before the next is read,
+  // so the parse tree never holds more than one statement. (SLL prediction does not look at
+  // the rules around the statement, so the statement parses as inside `file`; the loop
+  // reads the end of the text without the stream's lookahead watch, as `file` would see it
+  // with every statement consumed.)
   parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
       antlr4::atn::PredictionMode::SLL);
   parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
-  NomeParser::FileContext* tree = nullptr;
-  try {
-    tree = parser.file();
-  } catch (const antlr4::ParseCancellationException&) {
-    tree = nullptr;
+  std::vector<int32_t> unanchored;
+  bool parsed = false;
+  {
+    DiagnosticEngine builder_diags;
+    AstBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
+    builder.repairs_ = &repairs;
+    try {
+      while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+        builder.build_top(parser.topStmt());
+        parser.getTreeTracker().reset();
+      }
+      parsed = true;
+    } catch (const antlr4::ParseCancellationException&) {
+      parsed = false;
+    }
+    if (parsed) {
+      sinks.syntax.append(std::move(builder_diags));
+    } else {
+      result = ast::Ast{};
+      result.file = file;
+      unanchored.clear();
+    }
   }
+  NomeParser::FileContext* tree = nullptr;
   SyntaxErrorListener listener(file, offsets, sinks.syntax);
-  if (tree == nullptr) {
+  if (!parsed) {
     // Stage 2: error reporting and recovery. Still SLL prediction: the grammar needs no
     // more (stage 1 would fail on a valid file that did), and full LL costs four times as
     // much on the files that reach this stage, those with syntax errors.
@@ -1545,17 +873,18 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     // At the start of a file the parser enters `topStmt*`; inside a file it loops back to
     // it. The two recover differently from a token that cannot start a statement.
     const antlr4::atn::ATN& atn = parser.getATN();
+    const size_t first_type = stream.first_type();
     info->starts_cleanly =
         first_type == antlr4::Token::EOF ||
         atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(first_type);
-    info->self_contained = !comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
+    info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
   }
   if (tree != nullptr) {
-    AstBuilder builder(file, text, offsets, result,
-                       info != nullptr ? &info->unanchored_exprs : nullptr, &sinks.syntax);
+    AstBuilder builder(file, text, offsets, result, &unanchored, &sinks.syntax);
     builder.repairs_ = &repairs;
     builder.build_file(tree);
   }
+  if (info != nullptr) info->unanchored_exprs = std::move(unanchored);
   return result;
 }
 
@@ -1581,18 +910,12 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
   offsets.base = b;
-  DecodedInput input(decode_utf8(text, offsets));
-  NomeLexer lexer(&input);
-  lexer.removeErrorListeners();
-  SilentListener silent;
-  lexer.addErrorListener(&silent);
-  std::vector<std::unique_ptr<antlr4::Token>> raw_tokens = lexer.getAllTokens();
-  raw_tokens.push_back(lexer.getTokenFactory()->create({&lexer, &input}, antlr4::Token::EOF, "<EOF>",
-                                                       antlr4::Token::DEFAULT_CHANNEL, input.size(), input.size() - 1, 0, 0));
+  Lexed lexed = lex_unblanked(text);
+  const auto size = static_cast<uint32_t>(text.size());
+  lexed.tokens.push_back(Tok{size, size, 0, kEof, false});
   bool stopped = false;
   DiagnosticEngine token_diags;
-  std::vector<std::unique_ptr<antlr4::Token>> tokens =
-      prepare_tokens(std::move(raw_tokens), text, offsets, file, token_diags, stopped, "function");
+  std::vector<Tok> tokens = prepare_tokens(std::move(lexed.tokens), text, b, file, token_diags, stopped, "function");
   const bool token_errors = token_diags.error_count() > 0;
   diags.append(std::move(token_diags));
   auto error = [&](SourceRange at) {
@@ -1604,8 +927,7 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
   };
   if (token_errors || stopped) return error(raw);  // one message: the parser would only echo it
   insert_implicit_multiplication(tokens);
-  antlr4::ListTokenSource source(std::move(tokens));
-  antlr4::CommonTokenStream stream(&source);
+  ArenaTokenStream stream(tokens, text);
   NomeParser parser(&stream);
   parser.removeErrorListeners();
   SyntaxErrorListener listener(file, offsets, diags);
@@ -1646,20 +968,14 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
 namespace nomec {
 
 std::vector<LexToken> lex_file(std::string_view text) {
-  Offsets offsets;
-  offsets.text_size = static_cast<uint32_t>(text.size());
-  std::u32string original = decode_utf8(text, offsets);
-  std::u32string blanked = original;
+  using namespace parse_detail;
   DiagnosticEngine ignored;
-  blank_block_comments(blanked, offsets, FileId{}, ignored);
-  DecodedInput input(std::move(blanked));
-  NomeLexer lexer(&input);
-  lexer.removeErrorListeners();
-  SilentListener silent;
-  lexer.addErrorListener(&silent);
+  std::string blanked_storage;
+  const Lexed lexed = lex_text(text, FileId{}, ignored, blanked_storage);
+  const std::string_view original = text;
   std::vector<LexToken> out;
-  auto push = [&](LexKind kind, size_t first_cp, size_t end_cp) {
-    out.push_back(LexToken{kind, offsets.byte_of(first_cp), offsets.byte_of(end_cp)});
+  auto push = [&](LexKind kind, size_t begin, size_t end) {
+    out.push_back(LexToken{kind, static_cast<uint32_t>(begin), static_cast<uint32_t>(end)});
   };
   // An unclosed string, `[` or `%{` is one token to the end of its line or of the text;
   // the lexer's tokens inside it are skipped.
@@ -1669,11 +985,11 @@ std::vector<LexToken> lex_file(std::string_view text) {
     push(kind, begin, end);
     skip_to = end;
   };
-  for (const auto& tok : lexer.getAllTokens()) {
-    size_t begin = tok->getStartIndex();
-    size_t end = tok->getStopIndex() + 1;
+  for (const Tok& tok : lexed.tokens) {
+    size_t begin = tok.begin;
+    size_t end = tok.end;
     if (begin < skip_to) continue;
-    switch (tok->getType()) {
+    switch (tok.type) {
       case NomeLexer::WS:
         // Blanked block comments are whitespace here: find them in the original text.
         for (size_t i = begin; i < end; ++i) {

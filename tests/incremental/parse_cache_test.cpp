@@ -20,11 +20,16 @@
 #include "frontend/check/check.h"
 #include "frontend/parse/parse.h"
 #include "ir/ir.h"
+#include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
 
 namespace fs = std::filesystem;
 
 namespace {
+
+using nomec::testing_dump::dump_ast;
+using nomec::testing_dump::dump_diags;
+using nomec::testing_dump::dump_range;
 
 std::string read(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -60,58 +65,6 @@ std::string generated_scene(int modules) {
         k, 4 + k % 8, k % 10);
   }
   return out;
-}
-
-std::string dump_range(nomec::SourceRange r) {
-  return fmt::format("{}:{}-{}", r.file.index, r.begin, r.end);
-}
-
-template <typename Items>
-std::string dump_items(const Items& items) {
-  std::string s;
-  for (const auto& i : items) {
-    s += fmt::format(" [{} {} '{}' e{} l{} s{}]", static_cast<int>(i.kind), dump_range(i.range),
-                     i.text, i.expr.index, i.list.index, i.block.index);
-  }
-  return s;
-}
-
-std::string dump_ast(const nomec::ast::Ast& a) {
-  std::string s = fmt::format("file {}\ntop:{}\n", a.file.index, dump_items(a.top));
-  for (size_t k = 0; k < a.stmts.size(); ++k) {
-    const auto& st = a.stmts[k];
-    s += fmt::format("s{} kind {} {} open {} close {} '{}':{}\n", k, static_cast<int>(st.kind),
-                     dump_range(st.range), dump_range(st.open_kw), dump_range(st.close_kw),
-                     st.close_text, dump_items(st.items));
-  }
-  for (size_t k = 0; k < a.exprs.size(); ++k) {
-    const auto& e = a.exprs[k];
-    s += fmt::format("e{} {} '{}' {} {} '{}' {} l{} r{}", k, static_cast<int>(e.kind),
-                     e.op == 0 ? ' ' : e.op, e.in_braces, dump_range(e.range), e.text, e.number,
-                     e.lhs.index, e.rhs.index);
-    for (auto arg : e.args) s += fmt::format(" a{}", arg.index);
-    s += "\n";
-  }
-  for (size_t k = 0; k < a.lists.size(); ++k) {
-    const auto& l = a.lists[k];
-    s += fmt::format("l{} {}", k, dump_range(l.range));
-    for (auto e : l.elems) s += fmt::format(" e{}", e.index);
-    for (auto c : l.commas) s += " ," + dump_range(c);
-    s += "\n";
-  }
-  return s;
-}
-
-std::string dump_diags(const nomec::DiagnosticEngine& diags) {
-  std::string s;
-  for (const auto& d : diags.diagnostics()) {
-    s += fmt::format("{} {} {}\n", nomec::diag_kind_name(d.kind), dump_range(d.range), d.message);
-    for (const auto& n : d.notes) s += fmt::format("  note {} {}\n", dump_range(n.range), n.message);
-    for (const auto& f : d.fixits) {
-      s += fmt::format("  fixit {} '{}' {}\n", dump_range(f.range), f.replacement, f.description);
-    }
-  }
-  return s;
 }
 
 // Both parses see the document as file 1 (file 0 is another file), so a cache that kept

@@ -1,0 +1,53 @@
+// Internal to frontend/parse: the passes between the lexer and the parser. They report stray
+// characters and unclosed constructs, retype tokens (generator keywords to K_GEN/E_GEN,
+// list signs to SPLUS/SMINUS, NOME2's block `instance` names to IDENT) and insert the
+// tokens a repair needs (a missing `(`, the end of a single-line statement, the `*` of an
+// implicit product in a function text). Offsets are bytes of the text parsed; `base` is
+// that text's offset in its file (non-zero for a function text inside a file).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
+#include <unordered_set>
+#include <vector>
+
+#include "frontend/ast/ast.h"
+#include "frontend/diagnostics/diagnostic.h"
+#include "frontend/parse/tokens.h"
+
+namespace nomec::parse_detail {
+
+/// The block an opening keyword's token type opens, or none (K_GEN opens a generator).
+std::optional<ast::BlockKind> open_kind(size_t type);
+/// True for an end keyword's token type (E_GEN included).
+bool is_end_token(size_t type);
+inline bool is_open_type(size_t type) { return open_kind(type).has_value(); }
+/// An arithmetic operator or sign token.
+bool is_operator(size_t type);
+
+/// Diagnostics for stray characters and unclosed constructs, generator keywords, the
+/// list-sign rule and NOME2's block instance names. Returns the tokens the parser should see
+/// (default-channel ones only: the passes after this one and the parser skip the others). `stopped` is set when a limit made the pass stop reading; `what`
+/// names the text in messages (`file`, or `function` for a function text).
+std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, uint32_t base, FileId file,
+                                DiagnosticEngine& diags, bool& stopped, std::string_view what = "file");
+
+/// exprtk's implicit products in function texts (`5x`, `(u+1)v`): a `*` between the pairs
+/// that are never valid otherwise.
+void insert_implicit_multiplication(std::vector<Tok>& tokens);
+
+/// `point p 0 0 0) endpoint`: one error with its fix-it, and the missing `(` inserted.
+void insert_missing_open_parens(std::vector<Tok>& tokens, uint32_t base, FileId file, DiagnosticEngine& diags);
+
+/// Where end_line_statements ended a single-line statement: by the start (byte offset in the
+/// text) of the end token, those inserted (zero width) and those retyped.
+struct LineEndRepairs {
+  std::unordered_set<uint32_t> inserted, replaced;
+};
+
+/// NOME 2016's single-line statements (`point`, `face`, `polyline`, `instance`, `funnel`,
+/// `tunnel`) end at the end of their line when not closed there (compat.md §B2).
+void end_line_statements(std::vector<Tok>& tokens, std::string_view text, LineEndRepairs& repairs);
+
+}  // namespace nomec::parse_detail

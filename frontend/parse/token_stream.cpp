@@ -1,0 +1,88 @@
+// The generated parser's token stream over the token list (token_stream.h).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wall"
+#pragma GCC diagnostic ignored "-Wextra"
+#pragma GCC diagnostic ignored "-Wattributes"
+#pragma GCC diagnostic ignored "-Woverloaded-virtual"
+#include "NomeParser.h"
+#include "antlr4-runtime.h"
+#pragma GCC diagnostic pop
+
+#include "frontend/parse/token_stream.h"
+
+namespace nomec::parse_detail {
+
+std::string ArenaToken::getText() const {
+  const std::string_view text = source_->lexed();
+  if (type_ == kEof) return "<EOF>";
+  if (end_ > begin_) return std::string(text.substr(begin_, end_ - begin_));
+  // A zero-width token a pass inserted: as ANTLR's CommonToken over the input reads it.
+  return begin_ >= 1 && begin_ < text.size() ? std::string() : std::string("<EOF>");
+}
+
+antlr4::TokenSource* ArenaToken::getTokenSource() const { return const_cast<ArenaTokenSource*>(source_); }
+
+ArenaTokenStream::ArenaTokenStream(const std::vector<Tok>& tokens, std::string_view lexed) : source_(lexed) {
+  size_t count = 0;
+  for (const Tok& t : tokens) count += t.hidden ? 0 : 1;
+  tokens_.reserve(count);
+  for (const Tok& t : tokens) {
+    if (!t.hidden) tokens_.emplace_back(&source_, t, tokens_.size());
+  }
+}
+
+antlr4::Token* ArenaTokenStream::LT(ssize_t k) {
+  if (k == 0) return nullptr;
+  if (k < 0) {
+    const auto back = static_cast<size_t>(-k);
+    return back > p_ ? nullptr : &tokens_[p_ - back];
+  }
+  const size_t i = std::min(p_ + static_cast<size_t>(k) - 1, tokens_.size() - 1);
+  ArenaToken* t = &tokens_[i];
+  if (t->getType() == antlr4::Token::EOF && parser_ != nullptr && !eof_seen_early_ &&
+      (!all_consumed() || parser_->getErrorHandler()->inErrorRecoveryMode(parser_))) {
+    eof_seen_early_ = true;
+  }
+  return t;
+}
+
+void ArenaTokenStream::consume() {
+  if (LA(1) == antlr4::Token::EOF) throw antlr4::IllegalStateException("cannot consume EOF");
+  ++p_;
+}
+
+std::string ArenaTokenStream::getText(const antlr4::misc::Interval& interval) {
+  if (interval.a < 0 || interval.b < 0) return {};
+  std::string out;
+  const size_t last = std::min(static_cast<size_t>(interval.b), tokens_.size() - 1);
+  for (size_t i = static_cast<size_t>(interval.a); i <= last; ++i) {
+    if (tokens_[i].getType() == antlr4::Token::EOF) break;
+    out += tokens_[i].getText();
+  }
+  return out;
+}
+
+std::string ArenaTokenStream::getText(antlr4::Token* start, antlr4::Token* stop) {
+  if (start == nullptr || stop == nullptr) return {};
+  return getText(antlr4::misc::Interval(start->getTokenIndex(), stop->getTokenIndex()));
+}
+
+// The end was seen at the top level with nothing left to read: `file` matched EOF, or its
+// last statement ends with the last token.
+bool ArenaTokenStream::all_consumed() const {
+  antlr4::ParserRuleContext* ctx = parser_->getContext();
+  if (ctx == nullptr || ctx->getRuleIndex() != nomec_antlr::NomeParser::RuleFile) return false;
+  const antlr4::Token* last = last_real();
+  if (last == nullptr) return true;
+  if (ctx->children.empty()) return false;
+  antlr4::tree::ParseTree* child = ctx->children.back();
+  if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child);
+      term != nullptr && term->getSymbol()->getType() == antlr4::Token::EOF) {
+    return true;
+  }
+  if (auto* rule = dynamic_cast<antlr4::ParserRuleContext*>(child)) return rule->stop == last;
+  if (auto* term = dynamic_cast<antlr4::tree::TerminalNode*>(child)) return term->getSymbol() == last;
+  return false;
+}
+
+}  // namespace nomec::parse_detail
