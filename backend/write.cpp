@@ -212,6 +212,11 @@ bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bo
 std::string to_stl_binary(std::span<const OutputMesh> meshes) {
   std::string out;
   write_stl_binary(meshes, [&](std::string_view piece) {
+    if (out.empty()) {  // the first piece holds the count: size the string once
+      uint32_t count = 0;
+      std::memcpy(&count, piece.data() + 80, 4);
+      if constexpr (std::endian::native == std::endian::little) out.reserve(84 + 50 * static_cast<size_t>(count));
+    }
     out.append(piece);
     return true;
   });

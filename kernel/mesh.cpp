@@ -129,6 +129,10 @@ void MeshAccess::link_borders(Mesh& m) {
   m.border_loops_.clear();
   const int32_t vertex_count = m.vertex_count();
   const int32_t edge_count = m.edge_count();
+  // A closed mesh (e.g. every offset) needs neither the per-vertex table nor the loops.
+  bool is_closed = true;
+  for (int32_t i = 0; i < edge_count && is_closed; ++i) is_closed = m.use_faces_[2 * i + 1].is_valid();
+  if (is_closed) return;
   // Up to two boundary edges per vertex (more would be a non-manifold vertex, which
   // the builder rejects before calling this).
   std::vector<EdgeId> at_vertex(2 * static_cast<size_t>(vertex_count), EdgeId::None());
