@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <iterator>
+#include <functional>
 #include <map>
 
 namespace nomec::backend {
@@ -105,6 +106,18 @@ glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_
   return l > 0 ? n / l : glm::dvec3(0.0);
 }
 
+// A face that is not fanned from its first vertex (a non-convex one whose ear clipping
+// succeeds) appends its triangles to `out` and returns true; other faces append nothing.
+bool clip_face(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, std::vector<int32_t>& out) {
+  if (n == 3) return false;
+  const glm::dvec3 nrm = newell(s, v, n);
+  if (is_convex(s, v, n, nrm)) return false;
+  const size_t before = out.size();
+  if (ear_clip(s, v, n, nrm, out)) return true;
+  out.resize(before);  // a failed clip falls back to the fan
+  return false;
+}
+
 }  // namespace
 
 std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
@@ -116,54 +129,97 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
     const int32_t n = s.face_sizes[f];
     const int32_t* v = s.face_vertices.data() + at;
     at += n;
-    if (n == 3) {
-      out.insert(out.end(), {v[0], v[1], v[2]});
-      continue;
-    }
-    const glm::dvec3 nrm = newell(s, v, n);
-    if (!is_convex(s, v, n, nrm)) {
-      std::vector<int32_t> tris;
-      if (ear_clip(s, v, n, nrm, tris)) {
-        out.insert(out.end(), tris.begin(), tris.end());
-        continue;
-      }
-    }
+    if (clip_face(s, v, n, out)) continue;
     for (int32_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {v[0], v[i], v[i + 1]});
   }
   return out;
 }
 
-std::string to_stl_binary(std::span<const OutputMesh> meshes) {
-  std::vector<std::vector<int32_t>> tris;
+bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+  // Pass 1: the triangle count for the header, keeping the few ear-clipped faces' triangles
+  // (the rest are fans from their first vertex, made again in pass 2).
+  std::vector<std::vector<uint8_t>> clipped(meshes.size());
+  std::vector<int32_t> clipped_tris;
+  std::vector<size_t> clipped_end;  // per clipped face, the end of its triangles
   uint32_t count = 0;
-  for (const OutputMesh& m : meshes) {
-    tris.push_back(triangulate(m.soup));
-    count += static_cast<uint32_t>(tris.back().size() / 3);
-  }
-  // Sized once and filled in place: 80-byte header, the count, then 50 bytes per triangle
-  // (12 little-endian floats and a zero attribute word, already zero).
-  std::string out(84 + 50 * static_cast<size_t>(count), '\0');
-  const std::string_view header = "nomec binary STL";
-  std::copy(header.begin(), header.end(), out.begin());
-  char* at = out.data() + 80;
-  put_u32(at, count);
-  at += 4;
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    const kernel::PolygonSoup& s = meshes[i].soup;
-    const auto& t = tris[i];
-    for (size_t k = 0; k + 2 < t.size(); k += 3) {
-      const glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
-      const glm::dvec3& a = s.positions[t[k]];
-      const glm::dvec3& b = s.positions[t[k + 1]];
-      const glm::dvec3& c = s.positions[t[k + 2]];
-      const float f[12] = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z),
-                           static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z),
-                           static_cast<float>(b.x), static_cast<float>(b.y), static_cast<float>(b.z),
-                           static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
-      put_f32s(at, f);
-      at += 50;
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const kernel::PolygonSoup& s = meshes[m].soup;
+    clipped[m].assign(static_cast<size_t>(s.face_count()), 0);
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      const int32_t n = s.face_sizes[f];
+      const size_t before = clipped_tris.size();
+      if (clip_face(s, s.face_vertices.data() + at, n, clipped_tris)) {
+        clipped[m][f] = 1;
+        clipped_end.push_back(clipped_tris.size());
+        count += static_cast<uint32_t>((clipped_tris.size() - before) / 3);
+      } else {
+        count += static_cast<uint32_t>(n - 2);
+      }
+      at += n;
     }
   }
+  // Pass 2: 50-byte records (12 little-endian floats and a zero attribute word) into a
+  // buffer of about a megabyte that goes to `sink` whenever it is full.
+  constexpr size_t kChunk = 50 * 20000;
+  std::vector<char> buf(kChunk + 84);
+  const std::string_view header = "nomec binary STL";
+  std::copy(header.begin(), header.end(), buf.begin());
+  put_u32(buf.data() + 80, count);
+  size_t used = 84;
+  auto emit = [&](const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
+    if (used + 50 > buf.size()) {
+      if (!sink(std::string_view(buf.data(), used))) return false;
+      used = 0;
+    }
+    const glm::dvec3 n = tri_normal(s, a, b, c);
+    const glm::dvec3& pa = s.positions[a];
+    const glm::dvec3& pb = s.positions[b];
+    const glm::dvec3& pc = s.positions[c];
+    const float f[12] = {static_cast<float>(n.x),  static_cast<float>(n.y),  static_cast<float>(n.z),
+                         static_cast<float>(pa.x), static_cast<float>(pa.y), static_cast<float>(pa.z),
+                         static_cast<float>(pb.x), static_cast<float>(pb.y), static_cast<float>(pb.z),
+                         static_cast<float>(pc.x), static_cast<float>(pc.y), static_cast<float>(pc.z)};
+    put_f32s(buf.data() + used, f);
+    buf[used + 48] = buf[used + 49] = 0;
+    used += 50;
+    return true;
+  };
+  size_t next_clipped = 0, clipped_face = 0;
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    const kernel::PolygonSoup& s = meshes[m].soup;
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      const int32_t n = s.face_sizes[f];
+      const int32_t* v = s.face_vertices.data() + at;
+      at += n;
+      if (!clipped[m][f]) {
+        for (int32_t i = 1; i + 1 < n; ++i) {
+          if (!emit(s, v[0], v[i], v[i + 1])) return false;
+        }
+        continue;
+      }
+      for (const size_t end = clipped_end[clipped_face++]; next_clipped < end; next_clipped += 3) {
+        if (!emit(s, clipped_tris[next_clipped], clipped_tris[next_clipped + 1], clipped_tris[next_clipped + 2])) {
+          return false;
+        }
+      }
+    }
+  }
+  return sink(std::string_view(buf.data(), used));
+}
+
+std::string to_stl_binary(std::span<const OutputMesh> meshes) {
+  std::string out;
+  write_stl_binary(meshes, [&](std::string_view piece) {
+    if (out.empty()) {  // the first piece holds the count: size the string once
+      uint32_t count = 0;
+      std::memcpy(&count, piece.data() + 80, 4);
+      if constexpr (std::endian::native == std::endian::little) out.reserve(84 + 50 * static_cast<size_t>(count));
+    }
+    out.append(piece);
+    return true;
+  });
   return out;
 }
 

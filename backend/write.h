@@ -4,6 +4,7 @@
 // so a failed compile never touches an existing output.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,6 +21,10 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& soup);
 
 /// Binary STL: 80-byte header, triangle count, 50 bytes per triangle (little endian).
 std::string to_stl_binary(std::span<const OutputMesh> meshes);
+/// The same bytes as `to_stl_binary`, handed to `sink` in consecutive pieces of about a
+/// megabyte (so a large model is never held in memory whole, e.g. `nomec --emit stl`
+/// writes each piece to the file as it is made). Stops and returns false when `sink` does.
+bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink);
 /// ASCII STL, one `solid` per mesh.
 std::string to_stl_ascii(std::span<const OutputMesh> meshes);
 /// OBJ (`o` per mesh, polygons kept as written). When `mtl_file` is not empty, a

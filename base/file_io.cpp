@@ -14,6 +14,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <utility>
+
 namespace nomec {
 
 std::optional<std::string> read_file_bytes(const std::string& path) {
@@ -44,55 +46,72 @@ std::string write_all(int fd, std::string_view content, const std::string& shown
   return {};
 }
 
-// Writes straight into an existing non-regular file (`/dev/null`, a FIFO, a terminal):
-// renaming a temporary file over it would replace the device or pipe with a plain file.
-std::string write_in_place(const std::string& path, std::string_view content) {
-  int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC);
-  if (fd < 0) return quoted_error("cannot open", path);
-  std::string err = write_all(fd, content, path);
-  ::close(fd);
-  return err;
-}
-
 }  // namespace
 
-std::string write_file_atomically(const std::string& path, std::string_view content) {
+// An existing non-regular file (`/dev/null`, a FIFO, a terminal) is written straight into:
+// renaming a temporary file over it would replace the device or pipe with a plain file.
+AtomicFileWriter::AtomicFileWriter(const std::string& path) : path_(path) {
   struct stat st {};
-  const bool exists = ::stat(path.c_str(), &st) == 0;
-  if (exists && !S_ISREG(st.st_mode)) return write_in_place(path, content);
+  exists_ = ::stat(path.c_str(), &st) == 0;
+  if (exists_ && !S_ISREG(st.st_mode)) {
+    is_in_place_ = true;
+    fd_ = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+    if (fd_ < 0) error_ = quoted_error("cannot open", path);
+    return;
+  }
+  mode_ = st.st_mode & 07777;
   std::string tmpl = path + ".tmp.XXXXXX";
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
-  int fd = mkstemp(name.data());
-  if (fd < 0) return quoted_error("cannot create", tmpl);
-  const std::string temp(name.data());
-  if (std::string err = write_all(fd, content, temp); !err.empty()) {
+  fd_ = mkstemp(name.data());
+  if (fd_ < 0) {
+    error_ = quoted_error("cannot create", tmpl);
+    return;
+  }
+  temp_ = name.data();
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!temp_.empty()) ::unlink(temp_.c_str());
+}
+
+bool AtomicFileWriter::append(std::string_view piece) {
+  if (!error_.empty() || fd_ < 0) return false;
+  error_ = write_all(fd_, piece, is_in_place_ ? path_ : temp_);
+  return error_.empty();
+}
+
+std::string AtomicFileWriter::commit() {
+  if (!error_.empty() || fd_ < 0) return error_.empty() ? "cannot write `" + path_ + "`: already committed" : error_;
+  const int fd = std::exchange(fd_, -1);
+  if (is_in_place_) {
     ::close(fd);
-    ::unlink(temp.c_str());
-    return err;
+    return {};
   }
   // mkstemp creates 0600: keep the permissions of the file being replaced, or give a new
   // output the ordinary 0666 less the umask.
   mode_t mode = 0;
-  if (exists) {
-    mode = st.st_mode & 07777;
+  if (exists_) {
+    mode = static_cast<mode_t>(mode_);
   } else {
     mode_t mask = umask(0);
     umask(mask);
     mode = 0666 & ~mask;
   }
   fchmod(fd, mode);
-  if (::close(fd) != 0) {
-    std::string err = quoted_error("cannot write", temp);
-    ::unlink(temp.c_str());
-    return err;
+  if (::close(fd) != 0) return quoted_error("cannot write", temp_);
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    return "cannot rename `" + temp_ + "` to `" + path_ + "`: " + std::strerror(errno);
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::string err = "cannot rename `" + temp + "` to `" + path + "`: " + std::strerror(errno);
-    ::unlink(temp.c_str());
-    return err;
-  }
+  temp_.clear();  // in place now: nothing to remove
   return {};
+}
+
+std::string write_file_atomically(const std::string& path, std::string_view content) {
+  AtomicFileWriter out(path);
+  out.append(content);
+  return out.commit();
 }
 
 std::optional<FolderListing> list_folder(const std::string& dir) {

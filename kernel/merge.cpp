@@ -171,12 +171,12 @@ namespace {
 
 using Kind = KernelError::Kind;
 
-// The boundary vertices of a mesh in a spatial hash of cells as large as the tolerance,
+// The boundary vertices of a mesh in a spatial hash of cells three tolerances wide,
 // with each one's (at most two) boundary edges.
 class BoundaryGrid {
  public:
   BoundaryGrid(const Mesh& mesh, double tolerance)
-      : mesh_(mesh), tol2_(tolerance * tolerance), cell_(std::max(tolerance, 1e-12)),
+      : mesh_(mesh), tol_(tolerance), tol2_(tolerance * tolerance), cell_(std::max(3 * tolerance, 1e-12)),
         boundary_at_(2 * static_cast<size_t>(mesh.vertex_count()), EdgeId::None()) {
     for (int32_t e = 0; e < mesh.edge_count(); ++e) {
       if (!mesh.is_boundary(EdgeId(e))) continue;
@@ -204,11 +204,15 @@ class BoundaryGrid {
   void near(int32_t v, std::vector<int32_t>& out) const {
     out.clear();
     const glm::dvec3& p = mesh_.position(VertexId(v));
-    const CellKey k = key_of(p);
-    for (int64_t dx = -1; dx <= 1; ++dx) {
-      for (int64_t dy = -1; dy <= 1; ++dy) {
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          auto it = grid_.find(CellKey{k.x + dx, k.y + dy, k.z + dz});
+    // A coinciding vertex lies within tol of p on every axis; the cells are three tolerances
+    // wide, so the box p ± 1.5 tol (the half tolerance of margin absorbs rounding) meets at
+    // most two cells per axis: at most 8 lookups instead of the 27 around p's cell.
+    const CellKey lo = key_of(p - 1.5 * tol_);
+    const CellKey hi = key_of(p + 1.5 * tol_);
+    for (int64_t x = lo.x; x <= hi.x; ++x) {
+      for (int64_t y = lo.y; y <= hi.y; ++y) {
+        for (int64_t z = lo.z; z <= hi.z; ++z) {
+          auto it = grid_.find(CellKey{x, y, z});
           if (it == grid_.end()) continue;
           for (int32_t w : it->second) {
             if (coincide(mesh_.position(VertexId(w)), p)) out.push_back(w);
@@ -229,6 +233,7 @@ class BoundaryGrid {
   CellKey key_of(const glm::dvec3& p) const { return CellKey{to_cell(p.x), to_cell(p.y), to_cell(p.z)}; }
 
   const Mesh& mesh_;
+  double tol_;
   double tol2_;
   double cell_;
   std::vector<EdgeId> boundary_at_;

@@ -129,6 +129,10 @@ void MeshAccess::link_borders(Mesh& m) {
   m.border_loops_.clear();
   const int32_t vertex_count = m.vertex_count();
   const int32_t edge_count = m.edge_count();
+  // A closed mesh (e.g. every offset) needs neither the per-vertex table nor the loops.
+  bool is_closed = true;
+  for (int32_t i = 0; i < edge_count && is_closed; ++i) is_closed = m.use_faces_[2 * i + 1].is_valid();
+  if (is_closed) return;
   // Up to two boundary edges per vertex (more would be a non-manifold vertex, which
   // the builder rejects before calling this).
   std::vector<EdgeId> at_vertex(2 * static_cast<size_t>(vertex_count), EdgeId::None());
@@ -333,7 +337,9 @@ KernelError non_manifold_edges(const PolygonSoup& soup, const Mesh& m,
 
 // One edge per vertex pair that faces share (the first face's use is side 0, the second's
 // side 1; the same direction in both marks a Möbius edge); `uses` gets each corner's use.
-std::optional<KernelError> make_edges(const PolygonSoup& soup, Mesh& m, std::vector<EdgeUse>& uses) {
+// `first[k]` is the smallest use index with use k's unordered vertex pair (`first_uses`).
+std::optional<KernelError> make_edges(const PolygonSoup& soup, Mesh& m, const std::vector<int32_t>& first,
+                                      std::vector<EdgeUse>& uses) {
   auto& edge_vertices = MeshAccess::edge_vertices(m);
   auto& use_faces = MeshAccess::use_faces(m);
   auto& flags = MeshAccess::edge_flags(m);
@@ -342,7 +348,6 @@ std::optional<KernelError> make_edges(const PolygonSoup& soup, Mesh& m, std::vec
   edge_vertices.reserve(2 * expected_edges);
   use_faces.reserve(2 * expected_edges);
   flags.reserve(expected_edges);
-  const std::vector<int32_t> first = first_uses(soup);
   uses.assign(use_count, EdgeUse::None());
   std::vector<std::pair<int32_t, int32_t>> extra_faces;  // edge index -> a third face
   size_t offset = 0;
@@ -444,17 +449,20 @@ std::optional<KernelError> check_vertex_fans(const PolygonSoup& soup, const Mesh
   return error;
 }
 
-// Face sources and colours, vertex names, crease and corner sharpness.
-std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m) {
-  const int32_t vertex_count = soup.vertex_count();
+// Face sources and colours (unless `are_faces_set`), vertex names, crease and corner sharpness.
+std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m, bool are_faces_set = false) {
+  const int32_t vertex_count = m.vertex_count();  // the soup's positions may have moved into m
   auto& face_sources = MeshAccess::face_sources(m);
-  if (soup.face_sources.empty()) {
+  if (are_faces_set) {
+    // The caller moved the sources and colours in (`build_paired`).
+  } else if (soup.face_sources.empty()) {
     face_sources.resize(soup.face_count());
     for (int32_t f = 0; f < soup.face_count(); ++f) face_sources[f].source_face = f;
+    MeshAccess::face_colors(m) = soup.face_colors;
   } else {
     face_sources = soup.face_sources;
+    MeshAccess::face_colors(m) = soup.face_colors;
   }
-  MeshAccess::face_colors(m) = soup.face_colors;
   if (!soup.names.empty()) MeshAccess::names(m) = soup.names;
   auto& sharpness = MeshAccess::sharpness(m);
   if (!soup.creases.empty()) sharpness.assign(m.edge_count(), 0.0f);
@@ -499,11 +507,35 @@ Result<Mesh> build_mesh(const PolygonSoup& soup) {
   Mesh m;
   MeshAccess::positions(m) = soup.positions;
   std::vector<EdgeUse> uses;
-  if (auto e = make_edges(soup, m, uses)) return *e;
+  if (auto e = make_edges(soup, m, first_uses(soup), uses)) return *e;
   link_wings(soup, m, uses);
   anchor_vertices(m);
   if (auto e = check_vertex_fans(soup, m)) return *e;
   if (auto e = copy_properties(soup, m)) return *e;
+  MeshAccess::link_borders(m);
+  return m;
+}
+
+Result<Mesh> MeshAccess::build_paired(PolygonSoup soup, std::vector<int32_t> twin) {
+  // The pairing stands in for `first_uses` (each edge has at most two uses, so the first
+  // of a pair is the smaller index); the caller vouches for the soup and the fans.
+  std::vector<int32_t>& first = twin;
+  for (size_t k = 0; k < first.size(); ++k) {
+    const int32_t self = static_cast<int32_t>(k);
+    first[k] = first[k] >= 0 ? std::min(self, first[k]) : self;
+  }
+  Mesh m;
+  MeshAccess::positions(m) = std::move(soup.positions);
+  std::vector<EdgeUse> uses;
+  if (auto e = make_edges(soup, m, first, uses)) return *e;
+  link_wings(soup, m, uses);
+  anchor_vertices(m);
+  const bool are_faces_set = !soup.face_sources.empty();
+  if (are_faces_set) {
+    MeshAccess::face_sources(m) = std::move(soup.face_sources);
+    MeshAccess::face_colors(m) = std::move(soup.face_colors);
+  }
+  if (auto e = copy_properties(soup, m, are_faces_set)) return *e;
   MeshAccess::link_borders(m);
   return m;
 }

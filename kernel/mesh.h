@@ -300,6 +300,13 @@ struct MeshAccess {
   static uint8_t mobius_flag() { return Mesh::kMobiusFlag; }
   /// Links boundary edges into border loops (uses the F_b wings of boundary edges).
   static void link_borders(Mesh& m);
+  /// `build_mesh(soup)` for a caller that already knows which uses share an edge, e.g. the
+  /// offset, whose edges follow from the input's: `twin[k]` is the other use (soup corner
+  /// index, corner k running from the k-th face vertex to the next) of use k's edge, or -1
+  /// on a border. Preconditions, not checked: the soup is valid, `twin` is an involution
+  /// pairing exactly the uses with equal unordered vertex pairs (no pair is used more than
+  /// twice), and every vertex's faces form one fan. The result equals `build_mesh(soup)`.
+  static Result<Mesh> build_paired(PolygonSoup soup, std::vector<int32_t> twin);
 };
 
 template <typename Fn>

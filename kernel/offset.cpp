@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -72,6 +73,84 @@ void assign_vertex_normals(Mesh& mesh) {
 
 namespace {
 
+// The edges of the offset soup follow from the input's, so they need not be searched for
+// (the search is most of the builder's cost). Soup corner k runs from the k-th face vertex
+// to the next. The positive copy of input use u (corner p = `corner_of_use[u]`, joining
+// P(u) to P(next u)) and its negative copy (the same use in the reversed loop, joining the
+// partners N = P ^ 1) pair with the two copies of u's twin: positive with positive if the
+// twin joins the same two output vertices, else positive with negative. On a border they
+// pair with the ribbon of u's edge, and each ribbon's two sides (v+ to v-) with the
+// neighbouring ribbons' sides at the same vertex. Returns the pairing for
+// `MeshAccess::build_paired`, or nothing if some corner finds no single partner (the
+// builder then searches and reports what is wrong).
+std::vector<int32_t> offset_twins(const Mesh& mesh, const PolygonSoup& soup, const std::vector<int32_t>& corner_of_use) {
+  const int32_t F = mesh.face_count();
+  const int32_t total = static_cast<int32_t>(soup.face_vertices.size());
+  const int32_t* fv = soup.face_vertices.data();
+  std::vector<int32_t> face_start(static_cast<size_t>(F) + 1, 0);
+  for (int32_t f = 0; f < F; ++f) face_start[f + 1] = face_start[f] + soup.face_sizes[f];
+  const int32_t corners = face_start[F];  // corners of the positive copy (= the input's)
+  // The negative copy's corner of positive corner p of face f (loop reversed).
+  auto negative_corner = [&](int32_t p, int32_t f) {
+    const int32_t o = face_start[f], n = face_start[f + 1] - o;
+    const int32_t j = n - 2 - (p - o);
+    return corners + o + (j < 0 ? j + n : j);
+  };
+  auto same = [](int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
+    return (a0 == b0 && a1 == b1) || (a0 == b1 && a1 == b0);
+  };
+  const std::vector<int32_t> none;
+  std::vector<int32_t> twin(total, -1);
+  int32_t ribbon = 2 * corners;
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+    const EdgeUse u(EdgeId(e), 0);
+    const int32_t p = corner_of_use[u.index];
+    if (p < 0) return none;
+    const int32_t q = negative_corner(p, mesh.use_face(u).index);
+    if (mesh.is_boundary(EdgeId(e))) {
+      twin[p] = ribbon;
+      twin[ribbon] = p;
+      twin[q] = ribbon + 2;
+      twin[ribbon + 2] = q;
+      ribbon += 4;
+      continue;
+    }
+    const EdgeUse t = u.twin();
+    const int32_t pt = corner_of_use[t.index];
+    if (pt < 0) return none;
+    const int32_t qt = negative_corner(pt, mesh.use_face(t).index);
+    const int32_t a0 = fv[p], a1 = fv[corner_of_use[mesh.next(u).index]];
+    const int32_t b0 = fv[pt], b1 = fv[corner_of_use[mesh.next(t).index]];
+    if (same(a0, a1, b0, b1)) {
+      twin[p] = pt, twin[pt] = p, twin[q] = qt, twin[qt] = q;
+    } else if (same(a0, a1, b0 ^ 1, b1 ^ 1)) {
+      twin[p] = qt, twin[qt] = p, twin[q] = pt, twin[pt] = q;
+    } else {
+      return none;
+    }
+  }
+  // Ribbon sides: corners 1 (a+ to a-) and 3 (b- to b+) of each ribbon, met twice per vertex.
+  std::vector<int32_t> side_at(soup.positions.size() / 2, -1);
+  for (int32_t r = 2 * corners; r < total; r += 4) {
+    for (int32_t c : {r + 1, r + 3}) {
+      const int32_t k = fv[c] >> 1;
+      const int32_t to = fv[c == r + 1 ? r + 2 : r];
+      if ((to >> 1) != k || side_at[k] == -2) return none;
+      if (side_at[k] < 0) {
+        side_at[k] = c;
+        continue;
+      }
+      twin[c] = side_at[k];
+      twin[side_at[k]] = c;
+      side_at[k] = -2;
+    }
+  }
+  for (int32_t c = 0; c < total; ++c) {
+    if (twin[c] < 0 || twin[twin[c]] != c) return none;
+  }
+  return twin;
+}
+
 Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
                                  const std::vector<FaceId>* face_origin) {
   const int32_t V = mesh.vertex_count();
@@ -102,9 +181,12 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
   auto origin = [&](FaceId f) { return face_origin ? (*face_origin)[f.index] : f; };
 
   std::vector<int32_t> loop;
+  // Soup corner of each input use in the positive copy (see `offset_twins`).
+  std::vector<int32_t> corner_of_use(2 * static_cast<size_t>(mesh.edge_count()), -1);
   for (int32_t f = 0; f < F; ++f) {
     loop.clear();
     mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+      corner_of_use[u.index] = static_cast<int32_t>(soup.face_vertices.size() + loop.size());
       loop.push_back(positive_vertex(u));
       const int32_t v = mesh.use_tail(u).index;
       if (vn.is_mobius_vertex[v] &&
@@ -146,7 +228,8 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
     }
   }
 
-  auto built = build_mesh(soup);
+  std::vector<int32_t> twins = offset_twins(mesh, soup, corner_of_use);
+  auto built = twins.empty() ? build_mesh(soup) : MeshAccess::build_paired(std::move(soup), std::move(twins));
   if (!built.has_value()) {
     KernelError error = built.error();
     error.message = "offset surface is not a manifold: " + error.message;

@@ -68,6 +68,25 @@ bool write(const std::string& target, const Encoded& e) {
   return false;
 }
 
+// Binary STL straight to `target` a piece at a time (it is the format of large models: a
+// whole-scene offset easily makes hundreds of megabytes); false after printing the error.
+bool write_stl_streamed(const std::string& target, const std::vector<be::OutputMesh>& meshes) {
+  if (target == "-") {
+    be::write_stl_binary(meshes, [](std::string_view piece) {
+      std::cout.write(piece.data(), static_cast<std::streamsize>(piece.size()));
+      return static_cast<bool>(std::cout);
+    });
+    std::cout.flush();
+    return true;
+  }
+  AtomicFileWriter file(target);
+  be::write_stl_binary(meshes, [&](std::string_view piece) { return file.append(piece); });
+  std::string err = file.commit();
+  if (err.empty()) return true;
+  std::cerr << fmt::format("nomec: {}\n", err);
+  return false;
+}
+
 }  // namespace
 
 int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& sources, const ir::Module& module,
@@ -94,7 +113,8 @@ int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& so
   if (target.empty()) {
     target = cli.emit == "summary" ? "-" : std::filesystem::path(path).stem().string() + "." + cli.emit;
   }
-  const int failed = write(target, encode(cli, path, target, meshes)) ? 0 : 1;
+  const bool is_streamed = cli.emit == "stl" && !cli.stl_ascii;
+  const int failed = (is_streamed ? write_stl_streamed(target, meshes) : write(target, encode(cli, path, target, meshes))) ? 0 : 1;
   if (cli.time_report) {
     const double write_ms = ms_since(write_start);
     const double total = check_ms + timings.evaluate_ms + timings.merge_ms + timings.subdivide_ms + timings.offset_ms + write_ms;

@@ -4,16 +4,22 @@
 prints each stage's median time and its output faces per second (stage outputs counted by
 `--emit summary` of the same pipeline cut after that stage), and the end-to-end figure.
 
+With --baseline, another nomec binary runs alternately with the first and each stage's
+speedup (baseline time / time) is printed too, so before/after figures come from one run.
+
 Usage: bench/pipeline/pipeline_bench.py [--nomec build/tools/nomec] [--runs 3] [--scale 1]
+                                        [--baseline OTHER_NOMEC]
 """
 import argparse
 import json
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 
 STAGES = ["parse+check", "evaluate", "merge", "subdivide", "offset", "write"]
 
@@ -62,6 +68,7 @@ def main():
     ap.add_argument("--nomec", default=os.path.join(os.path.dirname(__file__), "../../build/tools/nomec"))
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--scale", type=int, default=1)
+    ap.add_argument("--baseline", help="another nomec (e.g. a build of main) run alternately; prints the speedup")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "pipeline.nome")
@@ -76,25 +83,41 @@ def main():
             "offset": faces(a.nomec, path, pipeline),
         }
         counts["write"] = counts["offset"]
-        times = {s: [] for s in STAGES}
-        totals = []
+        binaries = {"nomec": a.nomec}
+        if a.baseline:
+            binaries["baseline"] = a.baseline
+        times = {b: {s: [] for s in STAGES + ["total", "wall", "cpu"]} for b in binaries}
         stl = os.path.join(d, "out.stl")
+        size = 0
         for _ in range(a.runs):
-            p = run([a.nomec, "--emit", "stl", *pipeline, "--time-report", "-o", stl, path])
-            for s in STAGES:
-                m = re.search(re.escape(s) + r"\s+([0-9.]+)", p.stderr)
-                times[s].append(float(m.group(1)))
-            totals.append(float(re.search(r"total\s+([0-9.]+)", p.stderr).group(1)))
-        size = os.path.getsize(stl)
+            for b, exe in binaries.items():  # alternating, so load on a shared machine hits both
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                t0 = time.perf_counter()
+                p = run([exe, "--emit", "stl", *pipeline, "--time-report", "-o", stl, path])
+                wall = time.perf_counter() - t0
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                for st in STAGES + ["total"]:
+                    m = re.search(re.escape(st) + r"\s+([0-9.]+)", p.stderr)
+                    times[b][st].append(float(m.group(1)))
+                times[b]["wall"].append(1000 * wall)
+                times[b]["cpu"].append(1000 * (after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime))
+                size = os.path.getsize(stl)
     print(f"scene: {counts['evaluate']} input faces; STL {size / 1e6:.1f} MB; median of {a.runs} runs")
-    print(f"{'stage':12} {'ms':>10} {'output faces':>13} {'faces/s':>12}")
-    for s in STAGES:
-        ms = statistics.median(times[s])
-        n = counts[s]
+    med = {b: {k: statistics.median(v) for k, v in t.items()} for b, t in times.items()}
+    head = f"{'stage':12} {'ms':>10} {'output faces':>13} {'faces/s':>12}"
+    if a.baseline:
+        head += f" {'baseline ms':>12} {'speedup':>8}"
+    print(head)
+    for st in STAGES + ["total", "wall", "cpu"]:
+        ms = med["nomec"][st]
+        n = counts.get(st) or (counts["offset"] if st in ("total", "wall", "cpu") else None)
         rate = f"{n / (ms / 1000):12.3g}" if n and ms > 0 else f"{'':>12}"
-        print(f"{s:12} {ms:10.1f} {n if n else '':>13} {rate}")
-    total = statistics.median(totals)
-    print(f"{'total':12} {total:10.1f} {counts['offset']:>13} {counts['offset'] / (total / 1000):12.3g}")
+        line = f"{st:12} {ms:10.1f} {n if n else '':>13} {rate}"
+        if a.baseline:
+            base = med["baseline"][st]
+            line += f" {base:12.1f} {base / ms if ms > 0 else 0:8.2f}"
+        print(line)
+    print("total = sum of the stages (--time-report); wall = the whole process; cpu = its user + system time")
 
 
 if __name__ == "__main__":

@@ -5,6 +5,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <cstring>
+#include <span>
+#include <string>
+
 #include "backend/evaluate.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
@@ -211,6 +215,55 @@ TEST(Write, TriangulatesNonConvexPolygonsByEarClipping) {
     area += n.z / 2;
   }
   EXPECT_NEAR(area, 3.0, 1e-12);
+}
+
+// The streamed binary STL: pieces of about a megabyte whose concatenation is the header,
+// the triangle count and one record per triangle of `triangulate` (an ear-clipped L shape
+// among 25,000 fanned quads, so the file spans several pieces); a sink that refuses stops
+// the writer.
+TEST(Write, StreamedBinaryStlHoldsEveryTriangleInOrder) {
+  OutputMesh m;
+  kernel::PolygonSoup& s = m.soup;
+  for (glm::dvec3 p : {glm::dvec3(0, 0, 0), glm::dvec3(2, 0, 0), glm::dvec3(2, 1, 0),
+                       glm::dvec3(1, 1, 0), glm::dvec3(1, 2, 0), glm::dvec3(0, 2, 0)}) {
+    s.add_vertex(p);
+  }
+  for (int i = 0; i < 25000; ++i) {
+    const int32_t a = s.add_vertex({i, 5, 0.5 * i});
+    s.add_vertex({i + 1, 5, 0});
+    s.add_vertex({i + 1, 6, 0.25});
+    s.add_vertex({i, 6, 0});
+    s.add_face({a, a + 1, a + 2, a + 3});
+    if (i == 100) s.add_face({0, 1, 2, 3, 4, 5});
+  }
+  const std::vector<int32_t> t = triangulate(s);
+  std::string bytes;
+  int pieces = 0;
+  ASSERT_TRUE(write_stl_binary(std::span<const OutputMesh>(&m, 1), [&](std::string_view piece) {
+    EXPECT_LE(piece.size(), 1'100'000u);
+    bytes.append(piece);
+    ++pieces;
+    return true;
+  }));
+  EXPECT_GT(pieces, 1);
+  const size_t count = t.size() / 3;
+  ASSERT_EQ(bytes.size(), 84 + 50 * count);
+  uint32_t header_count = 0;
+  std::memcpy(&header_count, bytes.data() + 80, 4);
+  EXPECT_EQ(header_count, count);
+  for (size_t k = 0; k < count; ++k) {
+    float f[12];
+    std::memcpy(f, bytes.data() + 84 + 50 * k, sizeof f);
+    for (int j = 0; j < 3; ++j) {
+      const glm::dvec3& p = s.positions[t[3 * k + j]];
+      ASSERT_EQ(glm::vec3(f[3 + 3 * j], f[4 + 3 * j], f[5 + 3 * j]), glm::vec3(p)) << "triangle " << k;
+    }
+    ASSERT_EQ(bytes[84 + 50 * k + 48] | bytes[84 + 50 * k + 49], 0);
+  }
+  EXPECT_EQ(to_stl_binary(std::span<const OutputMesh>(&m, 1)), bytes);
+  int calls = 0;
+  EXPECT_FALSE(write_stl_binary(std::span<const OutputMesh>(&m, 1), [&](std::string_view) { return ++calls < 1; }));
+  EXPECT_EQ(calls, 1);
 }
 
 }  // namespace

@@ -158,6 +158,38 @@ TEST(Offset, IsolatedVerticesAreDropped) {
   expect_closed_orientable(slab->mesh, 2, 1);
 }
 
+// The offset pairs its soup's edges from the input's instead of searching for them; the
+// mesh must be exactly the one the searching builder makes of the same faces (edge
+// numbering, wings, anchors, Möbius flags, sources), on borders, Möbius edges, mixed
+// polygons, reversed faces and isolated vertices.
+TEST(Offset, PairedBuildEqualsTheBuilder) {
+  std::vector<PolygonSoup> inputs = {testing::cube_soup(), testing::tetra_soup(), testing::mixed_disk_soup(),
+                                     grid_soup(4, 3, Glue::None), grid_soup(6, 3, Glue::Cylinder),
+                                     grid_soup(9, 4, Glue::Mobius), grid_soup(6, 5, Glue::Torus),
+                                     grid_soup(8, 6, Glue::Klein, 0.01), grid_soup(3, 3, Glue::None)};
+  PolygonSoup& flipped = inputs.back();
+  std::reverse(flipped.face_vertices.begin() + 4, flipped.face_vertices.begin() + 8);
+  flipped.add_vertex({9, 9, 9});
+  flipped.face_colors.assign(flipped.face_count(), glm::vec3(0.5f, 0.25f, 1.0f));
+  std::vector<Mesh> meshes;
+  for (const PolygonSoup& s : inputs) meshes.push_back(build(s));
+  meshes.push_back(subdivide_once(build(grid_soup(5, 3, Glue::Mobius))).mesh);
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    for (bool is_lattice : {false, true}) {
+      auto r = is_lattice ? lattice(meshes[i], {.width = 0.1, .distance = 0.05}) : offset(meshes[i], {.distance = 0.1});
+      ASSERT_TRUE(r.has_value()) << i;
+      const Mesh rebuilt = build(to_soup(r->mesh));
+      EXPECT_TRUE(has_same_topology(r->mesh, rebuilt)) << "input " << i << (is_lattice ? " (lattice)" : "");
+      EXPECT_EQ(r->mesh.positions(), rebuilt.positions()) << i;
+      if (!is_lattice) {
+        int32_t borders = 0;
+        for (int32_t e = 0; e < meshes[i].edge_count(); ++e) borders += meshes[i].is_boundary(EdgeId(e)) ? 1 : 0;
+        EXPECT_EQ(r->mesh.face_count(), 2 * meshes[i].face_count() + borders) << i;
+      }
+    }
+  }
+}
+
 TEST(Offset, RejectsBadDistance) {
   Mesh cube = build(testing::cube_soup());
   auto r = offset(cube, {.distance = 0.0});
