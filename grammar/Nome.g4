@@ -8,7 +8,7 @@
 // command accepts, how many list elements it needs, and what they mean are checked by the
 // front end (frontend/check), where the diagnostics can name the command, show how a list
 // was split and suggest spellings. Keywords are contextual: any keyword can be used as a
-// name (rule `word`), except end keywords.
+// name (rule `keywordName`, or IDENT), except end keywords.
 //
 // Four token types are assigned after lexing by frontend/parse (not by this grammar), so the
 // grammar stays target-neutral:
@@ -114,10 +114,11 @@ generatorStmt : K_GEN item* E_GEN ;
 // ----- Items: the flat contents of a block body -----
 // Alternatives start with disjoint tokens, so no item needs more than one token of
 // lookahead to choose its alternative.
+// A name is IDENT or a `keywordName` (IDENT, the most frequent, needs no rule of its own).
 item
-  : word              # wordItem
-  | parenList         # listItem
-  | itemExpr          # valueItem
+  : (IDENT | keywordName)  # wordItem
+  | parenList              # listItem
+  | itemExpr               # valueItem
   ;
 
 // `( e e e )`: space-separated elements (commas tolerated; the front end warns).
@@ -142,8 +143,8 @@ listExpr
   ;
 atom
   : TCL_ARRAY_REF                                   # tclArrayAtom
-  | word LPAREN (expr (COMMA expr)*)? RPAREN        # callAtom
-  | word                                            # nameAtom
+  | (IDENT | keywordName) LPAREN (expr (COMMA expr)*)? RPAREN   # callAtom
+  | (IDENT | keywordName)                                        # nameAtom
   | LPAREN expr RPAREN                              # parenAtom
   | braceExpr                                       # braceAtom
   | BRACKET_RAW                                     # rawAtom
@@ -173,9 +174,10 @@ itemAtom
 braceExpr : LBRACE K_EXPR? expr RBRACE | tclBraces ;
 tclBraces : LBRACE (tclBraces | ~(LBRACE | RBRACE))* RBRACE ;
 
-// A name: identifiers and every contextual keyword.
-word
-  : IDENT | K_EXPR | K_INCLUDE
+// A name is an identifier (IDENT, written directly where a name may stand) or any
+// contextual keyword: this rule.
+keywordName
+  : K_EXPR | K_INCLUDE
   | K_BANK | K_SURFACE | K_POINT | K_POLYLINE | K_FACE | K_FACET | K_VERTEX | K_OBJECT
   | K_MESH | K_GROUP | K_INSTANCE | K_SWEEP | K_CROSSSECTION | K_PATH | K_CONTROLPOINT
   | K_TRANSFORM | K_LOOKAT | K_DELETE | K_SHARP | K_ZIPPER | K_MERGE | K_SUBDIVISION

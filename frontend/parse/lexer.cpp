@@ -159,6 +159,12 @@ class Scanner {
   // `TCL_BRACES` from j (at a `{`): the end past its `}`, or 0 when it is not closed.
   size_t tcl_braces(size_t j);
   size_t ident_or_keyword(uint16_t& type);
+  void string();
+  void bracket();
+  void dollar();
+  void percent();
+  void word_or_number(unsigned char c);
+  bool no_break_spaces();
   void emit(size_t end, uint16_t type, bool hidden = false) {
     out_.tokens.push_back(Tok{static_cast<uint32_t>(start_), static_cast<uint32_t>(end), line_, type, hidden});
     if (end == n_) at(end);  // NomeLexer reads past the last token
@@ -257,6 +263,120 @@ size_t Scanner::ident_or_keyword(uint16_t& type) {
   return id_end;
 }
 
+// STRING, or an unclosed `"` as UNEXPECTED_CHAR.
+void Scanner::string() {
+  size_t j = start_ + 1;
+  bool closed = false;
+  while (true) {
+    const int d = at(j);
+    if (d < 0 || d == '\r' || d == '\n') break;
+    if (d == '"') {
+      closed = true;
+      ++j;
+      break;
+    }
+    if (d == '\\') {
+      if (at(j + 1) < 0) break;
+      j += 2;
+      continue;
+    }
+    ++j;
+  }
+  if (closed) {
+    emit(j, L::STRING);
+  } else {
+    emit(start_ + 1, L::UNEXPECTED_CHAR);
+  }
+}
+
+// BRACKET_RAW (balanced), or an unclosed `[` as UNEXPECTED_CHAR.
+void Scanner::bracket() {
+  size_t j = start_;
+  int depth = 0;
+  size_t end = 0;
+  while (true) {
+    const int d = at(j);
+    if (d < 0) break;
+    ++j;
+    if (d == '[') ++depth;
+    if (d == ']' && --depth == 0) {
+      end = j;
+      break;
+    }
+  }
+  emit(end != 0 ? end : start_ + 1, end != 0 ? L::BRACKET_RAW : L::UNEXPECTED_CHAR);
+}
+
+// TCL_ARRAY_REF, DOLLAR_REF, or a lone `$` as UNEXPECTED_CHAR.
+void Scanner::dollar() {
+  const int d = at(start_ + 1);
+  if (d < 0 || !is_id_start(static_cast<unsigned char>(d))) {
+    emit(start_ + 1, L::UNEXPECTED_CHAR);
+    return;
+  }
+  const size_t id_end = id_run(start_ + 2);
+  if (at(id_end) == '(') {
+    size_t j = id_end + 1;
+    while (true) {
+      const int e = at(j);
+      if (e < 0 || !(is_id_part(static_cast<unsigned char>(e)) && e != '.')) break;
+      ++j;
+    }
+    if (at(j) == ')') {
+      emit(j + 1, L::TCL_ARRAY_REF);
+      return;
+    }
+  }
+  emit(id_end, L::DOLLAR_REF);
+}
+
+// PCT_RAW (`%{ … }%`), or PERCENT.
+void Scanner::percent() {
+  if (at(start_ + 1) == '{') {
+    const size_t close = s_.find("}%", start_ + 2);
+    if (close != std::string_view::npos) {
+      emit(close + 2, L::PCT_RAW);
+      return;
+    }
+    at(n_);  // searched to the end
+  }
+  emit(start_ + 1, L::PERCENT);
+}
+
+// NUMBER, IDENT, a keyword or TCLINIT: the longest match, NUMBER first on a tie (`.5`).
+void Scanner::word_or_number(unsigned char c) {
+  const size_t num_end = number();
+  if (is_digit(c)) {
+    emit(num_end, L::NUMBER);
+    return;
+  }
+  uint16_t type = L::IDENT;
+  const size_t id_end = ident_or_keyword(type);
+  if (num_end > start_ && num_end >= id_end) {
+    emit(num_end, L::NUMBER);
+  } else {
+    emit(id_end, type);
+  }
+}
+
+// A run of no-break spaces (U+00A0, in any form the input decoder reads as one) as NBSP;
+// false when the code point at the start is another one.
+bool Scanner::no_break_spaces() {
+  char32_t cp = 0;
+  const size_t len = code_point(start_, cp);
+  if (cp != 0xA0) return false;
+  size_t j = start_ + len;
+  while (j < n_) {
+    char32_t next = 0;
+    const size_t l = code_point(j, next);
+    if (next != 0xA0) break;
+    j += l;
+  }
+  at(j);
+  emit(j, L::NBSP, true);
+  return true;
+}
+
 bool Scanner::run() {
   out_.tokens.reserve(out_.tokens.size() + n_ / 3);
   if (n_ == 0) at(0);  // NomeLexer looks for a token at the end
@@ -296,116 +416,17 @@ bool Scanner::run() {
       case '*': emit(start_ + 1, L::STAR); continue;
       case '^': emit(start_ + 1, L::CARET); continue;
       case '/': emit(start_ + (at(start_ + 1) == '/' ? 2 : 1), at(start_ + 1) == '/' ? L::DSLASH : L::SLASH); continue;
-      case '%': {
-        if (at(start_ + 1) == '{') {
-          const size_t close = s_.find("}%", start_ + 2);
-          if (close != std::string_view::npos) {
-            emit(close + 2, L::PCT_RAW);
-            continue;
-          }
-          at(n_);  // searched to the end
-        }
-        emit(start_ + 1, L::PERCENT);
-        continue;
-      }
-      case '"': {
-        size_t j = start_ + 1;
-        bool closed = false;
-        while (true) {
-          const int d = at(j);
-          if (d < 0 || d == '\r' || d == '\n') break;
-          if (d == '"') {
-            closed = true;
-            ++j;
-            break;
-          }
-          if (d == '\\') {
-            if (at(j + 1) < 0) break;
-            j += 2;
-            continue;
-          }
-          ++j;
-        }
-        if (closed) {
-          emit(j, L::STRING);
-        } else {
-          emit(start_ + 1, L::UNEXPECTED_CHAR);
-        }
-        continue;
-      }
-      case '[': {
-        size_t j = start_;
-        int depth = 0;
-        size_t end = 0;
-        while (true) {
-          const int d = at(j);
-          if (d < 0) break;
-          ++j;
-          if (d == '[') ++depth;
-          if (d == ']' && --depth == 0) {
-            end = j;
-            break;
-          }
-        }
-        emit(end != 0 ? end : start_ + 1, end != 0 ? L::BRACKET_RAW : L::UNEXPECTED_CHAR);
-        continue;
-      }
-      case '$': {
-        const int d = at(start_ + 1);
-        if (d < 0 || !is_id_start(static_cast<unsigned char>(d))) {
-          emit(start_ + 1, L::UNEXPECTED_CHAR);
-          continue;
-        }
-        const size_t id_end = id_run(start_ + 2);
-        if (at(id_end) == '(') {
-          size_t j = id_end + 1;
-          while (true) {
-            const int e = at(j);
-            if (e < 0 || !(is_id_part(static_cast<unsigned char>(e)) && e != '.')) break;
-            ++j;
-          }
-          if (at(j) == ')') {
-            emit(j + 1, L::TCL_ARRAY_REF);
-            continue;
-          }
-        }
-        emit(id_end, L::DOLLAR_REF);
-        continue;
-      }
+      case '%': percent(); continue;
+      case '"': string(); continue;
+      case '[': bracket(); continue;
+      case '$': dollar(); continue;
       default: break;
     }
     if (is_digit(c) || is_id_start(c)) {
-      const size_t num_end = number();
-      if (is_digit(c)) {
-        emit(num_end, L::NUMBER);
-        continue;
-      }
-      uint16_t type = L::IDENT;
-      const size_t id_end = ident_or_keyword(type);
-      // Longest match; NUMBER is the earlier rule on a tie (`.5`).
-      if (num_end > start_ && num_end >= id_end) {
-        emit(num_end, L::NUMBER);
-      } else {
-        emit(id_end, type);
-      }
+      word_or_number(c);
       continue;
     }
-    if (c >= 0x80) {
-      char32_t cp = 0;
-      size_t len = code_point(start_, cp);
-      if (cp == 0xA0) {  // a run of no-break spaces
-        size_t j = start_ + len;
-        while (j < n_) {
-          char32_t next = 0;
-          const size_t l = code_point(j, next);
-          if (next != 0xA0) break;
-          j += l;
-        }
-        at(j);
-        emit(j, L::NBSP, true);
-        continue;
-      }
-    }
+    if (c >= 0x80 && no_break_spaces()) continue;
     unexpected();
   }
   return true;

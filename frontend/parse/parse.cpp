@@ -517,17 +517,25 @@ class AstBuilder {
         .fixit(stmt.close_kw, close, fmt::format("replace with `{}`", close));
   }
 
+  // The range of a name: an IDENT token or a `keywordName` context; none for anything else.
+  std::optional<SourceRange> name_range(const Child& c) const {
+    if (c.token_type() == NomeParser::IDENT) return token_range(c.terminal->getSymbol());
+    if (c.rule_index() == NomeParser::RuleKeywordName) return ctx_range(c.rule);
+    return std::nullopt;
+  }
+
   // `item`: a word, a parenthesised list or a value (its one child says which).
   std::optional<ast::Item> convert_item(antlr4::ParserRuleContext* ctx) {
     ast::Item item;
     item.range = ctx_range(ctx);
     Child what = child(ctx, 0);
+    if (std::optional<SourceRange> name = name_range(what)) {
+      item.kind = ast::ItemKind::Word;
+      item.range = *name;
+      item.text = view(item.range);
+      return item;
+    }
     switch (what.rule_index()) {
-      case NomeParser::RuleWord:
-        item.kind = ast::ItemKind::Word;
-        item.range = ctx_range(what.rule);
-        item.text = view(item.range);
-        return item;
       case NomeParser::RuleParenList:
         item.kind = ast::ItemKind::List;
         item.list = convert_list(what.rule);
@@ -747,15 +755,15 @@ class AstBuilder {
       default: break;
     }
     if (first.rule_index() == NomeParser::RuleBraceExpr) return convert_brace(first.rule);
-    if (first.rule_index() == NomeParser::RuleWord) {
+    if (std::optional<SourceRange> name = name_range(first)) {
       ast::Expr e;
-      e.text = view(ctx_range(first.rule));
+      e.text = view(*name);
       if (child(ctx, 1).token_type() != NomeParser::LPAREN) {  // a name
         e.kind = ast::ExprKind::Name;
-        e.range = ctx_range(first.rule);
+        e.range = *name;
         return add(e);
       }
-      e.kind = ast::ExprKind::Call;  // `word ( expr (, expr)* )`
+      e.kind = ast::ExprKind::Call;  // `name ( expr (, expr)* )`
       e.range = ctx_range(ctx);
       for (antlr4::tree::ParseTree* t : ctx->children) {
         Child arg = classify(t);

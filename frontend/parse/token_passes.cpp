@@ -3,6 +3,7 @@
 #include "frontend/parse/token_passes.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fmt/format.h>
 #include <string>
@@ -56,9 +57,32 @@ const KeywordTable& keyword_table() {
   return table;
 }
 
+// The characters of generator keywords (and `end`, and the digits of digit-suffixed ones):
+// a name with any other character is no generator keyword, and most names are told so
+// without a catalogue lookup.
+const std::array<bool, 256>& generator_keyword_chars() {
+  static const std::array<bool, 256> chars = [] {
+    std::array<bool, 256> c{};
+    auto add = [&](std::string_view w) {
+      for (char ch : w) c[static_cast<unsigned char>(ch)] = true;
+    };
+    add("end0123456789");
+    for (const ir::GeneratorInfo& g : ir::generators()) {
+      for (std::string_view k : g.keywords) add(k);
+      add(g.digit_prefix);
+    }
+    return c;
+  }();
+  return chars;
+}
+
 // The generator token type a name takes (K_GEN, E_GEN), or 0 when it is no generator keyword.
 size_t generator_token_type(std::string_view word) {
   if (word.size() < 4) return 0;  // shorter than any generator keyword
+  const std::array<bool, 256>& chars = generator_keyword_chars();
+  for (char ch : word) {
+    if (!chars[static_cast<unsigned char>(ch)]) return 0;
+  }
   if (ast::block_of_keyword(word) == ast::BlockKind::Generator) return L::K_GEN;
   if (word.starts_with("end") && ast::block_of_end_keyword(word) == ast::BlockKind::Generator) return L::E_GEN;
   return 0;
