@@ -375,10 +375,10 @@ Outcome finish(State& s, int rc) {
   disarm_limits(s);
   if (rc == TCL_OK || rc == TCL_RETURN) {
     o.ok = true;
-  } else if (s.guard.refusal) {
-    o.problems.push_back({ProblemKind::Memory, *s.guard.refusal, Tcl_GetErrorLine(in), ""});
-  } else if (limited) {
-    o.problems.push_back({ProblemKind::Limit, o.result, Tcl_GetErrorLine(in), ""});
+  } else if (s.guard.refusal || limited) {
+    const char* info = Tcl_GetVar2(in, "errorInfo", nullptr, TCL_GLOBAL_ONLY);
+    o.problems.push_back({s.guard.refusal ? ProblemKind::Memory : ProblemKind::Limit,
+                          s.guard.refusal ? *s.guard.refusal : o.result, Tcl_GetErrorLine(in), info != nullptr ? info : ""});
   } else if (rc == TCL_BREAK || rc == TCL_CONTINUE) {
     o.problems.push_back({ProblemKind::Error, rc == TCL_BREAK ? "`break` outside a loop" : "`continue` outside a loop", 0, ""});
   } else {
