@@ -196,7 +196,9 @@ void make_sliders(Context& c, const std::vector<TclBody>& bodies) {
     auto [bank, name] = slider_key(s.variable);
     std::string key = bank + "." + name;
     if (c.params.contains(key)) continue;
-    SourceRange at = slider_range(bodies, name, bodies.empty() ? SourceRange{} : bodies.front().keyword);
+    // The slider's own name where the file spells it, else its bank's (the call of a helper
+    // that made it: `CreateSLIDESubdivisionUI $w oSubdivision`), else the first block.
+    SourceRange at = slider_range(bodies, name, slider_range(bodies, bank, bodies.empty() ? SourceRange{} : bodies.front().keyword));
     ir::NodeId id = c.module().add_node(ir::NodeKind::Param, "scale", key, at);
     ir::ParamData& p = c.module().param(id);
     p.bank = bank;
