@@ -131,6 +131,7 @@ class Context {
   std::unique_ptr<tcl::Interp> tcl;              // the scene's interpreter, once made (scene_tcl, tcl.cpp)
   bool tcl_available = false;                    // a SLIDE file: scene_tcl makes the interpreter on first use
   std::string tcl_dir;                           // the scene's folder, for `source`
+  std::vector<SourceRange> tcl_blocks;           // the text inside each `tclinit`/`tclupdate` block's braces
   std::map<std::string, ir::NodeId> tcl_sliders;  // Tcl variable bound to a `scale` → its parameter
   const ast::Ast* tcl_ast = nullptr;               // the statements `slide create` made (in owned_asts)
   /// `slide create instance I G N` into a group G the file defines: a `group G … endgroup`

@@ -40,6 +40,44 @@ bool is_saved_face(Context& c, const Ctx& ctx) {
   return form == ir::MeshForm::Consolidate || form == ir::MeshForm::SavedWorkingMesh;
 }
 
+// SLIDE loaded faces that repeat a vertex, such as the "dummy quads" `( q6 q6 s_4 s_4 )`
+// (slide.md §3.3; their topology is unknown): nomec drops the repeats that follow each other
+// round the face (`(a a b c)` → `(a b c)`), and leaves the face out when fewer than 3
+// vertices remain or one still comes back later round it (`(a b a c)`), with a warning.
+void slide_repeated_vertices(Context& c, ir::NodeId face, SourceRange where) {
+  ir::Module& m = c.module();
+  std::span<const ir::VertexRef> vs = m.refs(m.get<ir::FaceData>(face).vertices);
+  if (vs.size() < 2) return;
+  std::vector<ir::VertexRef> kept;
+  for (size_t i = 0; i < vs.size(); ++i) {
+    if (vs[i].text != vs[(i + vs.size() - 1) % vs.size()].text) kept.push_back(vs[i]);
+  }
+  if (kept.empty()) kept.push_back(vs[0]);  // every vertex the same
+  bool again = false;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    for (size_t j = i + 1; j < kept.size(); ++j) again = again || kept[i].text == kept[j].text;
+  }
+  if (kept.size() == vs.size() && !again) return;
+  std::string written;
+  for (const ir::VertexRef& v : vs) written += (written.empty() ? "" : " ") + v.text;
+  if (again || kept.size() < 3) {
+    c.diags()
+        .emit(DiagKind::SlideFaceRepeatedVertex, where,
+              fmt::format("this face `({})` repeats a vertex; {}, so nomec leaves the face out", written,
+                          again ? "a vertex comes back later round the face" : "fewer than 3 different vertices remain"))
+        .note(where, "SLIDE loaded such faces, but how it joined them to their neighbours is not known (slide.md §3.3)");
+    m.get<ir::FaceData>(face).vertices = m.add_vertex_refs({});
+    return;
+  }
+  std::string now;
+  for (const ir::VertexRef& v : kept) now += (now.empty() ? "" : " ") + v.text;
+  c.diags()
+      .emit(DiagKind::SlideFaceRepeatedVertex, where,
+            fmt::format("this face `({})` repeats a vertex next to itself; nomec reads it as `({})`", written, now))
+      .note(where, "SLIDE loaded such faces, but how it joined them to their neighbours is not known (slide.md §3.3)");
+  m.get<ir::FaceData>(face).vertices = m.add_vertex_refs(std::move(kept));
+}
+
 // `dropped`: vertices of saved work left out of the face (see handle_vertex); a face they
 // leave with fewer than 3 vertices is left out too, with a warning when there is a base.
 void check_face_vertices(Context& c, ir::NodeId face, SourceRange at, SourceRange list_range, int dropped = 0) {
@@ -56,6 +94,10 @@ void check_face_vertices(Context& c, ir::NodeId face, SourceRange at, SourceRang
   if (vs.size() < 3) {
     c.diags().emit(DiagKind::FaceTooFewVertices, list_range.is_valid() ? list_range : at,
                    fmt::format("a face needs at least 3 vertices, got {}", vs.size()));
+  }
+  if (c.dialect() == Dialect::Slide) {
+    slide_repeated_vertices(c, face, list_range.is_valid() ? list_range : at);
+    return;
   }
   for (size_t i = 0; i < vs.size(); ++i) {
     for (size_t j = i + 1; j < vs.size(); ++j) {

@@ -70,7 +70,68 @@ std::string trace_note(const std::string& trace) {
   return out;
 }
 
+// The body of `proc NAME ARGS {BODY}` in one of the scene's Tcl blocks: the offset of the
+// text after its `{` and that text; nullopt when the scene does not spell it.
+std::optional<std::pair<uint32_t, std::string_view>> proc_body(std::string_view block, std::string_view name) {
+  auto word_char = [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == ':'; };
+  auto skip_blanks = [&](size_t i) {
+    while (i < block.size() && (block[i] == ' ' || block[i] == '\t' || block[i] == '\\' || block[i] == '\n')) ++i;
+    return i;
+  };
+  auto skip_word = [&](size_t i) {  // a braced or bare word
+    if (i < block.size() && block[i] == '{') {
+      for (int depth = 0; i < block.size(); ++i) {
+        if (block[i] == '{') ++depth;
+        if (block[i] == '}' && --depth == 0) return i + 1;
+      }
+      return i;
+    }
+    while (i < block.size() && !std::isspace(static_cast<unsigned char>(block[i]))) ++i;
+    return i;
+  };
+  for (size_t at = block.find("proc"); at != std::string_view::npos; at = block.find("proc", at + 4)) {
+    if ((at > 0 && word_char(block[at - 1])) || at + 4 >= block.size() || !std::isspace(static_cast<unsigned char>(block[at + 4]))) continue;
+    size_t n = skip_blanks(at + 4);
+    size_t e = skip_word(n);
+    std::string_view written = block.substr(n, e - n);
+    while (written.substr(0, 2) == "::") written.remove_prefix(2);
+    if (written != name) continue;
+    size_t body = skip_blanks(skip_word(skip_blanks(e)));
+    if (body >= block.size() || block[body] != '{') continue;
+    size_t end = skip_word(body);
+    if (end <= body + 1) continue;
+    return std::make_pair(static_cast<uint32_t>(body + 1), block.substr(body + 1, end - body - 2));
+  }
+  return std::nullopt;
+}
+
+// Where Tcl stopped inside a procedure the scene defines: errorInfo's innermost
+// `(procedure "NAME" line N)` mapped to line N of NAME's body in the file.
+std::optional<SourceRange> proc_error_range(Context& c, const std::string& trace) {
+  static const std::string kTag = "(procedure \"";
+  const size_t at = trace.find(kTag);
+  if (at == std::string::npos) return std::nullopt;
+  const size_t name_begin = at + kTag.size();
+  const size_t name_end = trace.find('"', name_begin);
+  if (name_end == std::string::npos) return std::nullopt;
+  std::string_view name = std::string_view(trace).substr(name_begin, name_end - name_begin);
+  while (name.substr(0, 2) == "::") name.remove_prefix(2);
+  const size_t line_at = trace.find("line ", name_end);
+  if (line_at == std::string::npos) return std::nullopt;
+  const int line = std::atoi(trace.c_str() + line_at + 5);
+  for (const SourceRange& block : c.tcl_blocks) {
+    std::string_view text = c.sources().text(block);
+    if (auto body = proc_body(text, name)) {
+      SourceRange fallback{block.file, block.begin + body->first, block.begin + body->first};
+      SourceRange r = line_range(block.file, block.begin + body->first, body->second, line, fallback);
+      if (r.begin != r.end) return r;
+    }
+  }
+  return std::nullopt;
+}
+
 void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_view what) {
+  if (std::optional<SourceRange> inside = proc_error_range(c, p.trace)) where = *inside;
   switch (p.kind) {
     case tcl::ProblemKind::Error: {
       auto d = c.diags().emit(DiagKind::TclError, where, fmt::format("Tcl error in {}: {}", what, p.message));
@@ -80,7 +141,7 @@ void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_vi
     case tcl::ProblemKind::Limit:
       c.diags()
           .emit(DiagKind::TclLimit, where, fmt::format("{} was stopped: {} (a loop that never ends?)", what, p.message))
-          .note(where, "nomec stops a scene's Tcl script after 2 million commands or 5 seconds");
+          .note(where, "nomec stops a scene's Tcl script after 1 million commands or 10 seconds");
       return;
     case tcl::ProblemKind::Refused:
       c.diags().emit(DiagKind::TclRefused, where, p.message);
@@ -135,7 +196,9 @@ void make_sliders(Context& c, const std::vector<TclBody>& bodies) {
     auto [bank, name] = slider_key(s.variable);
     std::string key = bank + "." + name;
     if (c.params.contains(key)) continue;
-    SourceRange at = slider_range(bodies, name, bodies.empty() ? SourceRange{} : bodies.front().keyword);
+    // The slider's own name where the file spells it, else its bank's (the call of a helper
+    // that made it: `CreateSLIDESubdivisionUI $w oSubdivision`), else the first block.
+    SourceRange at = slider_range(bodies, name, slider_range(bodies, bank, bodies.empty() ? SourceRange{} : bodies.front().keyword));
     ir::NodeId id = c.module().add_node(ir::NodeKind::Param, "scale", key, at);
     ir::ParamData& p = c.module().param(id);
     p.bank = bank;
@@ -344,7 +407,10 @@ void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
   c.tcl_available = true;
   std::vector<TclBody> bodies;
   for (const ast::Item& it : a.top) {
-    if (it.kind == ItemKind::Tcl) bodies.push_back(body_of(it));
+    if (it.kind != ItemKind::Tcl) continue;
+    bodies.push_back(body_of(it));
+    const TclBody& b = bodies.back();
+    c.tcl_blocks.push_back(SourceRange{b.keyword.file, b.begin, static_cast<uint32_t>(b.begin + b.text.size())});
   }
   if (bodies.empty()) return;  // the interpreter is made when a value needs it
   scene_tcl(c);

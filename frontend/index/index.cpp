@@ -235,8 +235,13 @@ class Builder {
       SymbolId bank = -1;
       if (auto b = bank_symbol_.find(pd.bank); b != bank_symbol_.end()) bank = b->second;
       std::string_view shortname = std::string_view(n.name).substr(std::min(n.name.size(), pd.bank.size() + 1));
-      if (sm_.text(n.range) != shortname) continue;  // made by a proc the file does not spell out
-      SymbolId sid = add_symbol(std::string(shortname), SymbolKind::Parameter, n.range, n.range, bank, p);
+      // Made by a helper whose call names only the bank (`CreateSLIDESubdivisionUI $w oSub`):
+      // located at that call, with no definition occurrence there (the word is not the
+      // slider's name, so the slider cannot be renamed); made where the file spells neither:
+      // no symbol.
+      const bool spelled = sm_.text(n.range) == shortname;
+      if (!spelled && sm_.text(n.range) != pd.bank) continue;
+      SymbolId sid = add_symbol(std::string(shortname), SymbolKind::Parameter, n.range, n.range, bank, p, spelled);
       ix_.symbols_[sid].detail = fmt::format("{} = {} in [{}, {}] step {} (a Tk `scale` made by the scene's Tcl code)",
                                              n.name, pd.value, pd.min, pd.max, pd.step);
       if (bank >= 0) member_params_.emplace(member_key(bank, shortname), sid);

@@ -74,7 +74,7 @@ foreach p {CreateSLIDEGrid CreateSLIDECubeGrid CreateSLIDETetrahedralFrame Creat
     if {$name eq ""} { set name Polyhedrons }
     slide create group g$name
     slide create object o$name {}
-    slide unavailable @P@ $name
+    slide unavailable @P@ $name [lindex $args 1]
     return g$name
   }]
 }

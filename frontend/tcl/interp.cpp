@@ -178,15 +178,22 @@ int widget(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[])
   return TCL_OK;
 }
 
+bool safe_relative(std::string_view p);
+
 // `slide create TYPE NAME …` / `slide delete TYPE NAME`: recorded for the checker.
 int slide_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   auto* s = static_cast<State*>(data);
-  if (objc == 4 && arg(objv[1]) == "unavailable") {  // from the prelude's lost-package procs
-    std::string proc(arg(objv[2])), group(arg(objv[3]));
-    s->notes.push_back({ProblemKind::Fallback,
-                        "`" + proc + "` belongs to SLIDE's lost `slideui`/`parselib` packages; nomec makes `g" + group + "` an empty group and `o" +
-                            group + "` an empty object",
-                        0, proc});
+  if ((objc == 4 || objc == 5) && arg(objv[1]) == "unavailable") {  // from the prelude's lost-package procs
+    std::string proc(arg(objv[2])), group(arg(objv[3])), file(objc == 5 ? arg(objv[4]) : "");
+    std::string msg = "`" + proc + "` belongs to SLIDE's lost `slideui`/`parselib` packages; nomec makes `g" + group +
+                      "` an empty group and `o" + group + "` an empty object";
+    if (proc == "CreateSTLObject" || proc == "CreateSIFObject") {  // NAME FILE
+      const bool here = !file.empty() && safe_relative(file) && s->read_file && s->read_file(s->dir + file).has_value();
+      msg = "`" + proc + "` imports the mesh file `" + file + "` through SLIDE's lost `parselib` package" +
+            (file.empty() ? "" : here ? "" : ", and that file is not next to the scene") + "; nomec does not import it, so `g" +
+            group + "` stays an empty group and `o" + group + "` an empty object: nothing of it is drawn";
+    }
+    s->notes.push_back({ProblemKind::Fallback, msg, 0, proc});
     Tcl_ResetResult(interp);
     return TCL_OK;
   }
@@ -375,10 +382,10 @@ Outcome finish(State& s, int rc) {
   disarm_limits(s);
   if (rc == TCL_OK || rc == TCL_RETURN) {
     o.ok = true;
-  } else if (s.guard.refusal) {
-    o.problems.push_back({ProblemKind::Memory, *s.guard.refusal, Tcl_GetErrorLine(in), ""});
-  } else if (limited) {
-    o.problems.push_back({ProblemKind::Limit, o.result, Tcl_GetErrorLine(in), ""});
+  } else if (s.guard.refusal || limited) {
+    const char* info = Tcl_GetVar2(in, "errorInfo", nullptr, TCL_GLOBAL_ONLY);
+    o.problems.push_back({s.guard.refusal ? ProblemKind::Memory : ProblemKind::Limit,
+                          s.guard.refusal ? *s.guard.refusal : o.result, Tcl_GetErrorLine(in), info != nullptr ? info : ""});
   } else if (rc == TCL_BREAK || rc == TCL_CONTINUE) {
     o.problems.push_back({ProblemKind::Error, rc == TCL_BREAK ? "`break` outside a loop" : "`continue` outside a loop", 0, ""});
   } else {

@@ -63,8 +63,8 @@ struct SlideCall {
 using Preset = std::function<std::optional<double>(const std::string& variable, double from, double to)>;
 
 struct Limits {
-  int64_t commands = 2'000'000;  // Tcl commands per script
-  int milliseconds = 5000;        // wall time per script
+  int64_t commands = 1'000'000;  // Tcl commands per script
+  int milliseconds = 10000;       // wall time per script
 };
 
 class Interp {

@@ -363,6 +363,36 @@ point q0 ({expr $swp_q0x} 0 0) endpoint
   EXPECT_NE(md.find("bank `swp`"), std::string::npos) << md;
 }
 
+TEST(Index, SlideSliderMadeByAHelperHasItsCallAsDefinition) {
+  // `CreateSLIDESubdivisionUI` (nomec's slideui) makes the slider `oSub(subdivisions)`; the
+  // file never spells `subdivisions` in Tcl, so the slider is defined at the first place the
+  // file names its bank, the helper's call.
+  auto d = open(R"(tclinit {
+  package require slideui
+  CreateSLIDESubdivisionObject oSub
+  CreateSLIDESubdivisionUI .w oSub
+}
+point p ({expr $oSub(subdivisions)} 0 0) endpoint
+)",
+                "t.slf");
+  ASSERT_EQ(d->diags.error_count(), 0);
+  const Symbol* slider = nullptr;
+  for (const Symbol& s : d->ix().symbols()) {
+    if (s.name.find("subdivisions") != std::string::npos) slider = &s;
+  }
+  ASSERT_NE(slider, nullptr);
+  EXPECT_EQ(d->str(slider->name_range), "oSub");
+  EXPECT_EQ(slider->name_range.begin, d->at("oSub\n  CreateSLIDESubdivisionUI"));
+  // Hover on its use shows it; the word at the call is the bank, not the slider's name, so
+  // renaming the slider is refused rather than rewriting the call.
+  auto h = d->ix().hover(d->a.file, d->at("subdivisions)}"));
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->symbol, slider->id);
+  EXPECT_NE(h->markdown.find("| 2 | 0 | 5 | 1 |"), std::string::npos) << h->markdown;
+  auto r = d->ix().rename(d->a.file, d->at("subdivisions)}"), "levels");
+  EXPECT_TRUE(std::holds_alternative<std::string>(r));
+}
+
 TEST(Index, HoverSlider) {
   auto d = open(kFunnels);
   auto h = d->ix().hover(d->a.file, d->at("$fp_n", 0, 4));
