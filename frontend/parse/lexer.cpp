@@ -14,14 +14,7 @@
 
 #include "frontend/parse/tokens.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wattributes"
-#pragma GCC diagnostic ignored "-Woverloaded-virtual"
-#include "NomeLexer.h"
-#include "antlr4-runtime.h"
-#pragma GCC diagnostic pop
+#include "frontend/parse/generated.h"
 
 #include <fmt/format.h>
 

@@ -20,15 +20,7 @@
 
 #include "ir/generator_catalogue.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wattributes"
-#pragma GCC diagnostic ignored "-Woverloaded-virtual"
-#include "NomeLexer.h"
-#include "NomeParser.h"
-#include "antlr4-runtime.h"
-#pragma GCC diagnostic pop
+#include "frontend/parse/generated.h"
 
 #include "frontend/parse/token_passes.h"
 #include "frontend/parse/token_stream.h"

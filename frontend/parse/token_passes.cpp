@@ -12,14 +12,7 @@
 #include "frontend/parse/piece.h"
 #include "ir/generator_catalogue.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wattributes"
-#pragma GCC diagnostic ignored "-Woverloaded-virtual"
-#include "NomeLexer.h"
-#include "NomeParser.h"
-#pragma GCC diagnostic pop
+#include "frontend/parse/generated.h"
 
 namespace nomec::parse_detail {
 

@@ -1,12 +1,5 @@
 // The generated parser's token stream over the token list (token_stream.h).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wattributes"
-#pragma GCC diagnostic ignored "-Woverloaded-virtual"
-#include "NomeParser.h"
-#include "antlr4-runtime.h"
-#pragma GCC diagnostic pop
+#include "frontend/parse/generated.h"
 
 #include "frontend/parse/token_stream.h"
 
