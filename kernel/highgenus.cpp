@@ -23,17 +23,6 @@ KernelError invalid(std::string message) {
   return KernelError{KernelError::Kind::InvalidArgument, std::move(message), {}, {}, {}};
 }
 
-glm::dvec3 newell(const std::vector<glm::dvec3>& p) {
-  glm::dvec3 n(0.0);
-  for (size_t i = 0; i < p.size(); ++i) {
-    const glm::dvec3& a = p[i];
-    const glm::dvec3& b = p[(i + 1) % p.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  const double l = glm::length(n);
-  return l > 0 ? n / l : glm::dvec3(0.0);
-}
-
 glm::dvec3 unit(const glm::dvec3& v, const glm::dvec3& fallback) {
   const double l = glm::length(v);
   return l > 1e-300 ? v / l : fallback;
@@ -98,7 +87,7 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
   const glm::dvec3 along = unit(cb - ca, {0, 0, 1});
   const double dist = glm::length(cb - ca);
   // pb runs against the second face's orientation, so its Newell normal points into it.
-  const glm::dvec3 na = unit(newell(pa), along), nb = unit(newell(pb), along);
+  const glm::dvec3 na = unit(newell_normal(pa), along), nb = unit(newell_normal(pb), along);
   const glm::dvec3 t0 = o.weights[0] * dist * na, t1 = o.weights[1] * dist * nb;
   auto point = [&](double t) {
     const double t2 = t * t, t3 = t2 * t;

@@ -16,6 +16,13 @@ namespace nomec::kernel {
 
 using glm::dvec3;
 
+dvec3 newell_normal(const std::vector<dvec3>& points) {
+  dvec3 n(0.0);
+  for (size_t i = 0; i < points.size(); ++i) n += newell_term(points[i], points[(i + 1) % points.size()]);
+  const double len = glm::length(n);
+  return len > 0.0 ? n / len : dvec3(0.0);
+}
+
 std::vector<dvec3> face_normals(const Mesh& mesh) {
   std::vector<dvec3> normals(mesh.face_count());
   for (int32_t f = 0; f < mesh.face_count(); ++f) {
@@ -23,11 +30,7 @@ std::vector<dvec3> face_normals(const Mesh& mesh) {
     // products of consecutive edge vectors up to a factor; both give the area vector.
     dvec3 n(0.0);
     mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
-      const dvec3& a = mesh.position(mesh.use_tail(u));
-      const dvec3& b = mesh.position(mesh.use_head(u));
-      n.x += (a.y - b.y) * (a.z + b.z);
-      n.y += (a.z - b.z) * (a.x + b.x);
-      n.z += (a.x - b.x) * (a.y + b.y);
+      n += newell_term(mesh.position(mesh.use_tail(u)), mesh.position(mesh.use_head(u)));
     });
     const double len = glm::length(n);
     normals[f] = len > 0.0 ? n / len : dvec3(0.0);

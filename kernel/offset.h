@@ -15,6 +15,16 @@
 
 namespace nomec::kernel {
 
+/// One edge's term of Newell's normal: summed over a polygon's edges (a, b) in order it
+/// gives twice the polygon's area vector, for planar and non-planar polygons alike.
+inline glm::dvec3 newell_term(const glm::dvec3& a, const glm::dvec3& b) {
+  return glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+}
+
+/// Unit normal of the closed polygon `points` by Newell's method (zero vector when it has
+/// zero area).
+glm::dvec3 newell_normal(const std::vector<glm::dvec3>& points);
+
 /// Unit face normals by Newell's method, in each face's own orientation (zero vector
 /// for a face with zero area).
 std::vector<glm::dvec3> face_normals(const Mesh& mesh);
