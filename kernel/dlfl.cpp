@@ -12,18 +12,10 @@
 
 namespace nomec::kernel {
 
-namespace {
-
-KernelError invalid(std::string message) {
-  return KernelError{KernelError::Kind::InvalidArgument, std::move(message), {}, {}, {}};
-}
-
 glm::dvec3 unit_or(const glm::dvec3& v, const glm::dvec3& fallback) {
   const double l = glm::length(v);
   return l > 1e-300 ? v / l : fallback;
 }
-
-}  // namespace
 
 LoopMesh LoopMesh::from_mesh(const Mesh& mesh) {
   LoopMesh m;
@@ -103,11 +95,11 @@ void LoopMesh::debug_check() const {
 }
 
 Result<int32_t> LoopMesh::insert_edge(LoopCorner a, LoopCorner b) {
-  if (!valid_corner(a) || !valid_corner(b)) return invalid("insert_edge: a corner is out of range");
-  if (a.face == b.face && a.index == b.index) return invalid("insert_edge: the two corners are the same corner");
+  if (!valid_corner(a) || !valid_corner(b)) return invalid_argument("insert_edge: a corner is out of range");
+  if (a.face == b.face && a.index == b.index) return invalid_argument("insert_edge: the two corners are the same corner");
   const int32_t u = faces_[a.face][a.index], v = faces_[b.face][b.index];
   if (edge_use_count(u, v) > 0) {
-    return invalid(fmt::format("insert_edge: vertices {} and {} are already joined by an edge", u, v));
+    return invalid_argument(fmt::format("insert_edge: vertices {} and {} are already joined by an edge", u, v));
   }
   if (a.face == b.face) {
     const std::vector<int32_t> l = faces_[a.face];
@@ -237,9 +229,9 @@ Result<bool> LoopMesh::insert_edges(const std::vector<std::pair<LoopCorner, Loop
 }
 
 Result<int32_t> LoopMesh::delete_edge(LoopCorner c) {
-  if (!valid_corner(c) || faces_[c.face].size() < 2) return invalid("delete_edge: the corner is out of range");
+  if (!valid_corner(c) || faces_[c.face].size() < 2) return invalid_argument("delete_edge: the corner is out of range");
   const LoopCorner o = other_side(c);
-  if (o.face < 0) return invalid("delete_edge: the edge has a face on one side only");
+  if (o.face < 0) return invalid_argument("delete_edge: the edge has a face on one side only");
   const std::vector<int32_t> l = faces_[c.face];
   const int32_t n = static_cast<int32_t>(l.size());
   const int32_t u = l[c.index], v = l[(c.index + 1) % n];
@@ -283,9 +275,9 @@ Result<int32_t> LoopMesh::delete_edge(LoopCorner c) {
 }
 
 Result<int32_t> LoopMesh::split_edge(LoopCorner c, const glm::dvec3& p) {
-  if (!valid_corner(c) || faces_[c.face].size() < 2) return invalid("split_edge: the corner is out of range");
+  if (!valid_corner(c) || faces_[c.face].size() < 2) return invalid_argument("split_edge: the corner is out of range");
   const std::vector<int32_t>& l = faces_[c.face];
-  if (l[c.index] == l[(c.index + 1) % l.size()]) return invalid("split_edge: a self-loop cannot be split");
+  if (l[c.index] == l[(c.index + 1) % l.size()]) return invalid_argument("split_edge: a self-loop cannot be split");
   LoopCorner o = other_side(c);
   const int32_t w = add_vertex(p);
   count_face(c.face, -1);

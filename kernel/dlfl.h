@@ -19,6 +19,10 @@
 
 namespace nomec::kernel {
 
+/// `v` scaled to unit length, or `fallback` when `v` has (nearly) no length: the
+/// directions of point spheres and of handle frames.
+glm::dvec3 unit_or(const glm::dvec3& v, const glm::dvec3& fallback);
+
 /// A corner of a `LoopMesh`: the `index`-th vertex of face `face`'s loop. The edge
 /// leaving the corner goes to the next vertex of the loop.
 struct LoopCorner {

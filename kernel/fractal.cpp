@@ -18,17 +18,13 @@ namespace nomec::kernel {
 
 namespace {
 
-KernelError invalid(std::string message) {
-  return KernelError{KernelError::Kind::InvalidArgument, std::move(message), {}, {}, {}};
-}
-
 uint64_t pair_key(int32_t a, int32_t b) {
   const uint32_t lo = static_cast<uint32_t>(std::min(a, b)), hi = static_cast<uint32_t>(std::max(a, b));
   return (static_cast<uint64_t>(hi) << 32) | lo;
 }
 
 KernelError too_big(const char* what, int32_t level, int64_t faces, int64_t limit) {
-  return invalid(fmt::format("{} level {} would make about {} faces, more than the limit of {}", what, level, faces,
+  return invalid_argument(fmt::format("{} level {} would make about {} faces, more than the limit of {}", what, level, faces,
                              limit));
 }
 
@@ -254,7 +250,7 @@ int64_t corner_count(const Mesh& mesh) { return 2 * static_cast<int64_t>(mesh.ed
 }  // namespace
 
 Result<Mesh> sierpinski(const Mesh& mesh, const SierpinskiOptions& o) {
-  if (o.levels < 0) return invalid(fmt::format("sierpinski level must be 0 or more, not {}", o.levels));
+  if (o.levels < 0) return invalid_argument(fmt::format("sierpinski level must be 0 or more, not {}", o.levels));
   if (o.levels == 0) return mesh;
   LoopMesh m = LoopMesh::from_mesh(mesh);
   for (int32_t level = 1; level <= o.levels; ++level) {
@@ -267,12 +263,12 @@ Result<Mesh> sierpinski(const Mesh& mesh, const SierpinskiOptions& o) {
 }
 
 Result<Mesh> menger(const Mesh& mesh, const MengerOptions& o) {
-  if (o.levels < 0) return invalid(fmt::format("menger level must be 0 or more, not {}", o.levels));
+  if (o.levels < 0) return invalid_argument(fmt::format("menger level must be 0 or more, not {}", o.levels));
   if (!(o.thickness > 0) || !std::isfinite(o.thickness)) {
-    return invalid(fmt::format("menger thickness must be positive, not {}", o.thickness));
+    return invalid_argument(fmt::format("menger thickness must be positive, not {}", o.thickness));
   }
   if (!std::isfinite(o.collapse) || o.collapse < 0) {
-    return invalid(fmt::format("menger collapse factor must be 0 or more, not {}", o.collapse));
+    return invalid_argument(fmt::format("menger collapse factor must be 0 or more, not {}", o.collapse));
   }
   Mesh current = mesh;
   double t = o.thickness;

@@ -19,15 +19,6 @@ namespace nomec::kernel {
 
 namespace {
 
-KernelError invalid(std::string message) {
-  return KernelError{KernelError::Kind::InvalidArgument, std::move(message), {}, {}, {}};
-}
-
-glm::dvec3 unit(const glm::dvec3& v, const glm::dvec3& fallback) {
-  const double l = glm::length(v);
-  return l > 1e-300 ? v / l : fallback;
-}
-
 // ---- handles ----
 
 // TopMod's one-segment connectFaces: the non-co-facial insertion merges the two faces
@@ -35,7 +26,7 @@ glm::dvec3 unit(const glm::dvec3& v, const glm::dvec3& fallback) {
 Result<bool> pipe(LoopMesh& m, LoopCorner a, LoopCorner b) {
   auto taken = [&](LoopCorner x, LoopCorner y) {
     const int32_t u = m.face(x.face)[x.index], v = m.face(y.face)[y.index];
-    KernelError e = invalid("the handle would join two corners that an edge joins already; use more segments, "
+    KernelError e = invalid_argument("the handle would join two corners that an edge joins already; use more segments, "
                             "other corners or faces farther apart");
     e.vertices = {VertexId(u), VertexId(v)};
     return e;
@@ -84,10 +75,10 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
   const size_t n = pa.size();
   const glm::dvec3 ca = std::accumulate(pa.begin(), pa.end(), glm::dvec3(0.0)) / double(n);
   const glm::dvec3 cb = std::accumulate(pb.begin(), pb.end(), glm::dvec3(0.0)) / double(n);
-  const glm::dvec3 along = unit(cb - ca, {0, 0, 1});
+  const glm::dvec3 along = unit_or(cb - ca, {0, 0, 1});
   const double dist = glm::length(cb - ca);
   // pb runs against the second face's orientation, so its Newell normal points into it.
-  const glm::dvec3 na = unit(newell_normal(pa), along), nb = unit(newell_normal(pb), along);
+  const glm::dvec3 na = unit_or(newell_normal(pa), along), nb = unit_or(newell_normal(pb), along);
   const glm::dvec3 t0 = o.weights[0] * dist * na, t1 = o.weights[1] * dist * nb;
   auto point = [&](double t) {
     const double t2 = t * t, t3 = t2 * t;
@@ -95,7 +86,7 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
   };
   auto tangent = [&](double t) {
     const double t2 = t * t;
-    return unit((6 * t2 - 6 * t) * ca + (3 * t2 - 4 * t + 1) * t0 + (-6 * t2 + 6 * t) * cb + (3 * t2 - 2 * t) * t1,
+    return unit_or((6 * t2 - 6 * t) * ca + (3 * t2 - 4 * t + 1) * t0 + (-6 * t2 + 6 * t) * cb + (3 * t2 - 2 * t) * t1,
                 along);
   };
   // Polar coordinates of each ring in its own frame (z = the direction of travel).
@@ -103,7 +94,7 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
     std::vector<double> angle, radius, height;
   };
   auto polar = [&](const std::vector<glm::dvec3>& p, const glm::dvec3& c, const glm::dvec3& z, glm::dvec3& x) {
-    x = unit(p[0] - c - glm::dot(p[0] - c, z) * z, unit(glm::cross(z, {0.31, 0.53, 0.79}), {1, 0, 0}));
+    x = unit_or(p[0] - c - glm::dot(p[0] - c, z) * z, unit_or(glm::cross(z, {0.31, 0.53, 0.79}), {1, 0, 0}));
     const glm::dvec3 y = glm::cross(z, x);
     Polar r;
     for (size_t i = 0; i < n; ++i) {
@@ -123,12 +114,12 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
   const int32_t s = o.segments;
   std::vector<glm::dvec3> frame_x(s + 1), frame_z(s + 1);
   frame_z[0] = tangent(0.0);
-  frame_x[0] = unit(xa - glm::dot(xa, frame_z[0]) * frame_z[0], xa);
+  frame_x[0] = unit_or(xa - glm::dot(xa, frame_z[0]) * frame_z[0], xa);
   for (int32_t k = 1; k <= s; ++k) {
     frame_z[k] = tangent(double(k) / s);
-    frame_x[k] = unit(frame_x[k - 1] - glm::dot(frame_x[k - 1], frame_z[k]) * frame_z[k], frame_x[k - 1]);
+    frame_x[k] = unit_or(frame_x[k - 1] - glm::dot(frame_x[k - 1], frame_z[k]) * frame_z[k], frame_x[k - 1]);
   }
-  const glm::dvec3 xe = unit(xb - glm::dot(xb, frame_z[s]) * frame_z[s], xb);
+  const glm::dvec3 xe = unit_or(xb - glm::dot(xb, frame_z[s]) * frame_z[s], xb);
   const double mismatch =
       std::atan2(glm::dot(glm::cross(frame_x[s], xe), frame_z[s]), glm::dot(frame_x[s], xe)) + 2 * std::numbers::pi * o.twist;
   std::vector<std::vector<glm::dvec3>> rings;
@@ -154,18 +145,18 @@ std::vector<std::vector<glm::dvec3>> handle_rings(const std::vector<glm::dvec3>&
 Result<bool> check_handle(const Mesh& mesh, const HandleOptions& o) {
   for (FaceId f : o.faces) {
     if (f.index < 0 || f.index >= mesh.face_count()) {
-      return invalid(fmt::format("face {} does not exist; the mesh has {} faces", f.index, mesh.face_count()));
+      return invalid_argument(fmt::format("face {} does not exist; the mesh has {} faces", f.index, mesh.face_count()));
     }
   }
-  if (o.faces[0] == o.faces[1]) return invalid("a handle needs two different faces");
-  if (o.segments < 1) return invalid(fmt::format("a handle needs at least 1 segment, not {}", o.segments));
+  if (o.faces[0] == o.faces[1]) return invalid_argument("a handle needs two different faces");
+  if (o.segments < 1) return invalid_argument(fmt::format("a handle needs at least 1 segment, not {}", o.segments));
   if (!std::isfinite(o.weights[0]) || !std::isfinite(o.weights[1]) || !std::isfinite(o.twist)) {
-    return invalid("handle weights and twist must be finite numbers");
+    return invalid_argument("handle weights and twist must be finite numbers");
   }
   const std::vector<VertexId> a = mesh.face_vertices(o.faces[0]), b = mesh.face_vertices(o.faces[1]);
   for (VertexId v : a) {
     if (std::find(b.begin(), b.end(), v) != b.end()) {
-      KernelError e = invalid("the two faces share a vertex; a handle joins faces that do not touch");
+      KernelError e = invalid_argument("the two faces share a vertex; a handle joins faces that do not touch");
       e.faces = {o.faces[0], o.faces[1]};
       e.vertices = {v};
       return e;
@@ -174,7 +165,7 @@ Result<bool> check_handle(const Mesh& mesh, const HandleOptions& o) {
   for (int side = 0; side < 2; ++side) {
     const std::vector<VertexId>& l = side == 0 ? a : b;
     if (o.corners[side].is_valid() && std::find(l.begin(), l.end(), o.corners[side]) == l.end()) {
-      KernelError e = invalid(fmt::format("vertex {} is not a corner of face {}", o.corners[side].index,
+      KernelError e = invalid_argument(fmt::format("vertex {} is not a corner of face {}", o.corners[side].index,
                                           o.faces[side].index));
       e.vertices = {o.corners[side]};
       return e;
@@ -241,9 +232,9 @@ Result<std::vector<uint8_t>> rind_roles(const Mesh& mesh, const RindOptions& o) 
   std::vector<uint8_t> role(F, 0);  // 1 punched, 2 peeled
   for (int which = 1; which <= 2; ++which) {
     for (FaceId f : which == 1 ? o.punch : o.peel) {
-      if (f.index < 0 || f.index >= F) return invalid(fmt::format("face {} does not exist; the mesh has {} faces", f.index, F));
+      if (f.index < 0 || f.index >= F) return invalid_argument(fmt::format("face {} does not exist; the mesh has {} faces", f.index, F));
       if (role[f.index] != 0 && role[f.index] != which) {
-        KernelError e = invalid(fmt::format("face {} is both punched and peeled", f.index));
+        KernelError e = invalid_argument(fmt::format("face {} is both punched and peeled", f.index));
         e.faces = {f};
         return e;
       }
@@ -253,7 +244,7 @@ Result<std::vector<uint8_t>> rind_roles(const Mesh& mesh, const RindOptions& o) 
   for (int32_t e = 0; e < mesh.edge_count(); ++e) {
     const FaceId a = mesh.edge_face(EdgeId(e), 0), b = mesh.edge_face(EdgeId(e), 1);
     if (b.is_valid() && role[a.index] + role[b.index] == 3) {
-      KernelError err = invalid(fmt::format("punched face {} shares an edge with peeled face {}",
+      KernelError err = invalid_argument(fmt::format("punched face {} shares an edge with peeled face {}",
                                             role[a.index] == 1 ? a.index : b.index, role[a.index] == 1 ? b.index : a.index));
       err.faces = {a, b};
       return err;
@@ -277,7 +268,7 @@ Result<std::vector<uint8_t>> rind_roles(const Mesh& mesh, const RindOptions& o) 
   for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
     for (int r = 1; r <= 2; ++r) {
       if (walls_at[r][v] != 0 && walls_at[r][v] != 2) {
-        KernelError e = invalid(fmt::format("the {} faces meet at a corner from more than one side (their edges pass "
+        KernelError e = invalid_argument(fmt::format("the {} faces meet at a corner from more than one side (their edges pass "
                                             "it {} times); the crust would be pinched there",
                                             r == 1 ? "punched" : "peeled", walls_at[r][v] / 2 + walls_at[r][v] % 2));
         e.vertices = {VertexId(v)};
@@ -295,7 +286,7 @@ Result<std::vector<uint8_t>> rind_roles(const Mesh& mesh, const RindOptions& o) 
 
 Result<Mesh> rind(const Mesh& mesh, const RindOptions& o) {
   if (!(o.thickness > 0) || !std::isfinite(o.thickness)) {
-    return invalid(fmt::format("rind thickness must be positive, not {}", o.thickness));
+    return invalid_argument(fmt::format("rind thickness must be positive, not {}", o.thickness));
   }
   auto roles = rind_roles(mesh, o);
   if (!roles) return roles.error();

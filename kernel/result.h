@@ -40,6 +40,11 @@ struct KernelError {
   std::vector<VertexId> vertices;
 };
 
+/// An `InvalidArgument` error with `message` and no offending elements.
+inline KernelError invalid_argument(std::string message) {
+  return KernelError{KernelError::Kind::InvalidArgument, std::move(message), {}, {}, {}};
+}
+
 /// Either a value or a `KernelError`.
 template <typename T>
 class Result {
