@@ -124,7 +124,7 @@ namespace {
 // position and name. Faces left with a repeated corner (a crossing snapped to a grid point)
 // and repeats of a face already made (a surface lying in a cube face) are dropped.
 struct CubeWelder {
-  double tol;
+  double tol = 0;
   kernel::PolygonSoup soup;
   std::unordered_map<uint64_t, std::vector<int32_t>> cells;
   std::vector<std::vector<int32_t>> made;  // sorted corners of the faces made
@@ -268,7 +268,8 @@ Generated make_Genimplicitsurf(const ArgReader& a) {
   };
   // Copies of one crossing differ by rounding only; 10⁻⁹ of the smallest cell is far below
   // any distance between different crossings but those snapped to the same grid point.
-  CubeWelder weld{1e-9 * std::min({std::abs(step.x), std::abs(step.y), std::abs(step.z)}), {}, {}, {}, {}};
+  CubeWelder weld;
+  weld.tol = 1e-9 * std::min({std::abs(step.x), std::abs(step.y), std::abs(step.z)});
   int32_t records = 0;  // NOME3's vertex records, for the names v_{k}
   kernel::PolygonSoup raw;  // NOME3's unwelded cubes
   for (int i = 0; i < cx; ++i) {
