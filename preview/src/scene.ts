@@ -168,7 +168,6 @@ export class Viewer {
     const waiters = this.frameWaiters;
     this.frameWaiters = [];
     for (const w of waiters) w();
-    if (!this.dragMaterialReady && this.parts.size > 0) this.prepareDragMaterial();
     if (!this.interacting && this.parts.size > 0 && !this.fullPictureMarked) {
       this.fullPictureMarked = true;
       performance.mark("nome-first-full-picture");  // the first picture drawn at rest
@@ -198,20 +197,6 @@ export class Viewer {
     this.scene.remove(...probes);
     tri.dispose();
     fat.dispose();
-    this.dragMaterialReady = true;
-  }
-
-  // Compiles the dragging material's shaders soon after the first picture, so the first
-  // slider move does not wait for them.
-  private dragMaterialReady = false;
-  private prepareDragMaterial(): void {
-    this.dragMaterialReady = true;
-    setTimeout(() => {
-      const resting = this.surface.material;
-      this.surface.material = this.dragMaterial;
-      this.renderer.compile(this.scene, this.camera);
-      this.surface.material = resting;
-    }, 50);
   }
 
   static softwareGl(): boolean {
