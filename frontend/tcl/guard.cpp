@@ -1,6 +1,8 @@
 // Resource guards of the embedded interpreter (see guard.h).
 #include "frontend/tcl/guard.h"
 
+#include <tclTomMath.h>
+
 #include <malloc.h>
 
 #include <algorithm>
@@ -32,6 +34,16 @@ int64_t size_of(Tcl_Obj* o) {
     if (Tcl_ListObjLength(nullptr, o, &n) == TCL_OK) return n;
   }
   return 32;
+}
+
+// Decimal digits of a whole number held as a Tcl bignum without its text; 0 for anything else.
+int64_t bignum_digits(Tcl_Obj* o) {
+  if (o->bytes != nullptr || o->typePtr == nullptr || std::strcmp(o->typePtr->name, "bignum") != 0) return 0;
+  mp_int big;
+  if (Tcl_GetBignumFromObj(nullptr, o, &big) != TCL_OK) return 0;
+  const int bits = mp_count_bits(&big);
+  mp_clear(&big);
+  return static_cast<int64_t>(bits * 0.30102999566398120) + 1;
 }
 
 int64_t sum_of(int objc, Tcl_Obj* const objv[], int from) {
@@ -213,6 +225,9 @@ int trace_cmd(ClientData data, Tcl_Interp* interp, int, const char* command, Tcl
     if (size_of(objv[i]) > kMaxValue) {
       return refuse_size(g, interp, too_big(("an argument of `" + std::string(name) + "`").c_str(), size_of(objv[i])));
     }
+    if (auto msg = too_many_digits(objv[i], ("an argument of `" + std::string(name) + "`").c_str())) {
+      return refuse_size(g, interp, *msg);
+    }
   }
   if ((++g.commands & 1023) == 0) {
     const size_t now = heap_in_use();
@@ -240,6 +255,14 @@ void on_panic(const char* format, ...) {
 }
 
 }  // namespace
+
+std::optional<std::string> too_many_digits(Tcl_Obj* o, const char* what) {
+  const int64_t digits = bignum_digits(o);
+  if (digits <= kMaxDigits) return std::nullopt;
+  return std::string(what) + " is a whole number of about " + std::to_string(digits) +
+         " digits; a SLIDE scene's Tcl may use whole numbers of at most " + std::to_string(kMaxDigits) +
+         " digits (write a floating-point number, e.g. `10.0**400`, for a large value)";
+}
 
 size_t heap_in_use() {
   struct mallinfo2 m = mallinfo2();

@@ -18,6 +18,10 @@ namespace nomec::tcl {
 
 /// The largest value (characters of a string, elements of a list) a scene's Tcl may build.
 constexpr int64_t kMaxValue = 4'000'000;
+/// The most decimal digits of a whole number a scene's Tcl may hand to a command or return:
+/// Tcl's bignums are cheap to compute but quadratic to print (200,000 digits take ~20 s in one
+/// command, which no limit interrupts), and no scene needs more.
+constexpr int64_t kMaxDigits = 10'000;
 /// The most memory a scene's Tcl may hold beyond what it held when the script started.
 constexpr size_t kMaxGrowth = size_t{256} << 20;
 
@@ -33,6 +37,9 @@ struct Guard {
 void install_guards(Guard& g);
 /// Called before each script: the memory baseline.
 void arm_guard(Guard& g);
+/// When `o` is a whole number (Tcl bignum) of more than kMaxDigits digits, a message saying
+/// so, naming it `what`; nothing otherwise. Never builds the number's text.
+std::optional<std::string> too_many_digits(Tcl_Obj* o, const char* what);
 /// Heap bytes in use (0 where the C library cannot tell).
 size_t heap_in_use();
 

@@ -377,6 +377,14 @@ void disarm_limits(State& s) {
 Outcome finish(State& s, int rc) {
   Outcome o;
   Tcl_Interp* in = s.interp;
+  if (rc == TCL_OK || rc == TCL_RETURN) {
+    // A huge whole number would take minutes to print (guard.h, kMaxDigits).
+    if (auto msg = too_many_digits(Tcl_GetObjResult(in), "the script's result")) {
+      s.guard.refusal = *msg;
+      Tcl_SetObjResult(in, Tcl_NewStringObj(msg->c_str(), -1));
+      rc = TCL_ERROR;
+    }
+  }
   o.result = Tcl_GetStringResult(in);
   const bool limited = Tcl_LimitExceeded(in) != 0;
   disarm_limits(s);

@@ -199,6 +199,37 @@ TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
   }
 }
 
+// Tcl computes huge whole numbers quickly but prints them in quadratic time (200,000 digits
+// take about 20 s inside one command, which no limit interrupts): they are refused before
+// any command gets them and as a script's result, and their text is never built.
+TEST(TclInterp, HugeWholeNumbersAreRefusedBeforeTheyArePrinted) {
+  for (const char* script : {
+           "expr {10**200000}",
+           "set x [expr {10**200000}]",
+           "set x [expr {2**40000}]; string length $x",
+           "proc f {} {return [expr {7**50000}]}; f",
+           "set x 1; while 1 {set x [expr {$x * 1000}]}",
+       }) {
+    Interp in = make({}, Limits{int64_t{1} << 40, 60000});
+    Outcome o = in.run(script);
+    ASSERT_FALSE(o.ok) << script;
+    EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory) << script << ": " << o.problems[0].message;
+    EXPECT_NE(o.problems[0].message.find("at most 10000 digits"), std::string::npos) << o.problems[0].message;
+    EXPECT_TRUE(in.run("set after 1").ok) << script;
+  }
+  Interp in = make();
+  Outcome v = in.value("expr {10**20000}");
+  ASSERT_FALSE(v.ok);
+  EXPECT_EQ(v.problems[0].kind, ProblemKind::Memory);
+  // Whole numbers of ordinary size, bignums included, are untouched.
+  Outcome big = in.run("set b [expr {2**100}]");
+  ASSERT_TRUE(big.ok) << big.result;
+  EXPECT_EQ(in.get("b"), "1267650600228229401496703205376");
+  Outcome w = in.value("expr {10**300 / 10**298}");
+  ASSERT_TRUE(w.ok);
+  EXPECT_DOUBLE_EQ(w.number, 100.0);
+}
+
 TEST(TclInterp, OrdinaryUseOfTheGuardedCommandsStillWorks) {
   Interp in = make();
   Outcome o = in.run(
