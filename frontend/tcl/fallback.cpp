@@ -64,9 +64,68 @@ proc CreateSLIDEObjectObject {name} {
   return $name
 }
 proc CreateSLIDEGroupUI {parent name} { frame $parent; return $parent }
-# Test geometry and mesh import of the lost packages: an empty group `g<NAME>`, an empty
-# object `o<NAME>`, and a note.
-foreach p {CreateSLIDEGrid CreateSLIDECubeGrid CreateSLIDETetrahedralFrame CreateSLIDECubeFrame
+# The two test grids, inferred from how subdivision.slf places them (docs/dialects.md):
+# six `oGrid_3_3` moved by (0 0 1) and turned by 0, ±90, 180 degrees make the "Rubik's
+# cube", so a grid spans [-1, 1]² at z = 0, facing +z; `gCubeGrid_2` is then the closed cube
+# [-1, 1]³ with N × N quads on each side, one shared point per lattice point, facing out.
+proc CreateSLIDEGrid {name nx ny} {
+  set faces {}
+  for {set i 0} {$i <= $nx} {incr i} {
+    for {set j 0} {$j <= $ny} {incr j} {
+      slide create point p${name}_${i}_$j [list [expr {-1.0 + 2.0 * $i / $nx}] [expr {-1.0 + 2.0 * $j / $ny}] 0.0]
+    }
+  }
+  for {set i 0} {$i < $nx} {incr i} {
+    for {set j 0} {$j < $ny} {incr j} {
+      set i1 [expr {$i + 1}]
+      set j1 [expr {$j + 1}]
+      slide create face f${name}_${i}_$j [list p${name}_${i}_$j p${name}_${i1}_$j p${name}_${i1}_$j1 p${name}_${i}_$j1]
+      lappend faces f${name}_${i}_$j
+    }
+  }
+  slide create object o$name $faces
+  slide create group g$name
+  slide create instance i$name g$name o$name
+  return g$name
+}
+proc CreateSLIDECubeGrid {name n} {
+  set faces {}
+  array set made {}
+  # Each side: the axis it is normal to, the two axes (u, v) with u × v pointing out of the
+  # far side (coordinate n); the near side (0) runs round the other way.
+  foreach {axis u v} {0 1 2  1 2 0  2 0 1} {
+    foreach side {0 1} {
+      for {set a 0} {$a < $n} {incr a} {
+        for {set b 0} {$b < $n} {incr b} {
+          set corners {}
+          foreach {da db} {0 0 1 0 1 1 0 1} {
+            set c($axis) [expr {$side * $n}]
+            set c($u) [expr {$a + $da}]
+            set c($v) [expr {$b + $db}]
+            set pt p${name}_$c(0)_$c(1)_$c(2)
+            if {![info exists made($pt)]} {
+              set made($pt) 1
+              slide create point $pt [list [expr {-1.0 + 2.0 * $c(0) / $n}] [expr {-1.0 + 2.0 * $c(1) / $n}] \
+                  [expr {-1.0 + 2.0 * $c(2) / $n}]]
+            }
+            lappend corners $pt
+          }
+          if {$side == 0} { set corners [lreverse $corners] }
+          set f f${name}_${axis}_${side}_${a}_$b
+          slide create face $f $corners
+          lappend faces $f
+        }
+      }
+    }
+  }
+  slide create object o$name $faces
+  slide create group g$name
+  slide create instance i$name g$name o$name
+  return g$name
+}
+# The other test geometry and mesh import of the lost packages: an empty group `g<NAME>`, an
+# empty object `o<NAME>`, and a note.
+foreach p {CreateSLIDETetrahedralFrame CreateSLIDECubeFrame
     CreateSLIDECubeFrameWithCorners CreateSLIDEOctahedronFrame CreateSLIDEDodecaStar CreateSLIDEOctaStar
     CreateSLIDESTLFILE CreateSTLObject CreateSIFObject} {
   proc $p {args} [string map [list @P@ $p] {
