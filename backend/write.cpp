@@ -1,6 +1,8 @@
 // STL/OBJ/PLY rendering and atomic file replacement (see write.h).
 #include "backend/write.h"
 
+#include "backend/number_text.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +15,9 @@
 #include <iterator>
 #include <functional>
 #include <map>
+#include <memory>
+#include <new>
+#include <string_view>
 
 namespace nomec::backend {
 namespace {
@@ -223,54 +228,140 @@ std::string to_stl_binary(std::span<const OutputMesh> meshes) {
   return out;
 }
 
-std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
-  std::string out;
-  for (const OutputMesh& m : meshes) {
-    std::string name = m.name.empty() ? "nomec" : m.name;
-    fmt::format_to(std::back_inserter(out), "solid {}\n", name);
-    const kernel::PolygonSoup& s = m.soup;
-    std::vector<int32_t> t = triangulate(s);
-    for (size_t k = 0; k + 2 < t.size(); k += 3) {
-      glm::dvec3 n = tri_normal(s, t[k], t[k + 1], t[k + 2]);
-      // `+ 0.0` turns -0 into 0, so goldens do not depend on the sign of zero.
-      fmt::format_to(std::back_inserter(out), "  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
-      for (int j = 0; j < 3; ++j) {
-        const glm::dvec3& p = s.positions[t[k + j]];
-        fmt::format_to(std::back_inserter(out), "      vertex {:e} {:e} {:e}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
-      }
-      out += "    endloop\n  endfacet\n";
-    }
-    fmt::format_to(std::back_inserter(out), "endsolid {}\n", name);
+namespace {
+
+// A buffer the text writers fill by pointer: `room` makes space for a line, `done` keeps
+// what was written. Numbers go through number_text.h (fmt's characters, faster).
+class TextOut {
+ public:
+  explicit TextOut(size_t reserve) : buf_(static_cast<char*>(std::malloc(reserve))), cap_(reserve) {
+    if (buf_ == nullptr) throw std::bad_alloc();
   }
-  return out;
+  TextOut(const TextOut&) = delete;
+  TextOut& operator=(const TextOut&) = delete;
+  ~TextOut() { std::free(buf_); }
+  /// Space for at least `n` more characters (not initialised), at the end of the text.
+  char* room(size_t n) {
+    if (size_ + n > cap_) {
+      const size_t cap = std::max(cap_ * 2, size_ + n);
+      char* grown = static_cast<char*>(std::realloc(buf_, cap));
+      if (grown == nullptr) throw std::bad_alloc();
+      buf_ = grown;
+      cap_ = cap;
+    }
+    return buf_ + size_;
+  }
+  /// Keeps what was written into `room` up to `end`.
+  void done(const char* end) { size_ = static_cast<size_t>(end - buf_); }
+  void add(std::string_view text) { done(put(room(text.size()), text)); }
+  std::string take() const { return std::string(buf_, size_); }
+
+  static char* put(char* p, std::string_view t) {
+    std::memcpy(p, t.data(), t.size());
+    return p + t.size();
+  }
+
+ private:
+  char* buf_;
+  size_t cap_;
+  size_t size_ = 0;
+};
+
+char* put_text(char* p, std::string_view t) { return TextOut::put(p, t); }
+
+// `a b c` for a point: each coordinate as `put`, -0 written as 0 (`+ 0.0`), so goldens do
+// not depend on the sign of zero.
+template <char* (*Put)(char*, double)>
+char* put_xyz(char* p, const glm::dvec3& v) {
+  p = Put(p, v.x + 0.0);
+  *p++ = ' ';
+  p = Put(p, v.y + 0.0);
+  *p++ = ' ';
+  return Put(p, v.z + 0.0);
+}
+
+}  // namespace
+
+std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
+  size_t triangles = 0;
+  for (const OutputMesh& m : meshes) triangles += static_cast<size_t>(m.soup.face_count()) * 2;
+  TextOut out(triangles * 260 + 64);
+  for (const OutputMesh& m : meshes) {
+    const std::string name = m.name.empty() ? "nomec" : m.name;
+    out.add(fmt::format("solid {}\n", name));
+    const kernel::PolygonSoup& s = m.soup;
+    // Each point's text once (a point is a corner of about six triangles).
+    std::vector<size_t> point_at(s.positions.size() + 1, 0);
+    const std::unique_ptr<char[]> points(new char[s.positions.size() * (3 * kNumberTextMax + 2) + 1]);
+    char* w = points.get();
+    for (size_t i = 0; i < s.positions.size(); ++i) {
+      w = put_xyz<put_e6>(w, s.positions[i]);
+      point_at[i + 1] = static_cast<size_t>(w - points.get());
+    }
+    const std::vector<int32_t> t = triangulate(s);
+    for (size_t k = 0; k + 2 < t.size(); k += 3) {
+      char* p = out.room(3 * kNumberTextMax + 3 * (3 * kNumberTextMax + 16) + 80);
+      p = put_text(p, "  facet normal ");
+      p = put_xyz<put_e6>(p, tri_normal(s, t[k], t[k + 1], t[k + 2]));
+      p = put_text(p, "\n    outer loop\n");
+      for (int j = 0; j < 3; ++j) {
+        const int32_t v = t[k + j];
+        p = put_text(p, "      vertex ");
+        p = put_text(p, std::string_view(points.get() + point_at[v], point_at[v + 1] - point_at[v]));
+        *p++ = '\n';
+      }
+      p = put_text(p, "    endloop\n  endfacet\n");
+      out.done(p);
+    }
+    out.add(fmt::format("endsolid {}\n", name));
+  }
+  return out.take();
 }
 
 std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file) {
-  std::string out = "# written by nomec\n";
-  if (!mtl_file.empty()) fmt::format_to(std::back_inserter(out), "mtllib {}\n", mtl_file);
+  size_t points = 0, corners = 0;
+  for (const OutputMesh& m : meshes) {
+    points += m.soup.positions.size();
+    corners += m.soup.face_vertices.size();
+  }
+  TextOut out(points * 60 + corners * 8 + 64);
+  out.add("# written by nomec\n");
+  if (!mtl_file.empty()) out.add(fmt::format("mtllib {}\n", mtl_file));
   int64_t base = 1;
   for (const OutputMesh& m : meshes) {
     const kernel::PolygonSoup& s = m.soup;
-    fmt::format_to(std::back_inserter(out), "o {}\n", m.name.empty() ? "nomec" : m.name);
-    for (const glm::dvec3& p : s.positions) fmt::format_to(std::back_inserter(out), "v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    out.add(fmt::format("o {}\n", m.name.empty() ? "nomec" : m.name));
+    for (const glm::dvec3& v : s.positions) {
+      char* p = out.room(3 * kNumberTextMax + 8);
+      p = put_text(p, "v ");
+      p = put_xyz<put_shortest>(p, v);
+      *p++ = '\n';
+      out.done(p);
+    }
     std::string current;
     size_t at = 0;
     for (int32_t f = 0; f < s.face_count(); ++f) {
       if (!mtl_file.empty() && !s.face_colors.empty()) {
         std::string c = color_name(s.face_colors[f]);
         if (c != current) {
-          fmt::format_to(std::back_inserter(out), "usemtl {}\n", c);
+          out.add(fmt::format("usemtl {}\n", c));
           current = c;
         }
       }
-      out += "f";
-      for (int32_t i = 0; i < s.face_sizes[f]; ++i) fmt::format_to(std::back_inserter(out), " {}", base + s.face_vertices[at + i]);
-      out += "\n";
-      at += s.face_sizes[f];
+      const int32_t n = s.face_sizes[f];
+      char* p = out.room(static_cast<size_t>(n) * 24 + 4);
+      *p++ = 'f';
+      for (int32_t i = 0; i < n; ++i) {
+        *p++ = ' ';
+        p = put_int(p, base + s.face_vertices[at + i]);
+      }
+      *p++ = '\n';
+      out.done(p);
+      at += static_cast<size_t>(n);
     }
     base += s.vertex_count();
   }
-  return out;
+  return out.take();
 }
 
 std::string to_mtl(std::span<const OutputMesh> meshes) {
@@ -301,7 +392,12 @@ std::string to_ply(std::span<const OutputMesh> meshes) {
   if (colored) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out += "end_header\n";
   for (const OutputMesh& m : meshes) {
-    for (const glm::dvec3& p : m.soup.positions) fmt::format_to(std::back_inserter(out), "{} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    for (const glm::dvec3& p : m.soup.positions) {
+      char line[3 * kNumberTextMax + 4];
+      char* e = put_xyz<put_shortest>(line, p);
+      *e++ = '\n';
+      out.append(line, e);
+    }
   }
   size_t base = 0;
   for (const OutputMesh& m : meshes) {

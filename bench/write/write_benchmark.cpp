@@ -11,6 +11,11 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <iterator>
+
 #include "backend/write.h"
 #include "base/file_io.h"
 
@@ -65,6 +70,73 @@ void BM_StlBinary(benchmark::State& state) { render(state, big(), stl_binary); }
 void BM_StlAscii(benchmark::State& state) { render(state, big(), stl_ascii); }
 void BM_Obj(benchmark::State& state) { render(state, big(), obj); }
 void BM_Ply(benchmark::State& state) { render(state, big(), ply); }
+
+// The text writers as they were before number_text.h (fmt through a back inserter, every
+// triangle's three points formatted anew): a reference measured in the same run.
+std::string stl_ascii_fmt(const std::vector<OutputMesh>& meshes) {
+  std::string out;
+  for (const OutputMesh& m : meshes) {
+    fmt::format_to(std::back_inserter(out), "solid {}\n", m.name);
+    const nomec::kernel::PolygonSoup& s = m.soup;
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      const int32_t* v = s.face_vertices.data() + at;
+      for (int32_t i = 1; i + 1 < s.face_sizes[f]; ++i) {
+        const glm::dvec3 &a = s.positions[v[0]], &b = s.positions[v[i]], &c = s.positions[v[i + 1]];
+        const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+        fmt::format_to(std::back_inserter(out), "  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0,
+                       n.z + 0.0);
+        for (const glm::dvec3* p : {&a, &b, &c}) {
+          fmt::format_to(std::back_inserter(out), "      vertex {:e} {:e} {:e}\n", p->x + 0.0, p->y + 0.0, p->z + 0.0);
+        }
+        out += "    endloop\n  endfacet\n";
+      }
+      at += static_cast<size_t>(s.face_sizes[f]);
+    }
+    fmt::format_to(std::back_inserter(out), "endsolid {}\n", m.name);
+  }
+  return out;
+}
+
+std::string obj_fmt(const std::vector<OutputMesh>& meshes) {
+  std::string out = "# written by nomec\n";
+  int64_t base = 1;
+  for (const OutputMesh& m : meshes) {
+    const nomec::kernel::PolygonSoup& s = m.soup;
+    fmt::format_to(std::back_inserter(out), "o {}\n", m.name);
+    for (const glm::dvec3& p : s.positions) fmt::format_to(std::back_inserter(out), "v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      out += "f";
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) fmt::format_to(std::back_inserter(out), " {}", base + s.face_vertices[at + i]);
+      out += "\n";
+      at += static_cast<size_t>(s.face_sizes[f]);
+    }
+    base += s.vertex_count();
+  }
+  return out;
+}
+
+void BM_StlAsciiFmtReference(benchmark::State& state) { render(state, big(), stl_ascii_fmt); }
+void BM_ObjFmtReference(benchmark::State& state) { render(state, big(), obj_fmt); }
+
+// A text format rendered and written to a file through the atomic writer.
+template <typename F>
+void text_to_file(benchmark::State& state, F to, const char* name) {
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string path = std::string(tmp != nullptr ? tmp : "/tmp") + "/" + name;
+  size_t bytes = 0;
+  for (auto _ : state) {
+    std::string s = to(big());
+    const std::string error = nomec::write_file_atomically(path, s);
+    if (!error.empty()) state.SkipWithError(error.c_str());
+    bytes += s.size();
+  }
+  std::remove(path.c_str());
+  state.SetBytesProcessed(static_cast<int64_t>(bytes));
+}
+void BM_StlAsciiToFile(benchmark::State& state) { text_to_file(state, stl_ascii, "nomec_bench_write_ascii.stl"); }
+void BM_ObjToFile(benchmark::State& state) { text_to_file(state, obj, "nomec_bench_write.obj"); }
 
 void BM_StlBinaryToDevNull(benchmark::State& state) {
   size_t bytes = 0;
@@ -135,6 +207,10 @@ BENCHMARK(BM_StlBinary)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlAscii)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Obj)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ply)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StlAsciiFmtReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjFmtReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StlAsciiToFile)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjToFile)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlBinaryToDevNull)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlBinaryToFile)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlBinaryStreamed)->Unit(benchmark::kMillisecond);

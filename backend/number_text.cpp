@@ -1,0 +1,118 @@
+// Number text for the text writers (see number_text.h).
+#include "backend/number_text.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+namespace nomec::backend {
+
+namespace {
+
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                             1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+char* put_exponent(char* p, int e) {
+  *p++ = 'e';
+  *p++ = e < 0 ? '-' : '+';
+  if (e < 0) e = -e;
+  if (e >= 100) *p++ = static_cast<char>('0' + e / 100);
+  *p++ = static_cast<char>('0' + e / 10 % 10);
+  *p++ = static_cast<char>('0' + e % 10);
+  return p;
+}
+
+// |x| · 10^(6 − e), with one rounding (10^k is exact for k ≤ 22): the seven significant
+// digits of |x| as a number in [10^6, 10^7) when e is |x|'s decimal exponent.
+bool scaled(double a, int e, double* out) {
+  const int k = 6 - e;
+  if (k > 22 || k < -22) return false;
+  *out = k >= 0 ? a * kPow10[k] : a / kPow10[-k];
+  return true;
+}
+
+}  // namespace
+
+char* put_e6(char* p, double x) {
+  if (!std::isfinite(x)) return fmt::format_to(p, "{:e}", x);
+  if (std::signbit(x)) *p++ = '-';
+  const double a = std::fabs(x);
+  if (a == 0) {
+    std::memcpy(p, "0.000000e+00", 12);
+    return p + 12;
+  }
+  int e = static_cast<int>(std::floor(std::log10(a)));
+  double s = 0;
+  bool fast = scaled(a, e, &s);
+  if (fast && s < 1e6) fast = scaled(a, --e, &s);  // log10 rounded up across a power of ten
+  if (fast && s >= 1e7) fast = scaled(a, ++e, &s);
+  // `s` is within half an ulp (≤ 1e-9 here) of the exact value, so unless its fraction lies
+  // near one half, rounding it to a whole number rounds the exact value the same way.
+  const double whole = std::floor(s);
+  const double frac = s - whole;
+  if (!fast || s < 1e6 || s >= 1e7 || std::fabs(frac - 0.5) < 1e-6) {
+    return std::to_chars(p, p + kNumberTextMax, a, std::chars_format::scientific, 6).ptr;
+  }
+  uint32_t m = static_cast<uint32_t>(whole) + (frac > 0.5 ? 1 : 0);
+  if (m == 10'000'000) {
+    m = 1'000'000;
+    ++e;
+  }
+  char digits[7];
+  for (int i = 6; i >= 0; --i) {
+    digits[i] = static_cast<char>('0' + m % 10);
+    m /= 10;
+  }
+  *p++ = digits[0];
+  *p++ = '.';
+  std::memcpy(p, digits + 1, 6);
+  return put_exponent(p + 6, e);
+}
+
+char* put_shortest(char* p, double x) {
+  if (!std::isfinite(x)) return fmt::format_to(p, "{}", x);
+  // The shortest digits come from to_chars in scientific form; fmt writes them in fixed
+  // notation when the decimal exponent is in −4…15, else as `d.ddde±XX`.
+  char sci[kNumberTextMax];
+  char* end = std::to_chars(sci, sci + sizeof sci, x, std::chars_format::scientific).ptr;
+  const char* q = sci;
+  if (*q == '-') *p++ = *q++;
+  const char* epos = static_cast<const char*>(std::memchr(q, 'e', static_cast<size_t>(end - q)));
+  int e = 0;
+  std::from_chars(epos[1] == '+' ? epos + 2 : epos + 1, end, e);
+  char digits[24] = {};
+  int n = 0;
+  for (const char* d = q; d < epos; ++d) {
+    if (*d != '.') digits[n++] = *d;
+  }
+  if (e < -4 || e >= 16) {
+    *p++ = digits[0];
+    if (n > 1) {
+      *p++ = '.';
+      std::memcpy(p, digits + 1, static_cast<size_t>(n - 1));
+      p += n - 1;
+    }
+    return put_exponent(p, e);
+  }
+  if (e < 0) {
+    *p++ = '0';
+    *p++ = '.';
+    for (int i = -1; i > e; --i) *p++ = '0';
+    std::memcpy(p, digits, static_cast<size_t>(n));
+    return p + n;
+  }
+  // e + 1 digits before the point (padded with zeros), the rest after it.
+  for (int i = 0; i <= e; ++i) *p++ = i < n ? digits[i] : '0';
+  if (n > e + 1) {
+    *p++ = '.';
+    std::memcpy(p, digits + e + 1, static_cast<size_t>(n - e - 1));
+    p += n - e - 1;
+  }
+  return p;
+}
+
+char* put_int(char* p, int64_t v) { return std::to_chars(p, p + 24, v).ptr; }
+
+}  // namespace nomec::backend
