@@ -7,10 +7,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numeric>
-#include <unordered_map>
 
 namespace nomec::kernel {
 namespace {
@@ -41,13 +41,14 @@ struct CellKey {
   int64_t x, y, z;
   bool operator==(const CellKey&) const = default;
 };
-struct CellHash {
-  size_t operator()(const CellKey& k) const {
-    // Unsigned arithmetic: far cells (1e12 / tolerance) would overflow a signed product.
-    return static_cast<size_t>(k.x) * 73856093u ^ static_cast<size_t>(k.y) * 19349663u ^
-           static_cast<size_t>(k.z) * 83492791u;
-  }
-};
+// A well-mixed 64-bit hash of a cell (neighbouring cells land far apart).
+uint64_t cell_hash(const CellKey& k) {
+  uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full ^
+               static_cast<uint64_t>(k.z) * 0x165667B19E3779F9ull;
+  h ^= h >> 29;
+  h *= 0xBF58476D1CE4E5B9ull;
+  return h ^ (h >> 32);
+}
 
 }  // namespace
 
@@ -178,6 +179,7 @@ class BoundaryGrid {
   BoundaryGrid(const Mesh& mesh, double tolerance)
       : mesh_(mesh), tol_(tolerance), tol2_(tolerance * tolerance), cell_(std::max(3 * tolerance, 1e-12)),
         boundary_at_(2 * static_cast<size_t>(mesh.vertex_count()), EdgeId::None()) {
+    std::vector<int32_t> verts;
     for (int32_t e = 0; e < mesh.edge_count(); ++e) {
       if (!mesh.is_boundary(EdgeId(e))) continue;
       for (int end = 0; end < 2; ++end) {
@@ -185,12 +187,36 @@ class BoundaryGrid {
         EdgeId* slot = &boundary_at_[2 * v];
         if (!slot[0].is_valid()) {
           slot[0] = EdgeId(e);
-          grid_[key_of(mesh.position(VertexId(v)))].push_back(v);
+          verts.push_back(v);
         } else {
           slot[1] = EdgeId(e);
         }
       }
     }
+    // An open-addressing table of the occupied cells (at most half full), each cell's
+    // vertices one run of `cell_verts_`: counted, then placed (no per-cell allocation).
+    size_t cap = 16;
+    while (cap < 2 * verts.size()) cap *= 2;
+    mask_ = cap - 1;
+    slots_.assign(cap, Slot{});
+    std::vector<int32_t> cell_of(verts.size());
+    std::vector<int32_t> counts;
+    for (size_t i = 0; i < verts.size(); ++i) {
+      const CellKey k = key_of(mesh.position(VertexId(verts[i])));
+      size_t at = cell_hash(k) & mask_;
+      while (slots_[at].cell >= 0 && !(slots_[at].key == k)) at = (at + 1) & mask_;
+      if (slots_[at].cell < 0) {
+        slots_[at] = Slot{k, static_cast<int32_t>(counts.size())};
+        counts.push_back(0);
+      }
+      cell_of[i] = slots_[at].cell;
+      ++counts[static_cast<size_t>(slots_[at].cell)];
+    }
+    start_.assign(counts.size() + 1, 0);
+    for (size_t c = 0; c < counts.size(); ++c) start_[c + 1] = start_[c] + counts[c];
+    cell_verts_.resize(verts.size());
+    std::vector<int32_t> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < verts.size(); ++i) cell_verts_[static_cast<size_t>(fill[static_cast<size_t>(cell_of[i])]++)] = verts[i];
   }
 
   /// Boundary edge `k` (0 or 1) at vertex `v`, or None.
@@ -212,9 +238,10 @@ class BoundaryGrid {
     for (int64_t x = lo.x; x <= hi.x; ++x) {
       for (int64_t y = lo.y; y <= hi.y; ++y) {
         for (int64_t z = lo.z; z <= hi.z; ++z) {
-          auto it = grid_.find(CellKey{x, y, z});
-          if (it == grid_.end()) continue;
-          for (int32_t w : it->second) {
+          const int32_t c = find(CellKey{x, y, z});
+          if (c < 0) continue;
+          for (int32_t i = start_[static_cast<size_t>(c)]; i < start_[static_cast<size_t>(c) + 1]; ++i) {
+            const int32_t w = cell_verts_[static_cast<size_t>(i)];
             if (coincide(mesh_.position(VertexId(w)), p)) out.push_back(w);
           }
         }
@@ -231,13 +258,28 @@ class BoundaryGrid {
     return c != c ? int64_t{0} : static_cast<int64_t>(std::clamp(c, -kLimit, kLimit));
   }
   CellKey key_of(const glm::dvec3& p) const { return CellKey{to_cell(p.x), to_cell(p.y), to_cell(p.z)}; }
+  /// The cell's index, or -1 when no boundary vertex lies in it.
+  int32_t find(const CellKey& k) const {
+    for (size_t at = cell_hash(k) & mask_;; at = (at + 1) & mask_) {
+      if (slots_[at].cell < 0) return -1;
+      if (slots_[at].key == k) return slots_[at].cell;
+    }
+  }
+
+  struct Slot {
+    CellKey key{0, 0, 0};
+    int32_t cell = -1;
+  };
 
   const Mesh& mesh_;
   double tol_;
   double tol2_;
   double cell_;
   std::vector<EdgeId> boundary_at_;
-  std::unordered_map<CellKey, std::vector<int32_t>, CellHash> grid_;
+  std::vector<Slot> slots_;
+  size_t mask_ = 0;
+  std::vector<int32_t> start_;       // cell c's vertices: cell_verts_[start_[c], start_[c + 1])
+  std::vector<int32_t> cell_verts_;
 };
 
 // Matches every boundary edge with the one other boundary edge (of another face) whose ends
