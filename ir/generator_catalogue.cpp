@@ -4,6 +4,7 @@
 #include "ir/generator_catalogue.h"
 
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 #include <cstdio>
 
@@ -48,6 +49,9 @@ std::vector<std::string_view> split_words(std::string_view text) {
 struct Catalogue {
   std::vector<GeneratorInfo> infos;
   std::vector<std::string> problems;
+  // Keyword → generator (the first in catalogue order), for the lookup every statement does.
+  std::unordered_map<std::string_view, GenKind> by_keyword;
+  std::vector<const GeneratorInfo*> with_digits;  // generators with a digit keyword, in order
 };
 
 Catalogue build() {
@@ -107,7 +111,7 @@ Catalogue build() {
 #define NOMEC_GEN_ARG(Kind, Name, Type, Aliases, Doc) \
   info(GenKind::Kind).args.push_back(ArgInfo{#Name, ArgType::Type, split_words(Aliases), Doc});
 #define NOMEC_GEN_POSITIONAL(Kind, Dialects, Args, Optional) \
-  signatures.push_back(Pending{GenKind::Kind, static_cast<DialectSet>(Dialects), Args, Optional});
+  signatures.push_back(Pending{GenKind::Kind, static_cast<DialectSet>(Dialects), Args, Optional, false, ""});
 #define NOMEC_GEN_ORDER(Kind, Dialects, Args, Era) \
   signatures.push_back(Pending{GenKind::Kind, static_cast<DialectSet>(Dialects), Args, "", true, Era});
 #define NOMEC_GEN_DIGIT_KEYWORD(Kind, Prefix, Arg) digit_keywords.push_back(PendingDigits{GenKind::Kind, Prefix, #Arg});
@@ -178,6 +182,12 @@ Catalogue build() {
       c.problems.push_back(std::string(g.keyword) + ": function arguments without variables");
     }
   }
+  for (const GeneratorInfo& g : c.infos) {
+    for (std::string_view k : g.keywords) c.by_keyword.emplace(k, g.kind);
+  }
+  for (const GeneratorInfo& g : c.infos) {
+    if (!g.digit_prefix.empty()) c.with_digits.push_back(&g);
+  }
   return c;
 }
 
@@ -195,12 +205,15 @@ std::span<const GeneratorInfo> generators() { return catalogue().infos; }
 const std::vector<std::string>& catalogue_problems() { return catalogue().problems; }
 
 std::optional<GenKind> generator_by_keyword(std::string_view keyword) {
-  for (const GeneratorInfo& g : generators()) {
-    for (std::string_view k : g.keywords) {
-      if (k == keyword) return g.kind;
-    }
-    if (g.keyword_digits(keyword)) return g.kind;
+  const Catalogue& c = catalogue();
+  // A plain keyword of an earlier generator wins over a digit keyword of a later one, as in a
+  // scan of the catalogue in order.
+  const auto plain = c.by_keyword.find(keyword);
+  for (const GeneratorInfo* g : c.with_digits) {
+    if (plain != c.by_keyword.end() && plain->second <= g->kind) return plain->second;
+    if (g->keyword_digits(keyword)) return g->kind;
   }
+  if (plain != c.by_keyword.end()) return plain->second;
   return std::nullopt;
 }
 
