@@ -20,6 +20,8 @@ namespace {
 
 using ir::gen_arg::Convexhull;
 
+constexpr int kMaxHullPoints = 10000;
+
 struct Tri {
   int v[3];
   glm::dvec3 normal;  // unit, outward
@@ -198,7 +200,12 @@ Generated make_Convexhull(const ArgReader& a) {
     fail(ir::arg_index(Convexhull::points),
          "a convex hull needs at least 4 points (not all in one plane), got " + std::to_string(n));
   }
-  check_size(n, ir::arg_index(Convexhull::points));
+  // Each point is tested against every face of the hull so far: quadratic when most points
+  // are corners, so the set is bounded to keep a scene's hull under about a second.
+  if (n > kMaxHullPoints) {
+    fail(ir::arg_index(Convexhull::points), "a convex hull of more than " + std::to_string(kMaxHullPoints) +
+                                                " points is not built, got " + std::to_string(n));
+  }
   glm::dvec3 lo = p[0], hi = p[0];
   for (const glm::dvec3& q : p) {
     if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) {

@@ -147,6 +147,10 @@ TEST(Convexhull, DegeneratePointSetsAreErrors) {
   e = run_error("convexhull", cloud(flat));
   EXPECT_EQ(e.argument, "points");
   EXPECT_EQ(e.message, "all 8 points lie in one plane: their convex hull is flat, not a solid");
+  // Too many points for the quadratic hull: refused, not a long wait.
+  std::vector<glm::dvec3> many;
+  for (int i = 0; i < 10001; ++i) many.emplace_back(std::cos(i), std::sin(i), i * 1e-4);
+  EXPECT_EQ(run_error("convexhull", cloud(many)).message, "a convex hull of more than 10000 points is not built, got 10001");
 }
 
 }  // namespace
