@@ -315,6 +315,13 @@ std::string slide_fields(const std::vector<std::string>& w, size_t from) {
   return out;
 }
 
+// SLIDE's quadrics, whose `slide create TYPE NAME -field value …` are their named fields.
+bool is_slide_quadric(std::string_view type) {
+  static const std::set<std::string, std::less<>> kQuadrics = {"sphere", "cylinder", "cone", "disk",
+                                                               "ring",   "torus",    "cyclide"};
+  return kQuadrics.contains(type);
+}
+
 // The SLIDE text of the `slide create` calls that survive the `slide delete`s: statements,
 // and (for instances into groups the file itself defines) a group per target group.
 std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::string, std::string>& into) {
@@ -357,7 +364,7 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
       into[w[3]] += "instance " + w[4] + " id " + name + xf + " endinstance\n";
       continue;
     } else if (type == "group" || type == "polyline" || type == "beziercurve" || type == "bsplinecurve" ||
-               type == "surface") {
+               type == "surface" || is_slide_quadric(type)) {
       text = type + " " + name + slide_fields(w, 3) + " end" + type;
     } else {
       continue;  // reported by the caller
@@ -396,10 +403,10 @@ void make_slide_nodes(Context& c, const std::string& path, const std::vector<Tcl
                                    w[2], bad.empty() ? ", and none is given" : fmt::format(", but `{}` is not a point name", bad)));
       }
     }
-    if (kKnown.contains(w[1]) || !reported.insert(w[1]).second) continue;
+    if (kKnown.contains(w[1]) || is_slide_quadric(w[1]) || !reported.insert(w[1]).second) continue;
     c.diags().emit(DiagKind::UnsupportedSlideSyntax, bodies.front().keyword,
-                   fmt::format("`slide {} {}` in Tcl: nomec makes points, faces, objects, convex hulls, instances, groups, "
-                               "curves and surfaces from Tcl, not `{}`; it is ignored",
+                   fmt::format("`slide {} {}` in Tcl: nomec makes points, faces, objects, quadrics, convex hulls, "
+                               "instances, groups, curves and surfaces from Tcl, not `{}`; it is ignored",
                                w[0], w[1], w[1]));
   }
   std::map<std::string, std::string> into;
