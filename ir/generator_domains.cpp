@@ -307,6 +307,7 @@ void quadric_rules(GenKind kind, Rules& r) {
       return;
     case GenKind::Ring:
       r.positive(gen_arg::Ring::inner_radius);
+      r.positive(gen_arg::Ring::outer_radius);
       r.greater(gen_arg::Ring::inner_radius, gen_arg::Ring::outer_radius);
       if (auto wrap = r.span(gen_arg::Ring::theta_max)) {
         r.count(gen_arg::Ring::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full ring" : "");

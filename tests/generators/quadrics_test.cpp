@@ -101,6 +101,9 @@ TEST(Ring, Errors) {
   EXPECT_EQ(e.argument, "outerradius");
   EXPECT_EQ(e.message, "`outerradius` must be greater than `innerradius`");
   EXPECT_EQ(run_error("ring", numbers({{"inner_radius", 0}}, "slide")).argument, "innerradius");
+  // A negative outer radius is reported as such, not as smaller than the inner one.
+  e = run_error("ring", numbers({{"inner_radius", 0.5}, {"outer_radius", -1}}, "slide"));
+  EXPECT_EQ(e.message, "`outerradius` must be positive, got -1");
   EXPECT_EQ(run_error("ring", numbers({{"theta_segs", 2}}, "slide")).argument, "thetaslices");
 }
 
