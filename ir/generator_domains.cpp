@@ -250,6 +250,29 @@ void ring_rules(GenKind kind, Rules& r) {
   }
 }
 
+// SLIDE's cyclide (quadrics.cpp): a ring cyclide needs |eccentricity| < minorradius <
+// majorradius; the defaults (a quarter and an eighth of majorradius) satisfy both.
+void cyclide_rules(Rules& r) {
+  using A = gen_arg::Cyclide;
+  r.positive(A::major_radius);
+  r.positive(A::minor_radius);
+  const double* ma = r.get(A::major_radius);
+  const double* d = r.get(A::minor_radius);
+  const double* c = r.get(A::eccentricity);
+  if (ma != nullptr && d != nullptr && !r.problem && !(*d < *ma)) {
+    r.report(A::minor_radius, r.q(A::minor_radius) + " must be smaller than " + r.q(A::major_radius) +
+                                  " (the tube would reach the axis and the cyclide intersect itself)",
+             "a ring cyclide needs |eccentricity| < minorradius < majorradius");
+  }
+  if (c != nullptr && !r.problem && r.finite(A::eccentricity, *c) && d != nullptr && !(std::abs(*c) < *d)) {
+    r.report(A::eccentricity, r.q(A::eccentricity) + " must be smaller than " + r.q(A::minor_radius) +
+                                  " in absolute value (the tube would pinch to a point and the cyclide intersect itself)",
+             "the tube's radius is minorradius − eccentricity at +x and minorradius + eccentricity at −x");
+  }
+  if (auto wrap = r.span(A::theta_max)) r.count(A::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full turn" : "");
+  r.count(A::phi_segs, 3, " around the tube");
+}
+
 // Surfaces of revolution, cyclides and tori.
 void quadric_rules(GenKind kind, Rules& r) {
   switch (kind) {
@@ -276,6 +299,22 @@ void quadric_rules(GenKind kind, Rules& r) {
     case GenKind::Cone:
       r.greater(gen_arg::Cone::zmin, gen_arg::Cone::zmax);
       r.count(gen_arg::Cone::theta_segs, 3, " (a ring of fewer sides has no area)");
+      return;
+    case GenKind::Disk:
+      if (auto wrap = r.span(gen_arg::Disk::theta_max)) {
+        r.count(gen_arg::Disk::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full disk" : "");
+      }
+      return;
+    case GenKind::Ring:
+      r.positive(gen_arg::Ring::inner_radius);
+      r.positive(gen_arg::Ring::outer_radius);
+      r.greater(gen_arg::Ring::inner_radius, gen_arg::Ring::outer_radius);
+      if (auto wrap = r.span(gen_arg::Ring::theta_max)) {
+        r.count(gen_arg::Ring::theta_segs, *wrap ? 3 : 1, *wrap ? " around a full ring" : "");
+      }
+      return;
+    case GenKind::Cyclide:
+      cyclide_rules(r);
       return;
     case GenKind::Hyperboloid: {
       using A = gen_arg::Hyperboloid;

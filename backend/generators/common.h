@@ -133,6 +133,11 @@ class OriginalMesh {
   std::vector<std::vector<int32_t>> faces_;
 };
 
+/// The Dupin cyclide's standard parametrisation (NOME3's `dupin`, generators-original.md §7):
+/// the point at angles u (around the ring) and v (around the tube), in radians. A ring
+/// cyclide when b² = a² − c² and |c| < d < a; with c = 0 and b = a the torus of radii a, d.
+glm::dvec3 dupin_point(double a, double b, double c, double d, double u, double v);
+
 /// Fails if a grid of this size would exceed kMaxVertices.
 void check_size(long long vertices, ir::ArgIndex arg);
 

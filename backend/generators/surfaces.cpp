@@ -290,6 +290,12 @@ Generated make_Hyperboloid(const ArgReader& a) {
   return g;
 }
 
+glm::dvec3 dupin_point(double a, double b, double c, double d, double u, double v) {
+  const double den = a - c * std::cos(u) * std::cos(v);
+  return {(d * (c - a * std::cos(u) * std::cos(v)) + b * b * std::cos(u)) / den, b * std::sin(u) * (a - d * std::cos(v)) / den,
+          b * std::sin(v) * (c * std::cos(u) - d) / den};
+}
+
 // NOME3's Dupin cyclide (compat.md D4, generators-original.md §7): an n × n grid at
 // θ1_i = i·u·π/n, θ2_j = j·v·π/n, vertices `v{i}_{j}` (NOME3's `v{i}*{j}`), triangles as
 // NOME3, wrapping in i when u = 2 and in j when v = 2. As in NOME3 the corner cell
@@ -313,12 +319,7 @@ Generated make_Dupin(const ArgReader& a) {
   const int32_t first = g.soup.vertex_count();
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const double u = i * eu * kPi / n;
-      const double v = j * ev * kPi / n;
-      const double den = ca - cc * std::cos(u) * std::cos(v);
-      g.soup.add_vertex({(cd * (cc - ca * std::cos(u) * std::cos(v)) + cb * cb * std::cos(u)) / den,
-                         cb * std::sin(u) * (ca - cd * std::cos(v)) / den, cb * std::sin(v) * (cc * std::cos(u) - cd) / den},
-                        "v" + std::to_string(i) + "_" + std::to_string(j));
+      g.soup.add_vertex(dupin_point(ca, cb, cc, cd, i * eu * kPi / n, j * ev * kPi / n), "v" + std::to_string(i) + "_" + std::to_string(j));
     }
   }
   add_triangle_grid(g.soup, first, n, n, eu == 2.0, ev == 2.0, /*flip=*/false, /*skip_corner=*/true);

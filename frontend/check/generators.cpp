@@ -138,6 +138,14 @@ struct GenReader {
       b.refs = read_names(c, a, list_item, id, Ns::Point);
       b.range = list.range;
       bindings.push_back(b);
+      if (info.kind == ir::GenKind::Convexhull && list.elems.size() < 4) {
+        const std::string& name = c.module().node(id).name;
+        c.diags()
+            .emit(DiagKind::GeometryFailed, list.range,
+                  fmt::format("`{}` `{}`: a convex hull needs at least 4 points (not all in one plane), got {}", s.keyword,
+                              name.substr(name.rfind('.') + 1), list.elems.size()))
+            .note(SourceRange{}, "the hull of fewer points has no inside; a flat polygon is a `face`");
+      }
       return true;
     }
     c.check_commas(a, list_item.list);

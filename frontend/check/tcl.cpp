@@ -253,12 +253,28 @@ std::vector<std::string> tcl_list(std::string_view s) {
   return out;
 }
 
+// A word SLIDE reads as a name (`pRandomCloud3`, `sRed`).
+bool is_slide_name(std::string_view v) {
+  return !v.empty() && (std::isalpha(static_cast<unsigned char>(v[0])) || v[0] == '_') &&
+         std::all_of(v.begin(), v.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+}
+
+// The point names of `slide create convexhull NAME POINTS…` (one list or several words),
+// and the first element that is not a name, if any.
+std::pair<std::vector<std::string>, std::string> hull_points(const std::vector<std::string>& w) {
+  std::pair<std::vector<std::string>, std::string> out;
+  for (size_t i = 3; i < w.size() && (w[i].empty() || w[i][0] != '-'); ++i) {
+    for (const std::string& v : tcl_list(w[i])) {
+      if (is_slide_name(v)) out.first.push_back(v);
+      else if (out.second.empty()) out.second = v;
+    }
+  }
+  return out;
+}
+
 // A coordinate as SLIDE text: a number stays, a script becomes a `{…}` value.
 std::string slide_value(const std::string& v) {
-  if (!v.empty() && (std::isalpha(static_cast<unsigned char>(v[0])) || v[0] == '_') &&
-      std::all_of(v.begin(), v.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; })) {
-    return v;  // a name (`-surface sRed`)
-  }
+  if (is_slide_name(v)) return v;  // a name (`-surface sRed`)
   char* end = nullptr;
   std::strtod(v.c_str(), &end);
   if (!v.empty() && end != nullptr && *end == '\0') return v;
@@ -299,6 +315,13 @@ std::string slide_fields(const std::vector<std::string>& w, size_t from) {
   return out;
 }
 
+// SLIDE's quadrics, whose `slide create TYPE NAME -field value …` are their named fields.
+bool is_slide_quadric(std::string_view type) {
+  static const std::set<std::string, std::less<>> kQuadrics = {"sphere", "cylinder", "cone", "disk",
+                                                               "ring",   "torus",    "cyclide"};
+  return kQuadrics.contains(type);
+}
+
 // The SLIDE text of the `slide create` calls that survive the `slide delete`s: statements,
 // and (for instances into groups the file itself defines) a group per target group.
 std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::string, std::string>& into) {
@@ -323,6 +346,16 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
         for (const std::string& v : tcl_list(w[i])) text += " " + v;
       }
       text += " )" + slide_fields(w, i) + " end" + type;
+    } else if (type == "convexhull" && w.size() >= 4) {
+      // A generator over the named points (backend/generators/hull.cpp); points that are not
+      // names are reported by the caller, and such a hull is left out.
+      auto [points, bad] = hull_points(w);
+      if (!bad.empty()) continue;
+      text = "convexhull " + name + " (";
+      for (const std::string& p : points) text += " " + p;
+      size_t i = 3;
+      while (i < w.size() && (w[i].empty() || w[i][0] != '-')) ++i;
+      text += " )" + slide_fields(w, i) + " endconvexhull";
     } else if (type == "instance" && w.size() >= 5) {
       std::string xf;
       for (size_t i = 5; i + 1 < w.size(); i += 2) {
@@ -331,7 +364,7 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
       into[w[3]] += "instance " + w[4] + " id " + name + xf + " endinstance\n";
       continue;
     } else if (type == "group" || type == "polyline" || type == "beziercurve" || type == "bsplinecurve" ||
-               type == "surface") {
+               type == "surface" || is_slide_quadric(type)) {
       text = type + " " + name + slide_fields(w, 3) + " end" + type;
     } else {
       continue;  // reported by the caller
@@ -357,14 +390,24 @@ void make_slide_nodes(Context& c, const std::string& path, const std::vector<Tcl
   const std::vector<tcl::SlideCall>& calls = c.tcl->slide_calls();
   if (calls.empty()) return;
   static const std::set<std::string> kKnown = {"point", "face", "object", "instance", "group", "polyline",
-                                               "beziercurve", "bsplinecurve", "surface"};
+                                               "beziercurve", "bsplinecurve", "surface", "convexhull"};
   std::set<std::string> reported;
   for (const tcl::SlideCall& call : calls) {
-    if (kKnown.contains(call.words[1]) || !reported.insert(call.words[1]).second) continue;
+    const std::vector<std::string>& w = call.words;
+    if (w[0] == "create" && w[1] == "convexhull") {
+      const std::string bad = w.size() >= 4 ? hull_points(w).second : "";
+      if (w.size() < 4 || !bad.empty()) {
+        c.diags().emit(DiagKind::UnsupportedSlideSyntax, bodies.front().keyword,
+                       fmt::format("`slide create convexhull {}` in Tcl takes the names of points made before (`slide "
+                                   "create point NAME {{x y z}}`){}; this hull is not made",
+                                   w[2], bad.empty() ? ", and none is given" : fmt::format(", but `{}` is not a point name", bad)));
+      }
+    }
+    if (kKnown.contains(w[1]) || is_slide_quadric(w[1]) || !reported.insert(w[1]).second) continue;
     c.diags().emit(DiagKind::UnsupportedSlideSyntax, bodies.front().keyword,
-                   fmt::format("`slide {} {}` in Tcl: nomec makes points, faces, objects, instances, groups, curves "
-                               "and surfaces from Tcl, not `{}`; it is ignored",
-                               call.words[0], call.words[1], call.words[1]));
+                   fmt::format("`slide {} {}` in Tcl: nomec makes points, faces, objects, quadrics, convex hulls, "
+                               "instances, groups, curves and surfaces from Tcl, not `{}`; it is ignored",
+                               w[0], w[1], w[1]));
   }
   std::map<std::string, std::string> into;
   std::string text = slide_text(calls, into);

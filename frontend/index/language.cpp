@@ -625,6 +625,17 @@ std::optional<Hover> Index::hover(FileId file, uint32_t offset) const {
   for (const FunctionDoc& f : functions()) {
     if (f.name == w) return Hover{fmt::format("**`{}`** — {}", f.signature, f.doc), r, -1};
   }
+  // A generator's option word: the meaning of its argument, default included (SLIDE's
+  // quadrics have nomec's defaults, docs/dialects.md).
+  const Context c = context_at(text, b, scan_start(*check_, file, b));
+  if (c.have_stmt && c.paren_depth == 0) {
+    if (const std::optional<ir::GenKind> gen = ir::generator_by_keyword(c.stmt_keyword)) {
+      const ir::GeneratorInfo& info = ir::generator(*gen);
+      if (std::optional<ir::ArgIndex> arg = info.option(check_->dialect, w)) {
+        return Hover{fmt::format("**`{}`** (`{}`) — {}", w, c.stmt_keyword, info.args[*arg].doc), r, -1};
+      }
+    }
+  }
   if (std::string_view d = keyword_doc(w); !d.empty()) return Hover{fmt::format("**`{}`** — {}", w, d), r, -1};
   return std::nullopt;
 }

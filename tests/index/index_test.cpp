@@ -465,6 +465,26 @@ endhandle
   EXPECT_NE(faces->markdown.find("the two faces a handle joins"), std::string::npos) << faces->markdown;
 }
 
+// SLIDE's disk, ring and cyclide have nomec's defaults (docs/dialects.md); hover on a field
+// shows its meaning and default, hover on the keyword the shape.
+TEST(Index, SlideQuadricFieldsShowTheirDefaults) {
+  auto d = open("disk dk thetaslices 8 enddisk\nring rg outerradius 2 endring\n"
+                "cyclide cy eccentricity 0.1 endcyclide\n",
+                "t.slf");
+  auto slices = d->ix().hover(d->a.file, d->at("thetaslices") + 1);
+  ASSERT_TRUE(slices);
+  EXPECT_NE(slices->markdown.find("default 16"), std::string::npos) << slices->markdown;
+  auto outer = d->ix().hover(d->a.file, d->at("outerradius") + 1);
+  ASSERT_TRUE(outer);
+  EXPECT_NE(outer->markdown.find("twice the inner radius"), std::string::npos) << outer->markdown;
+  auto ecc = d->ix().hover(d->a.file, d->at("eccentricity") + 1);
+  ASSERT_TRUE(ecc);
+  EXPECT_NE(ecc->markdown.find("0 is a torus (default half the minorradius: 0.125)"), std::string::npos) << ecc->markdown;
+  auto kw = d->ix().hover(d->a.file, d->at("disk dk") + 1);
+  ASSERT_TRUE(kw);
+  EXPECT_NE(kw->markdown.find("fan of triangles around a centre vertex"), std::string::npos) << kw->markdown;
+}
+
 TEST(Index, IncludedFileSymbols) {
   CheckOptions opts;
   opts.read_file = [](const std::string& path) -> std::optional<std::string> {
