@@ -365,15 +365,15 @@ ir::ExprId live_tcl_value(Context& c, std::string script, const TclValue& v, Sou
   for (ir::NodeId p : ev.inputs()) values.push_back(c.module().param(p).value);
   const ir::ExternalResult first = ev.evaluate(id, values);
   const ir::ExternalResult again = ev.evaluate(id, values);
-  if (!first.ok || !again.ok || !same(first.value, v.value) || !same(again.value, v.value)) {
+  const ir::ExternalResult& differs = !first.ok || !same(first.value, v.value) ? first : again;
+  if (!differs.ok || !same(differs.value, v.value)) {
+    const std::string got = differs.ok ? fmt::format("{}", differs.value) : fmt::format("`{}`", differs.problem);
     c.diags().emit(DiagKind::TclValueFixed, where,
                    fmt::format("Tcl computes {} here from the slider `{}`, but running this value's script again gives {}, "
                                "so nomec cannot re-run it when the slider moves (it changes what it reads, like `incr`, "
                                "or depends on chance or on other values' scripts); the value stays {} (use `-D` to "
                                "change it)",
-                               v.value, c.module().node(deps.front()).name,
-                               !first.ok ? first.problem : !again.ok ? again.problem : fmt::format("{}", same(first.value, v.value) ? again.value : first.value),
-                               v.value));
+                               v.value, c.module().node(deps.front()).name, got, v.value));
     return constant(c, v.value, where);
   }
   ir::Expr e;
