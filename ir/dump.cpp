@@ -32,7 +32,10 @@ bool depends_on_input(const Module& m, ExprId id) {
   while (!todo.empty()) {
     const Expr& e = m.expr(todo.back());
     todo.pop_back();
-    if (e.kind == ExprKind::Param || e.kind == ExprKind::Builtin || e.kind == ExprKind::Variable) return true;
+    if (e.kind == ExprKind::Param || e.kind == ExprKind::Builtin || e.kind == ExprKind::Variable ||
+        e.kind == ExprKind::External) {
+      return true;
+    }
     if (e.lhs.is_valid()) todo.push_back(e.lhs);
     if (e.rhs.is_valid()) todo.push_back(e.rhs);
     for (ExprId c : e.args) todo.push_back(c);
@@ -200,6 +203,7 @@ class NodeLines {
         return;
       }
       case NodeKind::Group:
+        operands(n);
         ref("surface", n.as<GroupData>().surface);
         return;
       case NodeKind::Instance:
@@ -292,6 +296,12 @@ std::string expr_text(const Module& m, ExprId id) {
       return "$" + std::string(e.name);
     case ExprKind::Variable:
       return std::string(e.name);
+    case ExprKind::External: {
+      std::string script = m.external ? std::string(m.external->text(e.script)) : std::string("?");
+      std::vector<std::string> reads;
+      for (ExprId a : e.args) reads.push_back(expr_text(m, a));
+      return fmt::format("tcl{{{}}}({})", script, fmt::join(reads, ", "));
+    }
     case ExprKind::Error:
       return "<error>";
     case ExprKind::Unary:

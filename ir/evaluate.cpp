@@ -145,12 +145,23 @@ EvalResult call(const Expr& e, std::span<const double> v) {
   return fail("unknown function", e.range);
 }
 
+// A script the module's external evaluator computes, given every input parameter's value.
+EvalResult external(const Module& m, const Expr& e) {
+  if (!m.external) return fail("this value is a script, and nothing here can evaluate it", e.range);
+  SmallVec<double, 16> values;
+  for (NodeId p : m.external->inputs()) values.push_back(m.param(p).value);
+  ExternalResult r = m.external->evaluate(e.script, std::span<const double>(values.data(), values.size()));
+  if (!r.ok) return fail(std::move(r.problem), e.range);
+  return value_of(r.value);
+}
+
 // The value of a leaf (an expression without operands).
 EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variables) {
   switch (e.kind) {
     case ExprKind::Const: return value_of(e.value);
     case ExprKind::Param: return value_of(m.param(e.param).value);
     case ExprKind::Builtin: return value_of(e.name == "time" ? m.time : m.frame);
+    case ExprKind::External: return external(m, e);
     case ExprKind::Variable:
       if (e.variable < variables.size()) return value_of(variables[e.variable]);
       return fail(fmt::format("`{}` has no value here", e.name), e.range);

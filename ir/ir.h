@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -21,6 +22,7 @@
 #include "base/small_vec.h"
 #include "frontend/source/source_manager.h"
 #include "ir/dialect.h"
+#include "ir/external.h"
 #include "ir/nodes.h"
 
 namespace nomec::ir {
@@ -49,6 +51,7 @@ enum class ExprKind : uint8_t {
   Unary,
   Binary,
   Call,
+  External,  // a script the module's `external` evaluator computes (SLIDE's Tcl); see external.h
   Error,     // could not be checked; a diagnostic was emitted
 };
 
@@ -58,11 +61,14 @@ struct Expr {
   char op = 0;  // + - * / % ^, 'i' for `//`
   Func func = Func::Sin;
   uint8_t variable = 0;   // Variable: its index among the function's variables
-  double value = 0;
+  uint32_t script = 0;    // External: the script's index in the module's `external` evaluator
+  double value = 0;       // Const; External: its value when the scene was checked
   NodeId param;           // Param node
   std::string_view name;  // Builtin: "time" / "frame"; Variable: its name (static text)
   ExprId lhs;
   ExprId rhs;
+  // Call: the arguments. External: `Param` expressions of the parameters the script depends
+  // on (what the dependency graph and the caches see); not evaluated, the script reads them.
   SmallVec<ExprId, 2> args;
   SourceRange range;
 };
@@ -88,6 +94,8 @@ struct Module {
   std::vector<Slice<VertexRef>> vertex_lists;
   std::vector<NodeId> scene;  // top-level visible instances and pipeline blocks
   DepGraph deps;
+  /// Evaluates the `External` expressions (null when there are none); shared by copies.
+  std::shared_ptr<const ExternalEvaluator> external;
 
   const Node& node(NodeId id) const { return nodes[id.index]; }
   Node& node(NodeId id) { return nodes[id.index]; }

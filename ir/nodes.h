@@ -194,6 +194,7 @@ struct TransformData {
 /// `group g … endgroup`.
 struct GroupData {
   NodeId surface;
+  OperandId lod;  // SLIDE's level of detail: `SLF_OFF` (0) removes the group (slide.md §5)
 };
 /// `instance i target translate (…) rotate (…) (…) surface S backface B endinstance`.
 struct InstanceData {
@@ -203,6 +204,7 @@ struct InstanceData {
   NodeId backface;  // JIPCAD: the colour of its faces' backs
   bool is_hidden = false;
   bool is_reversed = false;  // NOME2's `reverse`: every face of the target turned around
+  OperandId lod;  // SLIDE's level of detail: `SLF_OFF` (0) removes the instance (slide.md §5)
 };
 /// `merge m [tolerance E] … endmerge`; NOME2's `merge epsilon E endmerge` (the whole scene).
 struct MergeData {

@@ -179,6 +179,9 @@ void instance(Context& c, ir::NodeId inst, const glm::dmat4& parent_t, std::opti
               const std::string& parent_path, Collected& out, int depth);
 /// Adds the target `tid` of an instance, placed by `at`.
 void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int depth);
+/// Is SLIDE's level of detail `lod` (an instance's or group's) `SLF_OFF`: not drawn? SLIDE
+/// draws `SLF_BOUND` and `SLF_EDGES` as a box or wires; nomec draws them in full.
+bool is_off(Context& c, ir::OperandId lod);
 /// Appends the parts collected so far to the sink's faces and stops deferring.
 void make_eager(Context& c);
 /// Takes `vertices` from the evaluation's vertex budget for placing `path`; false (and one

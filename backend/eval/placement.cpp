@@ -141,6 +141,8 @@ bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_vi
   return false;
 }
 
+bool is_off(Context& c, ir::OperandId lod) { return lod.is_valid() && scalar(c, lod, 0, 3) < 0.5; }
+
 void make_eager(Context& c) {
   if (!c.sink->is_deferred) return;
   c.sink->is_deferred = false;
@@ -152,7 +154,7 @@ void instance(Context& c, ir::NodeId inst, const glm::dmat4& parent_t, std::opti
               const std::string& parent_path, Collected& out, int depth) {
   const ir::Node& n = c.m.node(inst);
   const ir::InstanceData& d = n.as<ir::InstanceData>();
-  if (d.is_hidden || !d.target.is_valid()) return;
+  if (d.is_hidden || !d.target.is_valid() || is_off(c, d.lod)) return;
   if (depth > 64) {
     c.diags().emit(DiagKind::GeometryFailed, n.range, "instances nest more than 64 levels deep");
     return;
@@ -194,6 +196,7 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
       return;
     }
     case ir::NodeKind::Group: {
+      if (is_off(c, tn.as<ir::GroupData>().lod)) return;
       std::optional<glm::vec3> color = at.color;
       if (auto sc = surface_color(c, tn.as<ir::GroupData>().surface)) color = sc;
       c.chain.push_back(tid.index);

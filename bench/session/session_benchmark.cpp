@@ -1,7 +1,8 @@
 // Slider updates versus full rebuilds (issue 6), measured in one run: each case builds a
 // backend::Session once; `BM_Update_<case>` moves one slider back and forth (every
 // iteration is a real incremental update), `BM_Full_<case>` rebuilds the scene from
-// scratch. The reporter prints update/full time ratios at the end.
+// scratch. The reporter prints update/full time ratios at the end. `BM_TclValue` times one
+// re-evaluation of a SLIDE value only Tcl can compute.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -132,6 +133,42 @@ void BM_Update(benchmark::State& state, const Case& c) {
   state.counters["kernel_ops"] = static_cast<double>(ops) / n;
 }
 
+// One SLIDE value that only Tcl can compute (`lod {if …}`), re-evaluated through the
+// module's Tcl evaluator: with the slider moved before each evaluation (the slider variable
+// set, then the script run on the evaluator's thread), and with it unchanged.
+void BM_TclValue(benchmark::State& state, bool move) {
+  const std::string text = R"(tclinit {
+  package require slideui
+  set par_numS 2
+  scale .n -from 0 -to 4 -resolution 1 -variable par_numS
+}
+point p ({if {$par_numS >= 2} {expr $SLF_FULL} else {expr $SLF_OFF}} 0 0) endpoint
+)";
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  nomec::CheckResult r = nomec::check_source(sources, "bench.slf", text, {}, diags);
+  nomec::ir::ExprId live = nomec::ir::ExprId::None();
+  for (size_t i = 0; i < r.module.exprs.size(); ++i) {
+    if (r.module.exprs[i].kind == nomec::ir::ExprKind::External) live = nomec::ir::ExprId(static_cast<int32_t>(i));
+  }
+  const nomec::ir::NodeId num = r.module.find_param("par", "numS");
+  if (!live.is_valid() || !num.is_valid()) {
+    state.SkipWithError("no Tcl value");
+    return;
+  }
+  bool flip = false;
+  for (auto _ : state) {
+    if (move) r.module.param(num).value = flip ? 1 : 3;
+    flip = !flip;
+    nomec::ir::EvalResult v = nomec::ir::evaluate(r.module, live);
+    if (!v.ok) {
+      state.SkipWithError(v.problem.c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(v.value);
+  }
+}
+
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
@@ -168,6 +205,8 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("BM_Full/" + name).c_str(), BM_Full, c)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("BM_Update/" + name).c_str(), BM_Update, c)->Unit(benchmark::kMillisecond);
   }
+  benchmark::RegisterBenchmark("BM_TclValue/slider_moved", BM_TclValue, true)->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("BM_TclValue/slider_unchanged", BM_TclValue, false)->Unit(benchmark::kMicrosecond);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   RatioReporter reporter;

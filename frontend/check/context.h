@@ -18,6 +18,7 @@
 
 #include "frontend/ast/ast.h"
 #include "frontend/check/check.h"
+#include "frontend/check/tcl_live.h"
 #include "frontend/diagnostics/diagnostic.h"
 #include "frontend/tcl/interp.h"
 #include "ir/ir.h"
@@ -133,6 +134,14 @@ class Context {
   std::string tcl_dir;                           // the scene's folder, for `source`
   std::vector<SourceRange> tcl_blocks;           // the text inside each `tclinit`/`tclupdate` block's braces
   std::map<std::string, ir::NodeId> tcl_sliders;  // Tcl variable bound to a `scale` → its parameter
+  // For the values that follow their sliders (tcl_live.cpp): what the scene's Tcl read, its
+  // blocks' texts, the globals its `tclupdate` blocks set and the sliders they read, and the
+  // evaluator (also the module's `external`), made for the first such value.
+  std::shared_ptr<TclFiles> tcl_files = std::make_shared<TclFiles>();
+  std::vector<std::string> tcl_init_texts, tcl_update_texts;
+  std::set<std::string> tcl_update_writes;
+  std::vector<ir::NodeId> tcl_update_sliders;
+  std::shared_ptr<TclEvaluator> tcl_live;
   const ast::Ast* tcl_ast = nullptr;               // the statements `slide create` made (in owned_asts)
   /// `slide create instance I G N` into a group G the file defines: a `group G … endgroup`
   /// of `tcl_ast` (not processed itself) whose instances handle_group adds to G.

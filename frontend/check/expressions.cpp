@@ -443,8 +443,8 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
 // A SLIDE value in braces (`{expr $r*2}`, `{if {…} {expr 1} else {expr 0}}`, `%{ … }%`),
 // evaluated by Tcl (slide.md §1, §6). Tcl's value is the value. When the expression is one
 // nomec can also evaluate itself with the same result, that expression is kept, so a slider
-// change re-evaluates it (the dependency graph sees its sliders); otherwise the value is a
-// constant, with a warning when it read a slider.
+// change re-evaluates it (the dependency graph sees its sliders); otherwise Tcl evaluates it
+// again when a slider it depends on moves (tcl_live.cpp).
 ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const Scope& scope);
 
 bool is_tcl_raw(const ast::Expr& x) {
@@ -503,7 +503,7 @@ ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const 
   }
   std::optional<TclValue> v = tcl_value(c, script, x.range);
   if (!v || !v->ok) return error_expr(c, x.range);
-  if (!raw) {
+  if (!raw && !reads_tcl_update(c, script, *v)) {
     // nomec's own reading of the expression, checked quietly against Tcl's value.
     DiagnosticEngine scratch;
     std::swap(scratch, c.diags());
@@ -512,13 +512,9 @@ ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const 
     ir::EvalResult r = ir::evaluate(c.module(), out);
     if (r.ok && std::fabs(r.value - v->value) <= 1e-9 * std::max(1.0, std::fabs(v->value))) return out;
   }
-  if (!v->sliders.empty()) {
-    c.diags().emit(DiagKind::TclValueFixed, x.range,
-                   fmt::format("Tcl computes {} here from the slider `{}`, in a way nomec cannot repeat when the slider "
-                               "moves (Tcl integer arithmetic or a script); the value stays {} (use `-D` to change it)",
-                               v->value, c.module().node(v->sliders.front()).name, v->value));
-  }
-  return constant_expr(c, v->value, x.range);
+  // `%{ … }%` is evaluated once in SLIDE too; any other script follows its sliders.
+  if (raw && x.text.rfind("%{", 0) == 0) return constant_expr(c, v->value, x.range);
+  return live_tcl_value(c, std::move(script), *v, x.range);
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ struct TclValue {
   bool ok = false;
   double value = 0;
   std::vector<ir::NodeId> sliders;  // the sliders the script read
+  std::vector<std::string> reads;   // every watched variable it read (sliders, what `tclupdate` sets)
 };
 /// A SLIDE value evaluated by Tcl (`expr …` or any script), with the sliders it read; its
 /// problems are reported at `where`. Nullopt without an interpreter (not a SLIDE file).
@@ -36,6 +37,18 @@ std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRan
 void report_unplaced_tcl_instances(Context& c);
 /// A Tcl global's numeric value (`par_x`, `oOffset(height)`), if it has one.
 std::optional<double> tcl_number(Context& c, std::string_view name);
+
+// ---- tcl_live.cpp: SLIDE values Tcl re-evaluates when their sliders move ----
+/// Records what a `tclupdate` block (its text, its outcome from `run_tracking_writes`) sets
+/// and which sliders it reads.
+void note_tcl_update(Context& c, const tcl::Outcome& o, std::string_view text);
+/// Does the value read (or name) a variable a `tclupdate` block sets? Then nomec's own
+/// reading of it (`$r` as the number `tclupdate` left) would not follow the sliders.
+bool reads_tcl_update(const Context& c, std::string_view script, const TclValue& v);
+/// Tcl's value `v` of `script` (at `where`), which nomec's own expressions cannot repeat: an
+/// `External` expression that follows the sliders it depends on, a constant when it depends
+/// on none, or a constant with `TclValueFixed` when re-running the script changes its value.
+ir::ExprId live_tcl_value(Context& c, std::string script, const TclValue& v, SourceRange where);
 
 // ---- banks.cpp: banks and sliders, saved values, `-D` overrides, `list` entries ----
 void collect_banks(Context& c, const ast::Ast& a);

@@ -20,6 +20,32 @@ std::optional<ir::TransformKind> transform_of(Opt key) {
   }
 }
 
+// SLIDE's level of detail (slide.md §5): `lod SLF_OFF` … as written, or its value
+// (`lod {if {$par_n >= 2} {expr $SLF_FULL} else {expr $SLF_OFF}}`); None after an unknown
+// word (reported).
+ir::OperandId lod_operand(Context& c, ir::NodeId id, const OptionValue& v) {
+  if (v.operand.is_valid() || v.symbol.empty()) return v.operand;
+  static constexpr std::string_view kWords[] = {"SLF_OFF", "SLF_BOUND", "SLF_EDGES", "SLF_FULL"};
+  for (size_t i = 0; i < std::size(kWords); ++i) {
+    if (v.symbol != kWords[i]) continue;
+    ir::Expr e;
+    e.kind = ir::ExprKind::Const;
+    e.value = static_cast<double>(i);
+    e.range = v.value_range;
+    SmallVec<ir::ExprId, 4> exprs;
+    exprs.push_back(c.module().add_expr(std::move(e)));
+    return c.add_operand(id, "lod", std::move(exprs), v.word);
+  }
+  const std::string hint = closest_match(v.symbol, std::span<const std::string_view>(kWords));
+  auto d = c.diags().emit(DiagKind::UnknownSymbol, v.value_range,
+                          fmt::format("unknown level of detail `{}`{}", v.symbol,
+                                      hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+  if (!hint.empty()) d.fixit(v.value_range, hint, fmt::format("replace with `{}`", hint));
+  d.note(SourceRange{}, "known values: `SLF_OFF` (not drawn), `SLF_BOUND`, `SLF_EDGES`, `SLF_FULL` (nomec draws these three "
+                        "in full)");
+  return ir::OperandId::None();
+}
+
 // Transforms of one statement in written order, stored as one contiguous slice when the
 // statement is done.
 struct TransformChain {
@@ -164,6 +190,9 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
       d.backface = v.ref;
     } else if (v.spec->key == Opt::Hidden) {
       d.is_hidden = true;
+    } else if (v.spec->key == Opt::Lod) {
+      const ir::OperandId lod = lod_operand(c, id, v);
+      c.module().get<ir::InstanceData>(id).lod = lod;  // `d` may have moved: the operand added a node
     }
   }, [&head, &s](const ast::Item& it) {
     // The `id NAME` of a SLIDE-order instance in a NOME file was read with its head.
@@ -180,6 +209,10 @@ ir::NodeId handle_group(Context& c, const ast::Ast& a, const ast::Stmt& s, const
   ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
   auto option = [&c, id](const OptionValue& v) {
     if (v.spec->key == Opt::Surface) c.module().get<ir::GroupData>(id).surface = v.ref;
+    if (v.spec->key == Opt::Lod) {
+      const ir::OperandId lod = lod_operand(c, id, v);
+      c.module().get<ir::GroupData>(id).lod = lod;
+    }
   };
   read_body(c, a, s, pos, id, options_for(s.kind), option);
   // SLIDE: instances Tcl code added with `slide create instance I G N` (tcl.cpp).

@@ -33,7 +33,9 @@ const OptSpec kPolyline[] = {{"closed", Shape::FlagOrScalar, Opt::Closed},
                              {"pointlist", Shape::PointNames, Opt::PointList}};
 const OptSpec kFace[] = {{"surface", Shape::Surface, Opt::Surface}, {"backface", Shape::Backface, Opt::Backface}};
 const OptSpec kObject[] = {{"surface", Shape::Surface, Opt::Surface}, SLIDE_DISPLAY};
-const OptSpec kInstance[] = {{"translate", Shape::Vec3, Opt::Translate}, {"rotate", Shape::Rotate, Opt::Rotate},
+const OptSpec kGroup[] = {{"lod", Shape::Symbol, Opt::Lod}, {"surface", Shape::Surface, Opt::Surface}, SLIDE_DISPLAY};
+const OptSpec kInstance[] = {{"lod", Shape::Symbol, Opt::Lod},
+                             {"translate", Shape::Vec3, Opt::Translate}, {"rotate", Shape::Rotate, Opt::Rotate},
                              {"scale", Shape::Vec3, Opt::Scale},         {"mirror", Shape::Vec4, Opt::Mirror},
                              {"surface", Shape::Surface, Opt::Surface},  {"hidden", Shape::Flag, Opt::Hidden},
                              {"id", Shape::Any, Opt::Id},                {"reverse", Shape::Flag, Opt::Reverse},
@@ -133,7 +135,7 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Face:
     case BlockKind::Facet: return kFace;
     case BlockKind::Object: return kObject;
-    case BlockKind::Group: return kObject;
+    case BlockKind::Group: return kGroup;
     case BlockKind::Instance: return kInstance;
     case BlockKind::Transform: return kTransform;
     case BlockKind::Sweep: return kSweep;

@@ -51,6 +51,7 @@ enum class Opt : uint8_t {
   Faces, Corners, Segments, Weights, Thickness, Punch, Peel, Level, Collapse,
   InstanceRef,  // NOME2's `instance X` inside a block: a top-level instance the block takes over
   Backface, CutBegin, CutEnd, CrossSection, Sweep, Index,
+  Lod,  // SLIDE's level of detail of an instance or group (`SLF_OFF` removes it)
   Rest,
   GenArg,  // a generator argument of the catalogue (`OptSpec::arg`)
 };

@@ -433,8 +433,9 @@ void make_slide_nodes(Context& c, const std::string& path, const std::vector<Tcl
 
 tcl::Interp* scene_tcl(Context& c) {
   if (c.tcl || !c.tcl_available) return c.tcl.get();
-  tcl::ReadFile reader;
-  if (c.options().read_file) reader = c.options().read_file;
+  // What the scene's Tcl reads is remembered for the interpreters that re-evaluate its
+  // values when sliders move (tcl_live.cpp).
+  tcl::ReadFile reader = c.tcl_files->recording(c.options().read_file);
   const CheckOptions& opts = c.options();
   c.tcl = std::make_unique<tcl::Interp>(c.tcl_dir, reader, tcl::Limits{},
                                         [&opts](const std::string& var, double from, double to) {
@@ -465,18 +466,23 @@ void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
       if (b.update && !noted_update) {
         noted_update = true;
         c.diags().emit(DiagKind::TclUpdateStatic, b.keyword,
-                       "`tclupdate` runs before every frame in SLIDE; nomec compiles one static frame, so it runs once, "
-                       "after every `tclinit` block");
+                       "`tclupdate` runs before every frame in SLIDE; nomec runs it after the `tclinit` blocks, and "
+                       "again whenever a slider moves, before the values that read what it sets (not per frame: what "
+                       "it animates stays still)");
       }
-      tcl::Outcome o = c.tcl->run(b.text);
+      (b.update ? c.tcl_update_texts : c.tcl_init_texts).emplace_back(b.text);
+      tcl::Outcome o = b.update ? c.tcl->run_tracking_writes(b.text) : c.tcl->run(b.text);
+      if (b.update) note_tcl_update(c, o, b.text);
       for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, b.keyword, "");
       for (const tcl::Problem& p : o.problems) {
         report(c, p, line_range(b.keyword.file, b.begin, b.text, p.line, b.keyword),
                b.update ? "this `tclupdate` block" : "this `tclinit` block");
       }
     }
+    // The sliders the `tclinit` blocks made are watched while `tclupdate` runs.
+    if (pass == 0) make_sliders(c, bodies);
   }
-  make_sliders(c, bodies);
+  make_sliders(c, bodies);  // any a `tclupdate` block made
   make_slide_nodes(c, path, bodies);
 }
 
@@ -486,9 +492,9 @@ std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRan
   for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, where, "");
   if (!o.ok) {
     for (const tcl::Problem& p : o.problems) report(c, p, where, "this value");
-    return TclValue{false, 0, {}};
+    return TclValue{false, 0, {}, {}};
   }
-  TclValue v{true, o.number, {}};
+  TclValue v{true, o.number, {}, o.reads};
   for (const std::string& r : o.reads) {
     if (auto it = c.tcl_sliders.find(r); it != c.tcl_sliders.end()) v.sliders.push_back(it->second);
   }

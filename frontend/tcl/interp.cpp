@@ -29,7 +29,8 @@ struct Interp::State {
   std::vector<Problem> notes;
   std::set<std::string> noted;
   std::set<std::string> watched;
-  std::vector<std::string>* reads = nullptr;  // set while a value is evaluated
+  std::vector<std::string>* reads = nullptr;   // set while a script runs
+  std::vector<std::string>* writes = nullptr;  // set while `run_tracking_writes` runs
   std::optional<Problem> refusal;             // the last refused command (for its kind)
   int source_depth = 0;
   Guard guard;
@@ -277,6 +278,30 @@ char* read_trace(ClientData data, Tcl_Interp*, const char* name1, const char* na
   return nullptr;
 }
 
+char* write_trace(ClientData data, Tcl_Interp*, const char* name1, const char*, int) {
+  auto* s = static_cast<State*>(data);
+  if (s->writes != nullptr && std::find(s->writes->begin(), s->writes->end(), name1) == s->writes->end()) {
+    s->writes->emplace_back(name1);
+  }
+  return nullptr;
+}
+
+// The names of the interpreter's global variables.
+std::vector<std::string> globals(Tcl_Interp* in) {
+  std::vector<std::string> out;
+  if (Tcl_EvalEx(in, "info globals", -1, TCL_EVAL_GLOBAL) != TCL_OK) return out;
+  Tcl_Obj* list = Tcl_GetObjResult(in);
+  Tcl_IncrRefCount(list);
+  int n = 0;
+  Tcl_Obj** items = nullptr;
+  if (Tcl_ListObjGetElements(in, list, &n, &items) == TCL_OK) {
+    for (int i = 0; i < n; ++i) out.emplace_back(arg(items[i]));
+  }
+  Tcl_DecrRefCount(list);
+  Tcl_ResetResult(in);
+  return out;
+}
+
 void install(State& s) {
   Tcl_Interp* in = s.interp;
   Tcl_MakeSafe(in);  // hides exec, open, socket, cd, exit, load, source, file, glob …
@@ -434,9 +459,36 @@ std::optional<int> eval_guarded(State& s, const std::string& text, Outcome& o) {
 
 Outcome Interp::run(std::string_view script) {
   std::string text = normalize_newlines(script);
+  std::vector<std::string> reads;
+  s_->reads = &reads;
   Outcome failed;
   std::optional<int> rc = eval_guarded(*s_, text, failed);
-  return rc ? finish(*s_, *rc) : failed;
+  s_->reads = nullptr;
+  Outcome o = rc ? finish(*s_, *rc) : std::move(failed);
+  o.reads = std::move(reads);
+  return o;
+}
+
+Outcome Interp::run_tracking_writes(std::string_view script) {
+  if (s_->broken) return run(script);
+  constexpr int kFlags = TCL_GLOBAL_ONLY | TCL_TRACE_WRITES;
+  const std::vector<std::string> before = globals(s_->interp);
+  for (const std::string& g : before) Tcl_TraceVar2(s_->interp, g.c_str(), nullptr, kFlags, write_trace, s_.get());
+  std::vector<std::string> writes;
+  s_->writes = &writes;
+  Outcome o = run(script);
+  s_->writes = nullptr;
+  if (s_->broken) return o;  // the interpreter may not be touched again
+  for (const std::string& g : before) Tcl_UntraceVar2(s_->interp, g.c_str(), nullptr, kFlags, write_trace, s_.get());
+  for (std::string& g : globals(s_->interp)) {
+    if (std::find(before.begin(), before.end(), g) == before.end() &&
+        std::find(writes.begin(), writes.end(), g) == writes.end()) {
+      writes.push_back(std::move(g));
+    }
+  }
+  std::erase_if(writes, [](const std::string& w) { return w == "errorInfo" || w == "errorCode"; });
+  o.writes = std::move(writes);
+  return o;
 }
 
 Outcome Interp::value(std::string_view script) {

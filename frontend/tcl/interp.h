@@ -51,6 +51,7 @@ struct Outcome {
   double number = 0;                 // for values: the result as a number
   std::vector<Problem> problems;     // the error that stopped it, and notes (missing files)
   std::vector<std::string> reads;    // watched variables the script read (see `watch`)
+  std::vector<std::string> writes;   // global variables it set or made (`run_tracking_writes`)
 };
 
 /// `slide create TYPE NAME ARGS…` or `slide delete TYPE NAME`, as Tcl passed them.
@@ -76,8 +77,12 @@ class Interp {
   Interp(const Interp&) = delete;
   Interp& operator=(const Interp&) = delete;
 
-  /// Runs a script at global level (a `tclinit` block's text without its braces).
+  /// Runs a script at global level (a `tclinit` block's text without its braces); records
+  /// which watched variables it read.
   Outcome run(std::string_view script);
+  /// `run`, also recording the global variables the script writes or creates (by name; an
+  /// array by its name), for a `tclupdate` block: values that read them follow it.
+  Outcome run_tracking_writes(std::string_view script);
   /// Evaluates a SLIDE value: `expr` script text (`expr $a*2`, `if {…} {expr 1} …`) whose
   /// result must be a number; records which watched variables it read.
   Outcome value(std::string_view script);

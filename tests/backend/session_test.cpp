@@ -12,9 +12,11 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "backend/session.h"
 #include "frontend/check/check.h"
+#include "frontend/check/tcl_live.h"
 
 namespace nomec::backend {
 namespace {
@@ -112,6 +114,189 @@ TEST(Session, SlideSliderMadeByTclReevaluatesOnlyItsDependents) {
   UpdateStats none = s.set_parameter("swp.drawControls", 0, d);
   ASSERT_TRUE(none.ok()) << none.error;
   EXPECT_EQ(none.generators_rerun, 0);
+}
+
+// SLIDE values Tcl computes in a way nomec's expressions cannot repeat follow their sliders
+// (issue 15): as in the corpus's spiral.slf, `par.numS` switches bands on and off through
+// `lod {if {$par_numS >= k} {expr $SLF_FULL} else {expr $SLF_OFF}}`.
+const char* kBands = R"(tclinit {
+  source SLIDEUI.tcl
+  set root .slfWindow.par
+  toplevel $root
+  CreateScale par $root numS "Shells" 2 0 3 1 1 horizontal
+  CreateScale par $root gr "Grow" 1.5 1 2 0.1 1 horizontal
+}
+point p0 (0 0 0) endpoint
+point p1 (1 0 0) endpoint
+point p2 (0 1 0) endpoint
+face f (p0 p1 p2) endface
+object band (f) endobject
+group shell
+  instance band id b1 lod {if {$par_numS >= 1} {expr $SLF_FULL} else {expr $SLF_OFF}} endinstance
+  instance band id b2 lod {if {$par_numS >= 2} {expr $SLF_FULL} else {expr $SLF_OFF}} translate ({expr $par_gr} 0 0) endinstance
+  instance band id b3 lod {if {$par_numS >= 3} {expr $SLF_FULL} else {expr $SLF_OFF}} translate ({expr 2*$par_gr} 0 0) endinstance
+endgroup
+instance shell endinstance
+)";
+
+int32_t faces(const Session& s) {
+  int32_t n = 0;
+  for (const auto& o : s.outputs()) n += o->soup.face_count();
+  return n;
+}
+
+TEST(Session, TclLodSwitchesInstancesOnAndOff) {
+  auto c = check("/nonexistent/bands.slf", kBands);
+  ASSERT_EQ(c->diags.error_count(), 0);
+  for (const Diagnostic& x : c->diags.diagnostics()) EXPECT_NE(x.kind, DiagKind::TclValueFixed) << x.message;
+  ASSERT_NE(c->check.module.external, nullptr);
+  const std::vector<int32_t> by_num = affected(c->check.module, "par", "numS");
+  const std::vector<int32_t> by_gr = affected(c->check.module, "par", "gr");
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  const UpdateStats full = s.build(d);
+  EXPECT_EQ(faces(s), 2);  // numS = 2: two bands
+  UpdateStats three = s.set_parameter("par.numS", 3, d);
+  ASSERT_TRUE(three.ok()) << three.error;
+  EXPECT_EQ(faces(s), 3);
+  // What depends on numS, and the third band's translation, computed for the first time.
+  for (int32_t n : three.reevaluated) {
+    const bool before = std::find(full.reevaluated.begin(), full.reevaluated.end(), n) != full.reevaluated.end();
+    EXPECT_TRUE(std::binary_search(by_num.begin(), by_num.end(), n) || !before) << n;
+  }
+  EXPECT_LT(three.nodes_reevaluated, full.nodes_reevaluated);
+  UpdateStats one = s.set_parameter("par.numS", 1, d);
+  ASSERT_TRUE(one.ok()) << one.error;
+  EXPECT_EQ(faces(s), 1);
+  EXPECT_EQ(s.set_parameter("par.numS", 0, d).ok(), true);
+  EXPECT_EQ(faces(s), 0);
+  EXPECT_EQ(d.error_count(), 0);
+  // `par.gr` moves the bands; the `lod` values, which read only `par.numS`, are not
+  // re-evaluated.
+  s.set_parameter("par.numS", 3, d);
+  UpdateStats gr = s.set_parameter("par.gr", 1.2, d);
+  ASSERT_TRUE(gr.ok()) << gr.error;
+  EXPECT_EQ(faces(s), 3);
+  EXPECT_FALSE(gr.reevaluated.empty());
+  for (int32_t n : gr.reevaluated) {
+    EXPECT_TRUE(std::binary_search(by_gr.begin(), by_gr.end(), n)) << n;
+    EXPECT_FALSE(s.module().node(ir::NodeId(n)).name.ends_with(".lod")) << s.module().node(ir::NodeId(n)).name;
+  }
+}
+
+// A value reading what a `tclupdate` block computes from a slider follows that slider; the
+// block runs once per change of slider values, not once per value.
+TEST(Session, TclUpdateValueFollowsItsSlider) {
+  const std::string text = R"(tclinit {
+  package require slideui
+  set par_a 1
+  set par_b 1
+  scale .a -from 0 -to 4 -resolution 0.5 -variable par_a
+  scale .b -from 0 -to 4 -resolution 1 -variable par_b
+}
+tclupdate { set r [expr {$par_a * 2}] }
+point p0 (0 0 0) endpoint
+point p1 ({expr $r} 0 0) endpoint
+point p2 (0 {expr $r + 1} 0) endpoint
+face f (p0 p1 p2) endface
+object o (f) endobject
+instance o endinstance
+)";
+  auto c = check("/nonexistent/update.slf", text);
+  ASSERT_EQ(c->diags.error_count(), 0);
+  const std::vector<int32_t> by_a = affected(c->check.module, "par", "a");
+  const std::vector<int32_t> by_b = affected(c->check.module, "par", "b");
+  EXPECT_FALSE(by_a.empty());
+  EXPECT_TRUE(by_b.empty());  // nothing reads `par.b`
+  auto* ev = dynamic_cast<const check::TclEvaluator*>(c->check.module.external.get());
+  ASSERT_NE(ev, nullptr);
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  s.build(d);
+  ASSERT_EQ(s.outputs().size(), 1u);
+  auto max_x = [&] {
+    double m = 0;
+    for (const glm::dvec3& p : s.outputs()[0]->soup.positions) m = std::max(m, p.x);
+    return m;
+  };
+  auto max_y = [&] {
+    double m = 0;
+    for (const glm::dvec3& p : s.outputs()[0]->soup.positions) m = std::max(m, p.y);
+    return m;
+  };
+  EXPECT_DOUBLE_EQ(max_x(), 2);
+  EXPECT_DOUBLE_EQ(max_y(), 3);
+  const int runs = ev->update_runs();
+  UpdateStats u = s.set_parameter("par.a", 1.5, d);
+  ASSERT_TRUE(u.ok()) << u.error;
+  EXPECT_DOUBLE_EQ(max_x(), 3);
+  EXPECT_DOUBLE_EQ(max_y(), 4);
+  EXPECT_EQ(ev->update_runs(), runs + 1);  // two values read `r`: one run
+  for (int32_t n : u.reevaluated) EXPECT_TRUE(std::binary_search(by_a.begin(), by_a.end(), n)) << n;
+  EXPECT_EQ(d.error_count(), 0);
+}
+
+// A Tcl error for some slider values only (Tcl's integer division by zero at a = 2) is an
+// evaluation error at the value, not a crash; the value recovers when the slider moves on.
+TEST(Session, TclErrorAtSomeSliderValuesIsAnErrorAtTheValue) {
+  const std::string text = R"(tclinit {
+  package require slideui
+  set par_a 1
+  scale .a -from 0 -to 4 -resolution 1 -variable par_a
+}
+point p0 (0 0 0) endpoint
+point p1 ({if {$par_a >= 0} {expr 6/($par_a - 2)} else {expr 0}} 0 0) endpoint
+point p2 (0 1 0) endpoint
+face f (p0 p1 p2) endface
+object o (f) endobject
+instance o endinstance
+)";
+  auto c = check("/nonexistent/divide.slf", text);
+  ASSERT_EQ(c->diags.error_count(), 0);
+  Session s(std::move(c->check.module));
+  DiagnosticEngine d;
+  s.build(d);
+  DiagnosticEngine bad;
+  UpdateStats u = s.set_parameter("par.a", 2, bad);
+  ASSERT_TRUE(u.ok()) << u.error;
+  ASSERT_EQ(bad.error_count(), 1);
+  const Diagnostic& e = bad.diagnostics().front();
+  EXPECT_EQ(e.kind, DiagKind::GeometryFailed);
+  EXPECT_NE(e.message.find("divide by zero"), std::string::npos) << e.message;
+  const size_t at = text.find("{if {$par_a >= 0}");
+  EXPECT_EQ(e.range.begin, at);
+  EXPECT_EQ(e.range.end, text.find(" 0 0) endpoint", at));
+  DiagnosticEngine good;
+  ASSERT_TRUE(s.set_parameter("par.a", 3, good).ok());
+  EXPECT_EQ(good.error_count(), 0);
+  double x = 0;
+  for (const glm::dvec3& p : s.outputs()[0]->soup.positions) x = std::max(x, p.x);
+  EXPECT_DOUBLE_EQ(x, 6);  // 6 / (3 - 2)
+}
+
+// The interpreter belongs to the evaluator's own thread: evaluating from other threads (the
+// language server's) gives the right values.
+TEST(Session, TclValueEvaluatesFromAnotherThread) {
+  auto c = check("/nonexistent/bands.slf", kBands);
+  ASSERT_EQ(c->diags.error_count(), 0);
+  ir::Module& m = c->check.module;
+  ir::ExprId lod3 = ir::ExprId::None();
+  for (size_t i = 0; i < m.exprs.size(); ++i) {
+    if (m.exprs[i].kind == ir::ExprKind::External && m.exprs[i].value == 0) lod3 = ir::ExprId(static_cast<int32_t>(i));
+  }
+  ASSERT_TRUE(lod3.is_valid());  // `par_numS >= 3` is off at 2
+  m.param(m.find_param("par", "numS")).value = 3;
+  ir::EvalResult there;
+  std::thread t([&] { there = ir::evaluate(m, lod3); });
+  t.join();
+  ASSERT_TRUE(there.ok) << there.problem;
+  EXPECT_EQ(there.value, 3);  // SLF_FULL
+  m.param(m.find_param("par", "numS")).value = 2;
+  std::vector<ir::EvalResult> many(4);
+  std::vector<std::thread> threads;
+  for (auto& r : many) threads.emplace_back([&m, &r, lod3] { r = ir::evaluate(m, lod3); });
+  for (auto& th : threads) th.join();
+  for (const auto& r : many) EXPECT_EQ(r.value, 0);
 }
 
 TEST(Session, FunnelCubeGeneratorChangeRunsItOnce) {

@@ -71,6 +71,40 @@ TEST(LspSetParameter, MovesASliderAndAnswersTheSummary) {
   EXPECT_EQ(n["result"]["meshes"][0]["bounding_box"]["max"][2], 0.5);  // fp.z stays moved
 }
 
+// A SLIDE slider that only Tcl reads (`lod {if …}`, as in spiral.slf) switches instances
+// on and off through nome/setParameter; the Tcl runs on the evaluator's thread while the
+// server's threads ask for the values.
+TEST(LspSetParameter, TclLodFollowsASlideSlider) {
+  const char* uri = "file:///tmp/lsp-test/bands.slf";
+  const std::string text = R"(tclinit {
+  package require slideui
+  set par_numS 2
+  scale .n -from 0 -to 3 -resolution 1 -variable par_numS
+}
+point p0 (0 0 0) endpoint
+point p1 (1 0 0) endpoint
+point p2 (0 1 0) endpoint
+face f (p0 p1 p2) endface
+object band (f) endobject
+group shell
+  instance band id b1 lod {if {$par_numS >= 1} {expr $SLF_FULL} else {expr $SLF_OFF}} endinstance
+  instance band id b2 lod {if {$par_numS >= 2} {expr $SLF_FULL} else {expr $SLF_OFF}} translate (2 0 0) endinstance
+  instance band id b3 lod {if {$par_numS >= 3} {expr $SLF_FULL} else {expr $SLF_OFF}} translate (4 0 0) endinstance
+endgroup
+instance shell endinstance
+)";
+  Client c;
+  c.initialize();
+  c.open(uri, text, 1);
+  c.diagnostics(uri, 1);
+  for (auto [value, faces] : {std::pair{3, 3}, std::pair{1, 1}, std::pair{2, 2}}) {
+    json r = set(c, uri, "par.numS", value);
+    ASSERT_TRUE(r.contains("result")) << r.dump(2);
+    ASSERT_EQ(r["result"]["meshes"].size(), 1u) << r.dump(2);
+    EXPECT_EQ(r["result"]["meshes"][0]["faces"], faces) << "numS = " << value;
+  }
+}
+
 TEST(LspSetParameter, RefusesBadRequests) {
   Client c;
   c.initialize();

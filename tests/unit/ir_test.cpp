@@ -1,5 +1,5 @@
 // IR: dependency graph order, cycles, reachability and de-duplication; expression
-// evaluation including domain errors.
+// evaluation including domain errors, and external scripts through an `ExternalEvaluator`.
 #include <gtest/gtest.h>
 
 #include "ir/ir.h"
@@ -94,6 +94,50 @@ TEST(Evaluate, DomainErrorsNameTheValues) {
   EvalResult s = evaluate(m, m.add_expr(call));
   EXPECT_FALSE(s.ok);
   EXPECT_EQ(s.problem, "`sqrt(-4)`: square root of a negative number");
+}
+
+// An evaluator of external scripts as the front end provides one: script 0 is twice its
+// input, script 1 fails below 1.
+class Twice final : public ExternalEvaluator {
+ public:
+  explicit Twice(NodeId p) : inputs_{p} {}
+  std::span<const NodeId> inputs() const override { return inputs_; }
+  ExternalResult evaluate(uint32_t script, std::span<const double> values) const override {
+    if (script == 1 && values[0] < 1) return {0, false, "below 1"};
+    return {values[0] * 2, true, {}};
+  }
+  std::string_view text(uint32_t script) const override { return script == 0 ? "expr {2*$x}" : "check"; }
+
+ private:
+  std::vector<NodeId> inputs_;
+};
+
+TEST(Evaluate, ExternalScriptsGetTheInputsCurrentValues) {
+  Module m;
+  NodeId p = add(m, NodeKind::Param, "b.x");
+  m.param(p).value = 4;
+  Expr dep;
+  dep.kind = ExprKind::Param;
+  dep.param = p;
+  Expr e;
+  e.kind = ExprKind::External;
+  e.args = {m.add_expr(dep)};
+  e.range = SourceRange{FileId(0), 3, 9};
+  const ExprId twice = m.add_expr(e);
+  e.script = 1;
+  const ExprId checked = m.add_expr(e);
+  EvalResult none = evaluate(m, twice);  // no evaluator: an error, not a guess
+  EXPECT_FALSE(none.ok);
+  m.external = std::make_shared<Twice>(p);
+  EXPECT_DOUBLE_EQ(evaluate(m, twice).value, 8);
+  m.param(p).value = 0.5;
+  EXPECT_DOUBLE_EQ(evaluate(m, twice).value, 1);
+  EvalResult bad = evaluate(m, checked);
+  EXPECT_FALSE(bad.ok);
+  EXPECT_EQ(bad.problem, "below 1");
+  EXPECT_EQ(bad.where.begin, 3u);
+  EXPECT_EQ(bad.where.end, 9u);
+  EXPECT_EQ(expr_text(m, twice), "tcl{expr {2*$x}}($b.x)");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // commands, read traces, and the command-count and time limits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 #include "frontend/tcl/interp.h"
@@ -29,6 +30,23 @@ TEST(TclInterp, ScaleBoundToAVariableIsASlider) {
   EXPECT_DOUBLE_EQ(s.from, 0);
   EXPECT_DOUBLE_EQ(s.to, 2);
   EXPECT_DOUBLE_EQ(s.resolution, 0.1);
+}
+
+// What a `tclupdate` block sets (an existing global, a new one, an array element) and which
+// watched variables it reads are recorded; untouched globals are not.
+TEST(TclInterp, TracksWhatAScriptWritesAndReads) {
+  Interp in = make();
+  ASSERT_TRUE(in.run("set par_a 2; set keep 1; set r 0; array set arr {x 1}").ok);
+  in.watch("par_a");
+  Outcome o = in.run_tracking_writes("set r [expr {$par_a * 2}]; set fresh $keep; set arr(x) 5");
+  ASSERT_TRUE(o.ok) << (o.problems.empty() ? "" : o.problems[0].message);
+  std::sort(o.writes.begin(), o.writes.end());
+  EXPECT_EQ(o.writes, (std::vector<std::string>{"arr", "fresh", "r"}));
+  EXPECT_EQ(o.reads, std::vector<std::string>{"par_a"});
+  // Afterwards writes are no longer traced.
+  Outcome later = in.run("set r 1");
+  EXPECT_TRUE(later.writes.empty());
+  EXPECT_EQ(in.get("r").value_or(""), "1");
 }
 
 TEST(TclInterp, ScaleRoundsAndClampsLikeTk) {
