@@ -46,9 +46,10 @@ std::vector<ir::NodeId> scene_entries(const ir::Module& module) {
       entries.push_back(ir::NodeId(static_cast<int32_t>(i)));
     }
   }
-  // SLIDE has no top-level instances: `render VIEWPORT CAMERA WORLD` draws a group. The IR
-  // does not keep the render's words, so the top-level groups that nothing instances stand
-  // for the world (groups holding only cameras and lights produce nothing and are dropped).
+  // SLIDE has no top-level instances: `render VIEWPORT CAMERA WORLD` draws a group. The
+  // top-level groups that nothing instances stand for the world (groups holding only
+  // cameras and lights produce nothing and are dropped); the render's root (`SceneData::root`)
+  // is not used to choose among them yet.
   if (entries.empty() && module.dialect == Dialect::Slide) {
     for (size_t i = 0; i < module.nodes.size(); ++i) {
       const ir::Node& n = module.nodes[i];

@@ -1,7 +1,9 @@
 // The readable IR dump (`nomec --emit ir`, the IR golden tests) and the dependency graph as
 // DOT (`--emit deps`). One node per line, `%index = keyword name`, then its payload: its
 // operands in written order, then what the checker resolved (references, vertices, rules).
+#include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "ir/ir.h"
 
@@ -117,9 +119,12 @@ class NodeLines {
       case NodeKind::Sierpinski:
       case NodeKind::Menger:
       case NodeKind::FaceReversal:
-      case NodeKind::SceneSetup:
       case NodeKind::Transform:
         operands(n);
+        return;
+      case NodeKind::SceneSetup:
+        if (n.as<SceneData>().kind == SceneKind::DisplayColor) return;
+        for (const auto& [name, text] : scene_fields(m_, n, true)) line(name, text);
         return;
       case NodeKind::ControlPoint: {
         const auto& cp = n.as<ControlPointData>();
@@ -279,7 +284,97 @@ class NodeLines {
   std::string& out_;
 };
 
+// `values` written as a list, or the default marked as such.
+template <size_t N>
+std::string list_or_default(const Module& m, OperandId o, const std::array<double, N>& fallback) {
+  if (o.is_valid()) return operand_text(m, m.operand(o));
+  return fmt::format("({}) (default)", fmt::join(fallback, " "));
+}
+
+// An enumerated field: its symbol, its Tcl value with the name it reads as, or the default.
+template <typename E, typename Name>
+std::string enum_text(const Module& m, const SceneEnum<E>& e, E fallback, Name name) {
+  if (!e.is_written) return fmt::format("{} (default)", name(fallback));
+  if (!e.value.is_valid()) return std::string(name(e.symbol));
+  const Operand& op = m.operand(e.value);
+  const EvalResult r = op.exprs.empty() ? EvalResult{0, false, {}, {}} : evaluate(m, op.exprs[0]);
+  return r.ok ? fmt::format("{} ({})", operand_text(m, op), name(static_cast<E>(std::lround(r.value))))
+              : operand_text(m, op);
+}
+
+std::string on_off(const Module& m, const SceneEnum<bool>& e) {
+  return enum_text(m, e, true, [](bool on) { return on ? std::string_view("on") : std::string_view("off"); });
+}
+
+std::string frustum_text(const Module& m, const SceneData& d) {
+  if (!d.frustum.is_valid()) {
+    return fmt::format("({} {} {}) ({} {} {}) (default)", kDefaultFrustum[0], kDefaultFrustum[1], kDefaultFrustum[2],
+                       kDefaultFrustum[3], kDefaultFrustum[4], kDefaultFrustum[5]);
+  }
+  const Operand& op = m.operand(d.frustum);
+  std::vector<std::string> v;
+  for (ExprId e : op.exprs) v.push_back(value_text(m, e));
+  if (v.size() != 6) return operand_text(m, op);
+  if (d.frustum_is_lrbtnf) return fmt::format("({}) (left right bottom top near far)", fmt::join(v, " "));
+  return fmt::format("({} {} {}) ({} {} {})", v[0], v[1], v[2], v[3], v[4], v[5]);
+}
+
+std::string path_text(const Module& m, const ScenePath& p, bool with_ids) {
+  if (!with_ids) return p.text;
+  if (!p.node.is_valid()) return fmt::format("{} <unresolved>", p.text);
+  std::vector<std::string> chain;
+  if (p.root.is_valid()) chain.push_back(fmt::format("%{}", p.root.index));
+  for (NodeId i : p.instances) chain.push_back(fmt::format("%{}", i.index));
+  chain.push_back(fmt::format("%{}", p.node.index));
+  return fmt::format("{} = {}", p.text, fmt::join(chain, "."));
+}
+
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> scene_fields(const Module& m, const Node& n, bool with_ids) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (n.kind != NodeKind::SceneSetup) return out;
+  const SceneData& d = n.as<SceneData>();
+  auto ref = [&](NodeId id) {
+    if (!id.is_valid()) return std::string("<none>");
+    return with_ids ? node_ref(m, id) : fmt::format("`{}`", m.node(id).name);
+  };
+  switch (d.kind) {
+    case SceneKind::Camera:
+      out.emplace_back("projection", enum_text(m, d.projection, Projection::Parallel, projection_name));
+      out.emplace_back("frustum", frustum_text(m, d));
+      break;
+    case SceneKind::Light:
+      out.emplace_back("type", enum_text(m, d.light_type, kDefaultLightType, light_type_name));
+      out.emplace_back("color", list_or_default(m, d.color, kDefaultLightColor));
+      if (d.direction.is_valid()) out.emplace_back("direction", operand_text(m, m.operand(d.direction)));
+      break;
+    case SceneKind::Window:
+      out.emplace_back("background", list_or_default(m, d.background, kDefaultBackground));
+      out.emplace_back("origin", list_or_default(m, d.origin, kDefaultWindowOrigin));
+      out.emplace_back("size", list_or_default(m, d.size, kDefaultWindowSize));
+      out.emplace_back("resize", on_off(m, d.resize));
+      out.emplace_back("ratio", on_off(m, d.ratio));
+      break;
+    case SceneKind::Viewport:
+      if (d.window.is_valid()) out.emplace_back("window", ref(d.window));
+      if (d.camera.is_valid()) out.emplace_back("cameraID", ref(d.camera));
+      out.emplace_back("origin", list_or_default(m, d.origin, kDefaultViewportOrigin));
+      out.emplace_back("size", list_or_default(m, d.size, kDefaultViewportSize));
+      break;
+    case SceneKind::Render:
+      out.emplace_back("viewport", ref(d.viewport));
+      out.emplace_back("camera", path_text(m, d.camera_path, with_ids));
+      out.emplace_back("root", ref(d.root));
+      for (const RenderLight& l : d.lights) {
+        out.emplace_back("light", fmt::format("{} {}", path_text(m, l.path, with_ids), on_off(m, l.on)));
+      }
+      break;
+    case SceneKind::DisplayColor:
+      break;
+  }
+  return out;
+}
 
 std::string expr_text(const Module& m, ExprId id) {
   const Expr& e = m.expr(id);

@@ -157,6 +157,11 @@ struct EvalResult {
 /// of any depth are evaluated without deep recursion.
 EvalResult evaluate(const Module& module, ExprId expr, std::span<const double> variables = {});
 
+/// The values of a viewing statement (camera, light, window, viewport, render) by field, with
+/// the defaults it takes for those not written (marked "(default)"), e.g. `{"projection",
+/// "perspective"}`, `{"frustum", "(-1 -1 -100) (1 1 -0.02) (default)"}`: for the dump and
+/// hover. `with_ids`: references as `%3 `cam``, else as `` `cam` ``.
+std::vector<std::pair<std::string, std::string>> scene_fields(const Module& module, const Node& node, bool with_ids);
 /// Human-readable dump (`nomec --emit ir`).
 std::string dump_ir(const Module& module, const SourceManager& sources);
 /// The parameter -> instance graph as DOT (`nomec --emit deps`).

@@ -101,6 +101,24 @@ std::string_view scene_color_name(SceneColorKind k) {
   return "?";
 }
 
+std::string_view projection_name(Projection p) {
+  switch (p) {
+    case Projection::Parallel: return "parallel";
+    case Projection::Perspective: return "perspective";
+  }
+  return "?";
+}
+
+std::string_view light_type_name(LightType t) {
+  switch (t) {
+    case LightType::Ambient: return "ambient";
+    case LightType::Directional: return "directional";
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+  }
+  return "?";
+}
+
 std::string_view offset_kind_name(OffsetKind k) {
   switch (k) {
     case OffsetKind::Plain: return "plain";

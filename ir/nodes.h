@@ -52,12 +52,16 @@ struct FlagArg {
   SourceRange range;
 };
 
-enum class TransformKind : uint8_t { Translate, Rotate, Scale, Mirror };
+enum class TransformKind : uint8_t { Translate, Rotate, Scale, Mirror, LookAt };
 /// One step of an instance's transform chain, e.g. `rotate (1 0 0) (90)`: its operand holds
-/// the axis and the angle in degrees (4 expressions); `mirror (a b c d)` the plane.
+/// the axis and the angle in degrees (4 expressions); `mirror (a b c d)` the plane. SLIDE's
+/// `lookat eye (…) target (…) up (…) endlookat` is three operands (`args` the eye, then
+/// `target` and `up`; each may be absent: eye (0 0 0), target (0 0 -1), up (0 1 0)): it puts
+/// the origin at the eye and turns −z towards the target and +y towards up.
 struct TransformOp {
   TransformKind kind = TransformKind::Translate;
   OperandId args;
+  OperandId target, up;  // LookAt only
 };
 
 /// A generator argument as the file gives it, e.g. `ro` = `{expr $fp_ro}` of a funnel, or
@@ -273,12 +277,67 @@ struct ZipperData {
   int32_t border_count = 0;  // as written (the checker reports anything but 2)
   OperandId penalty;
 };
-enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, Lookat, DisplayColor };
-/// Viewing set-up (`camera`, `light`, `window`, `viewport`, `render`, `lookat`): kept, no
-/// geometry.
+enum class SceneKind : uint8_t { Camera, Light, Window, Viewport, Render, DisplayColor };
+enum class Projection : uint8_t { Parallel, Perspective };  // SLF_PARALLEL 0, SLF_PERSPECTIVE 1
+std::string_view projection_name(Projection p);
+enum class LightType : uint8_t { Ambient, Directional, Point, Spot };  // SLF_AMBIENT 0 … SLF_SPOT 3
+std::string_view light_type_name(LightType t);
+/// An enumerated field given as a symbol (`projection SLF_PERSPECTIVE`, resolved to the enum)
+/// or as a Tcl value (`{expr $SLF_PERSPECTIVE}`: `value`, read as the enum's number).
+template <typename E>
+struct SceneEnum {
+  E symbol{};
+  OperandId value;
+  bool is_written = false;
+};
+/// A SLIDE path to a camera or light: `gCam.iCam.cam` = root group `gCam`, its instance
+/// `iCam`, whose target is `cam`; or just `lAmbient` (the node, untransformed). Resolved once
+/// every instance is known; `node` stays None when the path does not resolve (reported).
+struct ScenePath {
+  std::string text;
+  SourceRange range;
+  NodeId root;                    // the first name when the path has instances
+  std::vector<NodeId> instances;  // outermost first
+  NodeId node;                    // the camera or light at the end
+};
+/// `light PATH [onoff]` of a `render`.
+struct RenderLight {
+  ScenePath path;
+  SceneEnum<bool> on;  // SLF_ON when not written
+};
+/// Viewing set-up, kept for the live preview (no geometry; STL/OBJ do not carry it). Which
+/// members mean something depends on `kind`; an absent operand takes the default below.
+///   camera C [projection P] [frustum (min) (max)] endcamera (SLIDE; NOME3 writes one list
+///     `(left right bottom top near far)`, `frustum_is_lrbtnf`)
+///   light L [type T] [color (r g b)] [direction (x y z)] endlight (`direction`: JIPCAD)
+///   window W [background (r g b)] [origin (x y)] [size (w h)] [resize F] [ratio F] endwindow
+///   viewport V WINDOW [origin (x y)] [size (w h)] endviewport (NOME3: `cameraID C`)
+///   render VIEWPORT CAMERA_PATH ROOT (light PATH [onoff])* endrender
+/// NOME2's display colours (`foreground surface S endforeground` …) are `DisplayColor`.
 struct SceneData {
   SceneKind kind = SceneKind::Camera;
+  SceneEnum<Projection> projection;  // camera (default SLF_PARALLEL)
+  OperandId frustum;                 // camera: six values
+  bool frustum_is_lrbtnf = false;
+  SceneEnum<LightType> light_type;   // light (default SLF_AMBIENT, see kDefaultLightType)
+  OperandId color, direction;        // light
+  OperandId background, origin, size;  // window; viewport: origin, size
+  SceneEnum<bool> resize, ratio;       // window (SLF_ON when not written)
+  NodeId window, camera;             // viewport: its window; NOME3's `cameraID`
+  NodeId viewport, root;             // render
+  ScenePath camera_path;             // render
+  std::vector<RenderLight> lights;   // render
 };
+// SLIDE's defaults (slide.md §3.18–3.20). A light's type and colour are not in the sources;
+// nomec takes SLIDEUI.tcl's light panel presets (type 0, colour 0.5).
+inline constexpr std::array<double, 6> kDefaultFrustum{-1.0, -1.0, -100.0, 1.0, 1.0, -0.02};
+inline constexpr std::array<double, 3> kDefaultLightColor{0.5, 0.5, 0.5};
+inline constexpr LightType kDefaultLightType = LightType::Ambient;
+inline constexpr std::array<double, 3> kDefaultBackground{0.0, 0.0, 0.0};
+inline constexpr std::array<double, 2> kDefaultWindowOrigin{0.25, 0.25};
+inline constexpr std::array<double, 2> kDefaultWindowSize{0.5, 0.5};
+inline constexpr std::array<double, 2> kDefaultViewportOrigin{0.0, 0.0};
+inline constexpr std::array<double, 2> kDefaultViewportSize{1.0, 1.0};
 
 enum class SceneColorKind : uint8_t { Front, Back, Background };
 std::string_view scene_color_name(SceneColorKind k);

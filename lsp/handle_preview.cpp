@@ -1,6 +1,6 @@
 // nome/preview {uri, pipeline?, values?}: everything a live preview draws of an open
 // document — every output's geometry (base64 typed arrays, see preview.h) with its
-// topology summary, the sliders, the whole-scene pipeline used, the files the scene read
+// topology summary, the scene's camera, lights and background when it sets them up, the sliders, the whole-scene pipeline used, the files the scene read
 // (for a host that watches them) and the diagnostics. A document with errors answers
 // `ok: false` with its diagnostics and no geometry, so the client keeps its last good
 // picture. The session it builds is the one nome/setParameter then moves sliders in.
@@ -62,6 +62,7 @@ json preview(Context& ctx) {
   reply["sliders"] = sliders_json(held.session->module());
   reply["files"] = files_json(*a);
   reply["outputs"] = outputs_json(held, true, {});
+  if (json view = view_json(held.session->module()); !view.is_null()) reply["view"] = std::move(view);
   reply["diagnostics"] = std::move(diagnostics);
   return reply;
 }

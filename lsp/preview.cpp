@@ -6,6 +6,7 @@
 
 #include "backend/preview.h"
 #include "backend/session.h"
+#include "backend/view.h"
 #include "lsp/summary_json.h"
 
 namespace nomec::lsp {
@@ -40,7 +41,38 @@ std::string file_stem(const Analysis& a) {
   return std::string(name);
 }
 
+json vec_json(const backend::Vec3& v) { return json::array({v[0], v[1], v[2]}); }
+
 }  // namespace
+
+json view_json(const ir::Module& module) {
+  const backend::SceneView v = backend::scene_view(module);
+  if (v.empty()) return nullptr;
+  json out = json::object();
+  if (v.camera) {
+    const backend::ViewCamera& c = *v.camera;
+    out["camera"] = {{"name", c.name},
+                     {"position", vec_json(c.position)},
+                     {"direction", vec_json(c.direction)},
+                     {"up", vec_json(c.up)},
+                     {"projection", std::string(ir::projection_name(c.projection))},
+                     {"frustum",
+                      {{"min", json::array({c.frustum[0], c.frustum[1], c.frustum[2]})},
+                       {"max", json::array({c.frustum[3], c.frustum[4], c.frustum[5]})}}}};
+  }
+  json lights = json::array();
+  for (const backend::ViewLight& l : v.lights) {
+    lights.push_back({{"name", l.name},
+                      {"type", std::string(ir::light_type_name(l.type))},
+                      {"color", vec_json(l.color)},
+                      {"position", vec_json(l.position)},
+                      {"direction", vec_json(l.direction)},
+                      {"on", l.on}});
+  }
+  out["lights"] = std::move(lights);
+  if (v.background) out["background"] = vec_json(*v.background);
+  return out;
+}
 
 std::string base64(const void* data, size_t size) {
   static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

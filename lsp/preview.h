@@ -47,6 +47,12 @@ SliderSessions::Held& session_for(SliderSessions& sessions, const std::shared_pt
 json outputs_json(SliderSessions::Held& held, bool all, const std::vector<std::string>& changed,
                   const std::vector<backend::MeshSummary>* summaries = nullptr);
 
+/// The viewing set-up of `module` (`backend::scene_view`) as the `view` object of
+/// `nome/preview`, or null when the scene has none: `{camera?: {name, position, direction,
+/// up, projection: "parallel"|"perspective", frustum: {min, max}}, lights: [{name, type:
+/// "ambient"|"directional"|"point"|"spot", color, position, direction, on}], background?}`.
+json view_json(const ir::Module& module);
+
 /// The first error among `a`'s diagnostics, if any.
 const Diagnostic* first_error(const Analysis& a);
 

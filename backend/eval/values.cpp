@@ -56,6 +56,30 @@ glm::dvec3 vec3(Context& c, ir::OperandId o, double fallback) {
   return {scalar(c, o, 0, fallback), scalar(c, o, 1, fallback), scalar(c, o, 2, fallback)};
 }
 
+namespace {
+
+// SLIDE's `lookat eye (…) target (…) up (…) endlookat`: the origin moves to the eye, −z turns
+// towards the target and +y towards up (the inverse of a viewing matrix). With the eye on
+// the target only the move remains; an up along the line of sight is replaced by another axis.
+glm::dmat4 look_at(Context& c, const ir::TransformOp& op) {
+  const glm::dvec3 eye = op.args.is_valid() ? vec3(c, op.args) : glm::dvec3(0.0);
+  const glm::dvec3 target = op.target.is_valid() ? vec3(c, op.target) : glm::dvec3(0.0, 0.0, -1.0);
+  const glm::dvec3 up = op.up.is_valid() ? vec3(c, op.up) : glm::dvec3(0.0, 1.0, 0.0);
+  glm::dmat4 m = glm::translate(glm::dmat4(1.0), eye);
+  if (glm::length(target - eye) == 0) return m;
+  const glm::dvec3 f = glm::normalize(target - eye);
+  glm::dvec3 r = glm::cross(f, up);
+  if (glm::length(r) < 1e-12) r = glm::cross(f, std::abs(f.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0));
+  r = glm::normalize(r);
+  const glm::dvec3 u = glm::cross(r, f);
+  m[0] = glm::dvec4(r, 0.0);
+  m[1] = glm::dvec4(u, 0.0);
+  m[2] = glm::dvec4(-f, 0.0);
+  return m;
+}
+
+}  // namespace
+
 glm::dmat4 local(Context& c, std::span<const ir::TransformOp> ops) {
   glm::dmat4 t(1.0);
   for (const ir::TransformOp& op : ops) {
@@ -87,6 +111,9 @@ glm::dmat4 local(Context& c, std::span<const ir::TransformOp> ops) {
         }
         break;
       }
+      case ir::TransformKind::LookAt:
+        step = look_at(c, op);
+        break;
     }
     t = step * t;
   }

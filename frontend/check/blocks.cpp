@@ -1,6 +1,5 @@
 // Pipeline blocks (`merge`, `subdivision`, `offset`, the high-genus operators, SLIDE's
-// `mirror`), sweeps with their path and cross section, zippers, and scene set-up (see
-// handlers.h). Symbolic option values (`sd_type NOME_SD_CC_sharp`, `offset_type
+// `mirror`), sweeps with their path and cross section, and zippers (see handlers.h). Symbolic option values (`sd_type NOME_SD_CC_sharp`, `offset_type
 // NOME_OFFSET_GRID`, SLIDE's `type SLF_…`) are resolved to the IR's enums here; a symbol
 // nomec does not know is an error with the closest known one as a hint.
 #include <algorithm>
@@ -11,12 +10,6 @@
 namespace nomec::check {
 
 namespace {
-
-template <typename E>
-struct SymbolEntry {
-  std::string_view word;
-  E value;
-};
 
 constexpr SymbolEntry<ir::SubdivisionRule> kSubdivisionRules[] = {
     {"NOME_SD_CC_sharp", ir::SubdivisionRule::CatmullClarkSharp},
@@ -34,24 +27,6 @@ constexpr SymbolEntry<ir::OffsetKind> kOffsetKinds[] = {
     {"SLF_OFFSET_ANGULAR", ir::OffsetKind::Plain},
     {"SLF_OFFSET_PERFORATED", ir::OffsetKind::Grid},
 };
-
-// The value of `symbol` in `table`; reports UnknownSymbol (with the closest word) otherwise.
-template <typename E, size_t N>
-std::optional<E> resolve_symbol(Context& c, const SymbolEntry<E> (&table)[N], const OptionValue& v, std::string_view what) {
-  for (const SymbolEntry<E>& e : table) {
-    if (e.word == v.symbol) return e.value;
-  }
-  std::vector<std::string> words;
-  for (const SymbolEntry<E>& e : table) words.emplace_back(e.word);
-  std::string hint = closest_match(v.symbol, words);
-  auto d = c.diags().emit(DiagKind::UnknownSymbol, v.value_range,
-                          fmt::format("unknown {} `{}`{}", what, v.symbol, hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
-  if (!hint.empty()) d.fixit(v.value_range, hint, fmt::format("replace with `{}`", hint));
-  std::vector<std::string> shown;
-  for (const std::string& w : words) shown.push_back(fmt::format("`{}`", w));
-  d.note(SourceRange{}, fmt::format("known values: {}", fmt::join(shown, ", ")));
-  return std::nullopt;
-}
 
 // NOME2's `instance X` inside a block names a top-level instance: the block takes it over
 // (it is drawn through the block, no longer on its own).
@@ -291,61 +266,6 @@ ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, cons
   if (borders != 2) {
     c.diags().emit(DiagKind::MissingArgument, s.open_kw,
                    fmt::format("`zipper` joins two borders and needs two `border (…)` lists, got {}", borders));
-  }
-  return id;
-}
-
-namespace {
-
-bool is_display_color(BlockKind k) {
-  return k == BlockKind::Foreground || k == BlockKind::Background || k == BlockKind::Insidefaces ||
-         k == BlockKind::Outsidefaces || k == BlockKind::Offsetfaces;
-}
-
-// NOME2's `foreground surface S endforeground` and its kin: the surface must exist; the
-// colour is the viewer's, which no output format carries.
-ir::NodeId handle_display_color(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
-  c.diags().emit(DiagKind::IgnoredStatement, s.open_kw,
-                 fmt::format("`{}` sets a display colour of NOME2's viewer, which nomec's output does not carry; "
-                             "accepted and ignored",
-                             s.keyword));
-  ir::NodeId id = c.node_for(s, c.qualify(ctx, ""), ctx);
-  c.module().get<ir::SceneData>(id).kind = ir::SceneKind::DisplayColor;
-  bool has_surface = false;
-  read_body(c, a, s, 0, id, options_for(s.kind), [&](const OptionValue& v) { has_surface = has_surface || v.spec->key == Opt::Surface; });
-  if (!has_surface) {
-    c.diags().emit(DiagKind::MissingArgument, s.open_kw,
-                   fmt::format("`{}` needs a surface: `{} surface S end{}`", s.keyword, s.keyword, s.keyword));
-  }
-  return id;
-}
-
-}  // namespace
-
-ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx) {
-  if (is_display_color(s.kind)) return handle_display_color(c, a, s, ctx);
-  if (s.kind != BlockKind::Lookat) {
-    c.diags().emit(DiagKind::IgnoredStatement, s.open_kw,
-                   fmt::format("`{}` sets up viewing, which nomec does not render; accepted and ignored", s.keyword));
-  }
-  std::string name;
-  if (!s.items.empty() && s.items[0].kind == ItemKind::Word && s.kind != BlockKind::Lookat) name = std::string(s.items[0].text);
-  ir::NodeId id = c.node_for(s, c.qualify(ctx, name), ctx);
-  ir::SceneData& d = c.module().get<ir::SceneData>(id);
-  d.kind = s.kind == BlockKind::Camera     ? ir::SceneKind::Camera
-           : s.kind == BlockKind::Light    ? ir::SceneKind::Light
-           : s.kind == BlockKind::Window   ? ir::SceneKind::Window
-           : s.kind == BlockKind::Viewport ? ir::SceneKind::Viewport
-           : s.kind == BlockKind::Render   ? ir::SceneKind::Render
-                                           : ir::SceneKind::Lookat;
-  // Parameter references inside still resolve (they are part of the scene's sliders).
-  for (const ast::Item& it : s.items) {
-    if (it.kind == ItemKind::Value) scalar_of_item(c, a, it, false);
-    if (it.kind == ItemKind::List) {
-      for (ast::ExprId e : a.list(it.list).elems) {
-        if (a.expr(e).kind != ast::ExprKind::Name) lower_expr(c, a, e, false);
-      }
-    }
   }
   return id;
 }

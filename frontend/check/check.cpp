@@ -7,7 +7,8 @@
 //      get a precise "used before its definition" in NOME and are legal in SLIDE;
 //   5. check each statement in order with the handler of its kind, lowering into the IR
 //      (statements.cpp and the files it dispatches to);
-//   6. resolve `delete` entries, then finish the dependency graph (dependencies.cpp).
+//   6. resolve `delete` entries and `render` paths, then finish the dependency graph
+//      (dependencies.cpp).
 #include "frontend/check/check.h"
 
 #include <fmt/format.h>
@@ -86,6 +87,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   check::report_unplaced_tcl_instances(c);
   check::finish_scene_merges(c);
   check::resolve_pending_deletes(c);
+  check::resolve_render_paths(c);
   check::finish_dependencies(c);
   if (options.record_names) {
     result.asts.push_back(std::make_shared<ast::Ast>(std::move(main_ast)));

@@ -123,6 +123,9 @@ class Context {
   std::vector<PendingList> pending_lists;
   std::vector<PendingDelete> pending_deletes;
   std::vector<ir::NodeId> scene_merges;  // NOME2's `merge epsilon E endmerge` blocks
+  std::vector<ir::NodeId> renders;       // `render` statements, whose paths resolve at the end
+  /// The transform chain of the instance being read, for a `lookat` inside it.
+  std::vector<ir::TransformOp>* lookat_chain = nullptr;
 
   // ---- SLIDE's Tcl ----
   std::set<std::string> tcl_vars;

@@ -3,6 +3,7 @@
 // (dialect, banks, declarations, statements, dependencies).
 #pragma once
 
+#include <fmt/format.h>
 #include <functional>
 #include <span>
 #include <string>
@@ -163,14 +164,46 @@ ir::NodeId handle_transform(Context& c, const ast::Ast& a, const ast::Stmt& s, c
 // ---- generators.cpp: generator statements, driven by the catalogue ----
 ir::NodeId handle_generator(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 
-// ---- blocks.cpp: pipeline blocks, sweeps, zippers, scene set-up ----
+// ---- symbols of option values (`sd_type NOME_SD_CC_sharp`, `projection SLF_PERSPECTIVE`) ----
+template <typename E>
+struct SymbolEntry {
+  std::string_view word;
+  E value;
+};
+/// The value of `v.symbol` in `table`; reports UnknownSymbol (with the closest word and the
+/// known ones) otherwise.
+template <typename E, size_t N>
+std::optional<E> resolve_symbol(Context& c, const SymbolEntry<E> (&table)[N], const OptionValue& v, std::string_view what) {
+  for (const SymbolEntry<E>& e : table) {
+    if (e.word == v.symbol) return e.value;
+  }
+  std::vector<std::string> words;
+  for (const SymbolEntry<E>& e : table) words.emplace_back(e.word);
+  std::string hint = closest_match(v.symbol, words);
+  auto d = c.diags().emit(DiagKind::UnknownSymbol, v.value_range,
+                          fmt::format("unknown {} `{}`{}", what, v.symbol, hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
+  if (!hint.empty()) d.fixit(v.value_range, hint, fmt::format("replace with `{}`", hint));
+  std::vector<std::string> shown;
+  for (const std::string& w : words) shown.push_back(fmt::format("`{}`", w));
+  d.note(SourceRange{}, fmt::format("known values: {}", fmt::join(shown, ", ")));
+  return std::nullopt;
+}
+
+// ---- blocks.cpp: pipeline blocks, sweeps, zippers ----
 ir::NodeId handle_block(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 /// Gives NOME2's `merge epsilon E endmerge` every top-level instance of the scene.
 void finish_scene_merges(Context& c);
 ir::NodeId handle_sweep(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 ir::NodeId handle_zipper(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+
+// ---- viewing.cpp: cameras, lights, windows, viewports, `render`, `lookat`; NOME2's display colours ----
 ir::NodeId handle_scene(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+/// What a viewing statement is (set when it is declared, so a `render` above a `viewport`
+/// sees its kind).
+ir::SceneKind scene_kind_for(BlockKind kind);
+/// Resolves the camera and light paths of every `render` (once every instance is known).
+void resolve_render_paths(Context& c);
 
 // ---- highgenus.cpp: `handle`, `rind`, `sierpinski` and `menger` ----
 /// The face and vertex paths of a high-genus block, as written; resolved once the block's

@@ -2,6 +2,7 @@
 // rotate (…) (…) surface S endinstance` (SLIDE: `instance TARGET [id NAME]`), the scopes in
 // which instance names live (the top level, a group, a block), and groups.
 #include <fmt/format.h>
+#include <utility>
 
 #include "frontend/check/handlers.h"
 
@@ -172,6 +173,8 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
     }
   }
   TransformChain chain;
+  // A `lookat … endlookat` inside adds its step to the chain (viewing.cpp).
+  std::vector<ir::TransformOp>* outer_chain = std::exchange(c.lookat_chain, &chain.ops);
   read_body(c, a, s, pos, id, options_for(s.kind), [&](const OptionValue& v) {
     ir::InstanceData& d = c.module().get<ir::InstanceData>(id);
     if (v.spec->key == Opt::Mirror && c.dialect() == Dialect::Nome2) {
@@ -181,7 +184,7 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
                 "NOME2 reads `mirror (a b c d)` on an instance but does not apply it; ignored as NOME2 did")
           .fixit(SourceRange{v.word.file, v.word.begin, v.value_range.end}, "", "remove the `mirror`");
     } else if (auto t = transform_of(v.spec->key)) {
-      chain.ops.push_back({*t, v.operand});
+      chain.ops.push_back(ir::TransformOp{*t, v.operand, {}, {}});
     } else if (v.spec->key == Opt::Reverse) {
       d.is_reversed = true;
     } else if (v.spec->key == Opt::Surface) {
@@ -198,6 +201,7 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
     // The `id NAME` of a SLIDE-order instance in a NOME file was read with its head.
     return head.id_at != 0 && (&it == &s.items[head.id_at] || &it == &s.items[head.id_at + 1]);
   });
+  c.lookat_chain = outer_chain;
   c.module().get<ir::InstanceData>(id).transforms = chain.store(c.module());
   c.adopt(ctx.parent, id);
   return id;
@@ -229,7 +233,7 @@ ir::NodeId handle_transform(Context& c, const ast::Ast& a, const ast::Stmt& s, c
   ir::NodeId id = c.node_for(s, c.qualify(ctx, ""), ctx);
   TransformChain chain;
   read_body(c, a, s, 0, id, options_for(s.kind), [&](const OptionValue& v) {
-    if (auto t = transform_of(v.spec->key)) chain.ops.push_back({*t, v.operand});
+    if (auto t = transform_of(v.spec->key)) chain.ops.push_back(ir::TransformOp{*t, v.operand, {}, {}});
   });
   c.module().get<ir::TransformData>(id).ops = chain.store(c.module());
   return id;

@@ -55,6 +55,7 @@ void declare_stmt(Context& c, const ast::Stmt& s, int order) {
   if (s.kind == BlockKind::Merge && s.items[0].text == "epsilon") return;  // NOME2's nameless scene merge
   std::string name(s.items[0].text);
   ir::NodeId id = c.module().add_node(node_kind_for(s.kind), s.keyword, name, s.range);
+  if (*ns == Ns::Scene) c.module().get<ir::SceneData>(id).kind = scene_kind_for(s.kind);
   // compat.md §E5: in the 2016 family, further `mesh consolidatedmesh` blocks add to the
   // first (meshes.cpp), so they are not duplicate definitions.
   const bool adds = is_consolidated_mesh(c, s) && c.scopes[static_cast<int>(*ns)].contains(name);

@@ -102,7 +102,19 @@ const OptSpec kSierpinski[] = {{"level", Shape::Scalar, Opt::Level}};
 const OptSpec kMenger[] = {{"level", Shape::Scalar, Opt::Level},
                            {"thickness", Shape::Scalar, Opt::Thickness},
                            {"collapse", Shape::Scalar, Opt::Collapse}};
-const OptSpec kScene[] = {{"", Shape::Rest, Opt::Rest}};
+// Viewing set-up (slide.md §3.18–3.20; NOME3's `NOME_…` words and `cameraID`, JIPCAD's light
+// `direction`). `ribbegin`/`ribend` are RenderMan text: accepted, not used.
+const OptSpec kCamera[] = {{"projection", Shape::Symbol, Opt::Projection}, {"frustum", Shape::Frustum, Opt::Frustum},
+                           {"ribbegin", Shape::Text, Opt::Ignored}, {"ribend", Shape::Text, Opt::Ignored}};
+const OptSpec kLight[] = {{"type", Shape::Symbol, Opt::LightType}, {"color", Shape::Vec3, Opt::Color},
+                          {"direction", Shape::Vec3, Opt::Direction}, {"ribbegin", Shape::Text, Opt::Ignored},
+                          {"ribend", Shape::Text, Opt::Ignored}};
+const OptSpec kWindow[] = {{"background", Shape::Vec3, Opt::Background}, {"origin", Shape::Vec2, Opt::Origin},
+                           {"size", Shape::Vec2, Opt::Size},             {"resize", Shape::Symbol, Opt::Resize},
+                           {"ratio", Shape::Symbol, Opt::Ratio}};
+const OptSpec kViewport[] = {{"origin", Shape::Vec2, Opt::Origin}, {"size", Shape::Vec2, Opt::Size},
+                             {"cameraID", Shape::Ref, Opt::CameraId}};
+const OptSpec kLookat[] = {{"eye", Shape::Vec3, Opt::Eye}, {"target", Shape::Vec3, Opt::Target}, {"up", Shape::Vec3, Opt::Up}};
 const OptSpec kDisplayColor[] = {{"surface", Shape::Surface, Opt::Surface}};
 #undef SLIDE_DISPLAY
 
@@ -154,12 +166,12 @@ std::span<const OptSpec> options_for(BlockKind kind) {
     case BlockKind::Sierpinski: return kSierpinski;
     case BlockKind::Menger: return kMenger;
     case BlockKind::Mirror: return kObject;
-    case BlockKind::Camera:
-    case BlockKind::Light:
-    case BlockKind::Window:
-    case BlockKind::Viewport:
-    case BlockKind::Render:
-    case BlockKind::Lookat: return kScene;
+    case BlockKind::Camera: return kCamera;
+    case BlockKind::Light: return kLight;
+    case BlockKind::Window: return kWindow;
+    case BlockKind::Viewport: return kViewport;
+    case BlockKind::Lookat: return kLookat;
+    case BlockKind::Render: return {};  // positional, read by its handler (viewing.cpp)
     case BlockKind::Foreground:
     case BlockKind::Background:
     case BlockKind::Insidefaces:
@@ -301,6 +313,49 @@ bool read_rotate(Context& c, const ast::Ast& a, const ast::Stmt& s, const OptSpe
   return true;
 }
 
+// `frustum (xmin ymin zmin) (xmax ymax zmax)` (SLIDE) or `frustum (l r b t n f)` (NOME3): six
+// expressions as one operand.
+bool read_frustum(Context& c, const ast::Ast& a, const ast::Stmt& s, const OptSpec& spec, const ast::Item& kw,
+                  size_t& pos, ir::NodeId id, OptionValue& v) {
+  auto list_at = [&](size_t i) -> const ast::Item* {
+    return i < s.items.size() && s.items[i].kind == ItemKind::List ? &s.items[i] : nullptr;
+  };
+  const ast::Item* first = list_at(pos);
+  if (first == nullptr) {
+    c.diags().emit(DiagKind::MissingArgument, kw.range,
+                   "`frustum` needs two corners, `(xmin ymin zmin) (xmax ymax zmax)`");
+    return false;
+  }
+  ++pos;
+  SmallVec<ir::ExprId, 4> exprs;
+  const ast::ParenList& l1 = a.list(first->list);
+  c.check_commas(a, first->list);
+  v.value_range = first->range;
+  if (l1.elems.size() == 6 && list_at(pos) == nullptr) {
+    v.is_single_list = true;  // NOME3: (left right bottom top near far)
+  } else {
+    const ast::Item* second = list_at(pos);
+    if (l1.elems.size() != 3 || second == nullptr || a.list(second->list).elems.size() != 3) {
+      c.diags().emit(DiagKind::ListArity, second == nullptr ? l1.range : SourceRange{l1.range.file, l1.range.begin, second->range.end},
+                     fmt::format("`frustum` needs two corners of 3 numbers, `(xmin ymin zmin) (xmax ymax zmax)`{}",
+                                 second == nullptr ? fmt::format("; got one list of {}", l1.elems.size()) : std::string()));
+      if (second != nullptr) ++pos;
+      for (ast::ExprId e : l1.elems) lower_expr(c, a, e, false);
+      return false;
+    }
+    ++pos;
+    c.check_commas(a, second->list);
+    v.value_range = SourceRange{l1.range.file, l1.range.begin, second->range.end};
+    for (ast::ExprId e : l1.elems) exprs.push_back(lower_expr(c, a, e, false));
+    for (ast::ExprId e : a.list(second->list).elems) exprs.push_back(lower_expr(c, a, e, false));
+    v.operand = c.add_operand(id, spec.name, std::move(exprs), v.value_range);
+    return true;
+  }
+  for (ast::ExprId e : l1.elems) exprs.push_back(lower_expr(c, a, e, false));
+  v.operand = c.add_operand(id, spec.name, std::move(exprs), v.value_range);
+  return true;
+}
+
 // The node a `surface S`, `backface B` or other reference option names, checked for its kind:
 // a backface named by `surface` is ignored, as JIPCAD did (compat.md F2); `backface` needs
 // a backface colour.
@@ -383,6 +438,8 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
     }
     case Shape::Rotate:
       return read_rotate(c, a, s, spec, kw, pos, id, v);
+    case Shape::Frustum:
+      return read_frustum(c, a, s, spec, kw, pos, id, v);
     case Shape::Surface:
     case Shape::Ref:
     case Shape::Backface: {
@@ -465,6 +522,17 @@ bool read_option(Context& c, const ast::Ast& a, const ast::Stmt& s, std::span<co
       }
       ++pos;
       v.raw = n->expr;
+      v.value_range = n->range;
+      return true;
+    }
+    case Shape::Text: {
+      const ast::Item* n = next();
+      if (n == nullptr || n->kind != ItemKind::Value || a.expr(n->expr).kind != ast::ExprKind::String) {
+        missing("a string in quotes");
+        if (n != nullptr && n->kind == ItemKind::Value) ++pos;  // the value given instead
+        return false;
+      }
+      ++pos;
       v.value_range = n->range;
       return true;
     }

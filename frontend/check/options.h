@@ -24,6 +24,7 @@ enum class Shape : uint8_t {
   Vec3,          // `color (1 0 0)`
   Vec2,          // `texture (0 1)`, `weights (1 1)`
   Vec4,          // `mirror (a b c d)`
+  Frustum,       // SLIDE `frustum (xmin ymin zmin) (xmax ymax zmax)`, NOME3 `frustum (l r b t n f)`
   Rotate,        // `rotate (ax ay az) (deg)`; the angle list is optional in controlpoints
   Surface,       // `surface S`
   Backface,      // `backface B` (JIPCAD)
@@ -34,6 +35,7 @@ enum class Shape : uint8_t {
   Paths,         // `(c.f1 c.f2)`: names the block resolves once its instances are read
   Symbol,        // `sd_type NOME_SD_CC_sharp`, or a value in SLIDE
   Raw,           // `funcX [ … ]`
+  Text,          // `ribbegin "…"`: a string
   Any,           // one item of any kind (display options of SLIDE/NOME3 we accept and ignore)
   Rest,          // everything up to the end of the block (scene setup)
 };
@@ -52,6 +54,8 @@ enum class Opt : uint8_t {
   InstanceRef,  // NOME2's `instance X` inside a block: a top-level instance the block takes over
   Backface, CutBegin, CutEnd, CrossSection, Sweep, Index,
   Lod,  // SLIDE's level of detail of an instance or group (`SLF_OFF` removes it)
+  // Viewing set-up (camera, light, window, viewport, lookat)
+  Projection, Frustum, LightType, Direction, Background, Origin, Size, Resize, Ratio, CameraId, Eye, Target, Up,
   Rest,
   GenArg,  // a generator argument of the catalogue (`OptSpec::arg`)
 };
@@ -77,6 +81,7 @@ struct OptionValue {
   SourceRange value_range;          // where the value is
   ast::ExprId raw;                  // Raw
   ast::ExprId value_expr;           // Scalar: the value as written, when it is a value item
+  bool is_single_list = false;      // Frustum: NOME3's one list of six
 };
 
 /// The options of a block kind (empty for kinds that take none). Generators take theirs

@@ -147,7 +147,7 @@ class Builder {
       case BlockKind::Transform: case BlockKind::Delete: case BlockKind::Consolidate:
       case BlockKind::Consolidateface: case BlockKind::Sharp: case BlockKind::Lookat:
       case BlockKind::Savedparameter: case BlockKind::Path: case BlockKind::Bank:
-      case BlockKind::Instance:
+      case BlockKind::Instance: case BlockKind::Render:  // `render VIEWPORT …` names what it uses
         return false;
       case BlockKind::Crosssection: return top;
       case BlockKind::Vertex: return parent_kind == BlockKind::Mesh;

@@ -565,6 +565,11 @@ std::string Index::hover_symbol(const Symbol& s) const {
   }
   if (std::string_view d = keyword_doc(n->keyword); !d.empty()) md += fmt::format(" — {}", d);
   md += "\n";
+  if (n->kind == ir::NodeKind::SceneSetup) {
+    // Viewing set-up: every field with its value, the defaults included.
+    for (const auto& [field, text] : ir::scene_fields(m, *n, false)) md += fmt::format("\n- `{}` {}", field, text);
+    return md;
+  }
   if (n->kind == ir::NodeKind::Generator) {
     // The arguments as written, with their meanings from the generator catalogue.
     const ir::GeneratorInfo& info = ir::generator(n->as<ir::GeneratorData>().gen);

@@ -498,11 +498,20 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
     bool closed = false;
     int d = 0;
     size_t foreign = 0;  // a token on the line that ends an enclosing statement
+    int inner_on_line = 0;  // statements nested on the line (`instance … lookat … endlookat …`)
     for (size_t k = r + 1; k <= last; ++k) {
       const size_t t = tok(k).type;
       if (t == L::LPAREN || t == L::LBRACE) ++d;
       if ((t == L::RPAREN || t == L::RBRACE) && d > 0) --d;
       if (d != 0) continue;
+      if (nests_in(type, t)) {
+        ++inner_on_line;
+        continue;
+      }
+      if (inner_on_line > 0 && is_end_token(t) && t != end_type) {
+        --inner_on_line;
+        continue;
+      }
       if (t == end_type) {
         closed = true;
         // `funnel … endtunnel`: one token type closes every generator; the checker decides.

@@ -107,8 +107,11 @@ class App {
         // so it is seen sooner; the full picture follows once nothing else changes.
         this.viewer.interact();
         this.viewer.apply(r.outputs, r.outputs.map((o) => o.name));
+        this.viewer.setView(r.view);
+        $("scene-view").hidden = r.view === undefined;
         if (!this.fittedOnce) {
-          this.viewer.fitView();
+          // A scene with a camera is first seen through it; others are framed.
+          if (!this.viewer.lookThroughScene()) this.viewer.fitView();
           this.fittedOnce = true;
         }
         const t3 = performance.now();
@@ -350,6 +353,10 @@ class App {
   private wirePanel(): void {
     const toggle = (id: string, on: boolean) => $(id).setAttribute("aria-pressed", String(on));
     $("fit").onclick = () => this.viewer.fitView();
+    $("scene-view").onclick = () => {
+      this.viewer.setUseSceneView(!this.viewer.useSceneView);
+      toggle("scene-view", this.viewer.useSceneView);
+    };
     $("wire").onclick = () => {
       this.viewer.setWireframe(!this.viewer.wireframe);
       toggle("wire", this.viewer.wireframe);
@@ -396,6 +403,7 @@ class App {
       if (e.key === "f" || e.key === "F") this.viewer.fitView();
       else if (e.key === "w" || e.key === "W") $("wire").click();
       else if (e.key === "s" || e.key === "S") $("smooth").click();
+      else if ((e.key === "v" || e.key === "V") && !$("scene-view").hidden) $("scene-view").click();
     });
     window.matchMedia("(prefers-color-scheme: dark)").addEventListener("change", () => this.applyTheme());
     this.applyTheme();

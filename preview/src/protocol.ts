@@ -63,6 +63,32 @@ export interface LspDiagnostic {
   message: string;
 }
 
+/// The scene's viewing set-up (SLIDE `render` camera and lights, window background; see
+/// lsp/README.md): positions and directions in world coordinates, colours in [0, 1].
+export interface ViewCamera {
+  name: string;
+  position: number[];
+  direction: number[];
+  up: number[];
+  projection: "parallel" | "perspective";
+  frustum: { min: number[]; max: number[] };
+}
+
+export interface ViewLight {
+  name: string;
+  type: "ambient" | "directional" | "point" | "spot";
+  color: number[];
+  position: number[];
+  direction: number[];
+  on: boolean;
+}
+
+export interface SceneView {
+  camera?: ViewCamera;
+  lights: ViewLight[];
+  background?: number[];
+}
+
 export interface PreviewReply {
   uri: string;
   version: number;
@@ -72,6 +98,7 @@ export interface PreviewReply {
   sliders?: Slider[];
   files?: string[];
   outputs?: WireOutput[];
+  view?: SceneView;
   diagnostics: LspDiagnostic[];
 }
 

@@ -7,13 +7,17 @@
 // flat shading takes the face normal in the fragment shader. An update recomputes only the
 // outputs it names; all outputs are then drawn as five objects (surfaces, wireframe,
 // borders, Möbius edges, curves), so a scene of hundreds of outputs costs five draw calls,
-// not hundreds. Orbit, pan and zoom by mouse or keyboard; "fit view" frames everything.
+// not hundreds. Orbit, pan and zoom by mouse or keyboard; "fit view" frames everything. A
+// scene that sets up viewing (a SLIDE `render`: camera, lights, window background) is first
+// shown through its camera (perspective or parallel), lit by its lights on its background;
+// "fit view" then looks along that camera, and the Scene view toggle goes back to the
+// preview's own lights and theme background.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { LineSegments2 } from "three/examples/jsm/lines/LineSegments2.js";
 import { LineSegmentsGeometry } from "three/examples/jsm/lines/LineSegmentsGeometry.js";
 import { LineMaterial } from "three/examples/jsm/lines/LineMaterial.js";
-import { WireOutput, float32s, uint32s, uint8s } from "./protocol";
+import { SceneView, WireOutput, float32s, uint32s, uint8s } from "./protocol";
 import { Drawn, buildDrawn, placeDrawn } from "./drawn";
 
 interface Part {
@@ -72,8 +76,24 @@ class Overlay {
 export class Viewer {
   readonly renderer: THREE.WebGLRenderer;
   readonly scene = new THREE.Scene();
-  readonly camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
-  readonly controls: OrbitControls;
+  readonly perspective = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
+  readonly ortho = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.01, 1000);
+  /// The camera drawn through: `perspective`, or `ortho` for a scene's parallel camera.
+  camera: THREE.PerspectiveCamera | THREE.OrthographicCamera = this.perspective;
+  /// Half the height the orthographic camera shows at zoom 1.
+  private orthoHalfHeight = 1;
+  controls: OrbitControls;
+  private aspect = 1;
+  // The preview's own lights (a sky light and a key light that follows the camera), and the
+  // scene's when it has any (`setView`).
+  private key = new THREE.DirectionalLight(0xffffff, 1.6);
+  private defaultLights: THREE.Object3D[] = [];
+  private sceneLights = new THREE.Group();
+  /// The scene's viewing set-up, if it has one.
+  view: SceneView | undefined;
+  /// Whether the scene's camera, lights and background are used (the Scene view toggle).
+  useSceneView = true;
+  private themeBackground = "#e9edf2";
   private parts = new Map<string, Part>();
   private surface: THREE.Mesh;
   private wire: THREE.LineSegments;
@@ -127,14 +147,13 @@ export class Viewer {
     this.fullPixelRatio = Math.min(window.devicePixelRatio, 2);
     this.renderer.setPixelRatio(this.fullPixelRatio);
     this.camera.position.set(3, 2.5, 4);
-    this.controls = new OrbitControls(this.camera, canvas);
-    this.controls.enableDamping = false;
-    this.controls.addEventListener("change", () => this.requestRender());
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x445066, 1.6));
-    const key = new THREE.DirectionalLight(0xffffff, 1.6);
-    key.position.set(2, 3, 4);
-    this.camera.add(key);
-    this.scene.add(this.camera);
+    this.controls = this.makeControls();
+    const sky = new THREE.HemisphereLight(0xffffff, 0x445066, 1.6);
+    this.scene.add(sky);
+    this.key.position.set(2, 3, 4);
+    this.camera.add(this.key);
+    this.defaultLights = [sky, this.key];
+    this.scene.add(this.camera, this.sceneLights);
     this.surface = new THREE.Mesh(new THREE.BufferGeometry(), this.surfaceMaterial);
     this.wire = new THREE.LineSegments(new THREE.BufferGeometry(), this.wireMaterial);
     this.border = new Overlay(this.borderMaterial, 2);
@@ -210,9 +229,150 @@ export class Viewer {
     }
   }
 
+  // Orbit controls for the current camera (made anew when the camera or its up changes:
+  // OrbitControls reads the up direction once).
+  private makeControls(): OrbitControls {
+    const c = new OrbitControls(this.camera, this.canvas);
+    c.enableDamping = false;
+    c.addEventListener("change", () => this.requestRender());
+    return c;
+  }
+
+  /// The theme's background colour (CSS), shown unless the scene sets its own.
   setBackground(css: string): void {
-    this.scene.background = new THREE.Color(css);
+    this.themeBackground = css;
+    this.showBackground();
+  }
+
+  private showBackground(): void {
+    const bg = this.useSceneView ? this.view?.background : undefined;
+    this.scene.background = bg !== undefined
+      ? new THREE.Color().setRGB(bg[0], bg[1], bg[2], THREE.SRGBColorSpace)
+      : new THREE.Color(this.themeBackground);
     this.requestRender();
+  }
+
+  /// Takes the scene's viewing set-up (or none): its lights and background are used at once
+  /// (while `useSceneView`); its camera by `lookThroughScene`.
+  setView(view: SceneView | undefined): void {
+    this.view = view;
+    this.showLights();
+    this.showBackground();
+  }
+
+  /// Uses the scene's camera, lights and background, or the preview's own.
+  setUseSceneView(on: boolean): void {
+    this.useSceneView = on;
+    this.showLights();
+    this.showBackground();
+    if (!on || !this.lookThroughScene()) {
+      this.useCamera(this.perspective, new THREE.Vector3(0, 1, 0));
+      this.fitView();
+    }
+  }
+
+  // The scene's lights that are on replace the preview's own; colours as written, with
+  // three.js's physical intensities (π gives the colour's full brightness).
+  private showLights(): void {
+    for (const l of [...this.sceneLights.children]) {
+      this.sceneLights.remove(l);
+      (l as THREE.Light).dispose?.();
+    }
+    const lights = this.useSceneView ? (this.view?.lights ?? []).filter((l) => l.on) : [];
+    for (const d of this.defaultLights) d.visible = lights.length === 0;
+    for (const l of lights) {
+      const color = new THREE.Color().setRGB(l.color[0], l.color[1], l.color[2], THREE.SRGBColorSpace);
+      const [px, py, pz] = l.position;
+      const [dx, dy, dz] = l.direction;
+      let light: THREE.Light;
+      if (l.type === "ambient") {
+        light = new THREE.AmbientLight(color, Math.PI);
+      } else if (l.type === "directional") {
+        const d = new THREE.DirectionalLight(color, Math.PI);
+        d.position.set(-dx, -dy, -dz);  // shines from here towards its target at the origin
+        light = d;
+      } else if (l.type === "point") {
+        light = new THREE.PointLight(color, Math.PI, 0, 0);
+        light.position.set(px, py, pz);
+      } else {
+        const spot = new THREE.SpotLight(color, Math.PI, 0, Math.PI / 6, 0.3, 0);
+        spot.position.set(px, py, pz);
+        spot.target.position.set(px + dx, py + dy, pz + dz);
+        this.sceneLights.add(spot.target);
+        light = spot;
+      }
+      light.name = l.name;
+      this.sceneLights.add(light);
+    }
+    this.requestRender();
+  }
+
+  // Draws through `cam` (with `up`), keeping the key light on it.
+  private useCamera(cam: THREE.PerspectiveCamera | THREE.OrthographicCamera, up: THREE.Vector3): void {
+    const target = this.controls.target.clone();
+    if (cam !== this.camera) {
+      cam.position.copy(this.camera.position);
+      this.scene.remove(this.camera);
+      this.camera = cam;
+      this.scene.add(cam);
+      cam.add(this.key);
+    }
+    cam.up.copy(up);
+    this.controls.dispose();
+    this.controls = this.makeControls();
+    this.controls.target.copy(target);
+    this.resize();
+  }
+
+  /// Looks through the scene's camera: its position, direction and up, perspective with the
+  /// field of view its frustum gives, or parallel showing its frustum's extent. The orbit
+  /// centre is where the line of sight passes the geometry. The frustum's x and y bounds are
+  /// read on the plane one unit in front of the camera (SLIDE's projection plane); the near
+  /// and far planes are the preview's, so orbiting never clips. False without a camera.
+  lookThroughScene(): boolean {
+    const v = this.useSceneView ? this.view?.camera : undefined;
+    if (v === undefined) return false;
+    const pos = new THREE.Vector3(...v.position);
+    const dir = new THREE.Vector3(...v.direction).normalize();
+    const up = new THREE.Vector3(...v.up).normalize();
+    const halfW = Math.abs(v.frustum.max[0] - v.frustum.min[0]) / 2;
+    const halfH = Math.abs(v.frustum.max[1] - v.frustum.min[1]) / 2;
+    // Wide enough for the frustum's width and height in this canvas.
+    const half = Math.max(halfH, halfW / this.aspect) || 1;
+    const sphere = this.bounds();
+    const r = sphere ? sphere.radius : 1;
+    let d = sphere ? sphere.center.clone().sub(pos).dot(dir) : 1;
+    if (!(d > 1e-6)) d = Math.max(sphere ? sphere.center.distanceTo(pos) : 1, 1e-3);
+    if (v.projection === "perspective") {
+      this.useCamera(this.perspective, up);
+      this.perspective.fov = THREE.MathUtils.radToDeg(2 * Math.atan(half));
+      this.perspective.near = Math.max(1e-4, d / 100);
+      this.perspective.far = (d + r) * 100;
+    } else {
+      this.orthoHalfHeight = half;
+      this.useCamera(this.ortho, up);
+      this.ortho.zoom = 1;
+      this.ortho.near = -(d + r) * 10;
+      this.ortho.far = (d + r) * 10;
+    }
+    this.camera.position.copy(pos);
+    this.controls.target.copy(pos).addScaledVector(dir, d);
+    this.camera.lookAt(this.controls.target);
+    this.resize();
+    this.controls.update();
+    this.requestRender();
+    return true;
+  }
+
+  // The bounding sphere of everything drawn, or undefined when nothing is.
+  private bounds(): THREE.Sphere | undefined {
+    const box = new THREE.Box3().setFromObject(this.surface);
+    if (this.curves.present) {
+      this.curves.thin.geometry.computeBoundingBox();
+      if (this.curves.thin.geometry.boundingBox) box.union(this.curves.thin.geometry.boundingBox);
+    }
+    if (this.parts.size === 0 || box.isEmpty()) return undefined;
+    return box.getBoundingSphere(new THREE.Sphere());
   }
 
   requestRender(): void {
@@ -269,8 +429,12 @@ export class Viewer {
     this.borderMaterial.resolution.set(w, h);
     this.mobiusMaterial.resolution.set(w, h);
     this.curveMaterial.resolution.set(w, h);
-    this.camera.aspect = w / h;
-    this.camera.updateProjectionMatrix();
+    this.aspect = w / h;
+    this.perspective.aspect = this.aspect;
+    this.perspective.updateProjectionMatrix();
+    const hh = this.orthoHalfHeight;
+    Object.assign(this.ortho, { left: -hh * this.aspect, right: hh * this.aspect, top: hh, bottom: -hh });
+    this.ortho.updateProjectionMatrix();
     this.requestRender();
   }
 
@@ -457,22 +621,30 @@ export class Viewer {
     return this.parts.size > 0;
   }
 
+  /// Frames everything drawn: from the current direction, or along the scene's camera.
   fitView(): void {
-    const box = new THREE.Box3().setFromObject(this.surface);
-    if (this.curves.present) {
-      this.curves.thin.geometry.computeBoundingBox();
-      if (this.curves.thin.geometry.boundingBox) box.union(this.curves.thin.geometry.boundingBox);
-    }
-    if (this.parts.size === 0 || box.isEmpty()) return;
-    const sphere = box.getBoundingSphere(new THREE.Sphere());
+    const sphere = this.bounds();
+    if (sphere === undefined) return;
     const r = Math.max(sphere.radius, 1e-3);
-    const dist = r / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.05;
-    const dir = this.camera.position.clone().sub(this.controls.target).normalize();
+    const sceneCamera = this.useSceneView ? this.view?.camera : undefined;
+    const dir = sceneCamera !== undefined
+      ? new THREE.Vector3(...sceneCamera.direction).negate().normalize()
+      : this.camera.position.clone().sub(this.controls.target).normalize();
     if (dir.lengthSq() === 0) dir.set(0.5, 0.4, 0.75).normalize();
     this.controls.target.copy(sphere.center);
-    this.camera.position.copy(sphere.center).addScaledVector(dir, dist);
-    this.camera.near = dist / 100;
-    this.camera.far = dist * 100;
+    if (this.camera === this.ortho) {
+      const dist = 4 * r;
+      this.ortho.zoom = this.orthoHalfHeight * Math.min(1, this.aspect) / (r * 1.05);
+      this.ortho.near = -dist * 10;
+      this.ortho.far = dist * 10;
+      this.camera.position.copy(sphere.center).addScaledVector(dir, dist);
+    } else {
+      const dist = r / Math.sin(THREE.MathUtils.degToRad(this.perspective.fov / 2)) * 1.05;
+      this.camera.position.copy(sphere.center).addScaledVector(dir, dist);
+      this.perspective.near = dist / 100;
+      this.perspective.far = dist * 100;
+    }
+    this.camera.lookAt(this.controls.target);
     this.camera.updateProjectionMatrix();
     this.controls.update();
     this.requestRender();
@@ -495,9 +667,12 @@ export class Viewer {
     else if (key === "ArrowRight") spherical.theta += step;
     else if (key === "ArrowUp") spherical.phi = Math.max(0.01, spherical.phi - step);
     else if (key === "ArrowDown") spherical.phi = Math.min(Math.PI - 0.01, spherical.phi + step);
+    else if ((key === "+" || key === "=") && this.camera === this.ortho) this.ortho.zoom /= 0.85;
+    else if ((key === "-" || key === "_") && this.camera === this.ortho) this.ortho.zoom *= 0.85;
     else if (key === "+" || key === "=") spherical.radius *= 0.85;
     else if (key === "-" || key === "_") spherical.radius /= 0.85;
     else return false;
+    this.ortho.updateProjectionMatrix();
     if (!(shift && key.startsWith("Arrow"))) {
       this.camera.position.copy(this.controls.target).add(new THREE.Vector3().setFromSpherical(spherical));
     }

@@ -6,7 +6,8 @@
 // file with an error shows its diagnostic and keeps the last good mesh; and the server
 // refuses other Hosts/Origins and stops cleanly on Ctrl-C. Also how frames are drawn: a new
 // scene's first frame cheaply then at rest, shared (indexed) vertices, one-pixel overlays
-// while dragging; and a SLIDE file from the shared corpus with its CreateScale sliders.
+// while dragging; a SLIDE file from the shared corpus with its CreateScale sliders; and a
+// SLIDE render's camera (perspective and parallel), lights and background.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, readFileSync, writeFileSync, rmSync } from "node:fs";
@@ -159,6 +160,115 @@ test("a SLIDE file: its Tcl runs, its CreateScale sliders move the surface", asy
     await waitFor(page, (n) => window.nomePreview.timings.length > n, before);
     assert.notEqual(await page.evaluate(() => window.nomePreview.vertexHash()), h0, "moving q0x reshapes the bell");
     assert.deepEqual(errors, []);
+  } finally {
+    assert.equal(await stopView(view), 0);
+  }
+});
+
+// A SLIDE scene seen through its render's camera, lit by its lights, on its window's
+// background (the camera is placed by the instance in its group: `gCam.iCam.cam`).
+function viewingScene(projection) {
+  return `point a (-1 -1 0) endpoint\npoint b (1 -1 0) endpoint\npoint c (1 1 0) endpoint\npoint d (-1 1 0) endpoint
+face f (a b c d) endface
+object sq (f) endobject
+camera cam projection ${projection} frustum (-1 -1 -10) (1 1 -0.01) endcamera
+light sun type SLF_DIRECTIONAL color (0.9 0.9 0.9) endlight
+light amb type SLF_AMBIENT color (0.2 0.2 0.2) endlight
+group gCam
+  instance cam id iCam translate (0 0 3) endinstance
+endgroup
+group world
+  instance sq endinstance
+  instance sun id key
+    lookat eye (0 0 0) target (0 0 -1) up (0 1 0) endlookat
+    translate (0 0 2)
+  endinstance
+  instance amb id fill endinstance
+endgroup
+window Window background (0.3 0.6 0.3) endwindow
+viewport vp Window endviewport
+render vp gCam.iCam.cam world
+  light world.key.sun
+  light world.fill.amb
+endrender
+`;
+}
+
+// The colour of the canvas's top-left pixel, as drawn.
+function cornerPixel(page) {
+  return page.evaluate(() => {
+    const src = document.getElementById("view");
+    const c = document.createElement("canvas");
+    c.width = src.width;
+    c.height = src.height;
+    const g = c.getContext("2d");
+    g.drawImage(src, 0, 0);
+    return [...g.getImageData(1, 1, 1, 1).data.slice(0, 3)];
+  });
+}
+
+test("a SLIDE render: its camera, lights and background are used, and can be switched off", async () => {
+  const dir = mkdtempSync(join(work, "view-"));
+  writeFileSync(join(dir, "persp.slf"), viewingScene("SLF_PERSPECTIVE"));
+  writeFileSync(join(dir, "par.slf"), viewingScene("SLF_PARALLEL"));
+  let view = await startView(nomec, join(dir, "persp.slf"));
+  try {
+    const { page, errors } = await openPage(view);
+    const cam = () => page.evaluate(() => {
+      const v = window.nomePreview.viewer;
+      const c = v.camera;
+      const d = c.getWorldDirection(new c.position.constructor());
+      return { type: c.type, position: c.position.toArray(), direction: d.toArray(), fov: c.fov, aspect: c.aspect,
+               lights: v.sceneLights.children.filter((l) => l.isLight).map((l) => l.type),
+               defaults: v.defaultLights.map((l) => l.visible) };
+    });
+    const c = await cam();
+    assert.equal(c.type, "PerspectiveCamera");
+    const near = (a, b, what) => a.forEach((x, i) => assert.ok(Math.abs(x - b[i]) < 1e-6, `${what}: ${a} vs ${b}`));
+    near(c.position, [0, 0, 3], "the camera sits where iCam puts it");
+    near(c.direction, [0, 0, -1], "looking down -z");
+    // The frustum's ±1 one unit ahead: 90° high, wider when the canvas is narrower than square.
+    const fov = 2 * Math.atan(Math.max(1, 1 / c.aspect)) * 180 / Math.PI;
+    assert.ok(Math.abs(c.fov - fov) < 1e-6 && c.fov >= 90 - 1e-9, `fov from the frustum: ${c.fov} (aspect ${c.aspect})`);
+    assert.deepEqual(c.lights.sort(), ["AmbientLight", "DirectionalLight"]);
+    assert.deepEqual(c.defaults, [false, false], "the preview's own lights are off");
+    // The window's background (0.3 0.6 0.3), as drawn, even though the theme is light.
+    const bg = await cornerPixel(page);
+    assert.ok(Math.abs(bg[0] - 77) <= 1 && Math.abs(bg[1] - 153) <= 1 && Math.abs(bg[2] - 77) <= 1, `background pixel ${bg}`);
+    assert.ok(await drawnShare(page) > 0.05, "the square is drawn in front of the camera");
+    // Orbiting still works: an arrow key turns the camera around the square.
+    await page.locator("#view").focus();
+    await page.keyboard.press("ArrowLeft");
+    const turned = await cam();
+    assert.ok(Math.abs(turned.position[0]) > 0.1, `orbited: ${turned.position}`);
+    // The toggle goes back to the preview's lights and the theme's background.
+    assert.equal(await page.locator("#scene-view").isVisible(), true);
+    await page.locator("#scene-view").click();
+    await page.evaluate(() => window.nomePreview.viewer.nextFrame());
+    const off = await cam();
+    assert.deepEqual(off.lights, []);
+    assert.deepEqual(off.defaults, [true, true]);
+    assert.notDeepEqual(await cornerPixel(page), bg, "the theme's background");
+    assert.deepEqual(errors, []);
+  } finally {
+    assert.equal(await stopView(view), 0);
+  }
+  view = await startView(nomec, join(dir, "par.slf"));
+  try {
+    const { page } = await openPage(view);
+    const o = await page.evaluate(() => {
+      const c = window.nomePreview.viewer.camera;
+      return { type: c.type, top: c.top, position: c.position.toArray(), zoom: c.zoom, aspect: c.right / c.top };
+    });
+    assert.equal(o.type, "OrthographicCamera");
+    // The frustum's ±1 fits the canvas: 1 high, or 1 wide when the canvas is narrower.
+    assert.ok(Math.abs(o.top * Math.min(1, o.aspect) - 1) < 1e-9, `a parallel camera shows its frustum: top ${o.top}`);
+    assert.ok(o.position.every((x, i) => Math.abs(x - [0, 0, 3][i]) < 1e-9), `the camera sits where iCam puts it: ${o.position}`);
+    assert.ok(await drawnShare(page) > 0.05, "drawn through the parallel camera");
+    // Fit view looks along the scene's camera.
+    await page.locator("#fit").click();
+    const f = await page.evaluate(() => window.nomePreview.viewer.camera.position.toArray());
+    assert.ok(Math.abs(f[0]) < 1e-6 && Math.abs(f[1]) < 1e-6 && f[2] > 0, `fit along -z: ${f}`);
   } finally {
     assert.equal(await stopView(view), 0);
   }

@@ -413,6 +413,47 @@ TEST(Index, HoverSlider) {
   EXPECT_EQ(hs->markdown, md);
 }
 
+// Hover on a camera or light shows every field with its value, SLIDE's defaults included;
+// the words of a render's camera path are uses of the group, instance and camera they name.
+TEST(Index, HoverCameraAndLightValues) {
+  auto d = open(R"(camera cam projection SLF_PERSPECTIVE frustum (-0.1 -0.1 -2) (0.1 0.1 -0.01) endcamera
+camera plain endcamera
+light sun type SLF_DIRECTIONAL endlight
+group gCam
+  instance cam id iCam translate (0 0 1) endinstance
+endgroup
+window Window endwindow
+viewport vp Window endviewport
+render vp gCam.iCam.cam gCam
+  light sun
+endrender
+)",
+                "t.slf");
+  EXPECT_EQ(d->diags.error_count(), 0);
+  auto cam = d->ix().hover(d->a.file, d->at("cam projection"));
+  ASSERT_TRUE(cam);
+  EXPECT_NE(cam->markdown.find("**camera `cam`**"), std::string::npos) << cam->markdown;
+  EXPECT_NE(cam->markdown.find("- `projection` perspective"), std::string::npos) << cam->markdown;
+  EXPECT_NE(cam->markdown.find("- `frustum` (-0.1 -0.1 -2) (0.1 0.1 -0.01)"), std::string::npos) << cam->markdown;
+  auto plain = d->ix().hover(d->a.file, d->at("plain"));
+  ASSERT_TRUE(plain);
+  EXPECT_NE(plain->markdown.find("- `projection` parallel (default)"), std::string::npos) << plain->markdown;
+  EXPECT_NE(plain->markdown.find("- `frustum` (-1 -1 -100) (1 1 -0.02) (default)"), std::string::npos) << plain->markdown;
+  auto sun = d->ix().hover(d->a.file, d->at("sun type"));
+  ASSERT_TRUE(sun);
+  EXPECT_NE(sun->markdown.find("- `type` directional"), std::string::npos) << sun->markdown;
+  EXPECT_NE(sun->markdown.find("- `color` (0.5 0.5 0.5) (default)"), std::string::npos) << sun->markdown;
+  auto win = d->ix().hover(d->a.file, d->at("Window endwindow"));
+  ASSERT_TRUE(win);
+  EXPECT_NE(win->markdown.find("- `background` (0 0 0) (default)"), std::string::npos) << win->markdown;
+  // `gCam.iCam.cam`: each part names what it passes through.
+  for (const char* part : {"gCam.iCam", "iCam.cam", "cam gCam\n", "vp gCam"}) EXPECT_GE(d->sym(part), 0) << part;
+  EXPECT_EQ(d->sym("gCam.iCam"), d->sym("gCam\n"));
+  EXPECT_EQ(d->sym("iCam.cam"), d->sym("iCam translate"));
+  EXPECT_EQ(d->sym("cam gCam\n"), d->sym("cam projection"));
+  EXPECT_EQ(d->sym("vp gCam"), d->sym("vp Window"));
+}
+
 TEST(Index, HoverGeneratorInstanceKeyword) {
   auto d = open(kFunnels);
   auto g = d->ix().hover(d->a.file, d->at("fun ("));

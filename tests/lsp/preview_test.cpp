@@ -6,6 +6,7 @@
 // the moved values.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <set>
 
@@ -254,6 +255,108 @@ TEST(LspPreview, CurvesInsideBlocksAreLines) {
   EXPECT_EQ(points[3], 1.0f);
   EXPECT_EQ(points[8], 2.0f);
   EXPECT_EQ(segments, (std::vector<uint32_t>{0, 1, 1, 2}));  // open
+}
+
+void expect_vec(const json& v, double x, double y, double z, const std::string& what) {
+  ASSERT_TRUE(v.is_array() && v.size() == 3) << what << ": " << v.dump();
+  EXPECT_NEAR(v[0].get<double>(), x, 1e-9) << what;
+  EXPECT_NEAR(v[1].get<double>(), y, 1e-9) << what;
+  EXPECT_NEAR(v[2].get<double>(), z, 1e-9) << what;
+}
+
+// A SLIDE scene's `render` gives the preview its camera, placed by the instances along the
+// camera path, its lights (a `lookat` aims one) and the window's background.
+TEST(LspPreview, SlideRenderGivesTheView) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/view.slf";
+  c.open(uri,
+         "point a (0 0 0) endpoint\npoint b (1 0 0) endpoint\npoint d (0 1 0) endpoint\n"
+         "face f (a b d) endface\nobject tri (f) endobject\n"
+         "render vp gCam.iCam.cam world\n  light world.front_sun.sun\n  light world.main_amb.amb SLF_OFF\nendrender\n"
+         "camera cam projection SLF_PERSPECTIVE frustum (-0.1 -0.1 -2) (0.1 0.1 -0.01) endcamera\n"
+         "light sun type SLF_DIRECTIONAL color (0.8 0.8 0.8) endlight\n"
+         "light amb type SLF_AMBIENT color (0.2 0.2 0.2) endlight\n"
+         "group gCam\n  instance cam id iCam translate (0 0 1) endinstance\nendgroup\n"
+         "group world\n  instance tri endinstance\n"
+         "  instance sun id front_sun\n    lookat eye (0 0 0) target (-1 -1 -1) up (0 1 0) endlookat\n"
+         "    translate (1 1 1)\n  endinstance\n  instance amb id main_amb endinstance\nendgroup\n"
+         "window Window background (0.3 0.6 0.3) endwindow\nviewport vp Window endviewport\ninstance world endinstance\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_TRUE(r.contains("result")) << r.dump(2);
+  ASSERT_EQ(r["result"]["ok"], true) << r["result"]["diagnostics"].dump(2);
+  ASSERT_TRUE(r["result"].contains("view")) << r["result"].dump(2);
+  const json& view = r["result"]["view"];
+  const json& cam = view["camera"];
+  EXPECT_EQ(cam["name"], "cam");
+  expect_vec(cam["position"], 0, 0, 1, "camera position: iCam's translate");
+  expect_vec(cam["direction"], 0, 0, -1, "looks down -z");
+  expect_vec(cam["up"], 0, 1, 0, "up");
+  EXPECT_EQ(cam["projection"], "perspective");
+  expect_vec(cam["frustum"]["min"], -0.1, -0.1, -2, "frustum min");
+  expect_vec(cam["frustum"]["max"], 0.1, 0.1, -0.01, "frustum max");
+  ASSERT_EQ(view["lights"].size(), 2u) << view.dump(2);
+  const json& sun = view["lights"][0];
+  EXPECT_EQ(sun["type"], "directional");
+  expect_vec(sun["color"], 0.8, 0.8, 0.8, "sun colour");
+  // lookat … endlookat translate (1 1 1): a light at (1, 1, 1) aimed at the origin.
+  expect_vec(sun["position"], 1, 1, 1, "sun position");
+  const double k = -1 / std::sqrt(3.0);
+  expect_vec(sun["direction"], k, k, k, "sun direction");
+  EXPECT_EQ(sun["on"], true);
+  EXPECT_EQ(view["lights"][1]["type"], "ambient");
+  EXPECT_EQ(view["lights"][1]["on"], false);
+  expect_vec(view["background"], 0.3, 0.6, 0.3, "the window's background");
+}
+
+// Instance transforms compose parent · child along the path: the group instance's rotation
+// acts after the camera instance's translate, so (0 0 1) turns to (1 0 0), looking down -x.
+// Without `render`, a JIPCAD `backgroundcolor` and the first camera instance make the view.
+TEST(LspPreview, ViewComposesNestedInstancesAndNome3Cameras) {
+  Client c;
+  c.initialize();
+  const char* uri = "file:///tmp/lsp-test/nested.slf";
+  c.open(uri,
+         "camera cam endcamera\nwindow w endwindow\nviewport vp w endviewport\n"
+         "group gCam\n  instance cam id iCam translate (0 0 1) endinstance\nendgroup\n"
+         "group gOuter\n  instance gCam id iG rotate (0 1 0) (90) endinstance\nendgroup\n"
+         "render vp gOuter.iG.iCam.cam gOuter endrender\n",
+         1);
+  json r = c.request("nome/preview", {{"uri", uri}});
+  ASSERT_EQ(r["result"]["ok"], true) << r.dump(2);
+  const json& cam = r["result"]["view"]["camera"];
+  expect_vec(cam["position"], 1, 0, 0, "rotated camera position");
+  expect_vec(cam["direction"], -1, 0, 0, "rotated direction");
+  EXPECT_EQ(cam["projection"], "parallel");  // SLIDE's default
+  expect_vec(cam["frustum"]["min"], -1, -1, -100, "default frustum");
+  expect_vec(r["result"]["view"]["background"], 0, 0, 0, "the default background");
+  EXPECT_TRUE(r["result"]["view"]["lights"].empty());
+
+  const char* nome3 = "file:///tmp/lsp-test/viewer.nom";
+  c.open(nome3,
+         "backgroundcolor (1 1 1) endbackgroundcolor\n"
+         "camera c1 projection NOME_ORTHOGONAL frustum (-2 2 -1 1 0.5 20) endcamera\n"
+         "light l1 type NOME_DIRECTIONAL color (1 0 0) endlight\n"
+         "instance ic c1 translate (0 0 5) endinstance\ninstance il l1 rotate (1 0 0) (90) endinstance\n",
+         1);
+  json n = c.request("nome/preview", {{"uri", nome3}});
+  ASSERT_EQ(n["result"]["ok"], true) << n.dump(2);
+  const json& v = n["result"]["view"];
+  expect_vec(v["camera"]["position"], 0, 0, 5, "NOME3 camera instance");
+  EXPECT_EQ(v["camera"]["projection"], "parallel");
+  // (left right bottom top near far) in SLIDE's order: x, y, then z in front of the camera.
+  expect_vec(v["camera"]["frustum"]["min"], -2, -1, -20, "NOME3 frustum min");
+  expect_vec(v["camera"]["frustum"]["max"], 2, 1, -0.5, "NOME3 frustum max");
+  ASSERT_EQ(v["lights"].size(), 1u);
+  expect_vec(v["lights"][0]["direction"], 0, 1, 0, "-z turned 90° about x");
+  expect_vec(v["background"], 1, 1, 1, "JIPCAD backgroundcolor");
+
+  // A scene with no viewing set-up has no `view`.
+  const char* plain = "file:///tmp/lsp-test/plain.nome";
+  c.open(plain, example("funnel_cube.nome"), 1);
+  json p = c.request("nome/preview", {{"uri", plain}});
+  EXPECT_FALSE(p["result"].contains("view")) << p["result"]["view"].dump();
 }
 
 }  // namespace
