@@ -8,6 +8,8 @@
 #include <numeric>
 #include <optional>
 
+#include "kernel/large_arrays.h"
+
 namespace nomec::kernel {
 
 int32_t PolygonSoup::add_vertex(const glm::dvec3& position, std::string name) {
@@ -345,9 +347,10 @@ std::optional<KernelError> make_edges(const PolygonSoup& soup, Mesh& m, const st
   auto& flags = MeshAccess::edge_flags(m);
   const size_t use_count = soup.face_vertices.size();
   const size_t expected_edges = use_count / 2 + 8;
-  edge_vertices.reserve(2 * expected_edges);
-  use_faces.reserve(2 * expected_edges);
-  flags.reserve(expected_edges);
+  reserve_large(edge_vertices, 2 * expected_edges);
+  reserve_large(use_faces, 2 * expected_edges);
+  reserve_large(flags, expected_edges);
+  reserve_large(uses, use_count);
   uses.assign(use_count, EdgeUse::None());
   std::vector<std::pair<int32_t, int32_t>> extra_faces;  // edge index -> a third face
   size_t offset = 0;
@@ -390,9 +393,11 @@ void link_wings(const PolygonSoup& soup, Mesh& m, const std::vector<EdgeUse>& us
   auto& prev = MeshAccess::prev(m);
   auto& face_uses = MeshAccess::face_uses(m);
   const size_t edge_count = MeshAccess::edge_flags(m).size();
+  reserve_large(next, 2 * edge_count);
+  reserve_large(prev, 2 * edge_count);
   next.assign(2 * edge_count, EdgeUse::None());
   prev.assign(2 * edge_count, EdgeUse::None());
-  face_uses.resize(soup.face_count());
+  resize_large(face_uses, soup.face_count());
   size_t offset = 0;
   for (int32_t f = 0; f < soup.face_count(); ++f) {
     const int32_t n = soup.face_sizes[f];
@@ -411,6 +416,7 @@ void anchor_vertices(Mesh& m) {
   auto& vertex_edges = MeshAccess::vertex_edges(m);
   const auto& edge_vertices = MeshAccess::edge_vertices(m);
   const auto& use_faces = MeshAccess::use_faces(m);
+  reserve_large(vertex_edges, m.vertex_count());
   vertex_edges.assign(m.vertex_count(), EdgeId::None());
   for (int32_t e = 0; e < m.edge_count(); ++e) {
     const bool is_boundary = !use_faces[2 * e + 1].is_valid();
@@ -456,7 +462,7 @@ std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m, boo
   if (are_faces_set) {
     // The caller moved the sources and colours in (`build_paired`).
   } else if (soup.face_sources.empty()) {
-    face_sources.resize(soup.face_count());
+    resize_large(face_sources, soup.face_count());
     for (int32_t f = 0; f < soup.face_count(); ++f) face_sources[f].source_face = f;
     MeshAccess::face_colors(m) = soup.face_colors;
   } else {
@@ -505,7 +511,8 @@ std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m, boo
 Result<Mesh> build_mesh(const PolygonSoup& soup) {
   if (auto e = check_soup(soup)) return *e;
   Mesh m;
-  MeshAccess::positions(m) = soup.positions;
+  reserve_large(MeshAccess::positions(m), soup.positions.size());
+  MeshAccess::positions(m).assign(soup.positions.begin(), soup.positions.end());
   std::vector<EdgeUse> uses;
   if (auto e = make_edges(soup, m, first_uses(soup), uses)) return *e;
   link_wings(soup, m, uses);

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
+#include "kernel/large_arrays.h"
+
 namespace nomec::kernel {
 
 using glm::dvec3;
@@ -103,7 +105,9 @@ std::vector<int32_t> offset_twins(const Mesh& mesh, const PolygonSoup& soup, con
     return (a0 == b0 && a1 == b1) || (a0 == b1 && a1 == b0);
   };
   const std::vector<int32_t> none;
-  std::vector<int32_t> twin(total, -1);
+  std::vector<int32_t> twin;
+  reserve_large(twin, total);
+  twin.assign(total, -1);
   int32_t ribbon = 2 * corners;
   for (int32_t e = 0; e < mesh.edge_count(); ++e) {
     const EdgeUse u(EdgeId(e), 0);
@@ -163,6 +167,16 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
 
   OffsetResult result;
   PolygonSoup soup;
+  // Every array is reserved up front at its final size (no regrowth copies).
+  int32_t border_edges = 0;
+  for (int32_t e = 0; e < mesh.edge_count(); ++e) border_edges += mesh.is_boundary(EdgeId(e)) ? 1 : 0;
+  const size_t in_corners = 2 * static_cast<size_t>(mesh.edge_count()) - border_edges;
+  const size_t out_faces = 2 * static_cast<size_t>(F) + border_edges;
+  reserve_large(soup.positions, 2 * static_cast<size_t>(V));
+  reserve_large(result.vertex_parents, 2 * static_cast<size_t>(V));
+  reserve_large(soup.face_sizes, out_faces);
+  reserve_large(soup.face_vertices, 2 * in_corners + 4 * static_cast<size_t>(border_edges));
+  reserve_large(result.face_parents, out_faces);
   // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
   std::vector<int32_t> compact(V, -1);
   for (int32_t v = 0; v < V; ++v) {
@@ -185,7 +199,9 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
 
   std::vector<int32_t> loop;
   // Soup corner of each input use in the positive copy (see `offset_twins`).
-  std::vector<int32_t> corner_of_use(2 * static_cast<size_t>(mesh.edge_count()), -1);
+  std::vector<int32_t> corner_of_use;
+  resize_large(corner_of_use, 2 * static_cast<size_t>(mesh.edge_count()));
+  std::fill(corner_of_use.begin(), corner_of_use.end(), -1);
   for (int32_t f = 0; f < F; ++f) {
     loop.clear();
     mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
@@ -220,8 +236,8 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
         {OffsetParent::Kind::Ribbon, origin(mesh.edge_face(EdgeId(e), 0)), EdgeId(e)});
   }
   // Sources and colours follow the input faces.
-  const size_t out_faces = result.face_parents.size();
-  soup.face_sources.reserve(out_faces);
+  reserve_large(soup.face_sources, out_faces);
+  if (mesh.has_face_colors()) reserve_large(soup.face_colors, out_faces);
   for (size_t i = 0; i < out_faces; ++i) {
     const int32_t f =
         i < size_t(2 * F) ? int32_t(i % F) : mesh.edge_face(result.face_parents[i].edge, 0).index;

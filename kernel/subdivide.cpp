@@ -1,9 +1,10 @@
 // Catmull-Clark refinement of one level, written as a few linear passes over flat
-// arrays: (1) walk every face once to record its uses and face point, (2) edge points,
-// (3) scatter per-vertex sums (neighbours, face points, sharp neighbours) from edges and
-// face corners, then apply the corner / crease / smooth rule, (4) build the child
-// winged-edge topology arithmetically (the child IDs of every parent element are known
-// in advance, see `SubdivisionLevel`), so no hashing is needed.
+// arrays: (1) walk every face once for its face point, (2) edge points and the child edges
+// that halve the parent edges, (3) per-vertex sums (neighbours and face points gathered in
+// the vertex point's own slot, sharp neighbours) scattered from edges and face corners,
+// then the corner / crease / smooth rule, (4) the child winged-edge topology written
+// arithmetically (the child IDs of every parent element are known in advance, see
+// `SubdivisionLevel`), so no hashing and no generic builder are needed.
 //
 // Vertex rules follow the seed (§4.1.3) and coincide with OpenSubdiv's Catmark scheme
 // with edge-only boundary interpolation and uniform creasing, including the blend used
@@ -15,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+
+#include "kernel/large_arrays.h"
 
 namespace nomec::kernel {
 namespace {
@@ -49,7 +52,9 @@ struct SharpSums {
 };
 
 // One level of refinement as named passes over the parent's flat arrays (see the top of
-// the file); the passes share the parent's arrays and the child being built.
+// the file); the passes share the parent's arrays and the child being built. Every child
+// array is allocated once at its exact size, and the only scratch memory is a valence per
+// parent vertex (plus `SharpSums` when there are sharp edges).
 class Refiner {
  public:
   Refiner(const Mesh& parent, const SubdivisionOptions& options)
@@ -69,29 +74,22 @@ class Refiner {
         mobius_flag_(MeshAccess::mobius_flag()),
         has_creases_(options.is_sharpness_honoured && !psharp_.empty()),
         has_corners_(options.is_sharpness_honoured && !pvsharp_.empty()),
-        cpos_(MeshAccess::positions(level_.mesh)) {
-    cpos_.resize(static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
-  }
+        cpos_(MeshAccess::positions(level_.mesh)) {}
 
   SubdivisionLevel run() {
-    face_points();
-    find_sharp_edges();
+    count_corners();
+    child_edge_halves();
+    faces();
     edge_points();
     vertex_points();
-    child_edges_of_parent_edges();
-    child_faces();
     child_vertex_edges();
     inherit_corners_and_creases();
-    parent_maps();
+    level_.parent_face_count = F_;
+    level_.parent_edge_count = E_;
     return std::move(level_);
   }
 
  private:
-  struct EdgeSums {
-    dvec3 neighbours{0.0};
-    double valence = 0.0;
-  };
-
   // The vertex whose position starts use `u` (Möbius edges are read forwards on both sides).
   int32_t tail_of(EdgeUse u) const {
     const int32_t e = u.index >> 1;
@@ -99,48 +97,124 @@ class Refiner {
     return pev_[2 * e + (is_forward ? 0 : 1)].index;
   }
 
-  // (1) Face loops and face points. The vertex-point slots first accumulate the face points
-  // around each vertex (3b), done here while the face's uses are still in cache.
-  void face_points() {
-    face_offsets_.resize(static_cast<size_t>(F_) + 1);
-    uses_.reserve(2 * static_cast<size_t>(E_));
+  // Every use of an edge belongs to a face except the second side of a border edge, so
+  // the parent has 2E minus its border edges corners (= child faces).
+  void count_corners() {
+    int64_t border_edges = 0;
+    for (int32_t e = 0; e < E_; ++e) border_edges += puf_[2 * e + 1].is_valid() ? 0 : 1;
+    corner_total_ = static_cast<int32_t>(2 * int64_t{E_} - border_edges);
+  }
+
+  // (a) The two child edges of every parent edge (edge 2e from its tail's vertex point to
+  // the edge point, 2e+1 on to its head's), which depend on the parent's edges alone. Every
+  // child array is allocated here at its exact size: arrays written in index order are
+  // filled by push_back (one pass over the memory), the per-use arrays, written out of
+  // order by `faces`, are sized.
+  void child_edge_halves() {
+    Mesh& child = level_.mesh;
+    const size_t cE = 2 * static_cast<size_t>(E_) + corner_total_;
+    auto& cev = MeshAccess::edge_vertices(child);
+    auto& cuf = MeshAccess::use_faces(child);
+    auto& cflags = MeshAccess::edge_flags(child);
+    auto& csharp = MeshAccess::sharpness(child);
+    auto& cvertex_edges = MeshAccess::vertex_edges(child);
+    reserve_large(cev, 2 * cE);
+    resize_large(cuf, 2 * cE);
+    resize_large(MeshAccess::next(child), 2 * cE);
+    resize_large(MeshAccess::prev(child), 2 * cE);
+    reserve_large(cflags, cE);
+    if (has_creases_) reserve_large(csharp, cE);
+    resize_large(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
+    reserve_large(MeshAccess::face_uses(child), corner_total_);
+    reserve_large(MeshAccess::face_sources(child), corner_total_);
+    if (p_.has_face_colors()) reserve_large(MeshAccess::face_colors(child), corner_total_);
+    const int32_t vp_base = F_ + E_;
+    for (int32_t e = 0; e < E_; ++e) {
+      cev.push_back(VertexId(vp_base + pev_[2 * e].index));
+      cev.push_back(VertexId(F_ + e));
+      cev.push_back(VertexId(F_ + e));
+      cev.push_back(VertexId(vp_base + pev_[2 * e + 1].index));
+      cflags.push_back(pflags_[e]);
+      cflags.push_back(pflags_[e]);
+      if (has_creases_) {
+        const float cs = child_sharpness(psharp_[e]);
+        csharp.push_back(cs);
+        csharp.push_back(cs);
+        has_child_creases_ = has_child_creases_ || cs > 0.0f;
+      }
+      if (!puf_[2 * e + 1].is_valid()) {
+        cuf[4 * e + 1] = FaceId::None();
+        cuf[4 * e + 3] = FaceId::None();
+      }
+      cvertex_edges[F_ + e] = EdgeId(2 * e);
+    }
+  }
+
+  // (b) One walk around every parent face: its face point, scattered into the slots of its
+  // vertices' points (each slot starts as the sum of the face points around the vertex),
+  // and its child quads with their interior edges (from the edge point to the face point),
+  // whose wings are known arithmetically, so no hashing.
+  void faces() {
+    Mesh& child = level_.mesh;
+    auto& cev = MeshAccess::edge_vertices(child);
+    auto& cflags = MeshAccess::edge_flags(child);
+    auto& csharp = MeshAccess::sharpness(child);
+    auto& csources = MeshAccess::face_sources(child);
+    auto& ccolors = MeshAccess::face_colors(child);
+    auto& cvertex_edges = MeshAccess::vertex_edges(child);
+    const auto& psources = MeshAccess::face_sources(p_);
+    resize_large(cpos_, static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
     dvec3* vertex_points = cpos_.data() + F_ + E_;
+    const bool has_colors = p_.has_face_colors();
+    bool are_quads = true;  // so far; the face map is stored from the first other polygon
+    int32_t o = 0;
     for (int32_t f = 0; f < F_; ++f) {
-      const int32_t o = static_cast<int32_t>(uses_.size());
-      face_offsets_[f] = o;
+      face_loop_.clear();
       dvec3 sum(0.0);
       const EdgeUse start = pface_uses_[f];
       EdgeUse u = start;
       do {
-        uses_.push_back(u);
+        face_loop_.push_back(u);
         sum += pos_[tail_of(u)];
         u = pnext_[u.index];
       } while (u != start);
-      const int32_t n = static_cast<int32_t>(uses_.size()) - o;
+      const int32_t n = static_cast<int32_t>(face_loop_.size());
+      if (n != 4 && are_quads) {
+        are_quads = false;
+        if (options_.has_parent_maps) start_face_map(o);
+      }
       const dvec3 fp = sum / double(n);
       cpos_[f] = fp;
-      for (int32_t i = o; i < o + n; ++i) vertex_points[tail_of(uses_[i])] += fp;
+      for (const EdgeUse x : face_loop_) vertex_points[tail_of(x)] += fp;
+      cvertex_edges[f] = EdgeId(2 * E_ + o);
+      link_face_children(o, n);
+      for (int32_t i = 0; i < n; ++i) {
+        cev.push_back(VertexId(F_ + (face_loop_[i].index >> 1)));
+        cev.push_back(VertexId(f));
+        cflags.push_back(0);
+        if (has_creases_) csharp.push_back(0.0f);
+        csources.push_back(psources[f]);
+        if (has_colors) ccolors.push_back(p_.face_color(FaceId(f)));
+        if (!are_quads && options_.has_parent_maps) level_.face_parents.push_back(FaceId(f));
+      }
+      o += n;
     }
-    corner_total_ = static_cast<int32_t>(uses_.size());
-    face_offsets_[F_] = corner_total_;
+    level_.are_parent_faces_quads = are_quads;
   }
 
-  // Does any edge need the sharp rules? Plain Catmull-Clark ignores creases and corners
-  // (boundaries stay sharp).
-  void find_sharp_edges() {
-    for (int32_t e = 0; e < E_ && !has_sharp_; ++e) {
-      has_sharp_ = !puf_[2 * e + 1].is_valid() || (has_creases_ && psharp_[e] > 0.0f);
-    }
-    if (has_sharp_) sharp_.resize(V_);
+  // The face map up to child face `o`, whose parent faces were all quads.
+  void start_face_map(int32_t o) {
+    reserve_large(level_.face_parents, corner_total_);
+    for (int32_t q = 0; q < o; ++q) level_.face_parents.push_back(FaceId(q / 4));
   }
 
-  // (2) Edge points, and (3a) per-vertex sums over edges: the other ends of a vertex's
-  // edges (or its edge points, DeRose) and its valence, side by side so each scatter
-  // touches one cache line.
+  // (c) Edge points, and per-vertex sums over edges: the other ends of a vertex's edges (or
+  // its edge points, DeRose) are added to its vertex-point slot, and its valence is counted.
   void edge_points() {
+    valence_.assign(V_, 0);
     const bool is_derose = options_.vertex_rule == VertexRule::DeRose;
-    edge_sums_.resize(V_);
     dvec3* edge_points = cpos_.data() + F_;
+    dvec3* vertex_points = edge_points + E_;
     for (int32_t e = 0; e < E_; ++e) {
       const int32_t a = pev_[2 * e].index;
       const int32_t b = pev_[2 * e + 1].index;
@@ -156,22 +230,16 @@ class Refiner {
         point = s <= 0.0f ? smooth : double(s) * (0.5 * (pa + pb)) + (1.0 - double(s)) * smooth;
       }
       edge_points[e] = point;
-      EdgeSums& sa = edge_sums_[a];
-      EdgeSums& sb = edge_sums_[b];
-      sa.valence += 1.0;
-      sb.valence += 1.0;
-      if (is_derose) {
-        sa.neighbours += point;
-        sb.neighbours += point;
-      } else {
-        sa.neighbours += pb;
-        sb.neighbours += pa;
-      }
+      ++valence_[a];
+      ++valence_[b];
+      vertex_points[a] += is_derose ? point : pb;
+      vertex_points[b] += is_derose ? point : pa;
       if (s > 0.0f) add_sharp_edge(a, b, s);
     }
   }
 
   void add_sharp_edge(int32_t a, int32_t b, float s) {
+    if (sharp_.empty()) sharp_.resize(V_);
     const float cs = child_sharpness(s);
     for (int end = 0; end < 2; ++end) {
       SharpSums& ss = sharp_[end == 0 ? a : b];
@@ -188,23 +256,27 @@ class Refiner {
     }
   }
 
-  // (3c) Vertex points, overwriting each vertex's face-point sum once it is read.
+  // (d) Vertex points, overwriting each vertex's sum of face points and neighbours once it
+  // is read.
   void vertex_points() {
     dvec3* vertex_points = cpos_.data() + F_ + E_;
     for (int32_t v = 0; v < V_; ++v) vertex_points[v] = vertex_point(v, vertex_points[v]);
+    std::vector<int32_t>().swap(valence_);
+    std::vector<SharpSums>().swap(sharp_);
   }
 
-  dvec3 vertex_point(int32_t v, const dvec3& face_sum) const {
+  dvec3 vertex_point(int32_t v, const dvec3& ring_sum) const {
     const dvec3& p0 = pos_[v];
-    const int32_t n = static_cast<int32_t>(edge_sums_[v].valence);
+    const int32_t n = valence_[v];
     auto smooth_point = [&]() {
       if (n == 0) return p0;
       const double inv_n = 1.0 / n;
-      return (double(n - 2) * inv_n) * p0 + (inv_n * inv_n) * (edge_sums_[v].neighbours + face_sum);
+      return (double(n - 2) * inv_n) * p0 + (inv_n * inv_n) * ring_sum;
     };
     const float corner = has_corners_ ? pvsharp_[v] : 0.0f;
-    if (corner <= 0.0f && (!has_sharp_ || sharp_[v].parent_count < 2)) return smooth_point();
-    const SharpSums ss = has_sharp_ ? sharp_[v] : SharpSums{};
+    const bool has_sharp = !sharp_.empty();
+    if (corner <= 0.0f && (!has_sharp || sharp_[v].parent_count < 2)) return smooth_point();
+    const SharpSums ss = has_sharp ? sharp_[v] : SharpSums{};
     // A sharp vertex is a corner while its sharpness lasts.
     const float child_corner = child_sharpness(corner);
     const int parent_rule = corner > 0.0f ? 3 : rule_of(ss.parent_count);
@@ -228,111 +300,50 @@ class Refiner {
     return w * parent_point + (1.0 - w) * point_for(child_rule, ss.child_neighbours);
   }
 
-  // (4a) The two child edges of every parent edge (edge 2e from its tail's vertex point to
-  // the edge point, 2e+1 on to its head's). Arrays written in index order are filled by
-  // push_back (one pass over the memory); the per-use arrays are written out of order and
-  // are sized up front.
-  void child_edges_of_parent_edges() {
+  // The wings of the `n` child quads of the face whose uses are `face_loop_`, numbered from
+  // `o`: quad i runs tail half of use i, interior edge i (edge point to face point),
+  // interior edge i-1 backwards, head half of use i-1.
+  void link_face_children(int32_t o, int32_t n) {
     Mesh& child = level_.mesh;
-    const int32_t cE = 2 * E_ + corner_total_;
-    auto& cev = MeshAccess::edge_vertices(child);
-    auto& cuf = MeshAccess::use_faces(child);
-    auto& cflags = MeshAccess::edge_flags(child);
-    auto& csharp = MeshAccess::sharpness(child);
-    cev.reserve(2 * static_cast<size_t>(cE));
-    cuf.resize(2 * static_cast<size_t>(cE));
-    MeshAccess::next(child).resize(2 * static_cast<size_t>(cE));
-    MeshAccess::prev(child).resize(2 * static_cast<size_t>(cE));
-    cflags.reserve(cE);
-    if (has_creases_) csharp.reserve(cE);
-    MeshAccess::vertex_edges(child).resize(static_cast<size_t>(F_) + E_ + V_);
-    const int32_t vp_base = F_ + E_;
-    for (int32_t e = 0; e < E_; ++e) {
-      const int32_t h0 = 2 * e;
-      const int32_t h1 = 2 * e + 1;
-      cev.push_back(VertexId(vp_base + pev_[2 * e].index));
-      cev.push_back(VertexId(F_ + e));
-      cev.push_back(VertexId(F_ + e));
-      cev.push_back(VertexId(vp_base + pev_[2 * e + 1].index));
-      cflags.push_back(pflags_[e]);
-      cflags.push_back(pflags_[e]);
-      if (has_creases_) {
-        const float cs = child_sharpness(psharp_[e]);
-        csharp.push_back(cs);
-        csharp.push_back(cs);
-        has_child_creases_ = has_child_creases_ || cs > 0.0f;
-      }
-      if (!puf_[2 * e + 1].is_valid()) {
-        cuf[2 * h0 + 1] = FaceId::None();
-        cuf[2 * h1 + 1] = FaceId::None();
-      }
-      MeshAccess::vertex_edges(child)[F_ + e] = EdgeId(h0);
-    }
-  }
-
-  // (4b) One child quad per face corner, with its interior edge from the edge point to the
-  // face point; wings are known arithmetically, so no hashing.
-  void child_faces() {
-    Mesh& child = level_.mesh;
-    auto& cev = MeshAccess::edge_vertices(child);
-    auto& cuf = MeshAccess::use_faces(child);
-    auto& cnext = MeshAccess::next(child);
-    auto& cprev = MeshAccess::prev(child);
-    auto& cflags = MeshAccess::edge_flags(child);
-    auto& csharp = MeshAccess::sharpness(child);
+    FaceId* cuf = MeshAccess::use_faces(child).data();
+    EdgeUse* cnext = MeshAccess::next(child).data();
+    EdgeUse* cprev = MeshAccess::prev(child).data();
     auto& cface_uses = MeshAccess::face_uses(child);
-    auto& csources = MeshAccess::face_sources(child);
-    cface_uses.reserve(corner_total_);
-    csources.reserve(corner_total_);
-    const bool has_colors = p_.has_face_colors();
-    if (has_colors) MeshAccess::face_colors(child).resize(corner_total_);
-    for (int32_t f = 0; f < F_; ++f) {
-      const int32_t o = face_offsets_[f];
-      const int32_t n = face_offsets_[f + 1] - o;
-      const FaceSource source = p_.face_source(FaceId(f));
-      MeshAccess::vertex_edges(child)[f] = EdgeId(2 * E_ + o);
-      // Half near the head of the previous use, and that use's side.
-      const EdgeUse last = uses_[o + n - 1];
-      const bool last_forward = (last.index & 1) == 0 || (pflags_[last.index >> 1] & mobius_flag_);
-      int32_t prev_head_half = 2 * (last.index >> 1) + (last_forward ? 1 : 0);
-      int32_t prev_side = last.index & 1;
-      for (int32_t i = 0; i < n; ++i) {
-        const EdgeUse u = uses_[o + i];
-        const int32_t e = u.index >> 1;
-        const int32_t s = u.index & 1;
-        const bool is_forward = s == 0 || (pflags_[e] & mobius_flag_);
-        const int32_t tail_half = 2 * e + (is_forward ? 0 : 1);
-        const int32_t head_half = 2 * e + (is_forward ? 1 : 0);
-        const int32_t q = o + i;
-        const int32_t interior = 2 * E_ + o + i;
-        const int32_t interior_prev = 2 * E_ + o + (i == 0 ? n - 1 : i - 1);
-        const int32_t u0 = 2 * tail_half + s;
-        const int32_t u1 = 2 * interior;
-        const int32_t u2 = 2 * interior_prev + 1;
-        const int32_t u3 = 2 * prev_head_half + prev_side;
-        cuf[u0] = cuf[u1] = cuf[u2] = cuf[u3] = FaceId(q);
-        cnext[u0] = EdgeUse(u1);
-        cnext[u1] = EdgeUse(u2);
-        cnext[u2] = EdgeUse(u3);
-        cnext[u3] = EdgeUse(u0);
-        cprev[u0] = EdgeUse(u3);
-        cprev[u1] = EdgeUse(u0);
-        cprev[u2] = EdgeUse(u1);
-        cprev[u3] = EdgeUse(u2);
-        cface_uses.push_back(EdgeUse(u0));
-        cev.push_back(VertexId(F_ + e));
-        cev.push_back(VertexId(f));
-        cflags.push_back(0);
-        if (has_creases_) csharp.push_back(0.0f);
-        csources.push_back(source);
-        prev_head_half = head_half;
-        prev_side = s;
-      }
-      if (has_colors) std::fill_n(MeshAccess::face_colors(child).begin() + o, n, p_.face_color(FaceId(f)));
+    // Half near the head of the previous use, and that use's side.
+    const EdgeUse last = face_loop_[n - 1];
+    const bool last_forward = (last.index & 1) == 0 || (pflags_[last.index >> 1] & mobius_flag_);
+    int32_t prev_head_half = 2 * (last.index >> 1) + (last_forward ? 1 : 0);
+    int32_t prev_side = last.index & 1;
+    for (int32_t i = 0; i < n; ++i) {
+      const EdgeUse u = face_loop_[i];
+      const int32_t e = u.index >> 1;
+      const int32_t s = u.index & 1;
+      const bool is_forward = s == 0 || (pflags_[e] & mobius_flag_);
+      const int32_t tail_half = 2 * e + (is_forward ? 0 : 1);
+      const int32_t head_half = 2 * e + (is_forward ? 1 : 0);
+      const int32_t q = o + i;
+      const int32_t interior = 2 * E_ + o + i;
+      const int32_t interior_prev = 2 * E_ + o + (i == 0 ? n - 1 : i - 1);
+      const int32_t u0 = 2 * tail_half + s;
+      const int32_t u1 = 2 * interior;
+      const int32_t u2 = 2 * interior_prev + 1;
+      const int32_t u3 = 2 * prev_head_half + prev_side;
+      cuf[u0] = cuf[u1] = cuf[u2] = cuf[u3] = FaceId(q);
+      cnext[u0] = EdgeUse(u1);
+      cnext[u1] = EdgeUse(u2);
+      cnext[u2] = EdgeUse(u3);
+      cnext[u3] = EdgeUse(u0);
+      cprev[u0] = EdgeUse(u3);
+      cprev[u1] = EdgeUse(u0);
+      cprev[u2] = EdgeUse(u1);
+      cprev[u3] = EdgeUse(u2);
+      cface_uses.push_back(EdgeUse(u0));
+      prev_head_half = head_half;
+      prev_side = s;
     }
   }
 
-  // (4c) Each vertex point's first edge, and the child's border loops.
+  // (e) Each vertex point's first edge, and the child's border loops.
   void child_vertex_edges() {
     auto& cvertex_edges = MeshAccess::vertex_edges(level_.mesh);
     for (int32_t v = 0; v < V_; ++v) {
@@ -358,17 +369,6 @@ class Refiner {
     if (has_creases_ && !has_child_creases_) MeshAccess::sharpness(level_.mesh).clear();
   }
 
-  void parent_maps() {
-    level_.parent_face_count = F_;
-    level_.parent_edge_count = E_;
-    if (!options_.has_parent_maps) return;
-    level_.face_parents.resize(corner_total_);
-    for (int32_t f = 0; f < F_; ++f) {
-      std::fill(level_.face_parents.begin() + face_offsets_[f], level_.face_parents.begin() + face_offsets_[f + 1],
-                FaceId(f));
-    }
-  }
-
   const Mesh& p_;
   const SubdivisionOptions& options_;
   const int32_t F_, E_, V_;
@@ -385,13 +385,11 @@ class Refiner {
   const bool has_corners_;
   SubdivisionLevel level_;
   std::vector<dvec3>& cpos_;
-  std::vector<int32_t> face_offsets_;  // per face, its first corner in `uses_`
-  std::vector<EdgeUse> uses_;          // every face's uses, face by face
   int32_t corner_total_ = 0;
-  bool has_sharp_ = false;
   bool has_child_creases_ = false;
-  std::vector<EdgeSums> edge_sums_;
-  std::vector<SharpSums> sharp_;
+  std::vector<int32_t> valence_;    // per parent vertex, its number of edges
+  std::vector<SharpSums> sharp_;    // per parent vertex, once some edge is sharp
+  std::vector<EdgeUse> face_loop_;  // the uses of the face being split, reused
 };
 
 }  // namespace

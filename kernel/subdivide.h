@@ -29,7 +29,8 @@ struct SubdivisionOptions {
   /// plain Catmull-Clark where only boundary edges are sharp (NOME_SD_CatmullClark) and
   /// the child meshes carry no sharpness.
   bool is_sharpness_honoured = true;
-  /// Fill the child→parent face map of each level (4 bytes per child face).
+  /// Fill the child→parent face map of each level whose parent has faces other than quads
+  /// (4 bytes per child face; see `SubdivisionLevel`).
   bool has_parent_maps = true;
   /// Refuse (InvalidArgument) a level whose mesh would have more vertices than this; 0 is
   /// no limit. Each level has V + E + F vertices of the level before.
@@ -61,14 +62,25 @@ struct EdgeParent {
 /// consecutive, one per corner in loop order.
 ///
 /// Rationale: because of this layout the vertex and edge parents are pure index
-/// arithmetic, so only the face map (which needs the parent face sizes) is stored, at 4
-/// bytes per child face; `vertex_parent` and `edge_parent` compute the rest.
+/// arithmetic, and so is the face parent when every parent face is a quad (every level
+/// after the first): child face q then comes from parent face q / 4. Only the face map of
+/// a level whose parent has other polygons is stored, at 4 bytes per child face;
+/// `face_parent`, `vertex_parent` and `edge_parent` read the maps.
 struct SubdivisionLevel {
   Mesh mesh;
-  /// Child face -> parent face (empty when `!has_parent_maps`).
+  /// Child face -> parent face, filled only when `has_parent_maps` was set and some parent
+  /// face is not a quad; read it through `face_parent`.
   std::vector<FaceId> face_parents;
+  /// Every parent face is a quad, so `face_parents` is left empty.
+  bool are_parent_faces_quads = false;
   int32_t parent_face_count = 0;
   int32_t parent_edge_count = 0;
+
+  /// The parent face of a child face. Precondition: `has_parent_maps` was set or the parent
+  /// faces are all quads.
+  FaceId face_parent(FaceId f) const {
+    return are_parent_faces_quads ? FaceId(f.index / 4) : face_parents[f.index];
+  }
 
   /// The parent element of a child vertex. Precondition: `v` is a vertex of `mesh`.
   VertexParent vertex_parent(VertexId v) const {
@@ -85,7 +97,7 @@ struct SubdivisionLevel {
     if (e.index < 2 * parent_edge_count) {
       return {EdgeParent::Kind::Edge, e.index / 2};
     }
-    return {EdgeParent::Kind::Face, face_parents[e.index - 2 * parent_edge_count].index};
+    return {EdgeParent::Kind::Face, face_parent(FaceId(e.index - 2 * parent_edge_count)).index};
   }
 };
 

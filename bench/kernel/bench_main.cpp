@@ -130,6 +130,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (ratio != run.counters.end()) {
         pair_ratios_[name] = ratio->second.value;
       }
+      auto cpu_ratio = run.counters.find("cpu_ratio");
+      if (cpu_ratio != run.counters.end()) {
+        pair_cpu_ratios_[name] = cpu_ratio->second.value;
+      }
     }
   }
   void Finalize() override {
@@ -155,7 +159,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
     }
     std::printf("interleaved pairs (ours and OpenSubdiv alternating in each iteration)\n");
     for (const auto& [name, ratio] : pair_ratios_) {
-      std::printf("  %-40s time ratio %.3f\n", name.c_str(), ratio);
+      std::printf("  %-40s time ratio %.3f  cpu time ratio %.3f\n", name.c_str(), ratio,
+                  pair_cpu_ratios_[name]);
     }
   }
 
@@ -164,6 +169,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> bytes_;
   std::map<std::string, double> edge_bytes_;
   std::map<std::string, double> pair_ratios_;
+  std::map<std::string, double> pair_cpu_ratios_;
 };
 
 }  // namespace

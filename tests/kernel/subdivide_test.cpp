@@ -189,14 +189,14 @@ TEST(Subdivide, ProvenanceColoursAndParentMaps) {
   ASSERT_TRUE(levels.has_value());
   const SubdivisionLevel& l1 = (*levels)[0];
   const SubdivisionLevel& l2 = (*levels)[1];
-  ASSERT_EQ(l2.face_parents.size(), 96u);
+  ASSERT_EQ(l2.mesh.face_count(), 96);
   for (int32_t f = 0; f < 96; ++f) {
-    const FaceId p1 = l2.face_parents[f];
-    const FaceId p0 = l1.face_parents[p1.index];
+    const FaceId p1 = l2.face_parent(FaceId(f));
+    const FaceId p0 = l1.face_parent(p1);
     EXPECT_EQ(l2.mesh.face_source(FaceId(f)), (FaceSource{100 + p0.index, 7}));
     EXPECT_EQ(l2.mesh.face_color(FaceId(f)).x, float(p0.index));
   }
-  EXPECT_EQ(l1.face_parents[5], FaceId(1));  // 4 children per quad, in order
+  EXPECT_EQ(l1.face_parent(FaceId(5)), FaceId(1));  // 4 children per quad, in order
   EXPECT_EQ(l1.vertex_parent(VertexId(3)).kind, VertexParent::Kind::Face);
   EXPECT_EQ(l1.vertex_parent(VertexId(6 + 4)).kind, VertexParent::Kind::Edge);
   EXPECT_EQ(l1.vertex_parent(VertexId(6 + 4)).index, 4);
@@ -241,7 +241,7 @@ TEST(Subdivide, ParentMapsAgreeWithTopology) {
       const VertexParent p = l1.vertex_parent(v);
       if (p.kind == VertexParent::Kind::Face) {
         ++face_points;
-        EXPECT_EQ(p.index, l1.face_parents[f].index);
+        EXPECT_EQ(p.index, l1.face_parent(FaceId(f)).index);
       }
     }
     EXPECT_EQ(face_points, 1);
