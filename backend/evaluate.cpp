@@ -46,10 +46,19 @@ std::vector<ir::NodeId> scene_entries(const ir::Module& module) {
       entries.push_back(ir::NodeId(static_cast<int32_t>(i)));
     }
   }
-  // SLIDE has no top-level instances: `render VIEWPORT CAMERA WORLD` draws a group. The
-  // top-level groups that nothing instances stand for the world (groups holding only
-  // cameras and lights produce nothing and are dropped); the render's root (`SceneData::root`)
-  // is not used to choose among them yet.
+  // SLIDE has no top-level instances: `render VIEWPORT CAMERA WORLD` draws the group WORLD
+  // and what it holds (slide.md §3.20; the first render, as the preview's view). Without a
+  // render whose root resolved, the top-level groups that nothing instances stand for the
+  // world (groups holding only cameras and lights produce nothing and are dropped).
+  if (entries.empty() && module.dialect == Dialect::Slide) {
+    for (const ir::Node& n : module.nodes) {
+      if (n.kind != ir::NodeKind::SceneSetup) continue;
+      const ir::SceneData& d = n.as<ir::SceneData>();
+      if (d.kind != ir::SceneKind::Render) continue;
+      if (d.root.is_valid() && module.node(d.root).kind == ir::NodeKind::Group) return {d.root};
+      break;
+    }
+  }
   if (entries.empty() && module.dialect == Dialect::Slide) {
     for (size_t i = 0; i < module.nodes.size(); ++i) {
       const ir::Node& n = module.nodes[i];
