@@ -77,22 +77,21 @@ json view_json(const ir::Module& module) {
 std::string base64(const void* data, size_t size) {
   static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const auto* p = static_cast<const unsigned char*>(data);
-  std::string out;
-  out.reserve((size + 2) / 3 * 4);
+  std::string out((size + 2) / 3 * 4, '=');
+  char* w = out.data();
   size_t i = 0;
-  for (; i + 2 < size; i += 3) {
+  for (; i + 2 < size; i += 3, w += 4) {
     const uint32_t n = (uint32_t{p[i]} << 16) | (uint32_t{p[i + 1]} << 8) | p[i + 2];
-    out += kAlphabet[n >> 18];
-    out += kAlphabet[(n >> 12) & 63];
-    out += kAlphabet[(n >> 6) & 63];
-    out += kAlphabet[n & 63];
+    w[0] = kAlphabet[n >> 18];
+    w[1] = kAlphabet[(n >> 12) & 63];
+    w[2] = kAlphabet[(n >> 6) & 63];
+    w[3] = kAlphabet[n & 63];
   }
-  if (i < size) {
+  if (i < size) {  // one or two bytes left: the rest of `out` is already '=' padding
     const uint32_t n = (uint32_t{p[i]} << 16) | (i + 1 < size ? uint32_t{p[i + 1]} << 8 : 0);
-    out += kAlphabet[n >> 18];
-    out += kAlphabet[(n >> 12) & 63];
-    out += i + 1 < size ? kAlphabet[(n >> 6) & 63] : '=';
-    out += '=';
+    w[0] = kAlphabet[n >> 18];
+    w[1] = kAlphabet[(n >> 12) & 63];
+    if (i + 1 < size) w[2] = kAlphabet[(n >> 6) & 63];
   }
   return out;
 }

@@ -4,6 +4,8 @@
 // thread whose results are merged into them. Features are in handle_*.cpp.
 #include "lsp/server_impl.h"
 
+#include "lsp/json_text.h"
+
 #include <dlfcn.h>
 #include <malloc.h>
 
@@ -88,14 +90,19 @@ ServerImpl::~ServerImpl() {
   after_thread_.join();
 }
 
-void ServerImpl::send(const json& message) {
-  std::string text = message.dump(-1, ' ', false, json::error_handler_t::replace);
+void ServerImpl::send(json message) {
+  std::string text = json_text(std::move(message));
   std::lock_guard lock(out_mu_);
   sink_(std::move(text));
 }
 
 void ServerImpl::send_result(const json& id, json result) {
-  send(json{{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(result)}});
+  // Built member by member: an initializer list would copy the result (its geometry too).
+  json m = json::object();
+  m["jsonrpc"] = "2.0";
+  m["id"] = id;
+  m["result"] = std::move(result);
+  send(std::move(m));
 }
 
 void ServerImpl::send_error(const json& id, int code, const std::string& message) {
@@ -103,7 +110,11 @@ void ServerImpl::send_error(const json& id, int code, const std::string& message
 }
 
 void ServerImpl::send_notification(const std::string& method, json params) {
-  send(json{{"jsonrpc", "2.0"}, {"method", method}, {"params", std::move(params)}});
+  json m = json::object();
+  m["jsonrpc"] = "2.0";
+  m["method"] = method;
+  m["params"] = std::move(params);
+  send(std::move(m));
 }
 
 void ServerImpl::handle(std::string_view text) {

@@ -79,7 +79,7 @@ class ServerImpl {
   static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
 
  private:
-  void send(const json& message);
+  void send(json message);
   void send_result(const json& id, json result);
   void send_error(const json& id, int code, const std::string& message);
   void cancel(const json& id);

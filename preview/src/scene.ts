@@ -134,8 +134,15 @@ export class Viewer {
   // is drawn at full resolution with every overlay, as at rest.
   private interacting = false;
   private settleTimer: ReturnType<typeof setTimeout> | undefined;
-  /// Share of the full resolution (per axis) used while dragging.
-  dragScale = 0.5;
+  /// Share of the full resolution (per axis) used while dragging: a step of `dragSteps`,
+  /// half on a software renderer to start with, full on a GPU; with `adaptiveDrag` each
+  /// synchronised drag frame that takes longer than `dragBudgetMs` to draw steps it down,
+  /// one that takes less than half of it steps it up (a slow machine trades pixels for
+  /// smoothness, a fast one draws every pixel).
+  dragScale = Viewer.softwareGl() ? 0.5 : 1;
+  adaptiveDrag = true;
+  dragBudgetMs = 12;
+  static readonly dragSteps = [0.25, 0.35, 0.5, 0.7, 1];
   /// Quiet time after the last slider move before the full-resolution frame.
   settleMs = 200;
   private fullPixelRatio = 1;
@@ -179,10 +186,12 @@ export class Viewer {
     this.wire.visible = this.wireframe && !this.interacting;
     this.surface.material = this.interacting ? this.dragMaterial : this.surfaceMaterial;
     for (const o of [this.border, this.mobius, this.curves]) o.show(this.interacting);
+    const t0 = performance.now();
     this.renderer.render(this.scene, this.camera);
     if (this.frameWaiters.length > 0) {
       const gl = this.renderer.getContext();
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, this.probe);
+      if (this.interacting && this.adaptiveDrag) this.adaptDragScale(performance.now() - t0);
     }
     const waiters = this.frameWaiters;
     this.frameWaiters = [];
@@ -193,6 +202,15 @@ export class Viewer {
     }
   }
   private fullPictureMarked = false;
+
+  // The next drag frame's resolution from the time this one took (render and GPU sync).
+  private adaptDragScale(ms: number): void {
+    const steps = Viewer.dragSteps;
+    let i = steps.findIndex((s) => s >= this.dragScale);
+    if (i < 0) i = steps.length - 1;
+    if (ms > this.dragBudgetMs && i > 0) this.dragScale = steps[i - 1];
+    else if (ms < this.dragBudgetMs / 2 && i < steps.length - 1) this.dragScale = steps[i + 1];
+  }
 
   /// Compiles every material's shaders now, while the first scene is being evaluated by
   /// nomec (another process), instead of when the first picture is drawn.
@@ -384,7 +402,7 @@ export class Viewer {
   interact(): void {
     if (this.settleTimer !== undefined) clearTimeout(this.settleTimer);
     this.settleTimer = undefined;
-    if (this.interacting || this.dragScale >= 1) return;
+    if (this.interacting || (!this.adaptiveDrag && this.dragScale >= 1)) return;
     // Nothing is drawn yet: the next frame, with the moved geometry, is the first one drawn
     // cheaply (drawing the old geometry now would only delay the new one).
     this.interacting = true;

@@ -13,7 +13,8 @@
 //    frame drawn at rest (`nome-first-full-picture`), and from goto to one more frame.
 // Frames are timed in the page, from the slider value set to the frame after the reply
 // was drawn (`nomePreview.timings`); bytes are the reply's JSON text. While a slider is
-// dragged the app draws with `dragScale` of the resolution per axis and no wireframe
+// dragged the app draws with `dragScale` of the resolution per axis (adapted to the frame
+// time; --drag-scale fixes it) and no wireframe
 // (--drag-scale 1 draws every frame as at rest, for comparison). Software rendering
 // (SwiftShader) on a shared machine: the numbers are upper bounds of a desktop's.
 import { mkdtempSync, writeFileSync, rmSync } from "node:fs";
@@ -76,7 +77,9 @@ async function sliderBench(browser, file, param, values, pipeline, wireframe = t
       await waitFor(page, (k) => window.nomePreview.state.previews >= k + 2 && window.nomePreview.state.ok, n, 120000);
     }
     if (!wireframe) await page.locator("#wire").click();
-    if (dragScale !== undefined) await page.evaluate((s) => { window.nomePreview.viewer.dragScale = s; }, dragScale);
+    if (dragScale !== undefined) {
+      await page.evaluate((s) => { const v = window.nomePreview.viewer; v.dragScale = s; v.adaptiveDrag = false; }, dragScale);
+    }
     const summary = await page.locator("#topology").innerText();
     for (let i = 0; i < moves; ++i) {
       const before = await page.evaluate(() => window.nomePreview.timings.length);

@@ -80,6 +80,19 @@ test("funnel cube: drawn, slider moves change the mesh, saves reload, errors kee
                material: v.surface.material.type };
     });
     assert.deepEqual(await overlay(), { dragging: true, fat: false, thin: true, wire: false, material: "MeshLambertMaterial" });
+    // The drag resolution follows the frame time: frames far under budget step it up to full
+    // resolution, frames over budget step it down to a quarter per axis.
+    const dragWidths = async (budget, moves) => {
+      await page.evaluate((b) => { window.nomePreview.viewer.dragBudgetMs = b; }, budget);
+      for (let i = 0; i < moves; ++i) {
+        const before = await page.evaluate(() => window.nomePreview.timings.length);
+        await page.keyboard.press(i % 2 === 0 ? "ArrowRight" : "ArrowLeft");
+        await waitFor(page, (n) => window.nomePreview.timings.length > n, before);
+      }
+      return (await page.evaluate(() => window.nomePreview.timings)).slice(-moves).map((t) => t.bufferWidth);
+    };
+    assert.equal((await dragWidths(1e9, 4)).at(-1), full.width, "fast frames: full resolution while dragging");
+    assert.equal((await dragWidths(1e-6, 6)).at(-1), Math.floor(full.width * 0.25), "slow frames: a quarter");
     await page.evaluate(() => { const v = window.nomePreview.viewer; v.settleMs = 0; v.settleSoon(); });
     await waitFor(page, () => !window.nomePreview.viewer.dragging);
     await page.evaluate(() => window.nomePreview.viewer.nextFrame());
