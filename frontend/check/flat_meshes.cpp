@@ -26,10 +26,10 @@ std::string stem_of(std::string_view path) {
 
 }  // namespace
 
-ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceRange name_range) {
+ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceRange name_range, std::string name) {
   ir::Module& m = c.module();
   const std::string_view path = c.sources().name(file);
-  const std::string name = stem_of(path);
+  if (name.empty()) name = stem_of(path);
   ir::NodeId id = m.add_node(ir::NodeKind::FlatMesh, ir::flat_format_name(format), name, SourceRange{file, 0, 0});
   ir::FlatMeshData& d = m.get<ir::FlatMeshData>(id);
   d.format = format;

@@ -140,7 +140,8 @@ ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item&
 // ---- flat_meshes.cpp: `.sif`, `.obj`, `.stl` files as meshes (frontend/flat reads them) ----
 /// Reads the flat file `file` and defines the mesh named after its stem; `name_range` is
 /// where a diagnostic about the name points (the `include`), if anywhere.
-ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceRange name_range);
+ir::NodeId add_flat_mesh(Context& c, FileId file, ir::FlatFormat format, SourceRange name_range,
+                         std::string name = {});
 /// The scene of a flat file given alone (or as saved work's base): its mesh, instanced once.
 void add_flat_scene(Context& c, FileId file, ir::FlatFormat format);
 /// `include "hull.stl"` of a flat file at `path` (written `rel`): defines its mesh. False

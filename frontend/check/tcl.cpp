@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "frontend/check/handlers.h"
+#include "frontend/flat/flat.h"
 #include "frontend/parse/parse.h"
 
 namespace nomec::check {
@@ -363,6 +364,9 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
       }
       into[w[3]] += "instance " + w[4] + " id " + name + xf + " endinstance\n";
       continue;
+    } else if (type == "import" && w[0] == "import" && w.size() >= 4) {
+      // The mesh file is the object `oNAME` (made by make_slide_nodes); its group holds it.
+      text = "group g" + name + "\n  instance o" + name + " endinstance\nendgroup";
     } else if (type == "group" || type == "polyline" || type == "beziercurve" || type == "bsplinecurve" ||
                type == "surface" || is_slide_quadric(type)) {
       text = type + " " + name + slide_fields(w, 3) + " end" + type;
@@ -386,6 +390,22 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
   return out;
 }
 
+// parselib's `CreateSTLObject NAME FILE` (or `CreateSIFObject`): the mesh file next to the
+// scene becomes the flat mesh `oNAME` (its group `gNAME` is made in `slide_text`).
+void import_mesh(Context& c, const std::string& name, const std::string& file, SourceRange where) {
+  const std::string path = c.tcl_dir + file;
+  std::optional<ir::FlatFormat> format = flat::format_of_path(path);
+  std::optional<std::string> text = c.options().read_file ? c.options().read_file(path) : std::nullopt;
+  if (!format || !text) {
+    c.diags().emit(DiagKind::IncludeFailed, where,
+                   fmt::format("`o{}` would be the mesh file `{}`, which nomec cannot read as {}", name, file,
+                               format ? "a mesh" : "a `.stl`, `.sif` or `.obj` file"));
+    return;
+  }
+  FileId f = c.sources().add_file(path, std::move(*text));
+  add_flat_mesh(c, f, *format, where, "o" + name);
+}
+
 void make_slide_nodes(Context& c, const std::string& path, const std::vector<TclBody>& bodies) {
   const std::vector<tcl::SlideCall>& calls = c.tcl->slide_calls();
   if (calls.empty()) return;
@@ -402,6 +422,10 @@ void make_slide_nodes(Context& c, const std::string& path, const std::vector<Tcl
                                    "create point NAME {{x y z}}`){}; this hull is not made",
                                    w[2], bad.empty() ? ", and none is given" : fmt::format(", but `{}` is not a point name", bad)));
       }
+    }
+    if (w[0] == "import") {
+      import_mesh(c, w[2], w[3], bodies.front().keyword);
+      continue;
     }
     if (kKnown.contains(w[1]) || is_slide_quadric(w[1]) || !reported.insert(w[1]).second) continue;
     c.diags().emit(DiagKind::UnsupportedSlideSyntax, bodies.front().keyword,

@@ -23,8 +23,22 @@ foreach {n v} {SLF_OFF 0 SLF_ON 1 SLF_SOLID 0 SLF_HOLLOW 1 SLF_INHERIT 0 SLF_WIR
 unset n v
 
 # The lost packages, defined when a scene requires them (slide.md §7.5).
-package ifneeded parselib 1.0 {package provide parselib 1.0}
+package ifneeded parselib 1.0 {
+# parselib's mesh import: `CreateSTLObject NAME FILE` (and `CreateSIFObject`) reads FILE next
+# to the scene into the object `oNAME`, held by the group `gNAME` it returns.
+foreach p {CreateSTLObject CreateSIFObject} {
+  proc $p {name {file {}}} [string map [list @P@ $p] {
+    if {[slide import $name $file]} { return g$name }
+    slide create group g$name
+    slide create object o$name {}
+    slide unavailable @P@ $name $file
+    return g$name
+  }]
+}
+package provide parselib 1.0
+}
 package ifneeded slideui 1.0 {
+package require parselib
 # slideui's own CreateScale: PARENT THIS VARNAME TEXT MIN MAX RES [CMD]; the file presets VARNAME.
 proc CreateScale {parent this var text min max res {cmd {}}} {
   scale $parent.$this -label $text -from $min -to $max -resolution $res -variable $var
@@ -127,7 +141,7 @@ proc CreateSLIDECubeGrid {name n} {
 # empty object `o<NAME>`, and a note.
 foreach p {CreateSLIDETetrahedralFrame CreateSLIDECubeFrame
     CreateSLIDECubeFrameWithCorners CreateSLIDEOctahedronFrame CreateSLIDEDodecaStar CreateSLIDEOctaStar
-    CreateSLIDESTLFILE CreateSTLObject CreateSIFObject} {
+    CreateSLIDESTLFILE} {
   proc $p {args} [string map [list @P@ $p] {
     set name [lindex $args 0]
     if {$name eq ""} { set name Polyhedrons }

@@ -188,14 +188,21 @@ int slide_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv
     std::string proc(arg(objv[2])), group(arg(objv[3])), file(objc == 5 ? arg(objv[4]) : "");
     std::string msg = "`" + proc + "` belongs to SLIDE's lost `slideui`/`parselib` packages; nomec makes `g" + group +
                       "` an empty group and `o" + group + "` an empty object";
-    if (proc == "CreateSTLObject" || proc == "CreateSIFObject") {  // NAME FILE
-      const bool here = !file.empty() && safe_relative(file) && s->read_file && s->read_file(s->dir + file).has_value();
-      msg = "`" + proc + "` imports the mesh file `" + file + "` through SLIDE's lost `parselib` package" +
-            (file.empty() ? "" : here ? "" : ", and that file is not next to the scene") + "; nomec does not import it, so `g" +
-            group + "` stays an empty group and `o" + group + "` an empty object: nothing of it is drawn";
+    if (proc == "CreateSTLObject" || proc == "CreateSIFObject") {  // NAME FILE, not there (see `slide import`)
+      msg = "`" + proc + "` imports the mesh file `" + file + "`, which is " +
+            (file.empty() ? "not named" : safe_relative(file) ? "not next to the scene" : "not a file next to the scene") +
+            "; `g" + group + "` stays an empty group and `o" + group + "` an empty object: nothing of it is drawn";
     }
     s->notes.push_back({ProblemKind::Fallback, msg, 0, proc});
     Tcl_ResetResult(interp);
+    return TCL_OK;
+  }
+  if (objc == 4 && arg(objv[1]) == "import") {  // `slide import NAME FILE`: 1 when FILE is next to the scene
+    const std::string file(arg(objv[3]));
+    const bool here = !file.empty() && safe_relative(file) && s->read_file && s->read_file(s->dir + file).has_value();
+    // Recorded as `import import NAME FILE`: no `slide create` call can make that first word.
+    if (here) s->calls.push_back(SlideCall{{"import", "import", std::string(arg(objv[2])), file}});
+    set_result(interp, here ? "1" : "0");
     return TCL_OK;
   }
   if (objc < 4 || (arg(objv[1]) != "create" && arg(objv[1]) != "delete")) {

@@ -54,7 +54,9 @@ struct Outcome {
   std::vector<std::string> writes;   // global variables it set or made (`run_tracking_writes`)
 };
 
-/// `slide create TYPE NAME ARGS…` or `slide delete TYPE NAME`, as Tcl passed them.
+/// `slide create TYPE NAME ARGS…` or `slide delete TYPE NAME`, as Tcl passed them; or
+/// `import import NAME FILE` for a mesh file next to the scene that parselib's
+/// `CreateSTLObject`/`CreateSIFObject` read (`slide import NAME FILE` checked it is there).
 struct SlideCall {
   std::vector<std::string> words;  // after `slide`
 };

@@ -18,6 +18,7 @@ import json
 import os
 import pty
 import select
+import shutil
 import re
 import stat
 import struct
@@ -354,15 +355,33 @@ def case_what_if(nomec, _admesh, _corpus):
     check(code == 2 and "bank.param=value" in err, f"malformed --what-if is a usage error (exit {code})")
 
 
+def case_slide_import(nomec, _admesh, corpus):
+    # atomflwr.slf's geometry is the mesh file `js_atomflwr.stl`, which CreateSTLObject reads
+    # next to the scene; the corpus does not hold it. With a tetrahedron in its place (4
+    # triangles) the scene draws it through the file's `subdivision` (Catmull-Clark, nomec's
+    # default of 2 levels for the lost slideui package): 4 → 12 → 48 quads, closed, χ = 2.
+    scene = os.path.join(corpus, "slide", "atomflwr.slf")
+    stl = src("tests/check/inputs/flat/tetra_ascii.stl")
+    with tempfile.TemporaryDirectory() as d:
+        shutil.copy(scene, os.path.join(d, "atomflwr.slf"))
+        code, _, err = run(nomec, ["--emit", "summary", "-o", "-", os.path.join(d, "atomflwr.slf")])
+        check("`js_atomflwr.stl`, which is not next to the scene" in err and "GeometryFailed" in err,
+              f"without its STL, atomflwr.slf says so and draws nothing (exit {code}): {err[-300:]}")
+        shutil.copy(stl, os.path.join(d, "js_atomflwr.stl"))
+        meshes = summary(nomec, [os.path.join(d, "atomflwr.slf")])
+        check(len(meshes) == 1 and meshes[0].get("faces") == 48 and meshes[0].get("euler") == 2
+              and meshes[0].get("closed"), f"with it, the subdivided tetrahedron: {meshes}")
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress", "what_if"])
+    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress", "what_if", "slide_import"])
     ap.add_argument("--nomec", required=True)
     ap.add_argument("--admesh", default="admesh")
     ap.add_argument("--corpus", default=os.path.join(ROOT, "..", "shared", "corpus"))
     a = ap.parse_args()
     cases = {"outputs": case_outputs, "admesh": case_admesh, "save": case_save, "progress": case_progress,
-             "what_if": case_what_if}
+             "what_if": case_what_if, "slide_import": case_slide_import}
     cases[a.case](a.nomec, a.admesh, a.corpus)
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")
