@@ -4,6 +4,7 @@
 // thread whose results are merged into them. Features are in handle_*.cpp.
 #include "lsp/server_impl.h"
 
+#include "frontend/check/check.h"
 #include "lsp/json_text.h"
 
 #include <dlfcn.h>
@@ -65,10 +66,11 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
 #define NOMEC_LSP_HANDLER(name) register_##name(registry_);
 #include "lsp/handlers.def"
 #undef NOMEC_LSP_HANDLER
-  request_thread_ = std::thread([this] { request_loop(); });
-  analysis_thread_ = std::thread([this] { analysis_loop(); });
-  geometry_thread_ = std::thread([this] { geometry_loop(); });
-  after_thread_ = std::thread([this] { after_loop(); });
+  // Each worker frees what checking SLIDE files left for its thread (Tcl's per-thread data).
+  request_thread_ = std::thread([this] { request_loop(); release_thread_resources(); });
+  analysis_thread_ = std::thread([this] { analysis_loop(); release_thread_resources(); });
+  geometry_thread_ = std::thread([this] { geometry_loop(); release_thread_resources(); });
+  after_thread_ = std::thread([this] { after_loop(); release_thread_resources(); });
 }
 
 ServerImpl::~ServerImpl() {

@@ -97,4 +97,6 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   return result;
 }
 
+void release_thread_resources() { tcl::finish_thread(); }
+
 }  // namespace nomec

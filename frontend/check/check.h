@@ -77,4 +77,9 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
                          const CheckOptions& options, DiagnosticEngine& diags,
                          ParseCache* cache);
 
+/// Frees what checking SLIDE files left for the calling thread (Tcl keeps data per thread
+/// that made an interpreter). A long-lived program's worker threads call it before they end;
+/// nothing happens on a thread that checked no Tcl.
+void release_thread_resources();
+
 }  // namespace nomec

@@ -167,6 +167,7 @@ void loop(Worker* w) {
   }
   lock.unlock();
   w->interp.reset();  // on the thread that made it
+  tcl::finish_thread();  // and Tcl's data for this thread
 }
 
 // One line: runs of blanks (newlines too) become one space.

@@ -41,6 +41,8 @@ namespace {
 
 using State = Interp::State;
 
+thread_local bool t_made_interp = false;  // this thread has Tcl data to free (finish_thread)
+
 const std::vector<std::string_view> kRefused = {"exec", "open", "socket", "cd", "exit", "load", "file", "glob",
                                                 "pwd", "fconfigure", "unload", "after", "vwait", "interp"};
 
@@ -359,6 +361,7 @@ std::string normalize_newlines(std::string_view text) {
 const std::vector<std::string_view>& refused_commands() { return kRefused; }
 
 Interp::Interp(std::string dir, ReadFile read_file, Limits limits, Preset preset) : s_(std::make_unique<State>()) {
+  t_made_interp = true;
   static std::once_flag once;
   std::call_once(once, [] { Tcl_FindExecutable(nullptr); });
   s_->interp = Tcl_CreateInterp();
@@ -543,6 +546,12 @@ std::vector<Problem> Interp::take_notes() {
   std::vector<Problem> out;
   out.swap(s_->notes);
   return out;
+}
+
+void finish_thread() {
+  if (!t_made_interp) return;
+  t_made_interp = false;
+  Tcl_FinalizeThread();
 }
 
 }  // namespace nomec::tcl

@@ -110,6 +110,11 @@ class Interp {
 /// `\`-continuations; slide.md §1); line numbers stay the same.
 std::string normalize_newlines(std::string_view text);
 
+/// Frees what Tcl keeps for the calling thread; a thread that made interpreters calls it
+/// before it ends, after they are gone (the main thread need not). Nothing happens on a
+/// thread that made none.
+void finish_thread();
+
 /// The commands a scene may not use, in the order the safety test exercises them.
 const std::vector<std::string_view>& refused_commands();
 
