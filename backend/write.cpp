@@ -230,6 +230,11 @@ std::string to_stl_binary(std::span<const OutputMesh> meshes) {
 
 namespace {
 
+char* put_text(char* p, std::string_view t) {
+  std::memcpy(p, t.data(), t.size());
+  return p + t.size();
+}
+
 // A buffer the text writers fill by pointer: `room` makes space for a line, `done` keeps
 // what was written. Numbers go through number_text.h (fmt's characters, faster).
 class TextOut {
@@ -253,13 +258,8 @@ class TextOut {
   }
   /// Keeps what was written into `room` up to `end`.
   void done(const char* end) { size_ = static_cast<size_t>(end - buf_); }
-  void add(std::string_view text) { done(put(room(text.size()), text)); }
+  void add(std::string_view text) { done(put_text(room(text.size()), text)); }
   std::string take() const { return std::string(buf_, size_); }
-
-  static char* put(char* p, std::string_view t) {
-    std::memcpy(p, t.data(), t.size());
-    return p + t.size();
-  }
 
  private:
   char* buf_;
@@ -267,7 +267,6 @@ class TextOut {
   size_t size_ = 0;
 };
 
-char* put_text(char* p, std::string_view t) { return TextOut::put(p, t); }
 
 // `a b c` for a point: each coordinate as `put`, -0 written as 0 (`+ 0.0`), so goldens do
 // not depend on the sign of zero.

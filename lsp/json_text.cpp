@@ -1,10 +1,10 @@
 // JSON text of an outgoing message (see json_text.h).
 #include "lsp/json_text.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <string_view>
-#include <functional>
 #include <fmt/format.h>
 #include <random>
 
@@ -41,8 +41,7 @@ const std::string& marker() {
   return m;
 }
 
-// Replaces each long base64 string by the marker and its number, in the order nlohmann-json
-// writes values (object members by key, array elements in order), moving it into `lifted`.
+// Replaces each long base64 string by the marker and its number, moving it into `lifted`.
 void lift(json& j, std::vector<std::string>& lifted) {
   if (j.is_string()) {
     std::string& s = j.get_ref<std::string&>();
@@ -64,35 +63,24 @@ std::string json_text(json message) {
   if (lifted.empty()) return text;
   size_t total = text.size();
   for (const std::string& s : lifted) total += s.size();
+  // Each placeholder is written once, as `"\u0001nomec-raw-<nonce>-<k>"` (the marker's
+  // control character escaped, the closing quote ending the number): find each, then copy
+  // the text between them and the strings in their place.
+  const std::string written = "\"\\u0001" + marker().substr(1);
+  std::vector<std::pair<size_t, size_t>> at;  // (position, string number)
+  for (size_t k = 0; k < lifted.size(); ++k) at.emplace_back(text.find(written + std::to_string(k) + "\""), k);
+  std::sort(at.begin(), at.end());
   std::string out;
   out.reserve(total);
-  // The marker's control character is written `\u0001`; the rest of it is plain text.
-  const std::string written = "\"\\u0001" + marker().substr(1);
-  size_t at = 0;
-  for (size_t k = 0; k < lifted.size(); ++k) {
-    const std::string placeholder = written + std::to_string(k) + "\"";
-    const size_t p = text.find(placeholder, at);
-    if (p == std::string::npos) {
-      // Not where the order says (cannot happen with nlohmann-json's writer): put the strings
-      // back and write the message the slow way.
-      std::vector<std::string>::size_type i = 0;
-      std::function<void(json&)> restore = [&](json& v) {
-        if (v.is_string() && v.get_ref<std::string&>().rfind(marker(), 0) == 0) {
-          v = std::move(lifted[i++]);
-        } else if (v.is_structured()) {
-          for (json& c : v) restore(c);
-        }
-      };
-      restore(message);
-      return message.dump(-1, ' ', false, json::error_handler_t::replace);
-    }
-    out.append(text, at, p - at);
+  size_t from = 0;
+  for (const auto& [p, k] : at) {
+    out.append(text, from, p - from);
     out += '"';
     out += lifted[k];
     out += '"';
-    at = p + placeholder.size();
+    from = p + written.size() + std::to_string(k).size() + 1;
   }
-  out.append(text, at, std::string::npos);
+  out.append(text, from, std::string::npos);
   return out;
 }
 
