@@ -88,6 +88,7 @@ struct Analysis {
   json diagnostics_json = json::array();
   bool too_large = false;  // not analysed: over ServerOptions::max_document_bytes
   ParseStats parse_stats;  // how the document's text was parsed (all of it without a cache)
+  AnalysisTimes times;     // where its time went (publish_ms and index_ms are set later)
   LineIndex lines;         // over sources.text(file)
 
   const SourceManager& sources() const { return *sources_ptr; }

@@ -331,7 +331,7 @@ void ServerImpl::did_open(const json& params) {
     d.text = std::move(text);
     d.version = version;
     d.generation = ++generation_;
-    d.parse_cache = std::make_shared<ParseCache>();
+    d.parse_cache = std::make_shared<DocumentParseCache>();
     schedule_locked(d, /*now=*/true);
   }
   docs_cv_.notify_all();
@@ -421,6 +421,24 @@ std::optional<ParseStats> ServerImpl::parse_stats(std::string_view uri) const {
   return it->second.analysis->parse_stats;
 }
 
+std::optional<AnalysisTimes> ServerImpl::analysis_times(std::string_view uri) const {
+  std::lock_guard lock(docs_mu_);
+  auto it = docs_.find(std::string(uri));
+  if (it == docs_.end() || !it->second.analysis) return std::nullopt;
+  return it->second.times;
+}
+
+std::optional<std::pair<int64_t, std::string>> ServerImpl::ir_dump(std::string_view uri) const {
+  std::shared_ptr<const Analysis> a;
+  {
+    std::lock_guard lock(docs_mu_);
+    auto it = docs_.find(std::string(uri));
+    if (it == docs_.end() || !it->second.analysis) return std::nullopt;
+    a = it->second.analysis;
+  }
+  return std::pair{a->version, ir::dump_ir(a->module(), a->sources())};
+}
+
 std::optional<std::string> ServerImpl::document_text(std::string_view uri) const {
   std::lock_guard lock(docs_mu_);
   auto it = docs_.find(std::string(uri));
@@ -454,10 +472,33 @@ void ServerImpl::analysis_loop() {
     std::string text = next->text;
     int64_t version = next->version;
     uint64_t generation = next->generation;
-    std::shared_ptr<ParseCache> cache = next->parse_cache;
+    std::shared_ptr<DocumentParseCache> cache = next->parse_cache;
     analysing_ = true;
     lock.unlock();
-    std::shared_ptr<Analysis> a = analyse(uri, version, std::move(text), cache.get());
+    std::shared_ptr<Analysis> a;
+    bool fill = false;
+    if (cache) {
+      // Waits while the after thread fills the cache: then this change re-parses little.
+      std::unique_lock cache_lock(cache->mu);
+      if (cache->filled) {
+        a = analyse(uri, version, std::move(text), &cache->cache);
+      } else {
+        cache_lock.unlock();
+        a = analyse(uri, version, std::move(text), nullptr);  // the whole text in one piece
+        fill = !cache->scheduled;
+        cache->scheduled = true;
+      }
+    } else {
+      a = analyse(uri, version, std::move(text), nullptr);
+    }
+    // Filling the cache is not on the path to these diagnostics: the after thread does it.
+    if (fill && !a->too_large) {
+      {
+        std::lock_guard after_lock(after_mu_);
+        after_fill_.emplace_back(cache, a);
+      }
+      after_cv_.notify_all();
+    }
     cache.reset();  // a closed document's pieces go now
     lock.lock();
     analysing_ = false;
@@ -474,6 +515,7 @@ void ServerImpl::analysis_loop() {
       hand_to_after_thread(std::move(previous), nullptr);
       continue;
     }
+    d.times = a->times;
     json diagnostics = a->diagnostics_json;
     lock.unlock();
     if (a->too_large) {
@@ -486,7 +528,9 @@ void ServerImpl::analysis_loop() {
     const bool evaluate = options_.geometry && !a->too_large && !a->module().scene.empty() &&
                           std::none_of(a->diagnostics.begin(), a->diagnostics.end(),
                                        [](const Diagnostic& x) { return x.severity == Severity::Error; });
+    const double publish_start = thread_cpu_ms();
     publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);
+    const double publish_ms = thread_cpu_ms() - publish_start;
     if (evaluate) {
       {
         std::lock_guard glock(geo_mu_);
@@ -496,6 +540,9 @@ void ServerImpl::analysis_loop() {
     }
     hand_to_after_thread(std::move(previous), a->index ? a : nullptr);
     lock.lock();
+    if (auto again = docs_.find(uri); again != docs_.end() && again->second.analysis == a) {
+      again->second.times.publish_ms = publish_ms;
+    }
   }
 }
 
@@ -528,9 +575,12 @@ void ServerImpl::after_loop() {
   for (;;) {
     std::shared_ptr<const Analysis> job;
     std::vector<std::shared_ptr<const Analysis>> release;
+    std::vector<std::pair<std::shared_ptr<DocumentParseCache>, std::shared_ptr<const Analysis>>> fill;
     {
       std::unique_lock lock(after_mu_);
-      auto has_work = [&] { return stopped() || after_index_ != nullptr || !after_release_.empty(); };
+      auto has_work = [&] {
+        return stopped() || after_index_ != nullptr || !after_release_.empty() || !after_fill_.empty();
+      };
       if (after_freed_ && options_.idle_release_ms > 0) {
         // Typing pauses: once nothing arrived for idle_release_ms, give the memory back.
         if (!after_cv_.wait_for(lock, std::chrono::milliseconds(options_.idle_release_ms), has_work)) {
@@ -547,10 +597,22 @@ void ServerImpl::after_loop() {
       job = std::move(after_index_);
       after_index_.reset();
       release.swap(after_release_);
+      fill.swap(after_fill_);
       after_busy_ = true;
     }
+    // First the caches (the next change waits for its document's), then freeing, indexing.
+    for (auto& [slot, analysis] : fill) fill_parse_cache(*slot, *analysis);
+    fill.clear();
     release.clear();  // frees here unless a request still holds one
-    if (job && document_version(job->uri) == job->version) job->index.get();
+    if (job && document_version(job->uri) == job->version) {
+      const double index_start = thread_cpu_ms();
+      job->index.get();
+      const double index_ms = thread_cpu_ms() - index_start;
+      std::lock_guard lock(docs_mu_);
+      if (auto it = docs_.find(job->uri); it != docs_.end() && it->second.analysis == job) {
+        it->second.times.index_ms = index_ms;
+      }
+    }
     job.reset();
     std::lock_guard lock(after_mu_);
     after_busy_ = false;
@@ -631,7 +693,7 @@ bool ServerImpl::background_busy() const {
   if (analysing_) return true;
   {
     std::lock_guard lock(after_mu_);
-    if (after_busy_ || after_index_ || !after_release_.empty()) return true;
+    if (after_busy_ || after_index_ || !after_release_.empty() || !after_fill_.empty()) return true;
   }
   std::lock_guard lock(geo_mu_);
   return geo_busy_;
@@ -654,5 +716,7 @@ bool Server::background_busy() const { return impl_->background_busy(); }
 size_t Server::memory_releases() const { return impl_->memory_releases(); }
 std::optional<std::string> Server::document_text(std::string_view uri) const { return impl_->document_text(uri); }
 std::optional<ParseStats> Server::parse_stats(std::string_view uri) const { return impl_->parse_stats(uri); }
+std::optional<AnalysisTimes> Server::analysis_times(std::string_view uri) const { return impl_->analysis_times(uri); }
+std::optional<std::pair<int64_t, std::string>> Server::ir_dump(std::string_view uri) const { return impl_->ir_dump(uri); }
 
 }  // namespace nomec::lsp

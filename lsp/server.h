@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "ir/dialect.h"
 
@@ -44,6 +45,18 @@ struct ParseStats {
   size_t parsed_bytes = 0;  // bytes re-parsed
 };
 
+/// Where the latest analysis of a document spent its time, in milliseconds of the CPU time
+/// of the thread doing it (on an idle machine about the wall time; a loaded one does not
+/// inflate it), for `bench/lsp`: the steps between a change and its `publishDiagnostics`,
+/// and the work done after publishing.
+struct AnalysisTimes {
+  double parse_ms = 0;        // parsing the document (through its ParseCache), assembling its AST
+  double check_ms = 0;        // the checker: names, statements, lowering to IR, dependencies
+  double diagnostics_ms = 0;  // sorting the diagnostics, the line table, their LSP JSON
+  double publish_ms = 0;      // the notification's JSON text and the sink
+  double index_ms = 0;        // building the symbol index, after publishing (0 until built)
+};
+
 class Server {
  public:
   /// `sink` receives every outgoing message as one JSON text (no framing); it is called
@@ -71,6 +84,11 @@ class Server {
   std::optional<std::string> document_text(std::string_view uri) const;
   /// How the latest analysis of an open document was parsed, for tests and benchmarks.
   std::optional<ParseStats> parse_stats(std::string_view uri) const;
+  /// Where the latest analysed version of `uri` spent its time (see AnalysisTimes).
+  std::optional<AnalysisTimes> analysis_times(std::string_view uri) const;
+  /// The version and IR dump (`nomec --emit ir`) of the latest analysis of `uri`, for tests
+  /// that compare what an edited document was checked into with a fresh check of its text.
+  std::optional<std::pair<int64_t, std::string>> ir_dump(std::string_view uri) const;
 
   /// True once the `exit` notification was handled; `exit_code` is then 0 if `shutdown`
   /// came first and 1 otherwise (LSP 3.17).

@@ -24,6 +24,18 @@
 
 namespace nomec::lsp {
 
+/// A document's ParseCache, and whether it holds a version yet. The first analysis of a
+/// document parses its text in one piece (one parser run is cheaper than one per top-level
+/// statement) and publishes; the after thread then fills the cache from that text, so the
+/// next change re-parses only what it touched. The analysis thread and the after thread
+/// take `mu` to use the cache.
+struct DocumentParseCache {
+  std::mutex mu;
+  ParseCache cache;
+  bool filled = false;     // the cache has parsed a version (under mu)
+  bool scheduled = false;  // the after thread was asked to fill it (analysis thread only)
+};
+
 /// One open document: its latest text and version, the latest finished analysis and
 /// geometry, and whether (and when) it must be re-checked.
 struct Document {
@@ -36,9 +48,11 @@ struct Document {
   std::shared_ptr<const Analysis> analysis;
   std::shared_ptr<const Geometry> geometry;
   /// Pieces of the latest parsed version, so a change re-parses only the statements it
-  /// touched. Used by the analysis thread only (shared so a check in flight keeps it alive
-  /// past didClose); a reopened document starts with a fresh one.
-  std::shared_ptr<ParseCache> parse_cache;
+  /// touched (shared so a check in flight keeps it alive past didClose); a reopened
+  /// document starts with a fresh one.
+  std::shared_ptr<DocumentParseCache> parse_cache;
+  /// Where the latest published analysis spent its time (Server::analysis_times).
+  AnalysisTimes times;
 };
 
 class ServerImpl {
@@ -62,6 +76,8 @@ class ServerImpl {
   bool background_busy() const;
   std::optional<std::string> document_text(std::string_view uri) const;
   std::optional<ParseStats> parse_stats(std::string_view uri) const;
+  std::optional<AnalysisTimes> analysis_times(std::string_view uri) const;
+  std::optional<std::pair<int64_t, std::string>> ir_dump(std::string_view uri) const;
 
   // For handlers (through Context).
   bool is_cancelled(const json& id) const;
@@ -75,6 +91,8 @@ class ServerImpl {
   /// document's ParseCache; may be null).
   std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
                                     ParseCache* cache) const;
+  /// Fills a document's ParseCache from an analysed version's text (after thread).
+  static void fill_parse_cache(DocumentParseCache& slot, const Analysis& a);
   /// Evaluates the scene of an analysis (analysis.cpp).
   static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
 
@@ -146,6 +164,8 @@ class ServerImpl {
   mutable std::mutex after_mu_;
   std::condition_variable after_cv_;
   std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
+  // Caches to fill from the text of an analysis (first parse in one piece), before indexing.
+  std::vector<std::pair<std::shared_ptr<DocumentParseCache>, std::shared_ptr<const Analysis>>> after_fill_;
   std::vector<std::shared_ptr<const Analysis>> after_release_;
   bool after_busy_ = false;
   bool after_freed_ = false;              // memory was freed since the last release

@@ -3,12 +3,13 @@
 // keystroke is one `textDocument/didChange` with a one-character incremental edit — digits
 // typed into a parameter value and deleted again, then characters typed into a name and
 // deleted again — and is timed from `handle()` until its `publishDiagnostics` was sent
-// (parse through the document's ParseCache, check, index, diagnostics to JSON, sink).
-// Hover is timed from the request to its response on a checked document. Inputs: the
-// generated scene of bench/common (64 KiB, 512 KiB, 1 MiB) and every corpus file. Counters:
-// diag_p50_ms, diag_p90_ms, diag_max_ms, diag_cpu_p50_ms (process CPU time per keystroke,
-// all threads), hover_p50_ms, and open_p50_ms (didOpen ->
-// diagnostics, the cache's first parse) in milliseconds.
+// (parse through the document's ParseCache, check, diagnostics to JSON, sink; the index is
+// built afterwards). Hover is timed from the request to its response on a checked document.
+// Inputs: the generated scene of bench/common (64 KiB, 512 KiB, 1 MiB) and every corpus
+// file. Counters: diag_p50_ms, diag_p90_ms, diag_max_ms, diag_cpu_p50_ms (process CPU time
+// per keystroke, all threads), hover_p50_ms, and open_p50_ms (didOpen -> diagnostics, the
+// text parsed in one piece) in milliseconds; and where the server says the time went
+// (open_* and key_*_p50_ms, Server::analysis_times: thread CPU time per step).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
@@ -171,6 +172,9 @@ class Session {
   bool wait_diagnostics(const std::string& uri, int64_t version) {
     return server_.wait_for_diagnostics(uri, version, std::chrono::seconds(60));
   }
+  nomec::lsp::AnalysisTimes times(const std::string& uri) const {
+    return server_.analysis_times(uri).value_or(nomec::lsp::AnalysisTimes{});
+  }
 
  private:
   void receive(std::string m) {
@@ -193,10 +197,23 @@ class Session {
   nomec::lsp::Server server_;  // last: destroyed first
 };
 
+// Where the server says the time went (Server::analysis_times), per phase, for didOpen and
+// for the keystrokes.
+struct Phases {
+  std::vector<double> parse, check, diagnostics, publish, index;
+  void add(const nomec::lsp::AnalysisTimes& t) {
+    parse.push_back(t.parse_ms);
+    check.push_back(t.check_ms);
+    diagnostics.push_back(t.diagnostics_ms);
+    publish.push_back(t.publish_ms);
+  }
+};
+
 // Runs the keystroke session over `text` (as document `uri`) and then hovers; appends the
 // latencies in milliseconds.
 void run(const std::string& uri, const std::string& original, std::vector<double>& open_ms,
-         std::vector<double>& diag_ms, std::vector<double>& cpu_ms, std::vector<double>& hover_ms) {
+         std::vector<double>& diag_ms, std::vector<double>& cpu_ms, std::vector<double>& hover_ms,
+         Phases& open_phases, Phases& key_phases) {
   Session s;
   std::string text = original;
   int64_t version = 1;
@@ -206,6 +223,7 @@ void run(const std::string& uri, const std::string& original, std::vector<double
                        quote(text)));
   if (!s.wait_diagnostics(uri, version)) throw std::runtime_error("no diagnostics after didOpen");
   open_ms.push_back(ms_since(t_open));
+  open_phases.add(s.times(uri));
   // The session leaves the text as it found it, so it can be replayed (for profiling the
   // keystrokes rather than didOpen: NOMEC_BENCH_LSP_ROUNDS=20).
   const char* rounds_env = std::getenv("NOMEC_BENCH_LSP_ROUNDS");
@@ -227,12 +245,22 @@ void run(const std::string& uri, const std::string& original, std::vector<double
     } else {
       text.insert(e.offset, e.text);
     }
+    // The index of the version before, built after its diagnostics were published (if the
+    // background thread got to it before this keystroke).
+    if (double index_ms = s.times(uri).index_ms; index_ms > 0) key_phases.index.push_back(index_ms);
     double cpu0 = process_cpu_ms();
     auto t0 = Clock::now();
     s.handle(msg);
     if (!s.wait_diagnostics(uri, version)) throw std::runtime_error("no diagnostics after didChange");
     diag_ms.push_back(ms_since(t0));
     cpu_ms.push_back(process_cpu_ms() - cpu0);
+    key_phases.add(s.times(uri));
+    if (std::getenv("NOMEC_BENCH_LSP_VERBOSE") != nullptr) {
+      const nomec::lsp::AnalysisTimes t = s.times(uri);
+      fmt::print(stderr, "keystroke {:>3} `{}` at {}: {:.1f} ms (cpu {:.1f}): parse {:.1f} check {:.1f} diagnostics {:.1f}\n",
+                 version, e.text.empty() ? "<del>" : e.text, e.offset, diag_ms.back(), cpu_ms.back(), t.parse_ms,
+                 t.check_ms, t.diagnostics_ms);
+    }
   }
   for (size_t off : hover_offsets(text, 20)) {
     Pos p = position(text, off);
@@ -245,7 +273,14 @@ void run(const std::string& uri, const std::string& original, std::vector<double
 
 void report(benchmark::State& state, const std::vector<double>& open_ms, const std::vector<double>& diag_ms,
             const std::vector<double>& cpu_ms, const std::vector<double>& hover_ms,
-            size_t bytes) {
+            const Phases& open_phases, const Phases& key_phases, size_t bytes) {
+  state.counters["open_parse_ms"] = percentile(open_phases.parse, 0.5);
+  state.counters["open_check_ms"] = percentile(open_phases.check, 0.5);
+  state.counters["open_diags_ms"] = percentile(open_phases.diagnostics, 0.5);
+  state.counters["key_parse_p50_ms"] = percentile(key_phases.parse, 0.5);
+  state.counters["key_check_p50_ms"] = percentile(key_phases.check, 0.5);
+  state.counters["key_diags_p50_ms"] = percentile(key_phases.diagnostics, 0.5);
+  state.counters["key_index_p50_ms"] = percentile(key_phases.index, 0.5);
   state.counters["open_p50_ms"] = percentile(open_ms, 0.5);
   state.counters["diag_p50_ms"] = percentile(diag_ms, 0.5);
   state.counters["diag_p90_ms"] = percentile(diag_ms, 0.9);
@@ -259,10 +294,11 @@ void report(benchmark::State& state, const std::vector<double>& open_ms, const s
 // One session per iteration; the iteration time is the mean keystroke latency.
 void measure(benchmark::State& state, const std::string& uri, const std::string& text) {
   std::vector<double> open_ms, diag_ms, cpu_ms, hover_ms;
+  Phases open_phases, key_phases;
   for (auto _ : state) {
     size_t before = diag_ms.size();
     try {
-      run(uri, text, open_ms, diag_ms, cpu_ms, hover_ms);
+      run(uri, text, open_ms, diag_ms, cpu_ms, hover_ms, open_phases, key_phases);
     } catch (const std::exception& e) {
       state.SkipWithError(e.what());
       return;
@@ -271,7 +307,7 @@ void measure(benchmark::State& state, const std::string& uri, const std::string&
     for (size_t k = before; k < diag_ms.size(); ++k) sum += diag_ms[k];
     state.SetIterationTime(sum / 1000.0 / static_cast<double>(std::max<size_t>(1, diag_ms.size() - before)));
   }
-  report(state, open_ms, diag_ms, cpu_ms, hover_ms, text.size());
+  report(state, open_ms, diag_ms, cpu_ms, hover_ms, open_phases, key_phases, text.size());
 }
 
 // The generated scene of range(0) bytes.

@@ -12,6 +12,7 @@
 #include "frontend/check/check.h"
 
 #include <fmt/format.h>
+#include <time.h>
 
 #include "frontend/check/handlers.h"
 #include "frontend/flat/flat.h"
@@ -19,6 +20,12 @@
 #include "frontend/source/file_kinds.h"
 
 namespace nomec {
+
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) / 1e6;
+}
 
 std::optional<ir::GenKind> statement_generator(const ast::Stmt& s) {
   if (s.kind != ast::BlockKind::Generator) return std::nullopt;
@@ -49,7 +56,9 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     check::finish_dependencies(c);
     return result;
   }
+  const double parse_start = thread_cpu_ms();
   ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
+  result.parse_ms = thread_cpu_ms() - parse_start;
 
   // Saved work (`.anom`) is checked on top of its base scene.
   std::unique_ptr<ast::Ast> base_ast;

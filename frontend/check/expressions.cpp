@@ -396,6 +396,12 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
     int depth;
     uint32_t next;
   };
+  // Most values are one number or name: lowered without the stacks below (the same result:
+  // a leaf at depth 0 is lowered by lower_leaf there too).
+  if (const ast::Expr& x = a.expr(root);
+      x.kind != ast::ExprKind::Unary && x.kind != ast::ExprKind::Binary && x.kind != ast::ExprKind::Call) {
+    return lower_leaf(c, x, scope);
+  }
   std::vector<Frame> stack{{root, 0, 0}};
   std::vector<ir::ExprId> done;
   // NOME3's grammar grouped `^` from the left (compat.md §C2). A function text (`funcX [ … ]`,
@@ -457,6 +463,11 @@ ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Sc
   }
   ir::ExprId out = lower_tree(c, a, id, scope);
   if (!scope.variables.empty()) return out;  // a function is evaluated where it is used
+  // A number, a slider or a built-in always has a value (ir::evaluate's leaves).
+  if (const ir::ExprKind k = c.module().expr(out).kind;
+      k == ir::ExprKind::Const || k == ir::ExprKind::Param || k == ir::ExprKind::Builtin) {
+    return out;
+  }
   ir::EvalResult r = ir::evaluate(c.module(), out);
   if (!r.ok && !r.problem.empty()) {
     c.diags().emit(DiagKind::ExpressionDomain, r.where.is_valid() ? r.where : a.expr(id).range, r.problem);
