@@ -175,7 +175,9 @@ void differential(const std::string& uri, const std::string& original, int edits
   // The edited document did go through its cache, so the comparison above covered the
   // incremental path and not only whole-text parses (how little a keystroke re-parses is
   // tests/incremental's concern: edits here such as an opened comment re-parse the rest).
-  if (edits >= 8 && original.size() > 2000) EXPECT_GT(cached_versions, 0u) << uri;
+  if (edits >= 8 && original.size() > 2000) {
+    EXPECT_GT(cached_versions, 0u) << uri;
+  }
 }
 
 TEST(LspIncrementalCheck, RandomEditsInCorpusFilesMatchAFreshCheck) {
