@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <type_traits>
 #include <new>
 #include <utility>
@@ -96,8 +97,17 @@ class TokenArrayStream : public antlr4::TokenStream {
   static constexpr uint16_t kEnd = 0xFFFF;
   uint16_t current_code() const { return codes_[p_]; }
   size_t consumed() const { return consumed_; }
+  /// The token at the current position (the same as LT(1) when it is not the end token).
+  antlr4::Token* current_token() const { return token_at(p_); }
+  /// The token before the current position (LT(-1)), or null at the start.
+  antlr4::Token* previous_token() const { return p_ > 0 ? token_at(p_ - 1) : nullptr; }
 
  protected:
+  friend class Predictor;
+  antlr4::Token* token_at(size_t i) const { return reinterpret_cast<antlr4::Token*>(token_bytes_ + i * stride_); }
+
+  char* token_bytes_ = nullptr;  // the tokens, `stride_` bytes apart
+  size_t stride_ = 0;
   const uint16_t* codes_ = nullptr;
   size_t p_ = 0;
   size_t consumed_ = 0;
@@ -126,32 +136,28 @@ class FastInput {
   TokenArrayStream* array_ = nullptr;
 };
 
-/// What the generated rules see as the interpreter: ANTLR's ParserATNSimulator, with each
-/// SLL decision that its prediction settled on the first token of lookahead remembered per
-/// (decision, token type) for every parser of the grammar. SLL prediction without
-/// predicates depends on the tokens only (not on the rule invocation stack), so the
-/// simulator answers the same alternative for the same decision and first token whenever
-/// it read no further; the remembered answer replaces the call, which would only have read
-/// that token (a token other than the end: reading it has no side effect) and seeked back.
+/// What the generated rules see as the interpreter: ANTLR's ParserATNSimulator, with the
+/// answers of its SLL predictions remembered per decision in a trie of token types (shared by
+/// every parser of the grammar). SLL prediction without predicates is a deterministic walk
+/// of the decision's DFA over the next token types, independent of the rule invocation
+/// stack: the same decision and the same token types give the same walk, which stops after
+/// the same number of tokens with the same alternative. The trie holds the walks seen
+/// (recognised by how many tokens the simulator consumed to answer); a walk it knows
+/// replaces the call, which would only have read those tokens and seeked back. Walks that
+/// reach the end token are left to the simulator (the stream may watch for that token).
 class Predictor {
  public:
   size_t adaptivePredict(antlr4::TokenStream* input, size_t decision, antlr4::ParserRuleContext* outer) {
     auto* sim = static_cast<antlr4::atn::ParserATNSimulator*>(*interpreter_);
-    if (array_ == nullptr || !sll_ || input != static_cast<antlr4::TokenStream*>(array_)) {
+    if (array_ == nullptr || !sll_ || input != static_cast<antlr4::TokenStream*>(array_) || decision >= kDecisions) {
       return sim->adaptivePredict(input, decision, outer);
     }
-    const uint16_t code = array_->current_code();
-    if (code == TokenArrayStream::kEnd || code >= kTypes || decision >= kDecisions) {
-      return sim->adaptivePredict(input, decision, outer);
-    }
-    std::atomic<uint8_t>& known = memo()[decision * kTypes + code];
-    const uint8_t alt = known.load(std::memory_order_relaxed);
-    if (alt != 0) return alt;
+    Memo& memo = shared_memo();
+    const uint16_t* codes = array_->codes_ + array_->p_;
+    if (const int32_t alt = memo.find(decision, codes); alt > 0) return static_cast<size_t>(alt);
     const size_t before = array_->consumed();
     const size_t predicted = sim->adaptivePredict(input, decision, outer);
-    if (array_->consumed() == before && predicted > 0 && predicted < 256) {
-      known.store(static_cast<uint8_t>(predicted), std::memory_order_relaxed);
-    }
+    memo.insert(decision, codes, array_->consumed() - before + 1, predicted);
     return predicted;
   }
   void setPredictionMode(antlr4::atn::PredictionMode mode) {
@@ -165,14 +171,76 @@ class Predictor {
  private:
   friend class NomeParserBase;
   static constexpr size_t kDecisions = 512;
-  static constexpr size_t kTypes = 256;
-  static std::atomic<uint8_t>* memo() {
-    static std::atomic<uint8_t>* const table = [] {
-      auto* t = new std::atomic<uint8_t>[kDecisions * kTypes];
-      for (size_t i = 0; i < kDecisions * kTypes; ++i) t[i].store(0, std::memory_order_relaxed);
-      return t;
-    }();
-    return table;
+  static constexpr size_t kTypes = 128;  // token types the trie covers
+  static constexpr size_t kChunkNodes = 64;
+  static constexpr size_t kChunks = 64;  // at most 4096 nodes (2 MiB)
+
+  // Entries: 0 unknown, > 0 the alternative (the walk stops here), < 0 -(the next node).
+  class Memo {
+   public:
+    int32_t find(size_t decision, const uint16_t* codes) const {
+      int32_t node = roots_[decision].load(std::memory_order_acquire);
+      for (size_t k = 0; node > 0; ++k) {
+        if (codes[k] >= kTypes) return 0;  // the end token, or a type the trie does not cover
+        const int32_t e = entry(node, codes[k]).load(std::memory_order_acquire);
+        if (e >= 0) return e;
+        node = -e;
+      }
+      return 0;
+    }
+    void insert(size_t decision, const uint16_t* codes, size_t length, size_t alt) {
+      if (alt == 0 || alt > 0x7FFFFFFF || length == 0) return;
+      for (size_t k = 0; k < length; ++k) {
+        if (codes[k] >= kTypes) return;
+      }
+      std::lock_guard<std::mutex> lock(mutex_);
+      int32_t node = roots_[decision].load(std::memory_order_relaxed);
+      if (node == 0) {
+        node = make_node();
+        if (node == 0) return;
+        roots_[decision].store(node, std::memory_order_release);
+      }
+      for (size_t k = 0; k + 1 < length; ++k) {
+        std::atomic<int32_t>& e = entry(node, codes[k]);
+        int32_t next = e.load(std::memory_order_relaxed);
+        if (next > 0) return;  // cannot happen: a walk that stopped here does not go on
+        if (next == 0) {
+          const int32_t fresh = make_node();
+          if (fresh == 0) return;
+          e.store(-fresh, std::memory_order_release);
+          next = -fresh;
+        }
+        node = -next;
+      }
+      std::atomic<int32_t>& last = entry(node, codes[length - 1]);
+      if (last.load(std::memory_order_relaxed) == 0) last.store(static_cast<int32_t>(alt), std::memory_order_release);
+    }
+
+   private:
+    std::atomic<int32_t>& entry(int32_t node, size_t type) const {
+      const size_t n = static_cast<size_t>(node);  // nodes count from 1
+      return chunks_[n / kChunkNodes].load(std::memory_order_acquire)[(n % kChunkNodes) * kTypes + type];
+    }
+    int32_t make_node() {  // under mutex_; 0 when the trie is full
+      const size_t n = next_node_;
+      if (n / kChunkNodes >= kChunks) return 0;
+      if (chunks_[n / kChunkNodes].load(std::memory_order_relaxed) == nullptr) {
+        auto* chunk = new std::atomic<int32_t>[kChunkNodes * kTypes];
+        for (size_t i = 0; i < kChunkNodes * kTypes; ++i) chunk[i].store(0, std::memory_order_relaxed);
+        chunks_[n / kChunkNodes].store(chunk, std::memory_order_release);
+      }
+      ++next_node_;
+      return static_cast<int32_t>(n);
+    }
+
+    std::atomic<int32_t> roots_[kDecisions] = {};
+    mutable std::atomic<std::atomic<int32_t>*> chunks_[kChunks] = {};
+    size_t next_node_ = 1;
+    std::mutex mutex_;
+  };
+  static Memo& shared_memo() {
+    static Memo* const memo = new Memo();  // never freed: parsers on any thread may use it
+    return *memo;
   }
 
   antlr4::atn::ATNSimulator* const* interpreter_ = nullptr;
@@ -227,7 +295,7 @@ class NomeParserBase : public antlr4::Parser {
     }
     setState(state);
     _ctx = localctx;
-    _ctx->start = stream()->LT(1);
+    _ctx->start = lt1();
     events_->enter_rule(localctx, ruleIndex);
   }
 
@@ -245,7 +313,7 @@ class NomeParserBase : public antlr4::Parser {
       _ctx->stop = _matchedEOF ? stream()->LT(1) : stream()->LT(-1);
       if (!_parseListeners.empty()) triggerExitRuleEvent();
     } else {
-      _ctx->stop = _matchedEOF ? stream()->LT(1) : stream()->LT(-1);
+      _ctx->stop = _matchedEOF ? stream()->LT(1) : (_input.array_ != nullptr ? _input.array_->previous_token() : stream()->LT(-1));
       events_->exit_rule(_ctx);
     }
     setState(_ctx->invokingState);
@@ -254,7 +322,7 @@ class NomeParserBase : public antlr4::Parser {
 
   antlr4::Token* consume() final {
     if (events_ == nullptr) return antlr4::Parser::consume();
-    antlr4::Token* token = stream()->LT(1);
+    antlr4::Token* token = lt1();
     if (token->getType() != antlr4::Token::EOF) stream()->consume();
     events_->token(token);
     return token;
@@ -262,7 +330,7 @@ class NomeParserBase : public antlr4::Parser {
 
   antlr4::Token* match(size_t ttype) final {
     if (events_ != nullptr) {
-      antlr4::Token* token = stream()->LT(1);
+      antlr4::Token* token = lt1();
       if (token->getType() == ttype) {
         if (ttype == antlr4::Token::EOF) _matchedEOF = true;
         _errHandler->reportMatch(this);
@@ -303,6 +371,13 @@ class NomeParserBase : public antlr4::Parser {
 
  private:
   antlr4::TokenStream* stream() const { return antlr4::Parser::_input; }
+  // LT(1): read from the array unless it is the end token (which the stream may watch for).
+  antlr4::Token* lt1() const {
+    if (_input.array_ != nullptr && _input.array_->current_code() != TokenArrayStream::kEnd) {
+      return _input.array_->current_token();
+    }
+    return stream()->LT(1);
+  }
 
   ParseEvents* events_ = nullptr;
   Predictor predictor_;

@@ -27,6 +27,8 @@ ArenaTokenStream::ArenaTokenStream(const std::vector<Tok>& tokens, std::string_v
     codes_storage_.push_back(t.getType() == antlr4::Token::EOF ? kEnd : static_cast<uint16_t>(t.getType()));
   }
   codes_ = codes_storage_.data();
+  token_bytes_ = reinterpret_cast<char*>(static_cast<antlr4::Token*>(tokens_.data()));
+  stride_ = sizeof(ArenaToken);
 }
 
 antlr4::Token* ArenaTokenStream::LT(ssize_t k) {
