@@ -2,14 +2,20 @@
 // NOME3 or SLIDE file (chosen by the first byte). The run must not crash, trip a sanitizer
 // or throw, and every diagnostic range must lie inside its file. No file system access:
 // includes and `.anom` base scenes are reported as unreadable. Also differential: the
-// hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference.
+// hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference, and
+// on a text that parses without errors the AST builder that reads the parser's events must
+// give exactly the AST and diagnostics of the one that converts parse trees (a text with
+// errors takes the tree-based path in both).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
 #include "frontend/check/check.h"
+#include "frontend/parse/parse.h"
+#include "frontend/parse/piece.h"
 #include "frontend/parse/tokens.h"
+#include "tests/common/ast_dump.h"
 
 namespace {
 
@@ -31,6 +37,27 @@ bool lexers_agree(std::string_view text) {
   return fast.tokens == reference.tokens && fast.eof_touch_start == reference.eof_touch_start;
 }
 
+std::string parse_dump(const std::string& text, bool* clean) {
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  const nomec::FileId f = sources.add_file("fuzz.nome", text);
+  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags);
+  *clean = diags.error_count() == 0;
+  return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
+}
+
+// The event-driven AST builder agrees with the tree-based one.
+bool builders_agree(const std::string& text) {
+  bool clean = false;
+  const std::string from_events = parse_dump(text, &clean);
+  if (!clean) return true;
+  nomec::parse_detail::use_tree_builder(true);
+  bool ignored = false;
+  const std::string from_tree = parse_dump(text, &ignored);
+  nomec::parse_detail::use_tree_builder(false);
+  return from_events == from_tree;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -38,6 +65,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const char* path = kPaths[size > 0 ? data[0] % 3 : 0];
   std::string text(reinterpret_cast<const char*>(data), size);
   if (!lexers_agree(text)) std::abort();
+  if (!builders_agree(text)) std::abort();
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions options;

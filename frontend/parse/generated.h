@@ -8,7 +8,8 @@
 #pragma GCC diagnostic ignored "-Wextra"
 #pragma GCC diagnostic ignored "-Wattributes"
 #pragma GCC diagnostic ignored "-Woverloaded-virtual"
+#include "antlr4-runtime.h"
+#include "NomeParserBase.h"
 #include "NomeLexer.h"
 #include "NomeParser.h"
-#include "antlr4-runtime.h"
 #pragma GCC diagnostic pop

@@ -9,7 +9,9 @@
 #include "frontend/parse/piece.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
+#include <cstring>
 #include <cstdlib>
 #include <fmt/format.h>
 #include <memory>
@@ -408,7 +410,7 @@ class AstBuilder {
     }
   }
 
- private:
+ protected:
   SourceRange token_range(antlr4::Token* t) const {
     return SourceRange{file_, offsets_.byte_of(t->getStartIndex()),
                        offsets_.byte_of(t->getStopIndex() + 1)};
@@ -777,7 +779,545 @@ class AstBuilder {
   const LineEndRepairs* repairs_ = nullptr;  // ends found for single-line statements
 };
 
+
+// Builds the AST from the generated parser's events while it builds no parse tree (stage 1,
+// which bails on the first syntax error): exactly what AstBuilder makes of the parse tree
+// of an error-free parse, node for node and in the same order. Every rule invocation is a
+// frame; a frame hands its result (an item, an expression, a list, a name) to the frame
+// below when its rule exits. The flat expression rules apply the precedence as their
+// tokens arrive (operator precedence with two stacks), which creates the nodes in the order
+// AstBuilder's recursive descent over the finished run does: every operand's nodes when
+// the operand is read, every operator's node when the next operator or the end shows it
+// complete. Items, list elements, call arguments and operators wait on stacks shared by
+// all frames, so the parse allocates nothing per rule.
+class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
+ public:
+  using AstBuilder::AstBuilder;
+
+  /// Stops reading events: the parse is bailing out on a syntax error.
+  void abandon() { dead_ = true; }
+  bool dead() const { return dead_; }
+
+  void enter_rule(antlr4::ParserRuleContext*, size_t rule) override {
+    if (dead_) return;
+    Frame f;
+    f.kind = kind_of(rule);
+    f.items_at = static_cast<uint32_t>(items_.size());
+    f.operands_at = static_cast<uint32_t>(operands_.size());
+    f.ops_at = static_cast<uint32_t>(ops_.size());
+    f.commas_at = static_cast<uint32_t>(commas_.size());
+    frames_.push_back(f);
+  }
+
+  void token(antlr4::Token* token) override {
+    if (dead_ || frames_.empty()) return;
+    const auto* t = static_cast<const ArenaToken*>(token);
+    Frame& f = frames_.back();
+    const size_t type = t->getType();
+    switch (f.kind) {
+      case Kind::Top:
+        if (type == NomeParser::TCLINIT) {
+          ast::Item item;
+          item.kind = ast::ItemKind::Tcl;
+          item.range = range_of(t);
+          item.text = view(item.range);
+          ast_.top.push_back(item);
+        }
+        break;
+      case Kind::Include:
+        if (type == NomeParser::STRING && !f.has_name) {
+          f.name = range_of(t);
+          f.has_name = true;
+        }
+        break;
+      case Kind::Item:
+      case Kind::Stray:
+        if (type == NomeParser::IDENT) {
+          f.name = range_of(t);
+          f.what = What::Word;
+        }
+        break;
+      case Kind::Stmt:
+        if (!f.opened) {
+          f.opened = true;  // the opening keyword: the context's start token
+        } else if (is_end_token(type)) {
+          close(f, t);
+        }
+        break;
+      case Kind::ParenList:
+        if (type == NomeParser::COMMA) commas_.push_back(range_of(t));
+        break;
+      case Kind::Expr:
+        expr_token(f, t, type);
+        break;
+      case Kind::Atom:
+        switch (type) {
+          case NomeParser::TCL_ARRAY_REF: f.result = leaf(ast::ExprKind::TclArrayRef, t); break;
+          case NomeParser::BRACKET_RAW:
+          case NomeParser::PCT_RAW: f.result = leaf(ast::ExprKind::Raw, t); break;
+          case NomeParser::STRING: f.result = leaf(ast::ExprKind::String, t); break;
+          case NomeParser::IDENT:
+            f.name = range_of(t);
+            f.has_name = true;
+            break;
+          case NomeParser::LPAREN:
+            if (f.atom == AtomForm::Plain) f.atom = f.has_name ? AtomForm::Call : AtomForm::Paren;
+            break;
+          default: break;
+        }
+        break;
+      default:
+        break;
+    }
+  }
+
+  void exit_rule(antlr4::ParserRuleContext* ctx) override {
+    if (dead_ || frames_.empty()) return;
+    const Frame f = frames_.back();
+    frames_.pop_back();
+    switch (f.kind) {
+      case Kind::Include: {
+        ast::Item item;
+        item.kind = ast::ItemKind::Include;
+        item.range = range_of(ctx);
+        if (f.has_name && f.name.end >= f.name.begin + 2) {  // a conjured (missing) string has no text
+          item.text = view(SourceRange{file_, f.name.begin + 1, f.name.end - 1});
+        }
+        deliver_item(item);
+        break;
+      }
+      case Kind::Stray: {
+        ast::Item item;
+        item.range = range_of(ctx);
+        if (f.what == What::List) {
+          item.kind = ast::ItemKind::List;
+          item.list = ast::ListId{f.result};
+        } else if (f.what == What::Value) {
+          item.kind = ast::ItemKind::Value;
+          item.expr = ast::ExprId{f.result};
+        } else {
+          item.kind = ast::ItemKind::Word;
+          item.text = view(item.range);
+        }
+        deliver_item(item);
+        break;
+      }
+      case Kind::Item: {
+        ast::Item item;
+        item.range = range_of(ctx);
+        switch (f.what) {
+          case What::Word:
+            item.kind = ast::ItemKind::Word;
+            item.range = f.name;
+            item.text = view(item.range);
+            break;
+          case What::List:
+            item.kind = ast::ItemKind::List;
+            item.list = ast::ListId{f.result};
+            break;
+          case What::Value:
+            item.kind = ast::ItemKind::Value;
+            item.expr = ast::ExprId{f.result};
+            break;
+          case What::None: return;
+        }
+        deliver_item(item);
+        break;
+      }
+      case Kind::Stmt:
+        finish_stmt(f, ctx);
+        break;
+      case Kind::ParenList: {
+        ast::ParenList list;
+        list.range = range_of(ctx);
+        list.elems.reserve(static_cast<uint32_t>(operands_.size() - f.operands_at));
+        for (size_t i = f.operands_at; i < operands_.size(); ++i) list.elems.push_back(operands_[i]);
+        for (size_t i = f.commas_at; i < commas_.size(); ++i) list.commas.push_back(commas_[i]);
+        operands_.resize(f.operands_at);
+        commas_.resize(f.commas_at);
+        ast_.lists.push_back(std::move(list));
+        deliver_list(static_cast<int32_t>(ast_.lists.size() - 1));
+        break;
+      }
+      case Kind::Expr: {
+        if (!reduce(f, 0) || operands_.size() != f.operands_at + 1u) {
+          dead_ = true;
+          return;
+        }
+        const int32_t id = operands_.back().index;
+        operands_.pop_back();
+        deliver_expr(id);
+        break;
+      }
+      case Kind::Atom:
+        switch (f.atom) {
+          case AtomForm::Call: {
+            ast::Expr e;
+            e.kind = ast::ExprKind::Call;
+            e.text = view(f.name);
+            e.range = range_of(ctx);
+            for (size_t i = f.operands_at; i < operands_.size(); ++i) e.args.push_back(operands_[i]);
+            operands_.resize(f.operands_at);
+            deliver_expr(add(e).index);
+            break;
+          }
+          case AtomForm::Paren:
+            if (f.result < 0) {
+              dead_ = true;
+              return;
+            }
+            ast_.exprs[static_cast<size_t>(f.result)].parenthesized = true;
+            deliver_expr(f.result);
+            break;
+          case AtomForm::Plain:
+            if (f.has_name) {
+              ast::Expr e;
+              e.kind = ast::ExprKind::Name;
+              e.range = f.name;
+              e.text = view(f.name);
+              deliver_expr(add(e).index);
+            } else if (f.result >= 0) {
+              deliver_expr(f.result);
+            } else {
+              dead_ = true;
+            }
+            break;
+        }
+        break;
+      case Kind::BraceExpr:
+        if (f.has_name) {  // raw Tcl braces (their range is in `name`)
+          ast::Expr e;
+          e.kind = ast::ExprKind::Raw;
+          e.in_braces = true;
+          e.range = f.name;
+          e.text = view(e.range);
+          deliver_expr(add(e).index);
+        } else if (f.result >= 0) {
+          ast_.exprs[static_cast<size_t>(f.result)].in_braces = true;
+          deliver_expr(f.result);
+        } else {
+          dead_ = true;
+        }
+        break;
+      case Kind::TclBraces:
+        if (!frames_.empty() && frames_.back().kind == Kind::BraceExpr && !frames_.back().has_name) {
+          frames_.back().name = range_of(ctx);
+          frames_.back().has_name = true;
+        }
+        break;
+      case Kind::KeywordName:
+        deliver_name(range_of(ctx));
+        break;
+      default:
+        break;
+    }
+  }
+
+ private:
+  enum class Kind : uint8_t { Top, Include, Stray, Block, Stmt, Item, ParenList, Expr, Atom, BraceExpr, TclBraces, KeywordName, Other };
+  enum class What : uint8_t { None, Word, List, Value };
+  enum class AtomForm : uint8_t { Plain, Call, Paren };
+
+  struct Frame {
+    Kind kind = Kind::Other;
+    What what = What::None;          // Item, Stray: what the item is
+    AtomForm atom = AtomForm::Plain;  // Atom: a call (name then `(`) or `( expr )`
+    bool has_name = false;           // Atom: a name was read; Include: its string; BraceExpr: Tcl braces
+    bool want_operand = true;        // Expr: an operand comes next (else an operator)
+    bool opened = false;             // Stmt: its opening keyword was read
+    ast::CloseRepair close_repair = ast::CloseRepair::None;
+    int32_t result = -1;             // an expression or list id
+    uint32_t items_at = 0, operands_at = 0, ops_at = 0, commas_at = 0;  // bases on the shared stacks
+    SourceRange name;
+    SourceRange close_kw;
+    std::string_view close_text;
+  };
+
+  // An operator waiting for its right operand.
+  struct PendingOp {
+    enum Form : uint8_t { Sign, Caret, Binary } form;
+    char op;
+    int level;       // Binary: 1 for `+ -`, 2 for `* / % //`
+    uint32_t begin;  // Sign: where the sign starts
+  };
+
+  static Kind kind_of(size_t rule) {
+    switch (rule) {
+      case NomeParser::RuleFile:
+      case NomeParser::RuleFunctionText: return Kind::Other;
+      case NomeParser::RuleTopStmt: return Kind::Top;
+      case NomeParser::RuleIncludeStmt: return Kind::Include;
+      case NomeParser::RuleStrayItem: return Kind::Stray;
+      case NomeParser::RuleBlock: return Kind::Block;
+      case NomeParser::RuleItem: return Kind::Item;
+      case NomeParser::RuleParenList: return Kind::ParenList;
+      case NomeParser::RuleExpr:
+      case NomeParser::RuleListExpr:
+      case NomeParser::RuleItemExpr: return Kind::Expr;
+      case NomeParser::RuleAtom:
+      case NomeParser::RuleItemAtom: return Kind::Atom;
+      case NomeParser::RuleBraceExpr: return Kind::BraceExpr;
+      case NomeParser::RuleTclBraces: return Kind::TclBraces;
+      case NomeParser::RuleKeywordName: return Kind::KeywordName;
+      default: return Kind::Stmt;  // every block statement rule
+    }
+  }
+
+  SourceRange range_of(const ArenaToken* t) const {
+    return SourceRange{file_, offsets_.byte_of(t->getStartIndex()), offsets_.byte_of(t->getStopIndex() + 1)};
+  }
+  // AstBuilder::ctx_range, reading the arena tokens directly.
+  SourceRange range_of(const antlr4::ParserRuleContext* ctx) const {
+    const auto* start = static_cast<const ArenaToken*>(ctx->start);
+    const auto* stop = static_cast<const ArenaToken*>(ctx->stop);
+    const size_t begin_cp = start != nullptr ? start->getStartIndex() : 0;
+    const uint32_t begin = offsets_.byte_of(begin_cp);
+    uint32_t end = begin;
+    if (stop != nullptr && stop->getType() != antlr4::Token::EOF && stop->getStopIndex() + 1 >= begin_cp) {
+      end = offsets_.byte_of(stop->getStopIndex() + 1);
+    }
+    return SourceRange{file_, begin, end};
+  }
+
+  int32_t leaf(ast::ExprKind kind, const ArenaToken* t) {
+    ast::Expr e;
+    e.kind = kind;
+    e.range = range_of(t);
+    e.text = view(e.range);
+    if (kind == ast::ExprKind::Number) e.number = parse_number(e.text);
+    return add(e).index;
+  }
+
+  // What std::strtod reads from the token's text (a NUMBER token is a plain decimal):
+  // std::from_chars rounds as correctly; strtod where it does not read the whole text or
+  // the value is out of range (strtod's infinity or zero then).
+  static double parse_number(std::string_view text) {
+    double value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error == std::errc{} && end == text.data() + text.size()) return value;
+    char buffer[64];
+    if (text.size() < sizeof buffer) {
+      std::memcpy(buffer, text.data(), text.size());
+      buffer[text.size()] = '\0';
+      return std::strtod(buffer, nullptr);
+    }
+    return std::strtod(std::string(text).c_str(), nullptr);
+  }
+
+  static char op_char(size_t type) {
+    switch (type) {
+      case NomeParser::PLUS:
+      case NomeParser::SPLUS: return '+';
+      case NomeParser::MINUS:
+      case NomeParser::SMINUS: return '-';
+      case NomeParser::STAR: return '*';
+      case NomeParser::SLASH: return '/';
+      case NomeParser::DSLASH: return 'i';
+      case NomeParser::PERCENT: return '%';
+      case NomeParser::CARET: return '^';
+      default: return '?';
+    }
+  }
+
+  // AstBuilder::close for a terminal child of a block statement.
+  void close(Frame& f, const ArenaToken* t) {
+    if (t->getTokenIndex() == static_cast<size_t>(-1) || t->getStartIndex() == static_cast<size_t>(-1)) return;
+    const size_t start = t->getStartIndex();
+    if (t->getStopIndex() + 1 == start) {  // zero width: inserted by a repair
+      if (repairs_ != nullptr && repairs_->inserted.contains(static_cast<uint32_t>(start))) {
+        const uint32_t at = offsets_.byte_of(start);
+        f.close_kw = SourceRange{file_, at, at};
+        f.close_repair = ast::CloseRepair::Inserted;
+      }
+    } else if (t->getStopIndex() >= start) {
+      f.close_kw = range_of(t);
+      f.close_text = view(f.close_kw);
+      if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) {
+        f.close_repair = ast::CloseRepair::Replaced;
+      }
+    }
+  }
+
+  void finish_stmt(const Frame& f, antlr4::ParserRuleContext* ctx) {
+    const auto* start = static_cast<const ArenaToken*>(ctx->start);
+    const std::optional<ast::BlockKind> open = start != nullptr ? open_kind(start->getType()) : std::nullopt;
+    if (!open) {
+      items_.resize(f.items_at);
+      return;
+    }
+    ast::Stmt stmt;
+    stmt.kind = *open;
+    stmt.range = range_of(ctx);
+    stmt.open_kw = range_of(start);
+    stmt.keyword = view(stmt.open_kw);
+    stmt.close_kw = f.close_kw;
+    stmt.close_text = f.close_text;
+    stmt.close_repair = f.close_repair;
+    stmt.items.reserve(static_cast<uint32_t>(items_.size() - f.items_at));
+    for (size_t i = f.items_at; i < items_.size(); ++i) stmt.items.push_back(items_[i]);
+    items_.resize(f.items_at);
+    if (stmt.kind == ast::BlockKind::Generator) check_generator_end(stmt);
+    ast_.stmts.push_back(std::move(stmt));
+    ast::Item item;
+    item.kind = ast::ItemKind::Block;
+    item.range = ast_.stmts.back().range;
+    item.block = ast::StmtId{static_cast<int32_t>(ast_.stmts.size() - 1)};
+    deliver_item(item);
+  }
+
+  // A token of `expr`, `listExpr` or `itemExpr`: `sign* operand (op sign* operand)*`.
+  void expr_token(Frame& f, const ArenaToken* t, size_t type) {
+    if (f.want_operand) {
+      if (type == NomeParser::NUMBER || type == NomeParser::DOLLAR_REF) {
+        operands_.push_back(ast::ExprId{leaf(type == NomeParser::NUMBER ? ast::ExprKind::Number : ast::ExprKind::DollarRef, t)});
+        f.want_operand = false;
+      } else {
+        ops_.push_back(PendingOp{PendingOp::Sign, op_char(type), 0, offsets_.byte_of(t->getStartIndex())});
+      }
+      return;
+    }
+    f.want_operand = true;
+    if (type == NomeParser::CARET) {  // binds tightest, right-associative: waits for its operand
+      ops_.push_back(PendingOp{PendingOp::Caret, '^', 0, 0});
+      return;
+    }
+    const int level = binary_level(type);
+    if (!reduce(f, level)) return;
+    ops_.push_back(PendingOp{PendingOp::Binary, op_char(type), level, 0});
+  }
+
+  // Applies the waiting operators that bind at least as tightly as a binary operator of
+  // `level` (0: all of them): signs and `^`, and binary operators of `level` or tighter.
+  bool reduce(const Frame& f, int level) {
+    while (ops_.size() > f.ops_at) {
+      const PendingOp op = ops_.back();
+      if (op.form == PendingOp::Binary && op.level < level) break;
+      ops_.pop_back();
+      if (op.form == PendingOp::Sign) {
+        if (operands_.size() < f.operands_at + 1u) {
+          dead_ = true;
+          return false;
+        }
+        ast::Expr e;
+        e.kind = ast::ExprKind::Unary;
+        e.op = op.op;
+        e.lhs = operands_.back();
+        e.range = SourceRange{file_, op.begin, ast_.exprs[e.lhs.index].range.end};
+        if (e.range.end < e.range.begin) e.range.end = e.range.begin;
+        operands_.back() = add(e);
+      } else {
+        if (operands_.size() < f.operands_at + 2u) {
+          dead_ = true;
+          return false;
+        }
+        ast::Expr e;
+        e.kind = ast::ExprKind::Binary;
+        e.op = op.op;
+        e.rhs = operands_.back();
+        operands_.pop_back();
+        e.lhs = operands_.back();
+        const SourceRange& l = ast_.exprs[e.lhs.index].range;
+        const SourceRange& r = ast_.exprs[e.rhs.index].range;
+        e.range = SourceRange{file_, l.begin, std::max(l.end, r.end)};
+        operands_.back() = add(e);
+      }
+    }
+    return true;
+  }
+
+  // The frame a result goes to: the one below, through `block` wrappers for items.
+  void deliver_item(const ast::Item& item) {
+    size_t at = frames_.size();
+    while (at > 0 && frames_[at - 1].kind == Kind::Block) --at;
+    if (at == 0) return;
+    switch (frames_[at - 1].kind) {
+      case Kind::Top: ast_.top.push_back(item); break;
+      case Kind::Stmt: items_.push_back(item); break;
+      default: break;
+    }
+  }
+
+  void deliver_expr(int32_t id) {
+    if (frames_.empty()) return;
+    Frame& f = frames_.back();
+    switch (f.kind) {
+      case Kind::Expr:
+        operands_.push_back(ast::ExprId{id});
+        f.want_operand = false;
+        break;
+      case Kind::ParenList: operands_.push_back(ast::ExprId{id}); break;
+      case Kind::Atom:
+        if (f.atom == AtomForm::Call) {
+          operands_.push_back(ast::ExprId{id});
+        } else {
+          f.result = id;
+        }
+        break;
+      case Kind::BraceExpr: f.result = id; break;
+      case Kind::Item:
+      case Kind::Stray:
+        f.result = id;
+        f.what = What::Value;
+        break;
+      default: break;
+    }
+  }
+
+  void deliver_list(int32_t id) {
+    if (frames_.empty()) return;
+    Frame& f = frames_.back();
+    if (f.kind == Kind::Item || f.kind == Kind::Stray) {
+      f.result = id;
+      f.what = What::List;
+    }
+  }
+
+  void deliver_name(SourceRange range) {
+    if (frames_.empty()) return;
+    Frame& f = frames_.back();
+    if (f.kind == Kind::Item || f.kind == Kind::Stray) {
+      f.name = range;
+      f.what = What::Word;
+    } else if (f.kind == Kind::Atom) {
+      f.name = range;
+      f.has_name = true;
+    }
+  }
+
+  std::vector<Frame> frames_;
+  std::vector<ast::Item> items_;
+  std::vector<ast::ExprId> operands_;
+  std::vector<PendingOp> ops_;
+  std::vector<SourceRange> commas_;
+  bool dead_ = false;
+};
+
+// Stage 1's strategy: BailErrorStrategy, which first tells the event-driven builder to stop
+// (the rules that unwind still exit), and composes no error report nobody would read.
+class BailOut final : public antlr4::BailErrorStrategy {
+ public:
+  explicit BailOut(StreamBuilder* builder) : builder_(builder) {}
+  void reportError(antlr4::Parser*, const antlr4::RecognitionException&) override {}
+  void recover(antlr4::Parser* recognizer, std::exception_ptr e) override {
+    if (builder_ != nullptr) builder_->abandon();
+    antlr4::BailErrorStrategy::recover(recognizer, e);
+  }
+  antlr4::Token* recoverInline(antlr4::Parser* recognizer) override {
+    if (builder_ != nullptr) builder_->abandon();
+    return antlr4::BailErrorStrategy::recoverInline(recognizer);
+  }
+
+ private:
+  StreamBuilder* builder_;
+};
+
+thread_local bool tls_tree_builder = false;
+
 }  // namespace
+
+namespace parse_detail {
+void use_tree_builder(bool on) { tls_tree_builder = on; }
+}  // namespace parse_detail
 
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
                      PieceInfo* info) {
@@ -826,21 +1366,41 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   // with every statement consumed.)
   parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
       antlr4::atn::PredictionMode::SLL);
-  parser.setErrorHandler(std::make_shared<antlr4::BailErrorStrategy>());
   std::vector<int32_t> unanchored;
   bool parsed = false;
   {
     DiagnosticEngine builder_diags;
-    AstBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
-    builder.repairs_ = &repairs;
-    try {
-      while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
-        builder.build_top(parser.topStmt());
-        parser.getTreeTracker().reset();
+    if (!tls_tree_builder) {
+      // The AST is built from the parser's events; no parse tree is made.
+      StreamBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
+      builder.repairs_ = &repairs;
+      parser.setErrorHandler(std::make_shared<BailOut>(&builder));
+      parser.set_events(&builder);
+      try {
+        while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+          parser.topStmt();
+          parser.reset_contexts();
+        }
+        parsed = !builder.dead();
+      } catch (const antlr4::ParseCancellationException&) {
+        parsed = false;
       }
-      parsed = true;
-    } catch (const antlr4::ParseCancellationException&) {
-      parsed = false;
+      parser.set_events(nullptr);
+    } else {
+      // The reference (tests): each statement's parse tree, converted by AstBuilder.
+      AstBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
+      builder.repairs_ = &repairs;
+      parser.setErrorHandler(std::make_shared<BailOut>(nullptr));
+      try {
+        while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+          builder.build_top(parser.topStmt());
+          parser.getTreeTracker().reset();
+          parser.reset_contexts();
+        }
+        parsed = true;
+      } catch (const antlr4::ParseCancellationException&) {
+        parsed = false;
+      }
     }
     if (parsed) {
       sinks.syntax.append(std::move(builder_diags));

@@ -50,4 +50,12 @@ inline bool continues_block_after_instance_name(std::string_view word) {
          word == "epsilon" || word == "instance" || word == "endsubdivision" || word == "endoffset" || word == "endmerge";
 }
 
+namespace parse_detail {
+/// For the differential tests: while set (on this thread), the parse of an error-free text
+/// builds each statement's ANTLR parse tree and converts it (the tree-based builder, which
+/// a text with syntax errors always uses), instead of building the AST from the parser's
+/// events.
+void use_tree_builder(bool on);
+}  // namespace parse_detail
+
 }  // namespace nomec

@@ -22,6 +22,13 @@ ArenaTokenStream::ArenaTokenStream(const std::vector<Tok>& tokens, std::string_v
   for (const Tok& t : tokens) {
     if (!t.hidden) tokens_.emplace_back(&source_, t, tokens_.size());
   }
+  codes_storage_.reserve(tokens_.size());
+  for (const ArenaToken& t : tokens_) {
+    codes_storage_.push_back(t.getType() == antlr4::Token::EOF ? kEnd : static_cast<uint16_t>(t.getType()));
+  }
+  codes_ = codes_storage_.data();
+  token_bytes_ = reinterpret_cast<char*>(static_cast<antlr4::Token*>(tokens_.data()));
+  stride_ = sizeof(ArenaToken);
 }
 
 antlr4::Token* ArenaTokenStream::LT(ssize_t k) {
@@ -39,9 +46,18 @@ antlr4::Token* ArenaTokenStream::LT(ssize_t k) {
   return t;
 }
 
+size_t ArenaTokenStream::LA(ssize_t i) {
+  antlr4::Token* t = LT(i);
+  return t != nullptr ? t->getType() : antlr4::Token::INVALID_TYPE;
+}
+
 void ArenaTokenStream::consume() {
-  if (LA(1) == antlr4::Token::EOF) throw antlr4::IllegalStateException("cannot consume EOF");
+  if (tokens_[p_].getType() == antlr4::Token::EOF) {
+    (void)LT(1);  // the lookahead watch sees the attempt
+    throw antlr4::IllegalStateException("cannot consume EOF");
+  }
   ++p_;
+  ++consumed_;
 }
 
 std::string ArenaTokenStream::getText(const antlr4::misc::Interval& interval) {

@@ -65,8 +65,9 @@ class ArenaTokenSource final : public antlr4::TokenSource {
 /// kEof token), in one array. Like nomec's old watched stream, it records whether the parser
 /// looked at the end before it had consumed every token (inside a statement, or further
 /// ahead than the next token), or while recovering from an error: a piece of a file parsed
-/// on its own is only equivalent to the same text inside the file when it did not.
-class ArenaTokenStream final : public antlr4::TokenStream {
+/// on its own is only equivalent to the same text inside the file when it did not. The
+/// generated parser reads the current token's type directly (TokenArrayStream).
+class ArenaTokenStream final : public nomec_antlr::TokenArrayStream {
  public:
   ArenaTokenStream(const std::vector<Tok>& tokens, std::string_view lexed);
 
@@ -79,7 +80,7 @@ class ArenaTokenStream final : public antlr4::TokenStream {
   std::string getText(antlr4::Token* start, antlr4::Token* stop) override;
 
   void consume() override;
-  size_t LA(ssize_t i) override { return LT(i) != nullptr ? LT(i)->getType() : antlr4::Token::INVALID_TYPE; }
+  size_t LA(ssize_t i) override;
   ssize_t mark() override { return 0; }
   void release(ssize_t) override {}
   size_t index() override { return p_; }
@@ -100,7 +101,7 @@ class ArenaTokenStream final : public antlr4::TokenStream {
 
   ArenaTokenSource source_;
   std::vector<ArenaToken> tokens_;
-  size_t p_ = 0;
+  std::vector<uint16_t> codes_storage_;  // each token's type for the parser's direct reads (codes_)
 };
 
 }  // namespace nomec::parse_detail
