@@ -56,21 +56,22 @@ enum class ExprKind : uint8_t {
 };
 
 /// A scalar expression, e.g. `{expr $fp_ro * 2}` = Binary('*', Param fp.ro, Const 2).
+// Members ordered to leave no padding (a scene has about one per syntax expression).
 struct Expr {
-  ExprKind kind = ExprKind::Error;
-  char op = 0;  // + - * / % ^, 'i' for `//`
-  Func func = Func::Sin;
-  uint8_t variable = 0;   // Variable: its index among the function's variables
-  uint32_t script = 0;    // External: the script's index in the module's `external` evaluator
   double value = 0;       // Const; External: its value when the scene was checked
-  NodeId param;           // Param node
   std::string_view name;  // Builtin: "time" / "frame"; Variable: its name (static text)
-  ExprId lhs;
-  ExprId rhs;
   // Call: the arguments. External: `Param` expressions of the parameters the script depends
   // on (what the dependency graph and the caches see); not evaluated, the script reads them.
   SmallVec<ExprId, 2> args;
   SourceRange range;
+  NodeId param;           // Param node
+  ExprId lhs;
+  ExprId rhs;
+  uint32_t script = 0;    // External: the script's index in the module's `external` evaluator
+  ExprKind kind = ExprKind::Error;
+  char op = 0;  // + - * / % ^, 'i' for `//`
+  Func func = Func::Sin;
+  uint8_t variable = 0;   // Variable: its index among the function's variables
 };
 
 /// A checked scene.

@@ -61,7 +61,7 @@ Payload payload_for(NodeKind kind) {
   switch (kind) {
 #define NOMEC_IR_NODE(Kind, Payload, Name) \
   case NodeKind::Kind:                     \
-    return Payload{};
+    return Stored<Payload>{};
 #include "ir/node_kinds.def"
   }
   return std::monostate{};
@@ -149,14 +149,13 @@ int32_t FlatMeshData::vertex_index(std::string_view name) const {
 
 NodeId Module::add_node(NodeKind kind, std::string_view keyword, std::string name, SourceRange range,
                         NodeId parent) {
-  Node n;
+  Node& n = nodes.emplace_back();
   n.kind = kind;
   n.keyword = keyword;
   n.name = std::move(name);
   n.range = range;
   n.parent = parent;
-  n.data = payload_for(kind);
-  nodes.push_back(std::move(n));
+  if (kind != NodeKind::Param) n.data = payload_for(kind);  // a Node starts with ParamData
   NodeId id(static_cast<int32_t>(nodes.size() - 1));
   deps.resize(nodes.size());
   return id;

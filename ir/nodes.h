@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -38,10 +39,10 @@ struct Operand {
 /// path through instances to a generated/mesh vertex (`fun3.hc3`, 2016 `cf_fun3_hc3`).
 struct VertexRef {
   std::string text;               // as written
-  NodeId point;                   // resolved point, if it names a point
-  std::vector<NodeId> instances;  // resolved instance chain, outermost first
   std::string vertex;             // vertex name inside the innermost instance target
+  std::vector<NodeId> instances;  // resolved instance chain, outermost first
   SourceRange range;
+  NodeId point;                   // resolved point, if it names a point
 };
 
 /// A flag word, possibly with a value in SLIDE: `closed`, `closed 1`, `begincap 0`. Set when
@@ -373,9 +374,37 @@ enum class NodeKind : uint8_t {
 };
 std::string_view node_kind_name(NodeKind kind);
 
-/// The payloads in node_kinds.def order: `data.index()` is always the node's kind.
+/// A payload kept out of line, with value semantics (copies copy the payload): for the
+/// large ones few nodes have, which would otherwise size every node's variant.
+template <typename T>
+class Boxed {
+ public:
+  Boxed() : p_(std::make_unique<T>()) {}
+  Boxed(const Boxed& o) : p_(std::make_unique<T>(*o.p_)) {}
+  Boxed(Boxed&&) noexcept = default;
+  Boxed& operator=(const Boxed& o) {
+    if (this != &o) p_ = std::make_unique<T>(*o.p_);
+    return *this;
+  }
+  Boxed& operator=(Boxed&&) noexcept = default;
+  ~Boxed() = default;
+  T& get() { return *p_; }
+  const T& get() const { return *p_; }
+
+ private:
+  std::unique_ptr<T> p_;
+};
+/// Which payloads are boxed: SceneData (200 bytes; cameras, lights, windows, renders) and
+/// CrossSectionData (76; sweeps only).
+template <typename T>
+inline constexpr bool kIsBoxed = std::is_same_v<T, SceneData> || std::is_same_v<T, CrossSectionData>;
+template <typename T>
+using Stored = std::conditional_t<kIsBoxed<T>, Boxed<T>, T>;
+
+/// The payloads in node_kinds.def order: `data.index()` is always the node's kind. Read
+/// them with Node::as<T>() and Node::is<T>(), which see through Boxed.
 using Payload = std::variant<
-#define NOMEC_IR_NODE(Kind, Payload, Name) Payload,
+#define NOMEC_IR_NODE(Kind, Payload, Name) Stored<Payload>,
 #include "ir/node_kinds.def"
     std::monostate>;
 
@@ -388,29 +417,40 @@ bool is_block(NodeKind kind);
 
 /// One IR node. Examples: Param `fp.n`; Generator `fun` with GenKind::Funnel; Instance
 /// `cf.fun1` whose payload holds its target and transform chain.
+// Rationale: a large scene has tens of thousands of nodes, so members are ordered to leave
+// no padding and the variant is sized by the common payloads (SceneData is boxed, see
+// Stored): 200 bytes a node instead of 328.
 struct Node {
-  NodeKind kind = NodeKind::Value;
   /// The statement's keyword as written (`facet`, `object`, `bsplinecurve`): for display in
   /// hover, dumps and messages only; code decides by `kind` and the payload.
   std::string_view keyword;
   std::string name;  // qualified, e.g. "cubeMadeByFunnel.fun1"; "" if anonymous
-  SourceRange range;
-  NodeId parent;                // enclosing mesh/group/block
   std::vector<NodeId> children; // mesh points/faces/sharps, group/block instances, sweep parts
   SmallVec<OperandId, 2> operands;  // every operand, in written order
+  SourceRange range;
+  NodeId parent;                // enclosing mesh/group/block
+  NodeKind kind = NodeKind::Value;
   Payload data;
 
   template <typename T>
   const T& as() const {
-    return *std::get_if<T>(&data);
+    if constexpr (kIsBoxed<T>) {
+      return std::get_if<Boxed<T>>(&data)->get();
+    } else {
+      return *std::get_if<T>(&data);
+    }
   }
   template <typename T>
   T& as() {
-    return *std::get_if<T>(&data);
+    if constexpr (kIsBoxed<T>) {
+      return std::get_if<Boxed<T>>(&data)->get();
+    } else {
+      return *std::get_if<T>(&data);
+    }
   }
   template <typename T>
   bool is() const {
-    return std::holds_alternative<T>(data);
+    return std::holds_alternative<Stored<T>>(data);
   }
 };
 

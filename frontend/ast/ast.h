@@ -108,13 +108,13 @@ enum class CloseRepair : uint8_t {
 };
 
 struct Stmt {
-  BlockKind kind;
-  CloseRepair close_repair = CloseRepair::None;
   std::string_view keyword;  // the opening keyword as written, e.g. `funnel` (views the source)
+  std::string_view close_text;
   SourceRange range;
   SourceRange open_kw;
   SourceRange close_kw;  // invalid when the parser had to recover without one
-  std::string_view close_text;
+  BlockKind kind;
+  CloseRepair close_repair = CloseRepair::None;
   SmallVec<Item, 4> items;
 };
 

@@ -159,7 +159,8 @@ class Scanner {
   void word_or_number(unsigned char c);
   bool no_break_spaces();
   void emit(size_t end, uint16_t type, bool hidden = false) {
-    out_.tokens.push_back(Tok{static_cast<uint32_t>(start_), static_cast<uint32_t>(end), line_, type, hidden});
+    out_.last = Tok{static_cast<uint32_t>(start_), static_cast<uint32_t>(end), line_, type, hidden};
+    if (!hidden || type == L::NBSP || !out_.drop_whitespace) out_.tokens.push_back(out_.last);
     if (end == n_) at(end);  // NomeLexer reads past the last token
     for (size_t j = start_; j < end; ++j) line_ += s_[j] == '\n' ? 1 : 0;
     start_ = end;
@@ -528,6 +529,7 @@ void lex_antlr(std::string_view blanked, Lexed& out) {
                              static_cast<uint32_t>(t->getLine()), static_cast<uint16_t>(t->getType()),
                              t->getChannel() != antlr4::Token::DEFAULT_CHANNEL});
   }
+  if (!out.tokens.empty()) out.last = out.tokens.back();
   if (input.eof_touch_start_ != static_cast<size_t>(-1)) {
     out.eof_touch_start = std::min(out.eof_touch_start, static_cast<size_t>(cp_to_byte[input.eof_touch_start_]));
   }
@@ -539,14 +541,16 @@ thread_local bool reference_lexer = false;
 
 void use_reference_lexer(bool on) { reference_lexer = on; }
 
-Lexed lex_text(std::string_view text, FileId file, DiagnosticEngine& comment_diags, std::string& blanked_storage) {
+Lexed lex_text(std::string_view text, FileId file, DiagnosticEngine& comment_diags, std::string& blanked_storage,
+               bool drop_whitespace) {
   Lexed out;
+  out.drop_whitespace = drop_whitespace;
   const std::string_view blanked = blank_block_comments(text, blanked_storage, file, comment_diags, out.comment_open);
   if (!reference_lexer && lex_fast(blanked, out)) return out;
   const bool open = out.comment_open;
   out = Lexed{};
   out.comment_open = open;
-  lex_antlr(blanked, out);
+  lex_antlr(blanked, out);  // keeps every token (rare: see lex_fast)
   return out;
 }
 

@@ -1327,14 +1327,15 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   Offsets offsets;
   offsets.text_size = static_cast<uint32_t>(text.size());
   std::string blanked_storage;
-  Lexed lexed = lex_text(text, file, sinks.comments, blanked_storage);
+  Lexed lexed = lex_text(text, file, sinks.comments, blanked_storage, /*drop_whitespace=*/true);
   const std::string_view lexed_text = blanked_storage.empty() ? text : std::string_view(blanked_storage);
   std::vector<Tok>& raw = lexed.tokens;
   // Only the trailing whitespace may have looked at the end of the text (see Lexed).
+  const Tok& last = lexed.last;
   const bool lexer_contained =
-      raw.empty() ? lexed.eof_touch_start == static_cast<size_t>(-1)
-                  : (raw.back().type == NomeLexer::WS || raw.back().type == NomeLexer::NBSP) &&
-                        lexed.eof_touch_start >= raw.back().begin;
+      last.type == kEof ? lexed.eof_touch_start == static_cast<size_t>(-1)
+                        : (last.type == NomeLexer::WS || last.type == NomeLexer::NBSP) &&
+                              lexed.eof_touch_start >= last.begin;
   // The parser needs a proper end.
   const auto size = static_cast<uint32_t>(text.size());
   raw.push_back(Tok{size, size, 0, kEof, false});
@@ -1353,6 +1354,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   sinks.tokens.append(std::move(token_diags));
 
   ArenaTokenStream stream(tokens, lexed_text);
+  reserve_ast(tokens, result);
   std::vector<Tok>().swap(tokens);
   NomeParser parser(&stream);
   stream.parser_ = &parser;

@@ -19,8 +19,9 @@ ArenaTokenStream::ArenaTokenStream(const std::vector<Tok>& tokens, std::string_v
   size_t count = 0;
   for (const Tok& t : tokens) count += t.hidden ? 0 : 1;
   tokens_.reserve(count);
+  source_.first_token = tokens_.data();  // the array is not moved once filled
   for (const Tok& t : tokens) {
-    if (!t.hidden) tokens_.emplace_back(&source_, t, tokens_.size());
+    if (!t.hidden) tokens_.emplace_back(&source_, t);
   }
   codes_storage_.reserve(tokens_.size());
   for (const ArenaToken& t : tokens_) {

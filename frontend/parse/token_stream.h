@@ -20,15 +20,17 @@ class ArenaTokenSource;
 /// blanked, as the lexer saw it); its offsets are bytes.
 class ArenaToken final : public antlr4::Token {
  public:
-  ArenaToken(const ArenaTokenSource* source, const Tok& t, size_t index)
-      : source_(source), begin_(t.begin), end_(t.end), line_(t.line), index_(static_cast<uint32_t>(index)), type_(t.type) {}
+  // Rationale: 32 bytes (the index is this token's place in the stream's array, which the
+  // source knows): a 1 MiB scene has about 300 000 of them.
+  ArenaToken(const ArenaTokenSource* source, const Tok& t)
+      : source_(source), begin_(t.begin), end_(t.end), line_(t.line), type_(t.type) {}
 
   std::string getText() const override;
   size_t getType() const override { return type_ == kEof ? antlr4::Token::EOF : type_; }
   size_t getLine() const override { return line_; }
   size_t getCharPositionInLine() const override { return 0; }  // not used by nomec
   size_t getChannel() const override { return antlr4::Token::DEFAULT_CHANNEL; }
-  size_t getTokenIndex() const override { return index_; }
+  size_t getTokenIndex() const override;
   size_t getStartIndex() const override { return begin_; }
   // ANTLR's stop index is inclusive: a zero-width token stops before it starts.
   size_t getStopIndex() const override { return static_cast<size_t>(end_) - 1; }
@@ -38,7 +40,7 @@ class ArenaToken final : public antlr4::Token {
 
  private:
   const ArenaTokenSource* source_;
-  uint32_t begin_, end_, line_, index_;
+  uint32_t begin_, end_, line_;
   uint16_t type_;
 };
 
@@ -56,10 +58,14 @@ class ArenaTokenSource final : public antlr4::TokenSource {
     return antlr4::CommonTokenFactory::DEFAULT.get();
   }
   std::string_view lexed() const { return lexed_; }
+  /// The stream's first token: a token's index is its distance from it.
+  const ArenaToken* first_token = nullptr;
 
  private:
   std::string_view lexed_;
 };
+
+inline size_t ArenaToken::getTokenIndex() const { return static_cast<size_t>(this - source_->first_token); }
 
 /// The parser's token stream: every default-channel token of `tokens` (which ends with a
 /// kEof token), in one array. Like nomec's old watched stream, it records whether the parser

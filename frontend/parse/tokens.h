@@ -37,6 +37,12 @@ struct Lexed {
   size_t eof_touch_start = static_cast<size_t>(-1);
   /// An unclosed `(*` comment was reported.
   bool comment_open = false;
+  /// The last token lexed, even when not kept in `tokens` (type kEof when there is none).
+  Tok last{0, 0, 0, kEof, false};
+  /// Set by the caller before lexing: whitespace and line comments are not kept in `tokens`
+  /// (the parser and the token passes skip them; no-break spaces are kept, the token pass
+  /// reports them). A 1 MiB scene has about 200 000 of them.
+  bool drop_whitespace = false;
 };
 
 /// Nested `(* … *)` comments are blanked before lexing (each byte but `\n` becomes a space,
@@ -61,7 +67,8 @@ void lex_antlr(std::string_view blanked, Lexed& out);
 /// Blanks comments and lexes `text` with the fast lexer, falling back to NomeLexer. The
 /// blanked text is put in `blanked_storage` when it differs from `text` (tokens' texts are
 /// read from it).
-Lexed lex_text(std::string_view text, FileId file, DiagnosticEngine& comment_diags, std::string& blanked_storage);
+Lexed lex_text(std::string_view text, FileId file, DiagnosticEngine& comment_diags, std::string& blanked_storage,
+               bool drop_whitespace = false);
 
 /// Lexes `text` as it is (a function text: no comment blanking), fast lexer first.
 Lexed lex_unblanked(std::string_view text);
