@@ -68,8 +68,8 @@ std::vector<dvec3> face_normals(const Mesh& mesh) {
 
 VertexNormals vertex_normals(const Mesh& mesh, const std::vector<dvec3>& fnormals) {
   VertexNormals result;
-  result.normals.assign(mesh.vertex_count(), dvec3(0.0));
-  result.corner_signs.assign(2 * static_cast<size_t>(mesh.edge_count()), 0);
+  resize_large(result.normals, mesh.vertex_count());  // zero vectors
+  resize_large(result.corner_signs, 2 * static_cast<size_t>(mesh.edge_count()));  // zeros
   result.is_mobius_vertex.assign(mesh.vertex_count(), 0);
   for (int32_t e = 0; e < mesh.edge_count(); ++e) {
     if (mesh.is_mobius(EdgeId(e))) {
@@ -342,11 +342,16 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
 
   // Per input use: its corner in the positive copy and that corner's output vertex P(u).
   std::vector<int32_t> face_start(static_cast<size_t>(F) + 1, 0);
-  // Scratch indexed by input use is written before it is read (for every use of a face)
-  // and is not initialised.
+  // Scratch indexed by input use is written before it is read (for every use of a face),
+  // so it is not initialised; large arrays get the huge-page advice.
   const size_t use_count = 2 * static_cast<size_t>(E);
-  const std::unique_ptr<int32_t[]> pcorner = std::make_unique_for_overwrite<int32_t[]>(use_count);
-  const std::unique_ptr<int32_t[]> pvert = std::make_unique_for_overwrite<int32_t[]>(use_count);
+  auto scratch = [&]() {
+    std::unique_ptr<int32_t[]> a = std::make_unique_for_overwrite<int32_t[]>(use_count);
+    advise_huge_pages(a.get(), use_count * sizeof(int32_t));
+    return a;
+  };
+  const std::unique_ptr<int32_t[]> pcorner = scratch();
+  const std::unique_ptr<int32_t[]> pvert = scratch();
   for (int32_t f = 0; f < F; ++f) {
     int32_t c = face_start[f];
     const EdgeUse start = iface_uses[f];
@@ -384,8 +389,8 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
   if (has_parent_maps) reserve_large(result.face_parents, static_cast<size_t>(out_faces));
   // Each corner's use, per input use, for the corner of the same edge that comes later.
-  const std::unique_ptr<int32_t[]> pos_use = std::make_unique_for_overwrite<int32_t[]>(use_count);
-  const std::unique_ptr<int32_t[]> neg_use = std::make_unique_for_overwrite<int32_t[]>(use_count);
+  const std::unique_ptr<int32_t[]> pos_use = scratch();
+  const std::unique_ptr<int32_t[]> neg_use = scratch();
   EdgeId* anchors = overtex_edges.data();
 
   // The first use of a new edge from a to b (in face `face`), or the second use of the
