@@ -145,10 +145,12 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
 
 namespace {
 
-// Binary STL in pieces: `buffers` (1 or 2) buffers of about a megabyte filled in turn, each
-// handed to `sink` when full. With two, a piece stays untouched until the sink has been
-// called with the next one and has returned (what `OverlappedSink` relies on).
-bool write_stl_pieces(std::span<const OutputMesh> meshes, int buffers, const std::function<bool(std::string_view)>& sink) {
+// Binary STL in pieces: `buffers` (1 or 2) of the caller's buffers `bufs`, of about a
+// megabyte, filled in turn, each handed to `sink` when full. With two, a piece stays
+// untouched until the sink has been called with the next one and has returned (what
+// `OverlappedSink` relies on); the caller keeps `bufs` until the sink is done with the last.
+bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bufs)[2], int buffers,
+                      const std::function<bool(std::string_view)>& sink) {
   // Pass 1: the triangle count for the header, keeping the few ear-clipped faces' triangles
   // (the rest are fans from their first vertex, made again in pass 2).
   std::vector<std::vector<uint8_t>> clipped(meshes.size());
@@ -175,7 +177,6 @@ bool write_stl_pieces(std::span<const OutputMesh> meshes, int buffers, const std
   // Pass 2: 50-byte records (12 little-endian floats and a zero attribute word) into a
   // buffer of about a megabyte that goes to `sink` whenever it is full.
   constexpr size_t kChunk = 50 * 20000;
-  std::vector<char> bufs[2];
   bufs[0].resize(kChunk + 84);
   std::vector<char>* buf = &bufs[0];
   const std::string_view header = "nomec binary STL";
@@ -293,13 +294,16 @@ class OverlappedSink {
 }  // namespace
 
 bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
-  return write_stl_pieces(meshes, 1, sink);
+  std::vector<char> bufs[2];
+  return write_stl_pieces(meshes, bufs, 1, sink);
 }
 
 bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
                                  const std::function<bool(std::string_view)>& sink) {
+  std::vector<char> bufs[2];  // outlives the second thread's writes (declared first)
   OverlappedSink overlapped(sink);
-  const bool is_made = write_stl_pieces(meshes, 2, [&](std::string_view piece) { return overlapped.submit(piece); });
+  const bool is_made =
+      write_stl_pieces(meshes, bufs, 2, [&](std::string_view piece) { return overlapped.submit(piece); });
   return overlapped.finish() && is_made;
 }
 
