@@ -80,8 +80,7 @@ bool write_stl_streamed(const std::string& target, const std::vector<be::OutputM
     return true;
   }
   AtomicFileWriter file(target);
-  // The file is written on a second thread while the next piece is formatted.
-  be::write_stl_binary_overlapped(meshes, [&](std::string_view piece) { return file.append(piece); });
+  be::write_stl_binary(meshes, [&](std::string_view piece) { return file.append(piece); });
   std::string err = file.commit();
   if (err.empty()) return true;
   std::cerr << fmt::format("nomec: {}\n", err);
