@@ -12,6 +12,9 @@
 #include <glm/vec2.hpp>
 #include <algorithm>
 #include <bit>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <iterator>
 #include <functional>
 #include <map>
@@ -140,7 +143,14 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
   return out;
 }
 
-bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+namespace {
+
+// Binary STL in pieces: `buffers` (1 or 2) of the caller's buffers `bufs`, of about a
+// megabyte, filled in turn, each handed to `sink` when full. With two, a piece stays
+// untouched until the sink has been called with the next one and has returned (what
+// `OverlappedSink` relies on); the caller keeps `bufs` until the sink is done with the last.
+bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bufs)[2], int buffers,
+                      const std::function<bool(std::string_view)>& sink) {
   // Pass 1: the triangle count for the header, keeping the few ear-clipped faces' triangles
   // (the rest are fans from their first vertex, made again in pass 2).
   std::vector<std::vector<uint8_t>> clipped(meshes.size());
@@ -167,15 +177,22 @@ bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bo
   // Pass 2: 50-byte records (12 little-endian floats and a zero attribute word) into a
   // buffer of about a megabyte that goes to `sink` whenever it is full.
   constexpr size_t kChunk = 50 * 20000;
-  std::vector<char> buf(kChunk + 84);
+  bufs[0].resize(kChunk + 84);
+  std::vector<char>* buf = &bufs[0];
   const std::string_view header = "nomec binary STL";
-  std::copy(header.begin(), header.end(), buf.begin());
-  put_u32(buf.data() + 80, count);
+  std::copy(header.begin(), header.end(), buf->begin());
+  put_u32(buf->data() + 80, count);
   size_t used = 84;
+  int current = 0;
   auto emit = [&](const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
-    if (used + 50 > buf.size()) {
-      if (!sink(std::string_view(buf.data(), used))) return false;
+    if (used + 50 > buf->size()) {
+      if (!sink(std::string_view(buf->data(), used))) return false;
       used = 0;
+      if (buffers > 1) {
+        current ^= 1;
+        buf = &bufs[current];
+        if (buf->empty()) buf->resize(kChunk + 84);
+      }
     }
     const glm::dvec3 n = tri_normal(s, a, b, c);
     const glm::dvec3& pa = s.positions[a];
@@ -185,8 +202,9 @@ bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bo
                          static_cast<float>(pa.x), static_cast<float>(pa.y), static_cast<float>(pa.z),
                          static_cast<float>(pb.x), static_cast<float>(pb.y), static_cast<float>(pb.z),
                          static_cast<float>(pc.x), static_cast<float>(pc.y), static_cast<float>(pc.z)};
-    put_f32s(buf.data() + used, f);
-    buf[used + 48] = buf[used + 49] = 0;
+    char* at = buf->data() + used;
+    put_f32s(at, f);
+    at[48] = at[49] = 0;
     used += 50;
     return true;
   };
@@ -211,7 +229,82 @@ bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bo
       }
     }
   }
-  return sink(std::string_view(buf.data(), used));
+  return sink(std::string_view(buf->data(), used));
+}
+
+// Calls a sink on a second thread, one piece at a time and in order, while the caller
+// makes the next piece: `submit` waits until the previous piece has been written, so the
+// caller may reuse a piece's memory once the submission after it has returned.
+class OverlappedSink {
+ public:
+  explicit OverlappedSink(const std::function<bool(std::string_view)>& sink)
+      : sink_(sink), worker_([this] { run(); }) {}
+  ~OverlappedSink() { (void)finish(); }
+  OverlappedSink(const OverlappedSink&) = delete;
+  OverlappedSink& operator=(const OverlappedSink&) = delete;
+
+  // False once a piece has failed (this one is then not written).
+  bool submit(std::string_view piece) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return !has_piece_; });
+    if (!is_ok_) return false;
+    piece_ = piece;
+    has_piece_ = true;
+    changed_.notify_all();
+    return true;
+  }
+  // Waits for the last piece; true if every piece was written.
+  bool finish() {
+    {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [&] { return !has_piece_; });
+      is_stopping_ = true;
+      changed_.notify_all();
+    }
+    if (worker_.joinable()) worker_.join();
+    return is_ok_;
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [&] { return has_piece_ || is_stopping_; });
+      if (!has_piece_) return;
+      const std::string_view piece = piece_;
+      lock.unlock();
+      const bool ok = sink_(piece);
+      lock.lock();
+      is_ok_ = is_ok_ && ok;
+      has_piece_ = false;
+      changed_.notify_all();
+    }
+  }
+
+  const std::function<bool(std::string_view)>& sink_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::string_view piece_;
+  bool has_piece_ = false;
+  bool is_stopping_ = false;
+  bool is_ok_ = true;
+  std::thread worker_;  // last: starts once the members above exist
+};
+
+}  // namespace
+
+bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+  std::vector<char> bufs[2];
+  return write_stl_pieces(meshes, bufs, 1, sink);
+}
+
+bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
+                                 const std::function<bool(std::string_view)>& sink) {
+  std::vector<char> bufs[2];  // outlives the second thread's writes (declared first)
+  OverlappedSink overlapped(sink);
+  const bool is_made =
+      write_stl_pieces(meshes, bufs, 2, [&](std::string_view piece) { return overlapped.submit(piece); });
+  return overlapped.finish() && is_made;
 }
 
 std::string to_stl_binary(std::span<const OutputMesh> meshes) {

@@ -25,6 +25,12 @@ std::string to_stl_binary(std::span<const OutputMesh> meshes);
 /// megabyte (so a large model is never held in memory whole, e.g. `nomec --emit stl`
 /// writes each piece to the file as it is made). Stops and returns false when `sink` does.
 bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink);
+/// `write_stl_binary` with the sink called on a second thread (one piece at a time, in
+/// order) while the next piece is formatted, so formatting and writing overlap on two
+/// cores; the same pieces and bytes. Returns false when `sink` failed for some piece (later
+/// pieces are then not made).
+bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
+                                 const std::function<bool(std::string_view)>& sink);
 /// ASCII STL, one `solid` per mesh.
 std::string to_stl_ascii(std::span<const OutputMesh> meshes);
 /// OBJ (`o` per mesh, polygons kept as written). When `mtl_file` is not empty, a

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <memory>
+#include <optional>
+#include <thread>
 
 #include "kernel/large_arrays.h"
 
@@ -25,25 +28,48 @@ dvec3 newell_normal(const std::vector<dvec3>& points) {
   return len > 0.0 ? n / len : dvec3(0.0);
 }
 
-std::vector<dvec3> face_normals(const Mesh& mesh) {
-  std::vector<dvec3> normals(mesh.face_count());
-  for (int32_t f = 0; f < mesh.face_count(); ++f) {
-    // Newell: sum over edges (a, b) of (a - b) x (a + b) / 2 equals the sum of cross
-    // products of consecutive edge vectors up to a factor; both give the area vector.
-    dvec3 n(0.0);
-    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
-      n += newell_term(mesh.position(mesh.use_tail(u)), mesh.position(mesh.use_head(u)));
-    });
-    const double len = glm::length(n);
-    normals[f] = len > 0.0 ? n / len : dvec3(0.0);
+namespace {
+
+// Runs `fn(begin, end)` over [0, n): for large n the upper half on a second thread, which
+// on two cores halves the time of an independent per-element pass (the elements are
+// computed exactly as in one pass, so the results are the same).
+template <typename Fn>
+void for_halves(int32_t n, Fn&& fn) {
+  constexpr int32_t kThreadedFrom = 1 << 15;
+  if (n < kThreadedFrom || std::thread::hardware_concurrency() < 2) {
+    fn(0, n);
+    return;
   }
+  const int32_t mid = n / 2;
+  std::thread upper([&] { fn(mid, n); });
+  fn(0, mid);
+  upper.join();
+}
+
+}  // namespace
+
+std::vector<dvec3> face_normals(const Mesh& mesh) {
+  std::vector<dvec3> normals;
+  resize_large(normals, mesh.face_count());
+  for_halves(mesh.face_count(), [&](int32_t begin, int32_t end) {
+    for (int32_t f = begin; f < end; ++f) {
+      // Newell: sum over edges (a, b) of (a - b) x (a + b) / 2 equals the sum of cross
+      // products of consecutive edge vectors up to a factor; both give the area vector.
+      dvec3 n(0.0);
+      mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+        n += newell_term(mesh.position(mesh.use_tail(u)), mesh.position(mesh.use_head(u)));
+      });
+      const double len = glm::length(n);
+      normals[f] = len > 0.0 ? n / len : dvec3(0.0);
+    }
+  });
   return normals;
 }
 
 VertexNormals vertex_normals(const Mesh& mesh, const std::vector<dvec3>& fnormals) {
   VertexNormals result;
-  result.normals.assign(mesh.vertex_count(), dvec3(0.0));
-  result.corner_signs.assign(2 * static_cast<size_t>(mesh.edge_count()), 0);
+  resize_large(result.normals, mesh.vertex_count());  // zero vectors
+  resize_large(result.corner_signs, 2 * static_cast<size_t>(mesh.edge_count()));  // zeros
   result.is_mobius_vertex.assign(mesh.vertex_count(), 0);
   for (int32_t e = 0; e < mesh.edge_count(); ++e) {
     if (mesh.is_mobius(EdgeId(e))) {
@@ -51,23 +77,26 @@ VertexNormals vertex_normals(const Mesh& mesh, const std::vector<dvec3>& fnormal
       result.is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
     }
   }
-  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
-    dvec3 sum(0.0);
-    dvec3 first(0.0);
-    bool is_first = true;
-    mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
-      const int8_t sign = c.is_flipped ? -1 : 1;
-      result.corner_signs[c.use.index] = sign;
-      sum += double(sign) * fnormals[c.face.index];
-      if (is_first) {
-        first = fnormals[c.face.index];
-        is_first = false;
-      }
-    });
-    const double len = glm::length(sum);
-    // A vanishing average (e.g. a needle vertex) falls back to the first face normal.
-    result.normals[v] = len > 1e-12 ? sum / len : first;
-  }
+  // Each vertex writes its own normal and the signs of the uses starting at it.
+  for_halves(mesh.vertex_count(), [&](int32_t begin, int32_t end) {
+    for (int32_t v = begin; v < end; ++v) {
+      dvec3 sum(0.0);
+      dvec3 first(0.0);
+      bool is_first = true;
+      mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
+        const int8_t sign = c.is_flipped ? -1 : 1;
+        result.corner_signs[c.use.index] = sign;
+        sum += double(sign) * fnormals[c.face.index];
+        if (is_first) {
+          first = fnormals[c.face.index];
+          is_first = false;
+        }
+      });
+      const double len = glm::length(sum);
+      // A vanishing average (e.g. a needle vertex) falls back to the first face normal.
+      result.normals[v] = len > 1e-12 ? sum / len : first;
+    }
+  });
   return result;
 }
 
@@ -158,12 +187,12 @@ std::vector<int32_t> offset_twins(const Mesh& mesh, const PolygonSoup& soup, con
   return twin;
 }
 
-Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
-                                 const std::vector<FaceId>* face_origin) {
+// The reference construction: the slab as a polygon soup, rebuilt by the builder (with the
+// edges paired from the input's when `offset_twins` finds them).
+Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
+                                         const std::vector<dvec3>& fnormals, const VertexNormals& vn) {
   const int32_t V = mesh.vertex_count();
   const int32_t F = mesh.face_count();
-  const std::vector<dvec3> fnormals = face_normals(mesh);
-  const VertexNormals vn = vertex_normals(mesh, fnormals);
 
   OffsetResult result;
   PolygonSoup soup;
@@ -258,17 +287,305 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance,
   return result;
 }
 
-}  // namespace
 
-Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options) {
-  if (!(options.distance > 0.0) || !std::isfinite(options.distance)) {
+// The slab's winged-edge arrays written directly, in the order the builder would number
+// them for the soup `offset_through_soup` makes (positive copies, negative copies, ribbons;
+// an edge is numbered at the first corner, in soup order, that uses it), without the soup,
+// its corner pairing or the builder's per-corner arrays. Each corner's edge use is kept per
+// input use (`pos_use`, `neg_use`) for the corner that meets it later. Returns nothing
+// where the soup path's pairing would fail (a corner whose twin joins other vertices, a
+// ribbon side met other than twice), so that path runs and reports what is wrong.
+std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
+                                          const std::vector<dvec3>& fnormals, const VertexNormals& vn,
+                                          bool has_parent_maps) {
+  const int32_t V = mesh.vertex_count();
+  const int32_t F = mesh.face_count();
+  const int32_t E = mesh.edge_count();
+  const VertexId* iev = MeshAccess::edge_vertices(mesh).data();
+  const FaceId* iuf = MeshAccess::use_faces(mesh).data();
+  const EdgeUse* inext = MeshAccess::next(mesh).data();
+  const uint8_t* iflags = MeshAccess::edge_flags(mesh).data();
+  const EdgeUse* iface_uses = MeshAccess::face_uses(mesh).data();
+  const uint8_t mobius = MeshAccess::mobius_flag();
+  const int8_t* signs = vn.corner_signs.data();
+  auto tail_of = [&](int32_t u) {
+    const int32_t e = u >> 1;
+    const bool is_forward = (u & 1) == 0 || (iflags[e] & mobius);
+    return iev[2 * e + (is_forward ? 0 : 1)].index;
+  };
+  int64_t border_edges = 0;
+  for (int32_t e = 0; e < E; ++e) border_edges += iuf[2 * e + 1].is_valid() ? 0 : 1;
+  const int64_t in_corners = 2 * int64_t{E} - border_edges;
+  const int64_t out_faces = 2 * int64_t{F} + border_edges;
+  const int64_t out_edges = in_corners + 2 * border_edges;  // 2C + 4B corners, two per edge
+  if (2 * out_edges > int64_t{INT32_MAX} - 2) return std::nullopt;
+
+  OffsetResult result;
+  Mesh& m = result.mesh;
+  // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
+  std::vector<int32_t> compact(V, -1);
+  auto& positions = MeshAccess::positions(m);
+  reserve_large(positions, 2 * static_cast<size_t>(V));
+  if (has_parent_maps) reserve_large(result.vertex_parents, 2 * static_cast<size_t>(V));
+  for (int32_t v = 0; v < V; ++v) {
+    if (!mesh.vertex_edge(VertexId(v)).is_valid()) continue;
+    compact[v] = static_cast<int32_t>(positions.size() / 2);
+    const dvec3& p = mesh.position(VertexId(v));
+    positions.push_back(p + distance * vn.normals[v]);
+    positions.push_back(p - distance * vn.normals[v]);
+    if (has_parent_maps) {
+      result.vertex_parents.push_back(VertexId(v));
+      result.vertex_parents.push_back(VertexId(v));
+    }
+  }
+  const int32_t out_vertices = static_cast<int32_t>(positions.size());
+
+  // Per input use: its corner in the positive copy and that corner's output vertex P(u).
+  std::vector<int32_t> face_start(static_cast<size_t>(F) + 1, 0);
+  // Scratch indexed by input use is written before it is read (for every use of a face),
+  // so it is not initialised; large arrays get the huge-page advice.
+  const size_t use_count = 2 * static_cast<size_t>(E);
+  auto scratch = [&]() {
+    std::unique_ptr<int32_t[]> a = std::make_unique_for_overwrite<int32_t[]>(use_count);
+    advise_huge_pages(a.get(), use_count * sizeof(int32_t));
+    return a;
+  };
+  const std::unique_ptr<int32_t[]> pcorner = scratch();
+  const std::unique_ptr<int32_t[]> pvert = scratch();
+  for (int32_t f = 0; f < F; ++f) {
+    int32_t c = face_start[f];
+    const EdgeUse start = iface_uses[f];
+    EdgeUse u = start;
+    do {
+      const int32_t v = tail_of(u.index);
+      pcorner[u.index] = c++;
+      pvert[u.index] = 2 * compact[v] + (signs[u.index] > 0 ? 0 : 1);
+      if (vn.is_mobius_vertex[v] && double(signs[u.index]) * glm::dot(vn.normals[v], fnormals[f]) <= 0.0) {
+        ++result.inconsistent_normal_count;
+      }
+      u = inext[u.index];
+    } while (u != start);
+    face_start[f + 1] = c;
+  }
+
+  auto& oev = MeshAccess::edge_vertices(m);
+  auto& ouf = MeshAccess::use_faces(m);
+  auto& oflags = MeshAccess::edge_flags(m);
+  auto& onext = MeshAccess::next(m);
+  auto& oprev = MeshAccess::prev(m);
+  auto& oface_uses = MeshAccess::face_uses(m);
+  auto& overtex_edges = MeshAccess::vertex_edges(m);
+  auto& osources = MeshAccess::face_sources(m);
+  auto& ocolors = MeshAccess::face_colors(m);
+  reserve_large(oev, 2 * static_cast<size_t>(out_edges));
+  reserve_large(ouf, 2 * static_cast<size_t>(out_edges));
+  reserve_large(oflags, static_cast<size_t>(out_edges));
+  resize_large(onext, 2 * static_cast<size_t>(out_edges));
+  resize_large(oprev, 2 * static_cast<size_t>(out_edges));
+  reserve_large(oface_uses, static_cast<size_t>(out_faces));
+  resize_large(overtex_edges, static_cast<size_t>(out_vertices));  // all None
+  reserve_large(osources, static_cast<size_t>(out_faces));
+  const bool has_colors = mesh.has_face_colors();
+  if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
+  if (has_parent_maps) reserve_large(result.face_parents, static_cast<size_t>(out_faces));
+  // Each corner's use, per input use, for the corner of the same edge that comes later.
+  const std::unique_ptr<int32_t[]> pos_use = scratch();
+  const std::unique_ptr<int32_t[]> neg_use = scratch();
+  EdgeId* anchors = overtex_edges.data();
+
+  // The first use of a new edge from a to b (in face `face`), or the second use of the
+  // edge whose first use is `first` by the corner starting at `a`.
+  auto new_edge = [&](int32_t a, int32_t b, int32_t face) {
+    const int32_t e = static_cast<int32_t>(oflags.size());
+    oev.push_back(VertexId(a));
+    oev.push_back(VertexId(b));
+    ouf.push_back(FaceId(face));
+    ouf.push_back(FaceId::None());
+    oflags.push_back(0);
+    if (!anchors[a].is_valid()) anchors[a] = EdgeId(e);
+    if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
+    return EdgeUse(EdgeId(e), 0);
+  };
+  auto second_use = [&](EdgeUse first, int32_t a, int32_t face) {
+    const int32_t e = first.index >> 1;
+    ouf[2 * e + 1] = FaceId(face);
+    if (oev[2 * e].index == a) oflags[e] |= mobius;  // both corners run the same way
+    return EdgeUse(EdgeId(e), 1);
+  };
+  auto link = [&](const EdgeUse* loop, int32_t n) {
+    oface_uses.push_back(loop[0]);
+    for (int32_t i = 0; i < n; ++i) {
+      const EdgeUse x = loop[i], y = loop[i + 1 == n ? 0 : i + 1];
+      onext[x.index] = y;
+      oprev[y.index] = x;
+    }
+  };
+  auto origin = [&](int32_t f) { return face_origin ? (*face_origin)[f] : FaceId(f); };
+  auto same = [](int32_t a0, int32_t a1, int32_t b0, int32_t b1) {
+    return (a0 == b0 && a1 == b1) || (a0 == b1 && a1 == b0);
+  };
+  // How the copies of use u pair with those of its twin t: 1 positive with positive (the
+  // twin's positive corner joins the same two vertices), 2 positive with negative, 0 neither.
+  auto pairing = [&](int32_t u, int32_t a0, int32_t a1) {
+    const int32_t t = u ^ 1;
+    const int32_t b0 = pvert[t], b1 = pvert[inext[t].index];
+    if (same(a0, a1, b0, b1)) return 1;
+    return same(a0, a1, b0 ^ 1, b1 ^ 1) ? 2 : 0;
+  };
+  std::vector<EdgeUse> loop;
+  std::vector<EdgeUse> uses;
+
+  // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1).
+  for (int32_t f = 0; f < F; ++f) {
+    loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
+    const int32_t n = static_cast<int32_t>(loop.size());
+    uses.resize(n);
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t u = loop[i].index;
+      const int32_t c = face_start[f] + i;
+      const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+      EdgeUse x;
+      if (!iuf[u ^ 1].is_valid()) {
+        x = new_edge(a0, a1, f);  // the ribbon comes later
+      } else {
+        const int kind = pairing(u, a0, a1);
+        if (kind == 0) return std::nullopt;
+        x = kind == 1 && pcorner[u ^ 1] < c ? second_use(EdgeUse(pos_use[u ^ 1]), a0, f) : new_edge(a0, a1, f);
+      }
+      pos_use[u] = x.index;
+      uses[i] = x;
+    }
+    link(uses.data(), n);
+  }
+  // Negative copies, loops reversed: corner j of face F + f runs from N(u_i+1) to N(u_i)
+  // for i = n - 2 - j (mod n), with N = P ^ 1.
+  for (int32_t f = 0; f < F; ++f) {
+    loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
+    const int32_t n = static_cast<int32_t>(loop.size());
+    uses.resize(n);
+    const int32_t face = F + f;
+    for (int32_t j = 0; j < n; ++j) {
+      const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
+      const int32_t w = loop[i].index;
+      const int32_t c = face_start[f] + j;  // among the negative corners
+      const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+      const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
+      EdgeUse x;
+      if (!iuf[w ^ 1].is_valid()) {
+        x = new_edge(a0, a1, face);
+      } else {
+        const int32_t t = w ^ 1;
+        const int kind = pairing(w, p0, p1);
+        if (kind == 0) return std::nullopt;
+        if (kind == 2) {
+          x = second_use(EdgeUse(pos_use[t]), a0, face);  // every positive corner comes first
+        } else {
+          const int32_t g = iuf[t].index;
+          const int32_t og = face_start[g], ng = face_start[g + 1] - og;
+          const int32_t it = pcorner[t] - og;
+          const int32_t ct = og + (it <= ng - 2 ? ng - 2 - it : ng - 1);
+          x = ct < c ? second_use(EdgeUse(neg_use[t]), a0, face) : new_edge(a0, a1, face);
+        }
+      }
+      neg_use[w] = x.index;
+      uses[j] = x;
+    }
+    link(uses.data(), n);
+  }
+  // Ribbons: border edge a->b gives [P(b), P(a), N(a), N(b)]; its sides (corners 1 and 3)
+  // pair with the neighbouring ribbons' sides at the same vertex (`side_use`: None, the
+  // first side's use, or `kPaired`).
+  constexpr int32_t kPaired = -2;
+  std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
+  bool sides_ok = true;
+  auto side = [&](int32_t a, int32_t b, int32_t face) {
+    EdgeUse& s = side_use[a >> 1];
+    if (s.index == kPaired) {
+      sides_ok = false;
+      return EdgeUse::None();
+    }
+    if (!s.is_valid()) return s = new_edge(a, b, face);
+    const EdgeUse x = second_use(s, a, face);
+    s = EdgeUse(kPaired);
+    return x;
+  };
+  int32_t face = 2 * F;
+  for (int32_t e = 0; e < E; ++e) {
+    if (iuf[2 * e + 1].is_valid()) continue;
+    const int32_t at_a = 2 * e, at_b = inext[at_a].index;
+    const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
+    EdgeUse ribbon[4];
+    ribbon[0] = second_use(EdgeUse(pos_use[at_a]), x0, face);
+    ribbon[1] = side(x1, x2, face);
+    ribbon[2] = second_use(EdgeUse(neg_use[at_a]), x2, face);
+    ribbon[3] = side(x3, x0, face);
+    if (!sides_ok) return std::nullopt;
+    link(ribbon, 4);
+    ++face;
+  }
+  for (const EdgeUse s : side_use) {
+    if (s.is_valid()) return std::nullopt;  // a side without a partner
+  }
+  // Sources, colours and parents follow the input faces.
+  for (int32_t copy = 0; copy < 2; ++copy) {
+    for (int32_t f = 0; f < F; ++f) {
+      osources.push_back(mesh.face_source(FaceId(f)));
+      if (has_colors) ocolors.push_back(mesh.face_color(FaceId(f)));
+      if (has_parent_maps) {
+        result.face_parents.push_back(
+            {copy == 0 ? OffsetParent::Kind::PositiveFace : OffsetParent::Kind::NegativeFace, origin(f), {}});
+      }
+    }
+  }
+  for (int32_t e = 0; e < E; ++e) {
+    if (iuf[2 * e + 1].is_valid()) continue;
+    const FaceId f = iuf[2 * e];
+    osources.push_back(mesh.face_source(f));
+    if (has_colors) ocolors.push_back(mesh.face_color(f));
+    if (has_parent_maps) result.face_parents.push_back({OffsetParent::Kind::Ribbon, origin(f.index), EdgeId(e)});
+  }
+  return result;
+}
+
+Result<OffsetResult> offset_impl(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
+                                 bool has_parent_maps) {
+  const std::vector<dvec3> fnormals = face_normals(mesh);
+  const VertexNormals vn = vertex_normals(mesh, fnormals);
+  if (auto direct = offset_direct(mesh, distance, face_origin, fnormals, vn, has_parent_maps)) {
+    return std::move(*direct);
+  }
+  auto r = offset_through_soup(mesh, distance, face_origin, fnormals, vn);
+  if (r.has_value() && !has_parent_maps) {
+    r->face_parents.clear();
+    r->vertex_parents.clear();
+  }
+  return r;
+}
+
+std::optional<KernelError> check_distance(double distance) {
+  if (!(distance > 0.0) || !std::isfinite(distance)) {
     return KernelError{KernelError::Kind::InvalidArgument,
-                       fmt::format("offset distance {} is not a positive number", options.distance),
+                       fmt::format("offset distance {} is not a positive number", distance),
                        {},
                        {},
                        {}};
   }
-  return offset_impl(mesh, options.distance, nullptr);
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options) {
+  if (auto error = check_distance(options.distance)) return *error;
+  return offset_impl(mesh, options.distance, nullptr, options.has_parent_maps);
+}
+
+Result<OffsetResult> offset_through_builder(const Mesh& mesh, const OffsetOptions& options) {
+  if (auto error = check_distance(options.distance)) return *error;
+  const std::vector<dvec3> fnormals = face_normals(mesh);
+  return offset_through_soup(mesh, options.distance, nullptr, fnormals, vertex_normals(mesh, fnormals));
 }
 
 Result<OffsetResult> lattice(const Mesh& mesh, const LatticeOptions& options) {
@@ -319,7 +636,7 @@ Result<OffsetResult> lattice(const Mesh& mesh, const LatticeOptions& options) {
     error.message = "lattice frame is not a manifold: " + error.message;
     return error;
   }
-  return offset_impl(*frame_mesh, options.distance, &frame_origin);
+  return offset_impl(*frame_mesh, options.distance, &frame_origin, true);
 }
 
 }  // namespace nomec::kernel

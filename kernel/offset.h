@@ -53,6 +53,9 @@ struct OffsetOptions {
   /// Distance of each offset surface from the input (NOME's `height`); the slab is twice
   /// as thick.
   double distance = 0.1;
+  /// Fill `OffsetResult::face_parents` and `vertex_parents` (16 bytes per output face and
+  /// vertex that a caller keeping only the mesh, like `nomec --offset`, does not need).
+  bool has_parent_maps = true;
 };
 
 /// What an offset face was made from.
@@ -84,6 +87,12 @@ struct OffsetResult {
 /// and colours. Linear in the number of edges. Fails with `InvalidArgument` if
 /// `distance` is not positive and finite.
 Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options);
+
+/// `offset` by the reference construction, kept for differential tests: the slab as a
+/// polygon soup (positive copies, reversed negative copies, ribbons) rebuilt by the mesh
+/// builder. `offset` writes the same mesh's arrays directly and falls back to this when the
+/// input's corners do not pair up. Ignores `has_parent_maps` (the maps are filled).
+Result<OffsetResult> offset_through_builder(const Mesh& mesh, const OffsetOptions& options);
 
 /// Options for `lattice`, e.g. from NOME's `offset o offset_type NOME_OFFSET_GRID
 /// height 0.05 width 0.1 … endoffset`.

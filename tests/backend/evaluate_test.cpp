@@ -3,6 +3,9 @@
 // and geometry errors becoming diagnostics that name the instance path.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include <glm/geometric.hpp>
 
 #include <cstring>
@@ -264,6 +267,27 @@ TEST(Write, StreamedBinaryStlHoldsEveryTriangleInOrder) {
   int calls = 0;
   EXPECT_FALSE(write_stl_binary(std::span<const OutputMesh>(&m, 1), [&](std::string_view) { return ++calls < 1; }));
   EXPECT_EQ(calls, 1);
+  // The overlapped writer (sink on a second thread, two buffers in turn) hands over the
+  // same pieces in the same order, each intact while the next one is being made.
+  std::vector<std::string> serial_pieces;
+  ASSERT_TRUE(write_stl_binary(std::span<const OutputMesh>(&m, 1), [&](std::string_view piece) {
+    serial_pieces.emplace_back(piece);
+    return true;
+  }));
+  std::vector<std::string> overlapped_pieces;
+  const std::thread::id caller = std::this_thread::get_id();
+  ASSERT_TRUE(write_stl_binary_overlapped(std::span<const OutputMesh>(&m, 1), [&](std::string_view piece) {
+    EXPECT_NE(std::this_thread::get_id(), caller);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the next piece is being made meanwhile
+    overlapped_pieces.emplace_back(piece);
+    return true;
+  }));
+  EXPECT_EQ(overlapped_pieces, serial_pieces);
+  // A failing sink stops it: the piece after the failure is not written.
+  int overlapped_calls = 0;
+  EXPECT_FALSE(write_stl_binary_overlapped(std::span<const OutputMesh>(&m, 1),
+                                           [&](std::string_view) { return ++overlapped_calls < 2; }));
+  EXPECT_EQ(overlapped_calls, 2);
 }
 
 }  // namespace

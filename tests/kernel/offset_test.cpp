@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <glm/geometric.hpp>
 
 #include "kernel/subdivide.h"
@@ -188,6 +189,104 @@ TEST(Offset, PairedBuildEqualsTheBuilder) {
       }
     }
   }
+}
+
+// `offset` writes the slab's arrays directly; the reference construction rebuilds the
+// same slab from its polygon soup with the builder. Both must give the same mesh (every
+// array), parents and normal count, on borders, Möbius edges (positive corners pairing
+// with negative ones), mixed polygons, colours, isolated vertices, and faces listed in a
+// shuffled order from shuffled starting corners (so the twin of a corner comes before or
+// after it in every combination).
+TEST(Offset, DirectSlabEqualsTheReferenceConstruction) {
+  std::vector<PolygonSoup> inputs = {testing::cube_soup(), testing::tetra_soup(), testing::mixed_disk_soup(),
+                                     grid_soup(4, 3, Glue::None), grid_soup(6, 3, Glue::Cylinder),
+                                     grid_soup(9, 4, Glue::Mobius), grid_soup(6, 5, Glue::Torus),
+                                     grid_soup(8, 6, Glue::Klein, 0.01), grid_soup(7, 5, Glue::Klein)};
+  uint32_t seed = 12345;
+  auto random = [&](uint32_t n) {
+    seed = seed * 1664525u + 1013904223u;
+    return (seed >> 8) % n;
+  };
+  const size_t plain = inputs.size();
+  for (size_t k = 0; k < plain; ++k) {
+    // Shuffled faces, each rotated to start at a random corner.
+    const PolygonSoup& s = inputs[k];
+    std::vector<std::vector<int32_t>> faces;
+    size_t at = 0;
+    for (int32_t n : s.face_sizes) {
+      faces.emplace_back(s.face_vertices.begin() + at, s.face_vertices.begin() + at + n);
+      at += n;
+    }
+    for (size_t i = faces.size(); i > 1; --i) std::swap(faces[i - 1], faces[random(uint32_t(i))]);
+    PolygonSoup shuffled;
+    shuffled.positions = s.positions;
+    for (auto& f : faces) {
+      std::rotate(f.begin(), f.begin() + random(uint32_t(f.size())), f.end());
+      shuffled.add_face(f);
+    }
+    shuffled.face_colors.assign(shuffled.face_count(), glm::vec3(0.25f, 0.5f, 1.0f));
+    shuffled.add_vertex({7, 7, 7});
+    inputs.push_back(std::move(shuffled));
+  }
+  std::vector<Mesh> meshes;
+  for (const PolygonSoup& s : inputs) meshes.push_back(build(s));
+  meshes.push_back(subdivide_once(build(grid_soup(5, 3, Glue::Mobius))).mesh);
+  meshes.push_back(subdivide_once(build(testing::mixed_disk_soup())).mesh);
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    auto direct = offset(meshes[i], {.distance = 0.1});
+    auto reference = offset_through_builder(meshes[i], {.distance = 0.1});
+    ASSERT_TRUE(direct.has_value()) << i;
+    ASSERT_TRUE(reference.has_value()) << i;
+    EXPECT_TRUE(has_same_topology(direct->mesh, reference->mesh)) << i;
+    EXPECT_EQ(direct->mesh.positions(), reference->mesh.positions()) << i;
+    EXPECT_EQ(direct->mesh.has_mobius_edges(), reference->mesh.has_mobius_edges()) << i;
+    EXPECT_EQ(direct->vertex_parents, reference->vertex_parents) << i;
+    ASSERT_EQ(direct->face_parents.size(), reference->face_parents.size()) << i;
+    for (size_t f = 0; f < direct->face_parents.size(); ++f) {
+      EXPECT_EQ(direct->face_parents[f].kind, reference->face_parents[f].kind) << i << " face " << f;
+      EXPECT_EQ(direct->face_parents[f].face, reference->face_parents[f].face) << i << " face " << f;
+      EXPECT_EQ(direct->face_parents[f].edge, reference->face_parents[f].edge) << i << " face " << f;
+    }
+    EXPECT_EQ(direct->inconsistent_normal_count, reference->inconsistent_normal_count) << i;
+    auto without_maps = offset(meshes[i], {.distance = 0.1, .has_parent_maps = false});
+    ASSERT_TRUE(without_maps.has_value()) << i;
+    EXPECT_TRUE(has_same_topology(without_maps->mesh, reference->mesh)) << i;
+    EXPECT_EQ(without_maps->mesh.positions(), reference->mesh.positions()) << i;
+    EXPECT_TRUE(without_maps->face_parents.empty() && without_maps->vertex_parents.empty()) << i;
+  }
+}
+
+// Face and vertex normals of large meshes are computed on two threads (each half of the
+// faces, and of the vertices, on its own); they must equal the one-thread computation
+// written out here, on a Möbius grid large enough for the threads (flipped corners too).
+TEST(Offset, ThreadedNormalsEqualOneThread) {
+  const Mesh mesh = build(grid_soup(400, 100, Glue::Mobius, 0.02));
+  ASSERT_GE(mesh.face_count(), 1 << 15);
+  ASSERT_GE(mesh.vertex_count(), 1 << 15);
+  const std::vector<glm::dvec3> fn = face_normals(mesh);
+  ASSERT_EQ(fn.size(), size_t(mesh.face_count()));
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    std::vector<glm::dvec3> points;
+    for (VertexId v : mesh.face_vertices(FaceId(f))) points.push_back(mesh.position(v));
+    ASSERT_EQ(fn[f], newell_normal(points)) << "face " << f;
+  }
+  const VertexNormals vn = vertex_normals(mesh, fn);
+  std::vector<int8_t> signs(2 * size_t(mesh.edge_count()), 0);
+  int32_t mobius_vertices = 0;
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) {
+    glm::dvec3 sum(0.0);
+    const std::vector<VertexCorner> ring = mesh.vertex_ring(VertexId(v));
+    for (const VertexCorner& c : ring) {
+      signs[c.use.index] = c.is_flipped ? -1 : 1;
+      sum += double(c.is_flipped ? -1 : 1) * fn[c.face.index];
+    }
+    const double len = glm::length(sum);
+    ASSERT_EQ(vn.normals[v], len > 1e-12 ? sum / len : fn[ring.front().face.index]) << "vertex " << v;
+    mobius_vertices += vn.is_mobius_vertex[v];
+  }
+  EXPECT_EQ(vn.corner_signs, signs);
+  EXPECT_GT(mobius_vertices, 0);
+  EXPECT_NE(std::count(signs.begin(), signs.end(), int8_t(-1)), 0);
 }
 
 TEST(Offset, RejectsBadDistance) {
