@@ -411,6 +411,30 @@ class AstBuilder {
   }
 
  protected:
+  // The end keyword `t` of a block statement (a `Stmt`, or the event builder's frame): its
+  // range and text, or, for a zero-width token a line-end repair inserted, an empty range
+  // there. A token recovery conjured (no index or no place) and other zero-width tokens leave
+  // the block without a close keyword. `Token` is antlr4::Token or, without virtual calls,
+  // the final ArenaToken.
+  template <typename Block, typename Token>
+  void close(Block& block, const Token* t) const {
+    if (t->getTokenIndex() == static_cast<size_t>(-1) || t->getStartIndex() == static_cast<size_t>(-1)) return;
+    const size_t start = t->getStartIndex();
+    if (t->getStopIndex() + 1 == start) {  // zero width: inserted, or conjured by recovery
+      if (repairs_ != nullptr && repairs_->inserted.contains(static_cast<uint32_t>(start))) {
+        const uint32_t at = offsets_.byte_of(start);
+        block.close_kw = SourceRange{file_, at, at};
+        block.close_repair = ast::CloseRepair::Inserted;
+      }
+    } else if (t->getStopIndex() >= start) {
+      block.close_kw = SourceRange{file_, offsets_.byte_of(start), offsets_.byte_of(t->getStopIndex() + 1)};
+      block.close_text = view(block.close_kw);
+      if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) {
+        block.close_repair = ast::CloseRepair::Replaced;
+      }
+    }
+  }
+
   SourceRange token_range(antlr4::Token* t) const {
     return SourceRange{file_, offsets_.byte_of(t->getStartIndex()),
                        offsets_.byte_of(t->getStopIndex() + 1)};
@@ -457,21 +481,7 @@ class AstBuilder {
           continue;
         }
         antlr4::Token* t = c.terminal->getSymbol();
-        if (is_end_token(t->getType()) && t->getTokenIndex() != static_cast<size_t>(-1) &&
-            t->getStartIndex() != static_cast<size_t>(-1)) {
-          const size_t start = t->getStartIndex();
-          if (t->getStopIndex() + 1 == start) {  // zero width: inserted, or conjured by recovery
-            if (repairs_ != nullptr && repairs_->inserted.contains(static_cast<uint32_t>(start))) {
-              const uint32_t at = offsets_.byte_of(start);
-              stmt.close_kw = SourceRange{file_, at, at};
-              stmt.close_repair = ast::CloseRepair::Inserted;
-            }
-          } else if (t->getStopIndex() >= start) {
-            stmt.close_kw = token_range(t);
-            stmt.close_text = view(stmt.close_kw);
-            if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) stmt.close_repair = ast::CloseRepair::Replaced;
-          }
-        }
+        if (is_end_token(t->getType())) close(stmt, t);
         continue;
       }
       antlr4::ParserRuleContext* rule = c.rule;
@@ -1119,24 +1129,6 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
     }
   }
 
-  // AstBuilder::close for a terminal child of a block statement.
-  void close(Frame& f, const ArenaToken* t) {
-    if (t->getTokenIndex() == static_cast<size_t>(-1) || t->getStartIndex() == static_cast<size_t>(-1)) return;
-    const size_t start = t->getStartIndex();
-    if (t->getStopIndex() + 1 == start) {  // zero width: inserted by a repair
-      if (repairs_ != nullptr && repairs_->inserted.contains(static_cast<uint32_t>(start))) {
-        const uint32_t at = offsets_.byte_of(start);
-        f.close_kw = SourceRange{file_, at, at};
-        f.close_repair = ast::CloseRepair::Inserted;
-      }
-    } else if (t->getStopIndex() >= start) {
-      f.close_kw = range_of(t);
-      f.close_text = view(f.close_kw);
-      if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) {
-        f.close_repair = ast::CloseRepair::Replaced;
-      }
-    }
-  }
 
   void finish_stmt(const Frame& f, antlr4::ParserRuleContext* ctx) {
     const auto* start = static_cast<const ArenaToken*>(ctx->start);
