@@ -21,6 +21,17 @@ namespace nomec::testing_inputs {
 
 inline std::optional<std::string> read_file(const std::string& path) { return read_file_bytes(path); }
 
+/// Every file under `root` (recursively), scene or not, sorted: golden inputs, fuzz corpora.
+inline std::vector<std::string> files_under(const std::filesystem::path& root) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(root, ec)) {
+    if (e.is_regular_file()) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 /// Every scene file under `roots` (recursively), sorted.
 inline std::vector<std::string> scene_files_under(const std::vector<std::filesystem::path>& roots) {
   std::vector<std::string> out;

@@ -18,6 +18,7 @@
 
 #include "lsp_client.h"
 #include "tests/common/corpus_inputs.h"
+#include "tests/common/text_edits.h"
 
 namespace nomec::lsp::test {
 namespace {
@@ -60,18 +61,12 @@ void random_edit(std::string& text, const std::string& original, std::mt19937& r
       break;
     }
     case 2: {  // delete a whole line
-      size_t b = text.rfind('\n', at == 0 ? 0 : at - 1);
-      b = b == std::string::npos ? 0 : b + 1;
-      size_t e = text.find('\n', at);
-      e = e == std::string::npos ? text.size() : e + 1;
+      const auto [b, e] = nomec::testing_edits::line_around(text, at);
       if (b < e) text.erase(b, e - b);
       break;
     }
     case 3: {  // duplicate a line
-      size_t b = text.rfind('\n', at == 0 ? 0 : at - 1);
-      b = b == std::string::npos ? 0 : b + 1;
-      size_t e = text.find('\n', at);
-      e = e == std::string::npos ? text.size() : e + 1;
+      const auto [b, e] = nomec::testing_edits::line_around(text, at);
       text.insert(b, text.substr(b, e - b));
       break;
     }

@@ -91,16 +91,6 @@ void compare(const std::string& name, const std::string& text, Counts& counts, b
   }
 }
 
-std::vector<std::string> files_under(const fs::path& root) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& e : fs::recursive_directory_iterator(root, ec)) {
-    if (e.is_regular_file()) out.push_back(e.path().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(LexerDiff, CorpusAndExamples) {
   Counts counts;
   for (const std::string& path : nomec::testing_inputs::corpus_and_examples()) {
@@ -117,7 +107,7 @@ TEST(LexerDiff, CorpusAndExamples) {
 TEST(LexerDiff, GoldenInputs) {
   Counts counts;
   for (const char* folder : {"tests/parse", "tests/check", "tests/ir"}) {
-    for (const std::string& path : files_under(fs::path(NOMEC_SOURCE_DIR) / folder)) {
+    for (const std::string& path : nomec::testing_inputs::files_under(fs::path(NOMEC_SOURCE_DIR) / folder)) {
       const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
       ASSERT_TRUE(text.has_value()) << path;
       compare(path, *text, counts);
@@ -181,7 +171,7 @@ TEST(LexerDiff, GeneratedInputs) {
   // the folder NOMEC_FUZZ_CORPUS names).
   const char* env = std::getenv("NOMEC_FUZZ_CORPUS");
   const fs::path dir = env != nullptr ? fs::path(env) : fs::path(NOMEC_SOURCE_DIR) / "build-sanitize/fuzz-corpus/frontend_fuzzer";
-  for (const std::string& path : files_under(dir)) {
+  for (const std::string& path : nomec::testing_inputs::files_under(dir)) {
     const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
     ASSERT_TRUE(text.has_value()) << path;
     compare(path, *text, counts);
