@@ -108,7 +108,7 @@ class SmallVec {
     T* fresh = static_cast<T*>(std::malloc(sizeof(T) * n));
     if (fresh == nullptr) throw std::bad_alloc();
     if (size_ > 0) std::memcpy(static_cast<void*>(fresh), data(), sizeof(T) * size_);
-    std::free(heap_);
+    if (heap_ != nullptr) std::free(heap_);
     heap_ = fresh;
     cap_ = n;
   }
@@ -124,8 +124,12 @@ class SmallVec {
     o.size_ = 0;
   }
   void release() {
-    std::free(heap_);
-    heap_ = nullptr;
+    // Most vectors never leave their inline room: skip the allocator's call for them (a
+    // free of null still costs one, on every expression and list of a large file).
+    if (heap_ != nullptr) {
+      std::free(heap_);
+      heap_ = nullptr;
+    }
     size_ = 0;
   }
 
