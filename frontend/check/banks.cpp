@@ -220,24 +220,28 @@ void check_pending_lists(Context& c) {
   }
 }
 
-ir::NodeId lookup_param_text(Context& c, const std::string& text) {
+ir::NodeId lookup_param_text(Context& c, std::string_view text) {
   if (auto it = c.param_text_memo.find(text); it != c.param_text_memo.end()) return it->second;
   ir::NodeId found = ir::NodeId::None();
   if (auto it = c.params.find(text); it != c.params.end()) {
     found = it->second;
   } else {
     // `bank_param`: the longest declared bank prefix.
-    for (size_t u = text.rfind('_'); u != std::string::npos && u > 0; u = text.rfind('_', u - 1)) {
-      std::string bank = text.substr(0, u);
+    std::string dotted;
+    for (size_t u = text.rfind('_'); u != std::string_view::npos && u > 0; u = text.rfind('_', u - 1)) {
+      const std::string_view bank = text.substr(0, u);
       if (c.banks.contains(bank)) {
-        if (auto p = c.params.find(bank + "." + text.substr(u + 1)); p != c.params.end()) {
+        dotted.assign(bank);
+        dotted += '.';
+        dotted += text.substr(u + 1);
+        if (auto p = c.params.find(dotted); p != c.params.end()) {
           found = p->second;
           break;
         }
       }
     }
   }
-  c.param_text_memo.emplace(text, found);
+  c.param_text_memo.emplace(std::string(text), found);
   return found;
 }
 

@@ -215,7 +215,7 @@ ir::NodeId handle_sweep_part(Context& c, const ast::Ast& a, const ast::Stmt& s, 
   auto positional = [&](const ast::Item& it) {
     // SLIDE `type polyline NAME`: the curve the cross section is made of.
     if (it.kind != ItemKind::Word) return false;
-    ir::NodeId curve = resolve_any(c, std::string(it.text), it.range);
+    ir::NodeId curve = resolve_any(c, it.text, it.range);
     if (curve.is_valid()) c.module().deps.add_edge(curve, id);
     c.module().get<ir::CrossSectionData>(id).curve = curve;
     c.module().get<ir::CrossSectionData>(id).curve_range = it.range;

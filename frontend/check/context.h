@@ -33,6 +33,17 @@ using ast::ItemKind;
 // the same for every dialect because no valid NOME file depends on the difference.
 enum class Ns : uint8_t { Surface, Point, Face, Shape, Scene, Count };
 
+/// Tables keyed by names: looked up with a `std::string_view` into the source text without
+/// making a `std::string` for each lookup (most of a check's lookups).
+struct NameHash {
+  using is_transparent = void;
+  size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
+template <typename V>
+using NameTable = std::unordered_map<std::string, V, NameHash, std::equal_to<>>;
+template <typename V>
+using OrderedNames = std::map<std::string, V, std::less<>>;
+
 /// A definition in a namespace: its node, where its name is, and where it was declared.
 struct Symbol {
   ir::NodeId node;
@@ -111,15 +122,15 @@ class Context {
   void check_commas(const ast::Ast& a, ast::ListId list);
 
   // ---- scopes (state used by names.cpp and the statement handlers) ----
-  std::unordered_map<std::string, Symbol> scopes[static_cast<int>(Ns::Count)];  // first definitions
+  NameTable<Symbol> scopes[static_cast<int>(Ns::Count)];  // first definitions
   /// NOME3 redefinitions of a name, in file order (compat.md E1; `lookup` binds by position).
-  std::unordered_map<std::string, std::vector<Symbol>> redefinitions[static_cast<int>(Ns::Count)];
-  std::map<std::string, ir::NodeId> params;  // "bank.param"
-  mutable std::unordered_map<std::string, ir::NodeId> param_text_memo;  // see lookup_param_text
-  std::map<std::string, SourceRange> banks;
-  std::unordered_map<int32_t, std::map<std::string, ir::NodeId>> mesh_points;
+  NameTable<std::vector<Symbol>> redefinitions[static_cast<int>(Ns::Count)];
+  OrderedNames<ir::NodeId> params;  // "bank.param"
+  mutable NameTable<ir::NodeId> param_text_memo;  // see lookup_param_text
+  OrderedNames<SourceRange> banks;
+  std::unordered_map<int32_t, OrderedNames<ir::NodeId>> mesh_points;
   // Instance scopes keyed by owner node index + 1 (0 = top level).
-  std::map<int32_t, std::map<std::string, ir::NodeId>> instance_scopes;
+  std::map<int32_t, OrderedNames<ir::NodeId>> instance_scopes;
   std::vector<PendingList> pending_lists;
   std::vector<PendingDelete> pending_deletes;
   std::vector<ir::NodeId> scene_merges;  // NOME2's `merge epsilon E endmerge` blocks

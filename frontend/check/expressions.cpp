@@ -66,7 +66,7 @@ std::vector<std::string> slider_names(const Context& c, bool dotted_style) {
 // and the cartesian and parametric surfaces' symbol tables had no `pi` either, so NOME3
 // made no surface from such a text. nomec reads them as the constants; a warning says the
 // original would not have.
-void warn_unknown_constant(Context& c, const std::string& name, SourceRange at, const FunctionOrigin& origin) {
+void warn_unknown_constant(Context& c, std::string_view name, SourceRange at, const FunctionOrigin& origin) {
   if (origin.generator.empty()) return;
   if (name == "pi" && origin.has_pi) return;
   c.diags()
@@ -82,7 +82,7 @@ void warn_unknown_constant(Context& c, const std::string& name, SourceRange at, 
 // A name or `$` reference: a constant, a function variable, a built-in, or a slider.
 ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
   const bool dollar = x.kind == ast::ExprKind::DollarRef;
-  std::string name(dollar ? x.text.substr(1) : x.text);
+  const std::string_view name = dollar ? x.text.substr(1) : x.text;
   if (!dollar) {
     for (size_t i = 0; i < scope.variables.size(); ++i) {
       if (scope.variables[i] == name) {
@@ -118,7 +118,7 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
   if (c.dialect() == Dialect::Slide && dollar && c.tcl_available) {
     // A Tcl global: its value after `tclinit` (slide.md §6).
     if (std::optional<double> v = tcl_number(c, name)) return constant_expr(c, *v, x.range);
-    if (c.first_tcl_report("$" + name)) {
+    if (c.first_tcl_report(fmt::format("${}", name))) {
       c.diags().emit(DiagKind::TclDefinedName, x.range,
                      fmt::format("`${}` is not a slider, and the scene's Tcl code does not set it to a number", name));
     }
@@ -126,7 +126,7 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
   }
   if (c.dialect() == Dialect::Slide && dollar) {
     std::string why = tcl_var_hint(c, name);
-    if (c.first_tcl_report("$" + name)) {
+    if (c.first_tcl_report(fmt::format("${}", name))) {
       c.diags().emit(DiagKind::TclDefinedName, x.range,
                      fmt::format("`${}` is {}; nomec does not evaluate Tcl yet, so values that use it are not checked yet",
                                  name, why.empty() ? "not a slider of this file; it may be defined by Tcl code" : why));
@@ -402,8 +402,10 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
       x.kind != ast::ExprKind::Unary && x.kind != ast::ExprKind::Binary && x.kind != ast::ExprKind::Call) {
     return lower_leaf(c, x, scope);
   }
-  std::vector<Frame> stack{{root, 0, 0}};
-  std::vector<ir::ExprId> done;
+  // Inline room for the trees values have (a few operations), so lowering one allocates
+  // nothing but its expressions.
+  SmallVec<Frame, 16> stack{{root, 0, 0}};
+  SmallVec<ir::ExprId, 16> done;
   // NOME3's grammar grouped `^` from the left (compat.md §C2). A function text (`funcX [ … ]`,
   // evaluated at variables) was not read by that grammar and keeps the usual grouping.
   const bool left_power = c.dialect() == Dialect::Nome3 && scope.variables.empty();
@@ -433,14 +435,15 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
       stack.push_back({child, depth, 0});
       continue;
     }
-    std::vector<ir::ExprId> lowered(done.end() - kids.size(), done.end());
-    done.resize(done.size() - kids.size());
+    SmallVec<ir::ExprId, 4> lowered;
+    for (const ir::ExprId* k = done.end() - kids.size(); k != done.end(); ++k) lowered.push_back(*k);
+    done.truncate(done.size() - kids.size());
     bool chain_link = false;
     if (stack.size() >= 2) {
       const ast::Expr& parent = a.expr(stack[stack.size() - 2].id);
       chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs == top.id;
     }
-    done.push_back(lower_operation(c, a, x, lowered, chain_link, left_power));
+    done.push_back(lower_operation(c, a, x, std::span<const ir::ExprId>(lowered.data(), lowered.size()), chain_link, left_power));
     stack.pop_back();
   }
   return done.back();
@@ -554,7 +557,7 @@ ir::ExprId scalar_of_item(Context& c, const ast::Ast& a, const ast::Item& it, bo
     }
     case ItemKind::Word: {
       // A bare `bank.param` word as a value.
-      ir::NodeId p = lookup_param_text(c, std::string(it.text));
+      ir::NodeId p = lookup_param_text(c, it.text);
       if (p.is_valid() && !constant) return param_expr(c, p, it.range);
       c.diags().emit(DiagKind::ExpectedNumber, it.range, fmt::format("expected a number, found `{}`", it.text));
       return error_expr(c, it.range);

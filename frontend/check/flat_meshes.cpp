@@ -107,16 +107,16 @@ bool include_flat(Context& c, const std::string& path, const std::string& rel, c
   return true;
 }
 
-ir::VertexRef flat_scene_vertex(Context& c, const std::string& text, SourceRange use) {
+ir::VertexRef flat_scene_vertex(Context& c, std::string_view text, SourceRange use) {
   ir::VertexRef ref;
   if (!c.flat_scene.is_valid()) return ref;
   const ir::Module& m = c.module();
   const ir::NodeId mesh = m.get<ir::InstanceData>(c.flat_scene).target;
   if (m.get<ir::FlatMeshData>(mesh).vertex_index(text) < 0) return ref;
-  ref.text = text;
+  ref.text.assign(text);
   ref.range = use;
   ref.instances = {c.flat_scene};
-  ref.vertex = text;
+  ref.vertex.assign(text);
   return ref;
 }
 

@@ -58,7 +58,7 @@ void apply_overrides(Context& c);
 void check_pending_lists(Context& c);
 /// The slider a reference names: `bank.param`, or `bank_param` with the longest declared
 /// bank prefix. Memoized (a scene refers to the same sliders over and over).
-ir::NodeId lookup_param_text(Context& c, const std::string& text);
+ir::NodeId lookup_param_text(Context& c, std::string_view text);
 
 // ---- names.cpp: definitions and scopes, and resolving names to nodes ----
 /// NOME3 `$name` where a name is expected (compat.md B3): in a `nome3` file, a `$x` that
@@ -69,13 +69,13 @@ void declare(Context& c, const ast::Ast& a, int order_base);
 /// `mesh consolidatedmesh … endmesh` in a `nome`/`nome2` file: blocks that accumulate
 /// (compat.md §E5).
 bool is_consolidated_mesh(const Context& c, const ast::Stmt& s);
-void define(Context& c, Ns ns, const std::string& name, Symbol sym);
-ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order);
-ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
-ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use);
-ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange use);
-ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use);
-ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted);
+void define(Context& c, Ns ns, std::string_view name, Symbol sym);
+ir::NodeId lookup(Context& c, Ns ns, std::string_view name, SourceRange use, bool report_order);
+ir::NodeId resolve(Context& c, Ns ns, std::string_view name, SourceRange use, std::string_view wanted);
+ir::NodeId resolve_any(Context& c, std::string_view name, SourceRange use);
+ir::NodeId resolve_point_like(Context& c, std::string_view name, SourceRange use);
+ir::NodeId resolve_target(Context& c, std::string_view name, SourceRange use);
+ir::NodeId report_unknown(Context& c, Ns ns, std::string_view name, SourceRange use, std::string_view wanted);
 std::vector<std::string_view> names_in(const Context& c, Ns ns);
 
 // ---- vertex_refs.cpp: vertex references and deleted faces through instance paths ----
@@ -83,7 +83,7 @@ std::vector<std::string_view> names_in(const Context& c, Ns ns);
 /// instances (`inst.v`, `.inst.sub.v`, 2016 `inst_sub_v`).
 /// With `unresolved` given, a name that resolves to nothing is not reported: `*unresolved`
 /// is set instead (saved work drops such vertices, compat.md §G2).
-ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh,
+ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use, ir::NodeId mesh,
                              bool* unresolved = nullptr);
 /// A face named in a `delete` block (`cube1_c4`, `fun2_5`, `cf.fun2.5`).
 ir::DeletedFace resolve_deleted_face(Context& c, const std::string& text, SourceRange use);
@@ -149,7 +149,7 @@ void add_flat_scene(Context& c, FileId file, ir::FlatFormat format);
 bool include_flat(Context& c, const std::string& path, const std::string& rel, const ast::Item& it);
 /// In a flat file's scene, a bare `v<k>` names vertex k of its mesh (NOME 2016 names); an
 /// unresolved reference (no instances) otherwise.
-ir::VertexRef flat_scene_vertex(Context& c, const std::string& text, SourceRange use);
+ir::VertexRef flat_scene_vertex(Context& c, std::string_view text, SourceRange use);
 
 // ---- saved_work.cpp: the base scene of `.anom` saved work ----
 /// Finds and reads the base scene of the saved work `saved` at `path`: a scene's syntax tree

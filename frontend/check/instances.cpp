@@ -155,7 +155,7 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
   const bool swapped = check_swapped(c, s, head);
   ir::NodeId id = c.node_for(s, c.qualify(ctx, head.name), ctx);
   if (head.target != nullptr && !swapped) {
-    ir::NodeId target = resolve_target(c, std::string(head.target->text), head.target->range);
+    ir::NodeId target = resolve_target(c, head.target->text, head.target->range);
     c.module().get<ir::InstanceData>(id).target = target;
     c.module().deps.add_edge(target, id);
   }

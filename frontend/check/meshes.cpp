@@ -167,7 +167,7 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
                      fmt::format("expected a vertex name in this list, found `{}`", Context::clip(c.sources().text(x.range))));
       continue;
     }
-    ir::VertexRef ref = resolve_vertex(c, std::string(x.text), x.range, mesh);
+    ir::VertexRef ref = resolve_vertex(c, x.text, x.range, mesh);
     add_vertex_edges(c, owner, ref);
     refs.push_back(std::move(ref));
   }
@@ -186,9 +186,9 @@ ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item&
                                  Context::clip(x.text.empty() ? c.sources().text(x.range) : x.text)));
       continue;
     }
-    ir::NodeId t = ns == Ns::Count  ? resolve_any(c, std::string(x.text), x.range)
-                   : ns == Ns::Face ? resolve(c, Ns::Face, std::string(x.text), x.range, "a face")
-                                    : resolve_point_like(c, std::string(x.text), x.range);
+    ir::NodeId t = ns == Ns::Count  ? resolve_any(c, x.text, x.range)
+                   : ns == Ns::Face ? resolve(c, Ns::Face, x.text, x.range, "a face")
+                                    : resolve_point_like(c, x.text, x.range);
     refs.push_back(t);
     if (t.is_valid()) c.module().deps.add_edge(t, owner);
   }
@@ -251,7 +251,7 @@ ir::NodeId handle_vertex(Context& c, const ast::Ast& a, const ast::Stmt& s, cons
     // says nothing when there is no base scene to look in.
     const bool saved = is_saved_face(c, ctx);
     bool unresolved = false;
-    ir::VertexRef ref = resolve_vertex(c, std::string(s.items[0].text), s.items[0].range, ir::NodeId::None(),
+    ir::VertexRef ref = resolve_vertex(c, s.items[0].text, s.items[0].range, ir::NodeId::None(),
                                        saved ? &unresolved : nullptr);
     if (unresolved) {
       ++c.dropped_saved_vertices;

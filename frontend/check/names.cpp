@@ -74,8 +74,8 @@ std::string_view dollar_name(Context& c, const ast::Expr& x) {
   if (x.kind != ast::ExprKind::DollarRef || x.in_braces || x.text.size() < 2) return {};
   const std::string_view name = x.text.substr(1);
   if (name == "time" || name == "frame") return {};
-  if (lookup_param_text(c, std::string(name)).is_valid()) return {};
-  if (const size_t dot = name.find('.'); dot != std::string_view::npos && c.banks.count(std::string(name.substr(0, dot)))) {
+  if (lookup_param_text(c, name).is_valid()) return {};
+  if (const size_t dot = name.find('.'); dot != std::string_view::npos && c.banks.count(name.substr(0, dot))) {
     return {};
   }
   return name;
@@ -127,14 +127,14 @@ void declare(Context& c, const ast::Ast& a, int order_base) {
 // A second definition of a name (compat.md E1): NOME3 replaces the library entry, so later
 // references bind to the new entity and earlier ones keep the old one (a warning); NOME 2016
 // keeps the first definition and ignores the second (a warning); NOME2 and SLIDE reject it.
-void define(Context& c, Ns ns, const std::string& name, Symbol sym) {
+void define(Context& c, Ns ns, std::string_view name, Symbol sym) {
   auto& table = c.scopes[static_cast<int>(ns)];
   auto [it, inserted] = table.emplace(name, sym);
   if (inserted) return;
   const Symbol& first = it->second;
   switch (c.dialect()) {
     case Dialect::Nome3: {
-      auto& later = c.redefinitions[static_cast<int>(ns)][name];
+      auto& later = c.redefinitions[static_cast<int>(ns)][std::string(name)];
       const Symbol prev = later.empty() ? first : later.back();  // a copy: push_back may move `later`
       later.push_back(sym);
       c.diags()
@@ -161,13 +161,15 @@ void define(Context& c, Ns ns, const std::string& name, Symbol sym) {
       .note(first.range, "previous definition is here");
 }
 
-ir::NodeId lookup(Context& c, Ns ns, const std::string& name, SourceRange use, bool report_order) {
+ir::NodeId lookup(Context& c, Ns ns, std::string_view name, SourceRange use, bool report_order) {
   auto& table = c.scopes[static_cast<int>(ns)];
   auto it = table.find(name);
   if (it == table.end()) return ir::NodeId::None();
   const Symbol* sym = &it->second;
   // NOME3 redefinitions: the last definition above the use (compat.md E1).
-  if (auto r = c.redefinitions[static_cast<int>(ns)].find(name); r != c.redefinitions[static_cast<int>(ns)].end()) {
+  if (auto& redefined = c.redefinitions[static_cast<int>(ns)]; redefined.empty()) {
+    // no NOME3 redefinition in this namespace: the first definition is the only one
+  } else if (auto r = redefined.find(name); r != redefined.end()) {
     for (const Symbol& later : r->second) {
       if (later.order <= c.order) sym = &later;
     }
@@ -190,9 +192,9 @@ std::vector<std::string_view> names_in(const Context& c, Ns ns) {
   return out;
 }
 
-ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
+ir::NodeId report_unknown(Context& c, Ns ns, std::string_view name, SourceRange use, std::string_view wanted) {
   if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl_available) {
-    if (!c.first_tcl_report(name)) return ir::NodeId::None();
+    if (!c.first_tcl_report(std::string(name))) return ir::NodeId::None();
     c.diags().emit(DiagKind::TclDefinedName, use,
                    fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, "
                                "which nomec does not evaluate yet",
@@ -206,7 +208,7 @@ ir::NodeId report_unknown(Context& c, Ns ns, const std::string& name, SourceRang
   return ir::NodeId::None();
 }
 
-ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, std::string_view wanted) {
+ir::NodeId resolve(Context& c, Ns ns, std::string_view name, SourceRange use, std::string_view wanted) {
   ir::NodeId id = lookup(c, ns, name, use, true);
   if (id.is_valid()) return id;
   // Same name in another namespace: a kind error, not a typo.
@@ -229,7 +231,7 @@ ir::NodeId resolve(Context& c, Ns ns, const std::string& name, SourceRange use, 
   return report_unknown(c, ns, name, use, noun);
 }
 
-ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use) {
+ir::NodeId resolve_any(Context& c, std::string_view name, SourceRange use) {
   for (Ns ns : {Ns::Shape, Ns::Point, Ns::Face, Ns::Surface, Ns::Scene}) {
     ir::NodeId id = lookup(c, ns, name, use, true);
     if (id.is_valid()) return id;
@@ -237,7 +239,7 @@ ir::NodeId resolve_any(Context& c, const std::string& name, SourceRange use) {
   return report_unknown(c, Ns::Shape, name, use, "name");
 }
 
-ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange use) {
+ir::NodeId resolve_point_like(Context& c, std::string_view name, SourceRange use) {
   for (Ns ns : {Ns::Point, Ns::Shape}) {
     ir::NodeId id = lookup(c, ns, name, use, true);
     if (id.is_valid()) return id;
@@ -245,7 +247,7 @@ ir::NodeId resolve_point_like(Context& c, const std::string& name, SourceRange u
   return report_unknown(c, Ns::Point, name, use, "point");
 }
 
-ir::NodeId resolve_target(Context& c, const std::string& name, SourceRange use) {
+ir::NodeId resolve_target(Context& c, std::string_view name, SourceRange use) {
   for (Ns ns : {Ns::Shape, Ns::Scene}) {
     ir::NodeId id = lookup(c, ns, name, use, true);
     if (id.is_valid()) return id;

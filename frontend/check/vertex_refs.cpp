@@ -181,7 +181,7 @@ ir::NodeId mesh_owned_point(Context& c, const std::string& text, SourceRange use
 }
 
 // A NOME3 controlpoint used as a point (compat.md E2): its position is its point's.
-ir::NodeId control_point(Context& c, const std::string& text, SourceRange use) {
+ir::NodeId control_point(Context& c, std::string_view text, SourceRange use) {
   auto it = c.scopes[static_cast<int>(Ns::Shape)].find(text);
   if (it == c.scopes[static_cast<int>(Ns::Shape)].end()) return ir::NodeId::None();
   const ir::NodeId n = lookup(c, Ns::Shape, text, use, true);
@@ -258,13 +258,13 @@ std::vector<PathMatch> match_underscored(Context& c, const std::string& text, co
   while (!path.empty() && path[0] == '_') path = path.substr(1);
   std::vector<PathMatch> matches;
   // Try the top-level scope, then any instance scope (2016 names may omit outer instances).
-  std::function<void(const std::map<std::string, ir::NodeId>&, size_t, std::vector<ir::NodeId>&)> try_scope =
-      [&](const std::map<std::string, ir::NodeId>& scope, size_t at, std::vector<ir::NodeId>& chain) {
+  std::function<void(const OrderedNames<ir::NodeId>&, size_t, std::vector<ir::NodeId>&)> try_scope =
+      [&](const OrderedNames<ir::NodeId>& scope, size_t at, std::vector<ir::NodeId>& chain) {
         // The names that can match are the prefixes of `path[at:]` that end before an
         // `_`; looking each up (shortest first) costs the underscores in the reference
         // instead of every name in the scope.
         for (size_t u = path.find('_', at); u != std::string::npos; u = path.find('_', u + 1)) {
-          auto found = scope.find(path.substr(at, u - at));
+          auto found = scope.find(std::string_view(path).substr(at, u - at));
           if (found == scope.end()) continue;
           ir::NodeId inst = found->second;
           chain.push_back(inst);
@@ -301,7 +301,7 @@ std::vector<PathMatch> match_underscored(Context& c, const std::string& text, co
 // Reports a 2016 path that matches several instance chains. In the NOME 2016 family the
 // original took the first match in file order (compat.md E4): `matches` are sorted so, the
 // first is used, and this is a warning; elsewhere it is an error.
-void report_ambiguous(Context& c, const std::vector<PathMatch>& matches, const std::string& text, SourceRange use) {
+void report_ambiguous(Context& c, const std::vector<PathMatch>& matches, std::string_view text, SourceRange use) {
   std::set<std::vector<int32_t>> distinct;
   for (const PathMatch& mt : matches) {
     std::vector<int32_t> k;
@@ -426,9 +426,9 @@ void fill_face(Context& c, PathMatch match, ir::DeletedFace& face) {
 
 }  // namespace
 
-ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange use, ir::NodeId mesh, bool* unresolved) {
+ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use, ir::NodeId mesh, bool* unresolved) {
   ir::VertexRef ref;
-  ref.text = text;
+  ref.text.assign(text);
   ref.range = use;
   if (mesh.is_valid()) {
     auto& local = c.mesh_points[mesh.index];
@@ -449,7 +449,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
   const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
     return target_has_vertex(c, inst, rest, why);
   };
-  std::string path = text;
+  std::string path(text);
   if (!path.empty() && path[0] == '.') path = path.substr(1);
   if (path.find('.') != std::string::npos) {
     PathMatch match;
@@ -491,7 +491,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
     return ref;
   }
   if (c.dialect() == Dialect::Slide && c.has_tcl && !c.tcl_available) {
-    if (c.first_tcl_report(text)) {
+    if (c.first_tcl_report(std::string(text))) {
       c.diags().emit(DiagKind::TclDefinedName, use,
                      fmt::format("`{}` is not defined in this file; it may be created by Tcl code in a `tclinit` block, "
                                  "which nomec does not evaluate yet",
@@ -509,7 +509,7 @@ ir::VertexRef resolve_vertex(Context& c, const std::string& text, SourceRange us
                                       hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));
   if (!hint.empty()) d.fixit(use, hint, fmt::format("replace with `{}`", hint));
   if (mesh.is_valid()) {
-    if (std::string jc = substring_match(c, mesh, text); !jc.empty()) {
+    if (std::string jc = substring_match(c, mesh, std::string(text)); !jc.empty()) {
       d.note(c.module().node(c.mesh_points[mesh.index][jc]).range,
              fmt::format("JIPCAD would have taken the point `{}` here (it matched `.{}` anywhere in a point's name); "
                          "nomec needs the exact name",
