@@ -160,11 +160,11 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   return a;
 }
 
-void ServerImpl::fill_parse_cache(DocumentParseCache& slot, const Analysis& a) {
+void ServerImpl::fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text) {
   std::lock_guard lock(slot.mu);
   if (slot.filled) return;
   SourceManager sources;
-  FileId file = sources.add_file(std::string(a.sources().name(a.file)), std::string(a.text()));
+  FileId file = sources.add_file(path, text);
   DiagnosticEngine scratch;  // the same as the published ones: the result equals parse_file's
   slot.cache.parse(sources, file, scratch);
   slot.filled = true;

@@ -476,7 +476,6 @@ void ServerImpl::analysis_loop() {
     analysing_ = true;
     lock.unlock();
     std::shared_ptr<Analysis> a;
-    bool fill = false;
     if (cache) {
       // Waits while the after thread fills the cache: then this change re-parses little.
       std::unique_lock cache_lock(cache->mu);
@@ -484,20 +483,21 @@ void ServerImpl::analysis_loop() {
         a = analyse(uri, version, std::move(text), &cache->cache);
       } else {
         cache_lock.unlock();
-        a = analyse(uri, version, std::move(text), nullptr);  // the whole text in one piece
-        fill = !cache->scheduled;
-        cache->scheduled = true;
+        // The first version is parsed in one piece for its diagnostics while the after
+        // thread fills the cache from the same text on the other core: filling is not on the
+        // path to these diagnostics, and is done by the time the sculptor types.
+        if (!cache->scheduled && text.size() <= options_.max_document_bytes) {
+          cache->scheduled = true;
+          {
+            std::lock_guard after_lock(after_mu_);
+            after_fill_.push_back({cache, uri_to_path(uri).value_or(uri), text});
+          }
+          after_cv_.notify_all();
+        }
+        a = analyse(uri, version, std::move(text), nullptr);
       }
     } else {
       a = analyse(uri, version, std::move(text), nullptr);
-    }
-    // Filling the cache is not on the path to these diagnostics: the after thread does it.
-    if (fill && !a->too_large) {
-      {
-        std::lock_guard after_lock(after_mu_);
-        after_fill_.emplace_back(cache, a);
-      }
-      after_cv_.notify_all();
     }
     cache.reset();  // a closed document's pieces go now
     lock.lock();
@@ -575,7 +575,7 @@ void ServerImpl::after_loop() {
   for (;;) {
     std::shared_ptr<const Analysis> job;
     std::vector<std::shared_ptr<const Analysis>> release;
-    std::vector<std::pair<std::shared_ptr<DocumentParseCache>, std::shared_ptr<const Analysis>>> fill;
+    std::vector<CacheFill> fill;
     {
       std::unique_lock lock(after_mu_);
       auto has_work = [&] {
@@ -601,7 +601,7 @@ void ServerImpl::after_loop() {
       after_busy_ = true;
     }
     // First the caches (the next change waits for its document's), then freeing, indexing.
-    for (auto& [slot, analysis] : fill) fill_parse_cache(*slot, *analysis);
+    for (CacheFill& f : fill) fill_parse_cache(*f.slot, f.path, f.text);
     fill.clear();
     release.clear();  // frees here unless a request still holds one
     if (job && document_version(job->uri) == job->version) {

@@ -26,9 +26,9 @@ namespace nomec::lsp {
 
 /// A document's ParseCache, and whether it holds a version yet. The first analysis of a
 /// document parses its text in one piece (one parser run is cheaper than one per top-level
-/// statement) and publishes; the after thread then fills the cache from that text, so the
-/// next change re-parses only what it touched. The analysis thread and the after thread
-/// take `mu` to use the cache.
+/// statement) and publishes; meanwhile, on the other core, the after thread fills the
+/// cache from the same text, so the next change re-parses only what it touched and seldom
+/// waits for the fill. The analysis thread and the after thread take `mu` to use the cache.
 struct DocumentParseCache {
   std::mutex mu;
   ParseCache cache;
@@ -91,8 +91,9 @@ class ServerImpl {
   /// document's ParseCache; may be null).
   std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
                                     ParseCache* cache) const;
-  /// Fills a document's ParseCache from an analysed version's text (after thread).
-  static void fill_parse_cache(DocumentParseCache& slot, const Analysis& a);
+  /// Fills a document's ParseCache from the text of the version being analysed, named
+  /// `path` (after thread).
+  static void fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text);
   /// Evaluates the scene of an analysis (analysis.cpp).
   static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
 
@@ -164,8 +165,14 @@ class ServerImpl {
   mutable std::mutex after_mu_;
   std::condition_variable after_cv_;
   std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
-  // Caches to fill from the text of an analysis (first parse in one piece), before indexing.
-  std::vector<std::pair<std::shared_ptr<DocumentParseCache>, std::shared_ptr<const Analysis>>> after_fill_;
+  // Caches to fill from the text of a version whose first analysis (one piece) is under way,
+  // before indexing.
+  struct CacheFill {
+    std::shared_ptr<DocumentParseCache> slot;
+    std::string path;
+    std::string text;
+  };
+  std::vector<CacheFill> after_fill_;
   std::vector<std::shared_ptr<const Analysis>> after_release_;
   bool after_busy_ = false;
   bool after_freed_ = false;              // memory was freed since the last release
