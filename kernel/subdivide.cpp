@@ -142,12 +142,17 @@ class Refiner {
     auto& csharp = MeshAccess::sharpness(child);
     auto& cvertex_edges = MeshAccess::vertex_edges(child);
     reserve_large(cev, 2 * cE);
-    resize_large(cuf, 2 * cE);
-    resize_large(MeshAccess::next(child), 2 * cE);
-    if (!is_intermediate_) resize_large(MeshAccess::prev(child), 2 * cE);
+    auto& cnext = MeshAccess::next(child);
+    auto& cprev = MeshAccess::prev(child);
+    // Every element of these four is written below or by `faces` (the per-use arrays: the
+    // uses of the faces there, the unused side of a border edge here) or, for vertex
+    // anchors, by `faces` (face points), here (edge points) and `child_vertex_edges`.
+    resize_for_overwrite(cuf, 2 * cE);
+    resize_for_overwrite(cnext, 2 * cE);
+    if (!is_intermediate_) resize_for_overwrite(cprev, 2 * cE);
     reserve_large(cflags, cE);
     if (has_creases_) reserve_large(csharp, cE);
-    resize_large(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
+    resize_for_overwrite(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
     reserve_large(MeshAccess::face_uses(child), corner_total_);
     if (stores_face_properties_) reserve_face_properties();
     const int32_t vp_base = F_ + E_;
@@ -164,9 +169,12 @@ class Refiner {
         csharp.push_back(cs);
         has_child_creases_ = has_child_creases_ || cs > 0.0f;
       }
-      if (!puf_[2 * e + 1].is_valid()) {
-        cuf[4 * e + 1] = FaceId::None();
-        cuf[4 * e + 3] = FaceId::None();
+      if (!puf_[2 * e + 1].is_valid()) {  // no wings yet; `link_borders` may add some
+        for (const int32_t u : {4 * e + 1, 4 * e + 3}) {
+          cuf[u] = FaceId::None();
+          cnext[u] = EdgeUse::None();
+          if (!is_intermediate_) cprev[u] = EdgeUse::None();
+        }
       }
       cvertex_edges[F_ + e] = EdgeId(2 * e);
     }
@@ -419,8 +427,8 @@ class Refiner {
   const int32_t F_, E_, V_;
   const std::vector<dvec3>& pos_;
   const std::vector<VertexId>& pev_;
-  const std::vector<FaceId>& puf_;
-  const std::vector<EdgeUse>& pnext_;
+  const OverwriteVector<FaceId>& puf_;
+  const OverwriteVector<EdgeUse>& pnext_;
   const std::vector<uint8_t>& pflags_;
   const std::vector<float>& psharp_;
   const std::vector<float>& pvsharp_;

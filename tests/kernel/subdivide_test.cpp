@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "kernel/topology.h"
@@ -412,6 +413,54 @@ TEST(SubdivideLastLevel, SameFailuresAsAllLevels) {
     ASSERT_FALSE(last.has_value());
     EXPECT_EQ(last.error().kind, all.error().kind);
     EXPECT_EQ(last.error().message, all.error().message);
+  }
+}
+
+
+// Fills and frees heap blocks of the sizes of the arrays that refining each of `parents`
+// leaves unwritten at first (`resize_for_overwrite`), so the allocator is likely to hand
+// them back to the refinement: an element it forgot to write then keeps `byte`.
+void poison_heap(const std::vector<const Mesh*>& parents, unsigned char byte) {
+  std::vector<std::unique_ptr<unsigned char[]>> blocks;
+  for (const Mesh* m : parents) {
+    size_t corners = 0;
+    for (int32_t f = 0; f < m->face_count(); ++f) corners += static_cast<size_t>(m->face_size(FaceId(f)));
+    const size_t child_edges = 2 * static_cast<size_t>(m->edge_count()) + corners;
+    const size_t child_vertices = static_cast<size_t>(m->vertex_count()) + m->edge_count() + m->face_count();
+    for (const size_t bytes : {2 * child_edges * sizeof(EdgeUse), child_vertices * sizeof(EdgeId)}) {
+      for (int copy = 0; copy < 4; ++copy) {
+        blocks.emplace_back(new unsigned char[bytes]);
+        std::memset(blocks.back().get(), byte, bytes);
+      }
+    }
+  }
+}
+
+// The child's wings, faces of uses and vertex anchors are allocated without being filled;
+// whatever the memory held before, the result is the same and consistent.
+TEST(SubdivideLastLevel, ChildArraysAreFullyWritten) {
+  for (const PolygonSoup& soup : last_level_soups()) {
+    const Mesh mesh = build(soup);
+    for (int32_t levels = 1; levels <= 3; ++levels) {
+      auto reference = subdivide(mesh, {.levels = levels});
+      ASSERT_TRUE(reference.has_value());
+      std::vector<const Mesh*> parents{&mesh};
+      for (const SubdivisionLevel& l : *reference) parents.push_back(&l.mesh);
+      for (const unsigned char byte : {0x00, 0xff, 0x5a}) {
+        SCOPED_TRACE(::testing::Message() << soup.face_count() << " faces, " << levels << " levels, byte " << int(byte));
+        poison_heap(parents, byte);
+        auto all = subdivide(mesh, {.levels = levels});
+        ASSERT_TRUE(all.has_value());
+        for (size_t i = 0; i < all->size(); ++i) {
+          expect_identical((*all)[i].mesh, (*reference)[i].mesh);
+          EXPECT_EQ(mesh_problem((*all)[i].mesh), "");
+        }
+        poison_heap(parents, byte);
+        auto last = subdivide_last_level(mesh, {.levels = levels});
+        ASSERT_TRUE(last.has_value());
+        expect_identical(*last, reference->back().mesh);
+      }
+    }
   }
 }
 
