@@ -112,11 +112,11 @@ Mesh append_disjoint(std::span<const Mesh* const> meshes) {
     nf += static_cast<size_t>(m->face_count());
   }
   A::positions(out).resize(nv);
-  A::vertex_edges(out).resize(nv);
+  A::vertex_edges(out).resize(nv, EdgeId::None());
   A::edge_vertices(out).resize(2 * ne);
-  A::use_faces(out).resize(2 * ne);
-  A::next(out).resize(2 * ne);
-  A::prev(out).resize(2 * ne);
+  A::use_faces(out).resize(2 * ne, FaceId::None());
+  A::next(out).resize(2 * ne, EdgeUse::None());
+  A::prev(out).resize(2 * ne, EdgeUse::None());
   A::edge_flags(out).resize(ne);
   A::face_uses(out).resize(nf);
   A::face_sources(out).resize(nf);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "kernel/ids.h"
+#include "kernel/large_arrays.h"
 #include "kernel/result.h"
 
 namespace nomec::kernel {
@@ -227,15 +228,15 @@ class Mesh {
 
   // vertices
   std::vector<glm::dvec3> positions_;
-  std::vector<EdgeId> vertex_edges_;
+  OverwriteVector<EdgeId> vertex_edges_;
   std::vector<std::string> names_;
   std::vector<glm::dvec3> normals_;
   std::vector<float> vertex_sharpness_;
   // edges (2 entries per edge: end vertices / per-use arrays indexed by EdgeUse)
   std::vector<VertexId> edge_vertices_;
-  std::vector<FaceId> use_faces_;
-  std::vector<EdgeUse> next_;
-  std::vector<EdgeUse> prev_;
+  OverwriteVector<FaceId> use_faces_;
+  OverwriteVector<EdgeUse> next_;
+  OverwriteVector<EdgeUse> prev_;
   std::vector<uint8_t> edge_flags_;
   std::vector<float> sharpness_;
   // faces
@@ -272,11 +273,11 @@ PolygonSoup to_soup(const Mesh& mesh);
 /// of the public API.
 struct MeshAccess {
   static std::vector<glm::dvec3>& positions(Mesh& m) { return m.positions_; }
-  static std::vector<EdgeId>& vertex_edges(Mesh& m) { return m.vertex_edges_; }
+  static OverwriteVector<EdgeId>& vertex_edges(Mesh& m) { return m.vertex_edges_; }
   static std::vector<VertexId>& edge_vertices(Mesh& m) { return m.edge_vertices_; }
-  static std::vector<FaceId>& use_faces(Mesh& m) { return m.use_faces_; }
-  static std::vector<EdgeUse>& next(Mesh& m) { return m.next_; }
-  static std::vector<EdgeUse>& prev(Mesh& m) { return m.prev_; }
+  static OverwriteVector<FaceId>& use_faces(Mesh& m) { return m.use_faces_; }
+  static OverwriteVector<EdgeUse>& next(Mesh& m) { return m.next_; }
+  static OverwriteVector<EdgeUse>& prev(Mesh& m) { return m.prev_; }
   static std::vector<uint8_t>& edge_flags(Mesh& m) { return m.edge_flags_; }
   static std::vector<float>& sharpness(Mesh& m) { return m.sharpness_; }
   static std::vector<float>& vertex_sharpness(Mesh& m) { return m.vertex_sharpness_; }
@@ -284,11 +285,11 @@ struct MeshAccess {
   static std::vector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
   static std::vector<glm::vec3>& face_colors(Mesh& m) { return m.face_colors_; }
   static const std::vector<glm::dvec3>& positions(const Mesh& m) { return m.positions_; }
-  static const std::vector<EdgeId>& vertex_edges(const Mesh& m) { return m.vertex_edges_; }
+  static const OverwriteVector<EdgeId>& vertex_edges(const Mesh& m) { return m.vertex_edges_; }
   static const std::vector<VertexId>& edge_vertices(const Mesh& m) { return m.edge_vertices_; }
-  static const std::vector<FaceId>& use_faces(const Mesh& m) { return m.use_faces_; }
-  static const std::vector<EdgeUse>& next(const Mesh& m) { return m.next_; }
-  static const std::vector<EdgeUse>& prev(const Mesh& m) { return m.prev_; }
+  static const OverwriteVector<FaceId>& use_faces(const Mesh& m) { return m.use_faces_; }
+  static const OverwriteVector<EdgeUse>& next(const Mesh& m) { return m.next_; }
+  static const OverwriteVector<EdgeUse>& prev(const Mesh& m) { return m.prev_; }
   static const std::vector<uint8_t>& edge_flags(const Mesh& m) { return m.edge_flags_; }
   static const std::vector<float>& sharpness(const Mesh& m) { return m.sharpness_; }
   static const std::vector<float>& vertex_sharpness(const Mesh& m) { return m.vertex_sharpness_; }

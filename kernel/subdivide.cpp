@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <glm/geometric.hpp>
 
 #include "kernel/large_arrays.h"
@@ -51,15 +53,36 @@ struct SharpSums {
   int16_t child_count = 0;
 };
 
+// Where the parent's faces find their sources and colours: parent face f reads element
+// f >> shift of these arrays. They are the parent's own arrays (shift 0), or those of the
+// nearest ancestor that stores them when the levels in between do not (each such level
+// splits every face into four consecutive children, so going up one level is q / 4).
+struct FaceInheritance {
+  std::span<const FaceSource> sources;
+  std::span<const glm::vec3> colors;  // empty: the faces have no colours
+  int shift = 0;
+};
+
 // One level of refinement as named passes over the parent's flat arrays (see the top of
 // the file); the passes share the parent's arrays and the child being built. Every child
 // array is allocated once at its exact size, and the only scratch memory is a valence per
 // parent vertex (plus `SharpSums` when there are sharp edges).
+//
+// An intermediate child (`is_intermediate`, see `subdivide_last_level`) is only ever read
+// by the next refinement, which reads neither its `prev` wings nor its border links, and
+// reads its face sources and colours through `FaceInheritance`; so it gets none of them,
+// except sources and colours when some parent face is not a quad (q / 4 fails).
+// `has_border_loops` says whether the child's border loops are linked (the parent's were).
 class Refiner {
  public:
-  Refiner(const Mesh& parent, const SubdivisionOptions& options)
+  Refiner(const Mesh& parent, const SubdivisionOptions& options, const FaceInheritance& inheritance,
+          bool is_intermediate, bool has_border_loops)
       : p_(parent),
         options_(options),
+        inheritance_(inheritance),
+        is_intermediate_(is_intermediate),
+        has_border_loops_(has_border_loops),
+        stores_face_properties_(!is_intermediate),
         F_(parent.face_count()),
         E_(parent.edge_count()),
         V_(parent.vertex_count()),
@@ -119,15 +142,19 @@ class Refiner {
     auto& csharp = MeshAccess::sharpness(child);
     auto& cvertex_edges = MeshAccess::vertex_edges(child);
     reserve_large(cev, 2 * cE);
-    resize_large(cuf, 2 * cE);
-    resize_large(MeshAccess::next(child), 2 * cE);
-    resize_large(MeshAccess::prev(child), 2 * cE);
+    auto& cnext = MeshAccess::next(child);
+    auto& cprev = MeshAccess::prev(child);
+    // Every element of these four is written below or by `faces` (the per-use arrays: the
+    // uses of the faces there, the unused side of a border edge here) or, for vertex
+    // anchors, by `faces` (face points), here (edge points) and `child_vertex_edges`.
+    resize_for_overwrite(cuf, 2 * cE);
+    resize_for_overwrite(cnext, 2 * cE);
+    if (!is_intermediate_) resize_for_overwrite(cprev, 2 * cE);
     reserve_large(cflags, cE);
     if (has_creases_) reserve_large(csharp, cE);
-    resize_large(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
+    resize_for_overwrite(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
     reserve_large(MeshAccess::face_uses(child), corner_total_);
-    reserve_large(MeshAccess::face_sources(child), corner_total_);
-    if (p_.has_face_colors()) reserve_large(MeshAccess::face_colors(child), corner_total_);
+    if (stores_face_properties_) reserve_face_properties();
     const int32_t vp_base = F_ + E_;
     for (int32_t e = 0; e < E_; ++e) {
       cev.push_back(VertexId(vp_base + pev_[2 * e].index));
@@ -142,9 +169,12 @@ class Refiner {
         csharp.push_back(cs);
         has_child_creases_ = has_child_creases_ || cs > 0.0f;
       }
-      if (!puf_[2 * e + 1].is_valid()) {
-        cuf[4 * e + 1] = FaceId::None();
-        cuf[4 * e + 3] = FaceId::None();
+      if (!puf_[2 * e + 1].is_valid()) {  // no wings yet; `link_borders` may add some
+        for (const int32_t u : {4 * e + 1, 4 * e + 3}) {
+          cuf[u] = FaceId::None();
+          cnext[u] = EdgeUse::None();
+          if (!is_intermediate_) cprev[u] = EdgeUse::None();
+        }
       }
       cvertex_edges[F_ + e] = EdgeId(2 * e);
     }
@@ -159,13 +189,9 @@ class Refiner {
     auto& cev = MeshAccess::edge_vertices(child);
     auto& cflags = MeshAccess::edge_flags(child);
     auto& csharp = MeshAccess::sharpness(child);
-    auto& csources = MeshAccess::face_sources(child);
-    auto& ccolors = MeshAccess::face_colors(child);
     auto& cvertex_edges = MeshAccess::vertex_edges(child);
-    const auto& psources = MeshAccess::face_sources(p_);
     resize_large(cpos_, static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
     dvec3* vertex_points = cpos_.data() + F_ + E_;
-    const bool has_colors = p_.has_face_colors();
     bool are_quads = true;  // so far; the face map is stored from the first other polygon
     int32_t o = 0;
     for (int32_t f = 0; f < F_; ++f) {
@@ -182,6 +208,7 @@ class Refiner {
       if (n != 4 && are_quads) {
         are_quads = false;
         if (options_.has_parent_maps) start_face_map(o);
+        if (!stores_face_properties_) start_face_properties(o);
       }
       const dvec3 fp = sum / double(n);
       cpos_[f] = fp;
@@ -193,13 +220,32 @@ class Refiner {
         cev.push_back(VertexId(f));
         cflags.push_back(0);
         if (has_creases_) csharp.push_back(0.0f);
-        csources.push_back(psources[f]);
-        if (has_colors) ccolors.push_back(p_.face_color(FaceId(f)));
+        if (stores_face_properties_) inherit_face_properties(f);
         if (!are_quads && options_.has_parent_maps) level_.face_parents.push_back(FaceId(f));
       }
       o += n;
     }
     level_.are_parent_faces_quads = are_quads;
+  }
+
+  void reserve_face_properties() {
+    reserve_large(MeshAccess::face_sources(level_.mesh), corner_total_);
+    if (!inheritance_.colors.empty()) reserve_large(MeshAccess::face_colors(level_.mesh), corner_total_);
+  }
+
+  // Appends the source and colour of a child of parent face `f`.
+  void inherit_face_properties(int32_t f) {
+    const size_t i = static_cast<size_t>(f) >> inheritance_.shift;
+    MeshAccess::face_sources(level_.mesh).push_back(inheritance_.sources[i]);
+    if (!inheritance_.colors.empty()) MeshAccess::face_colors(level_.mesh).push_back(inheritance_.colors[i]);
+  }
+
+  // An intermediate child's sources and colours up to child face `o`, whose parent faces
+  // were all quads, and from there on.
+  void start_face_properties(int32_t o) {
+    stores_face_properties_ = true;
+    reserve_face_properties();
+    for (int32_t q = 0; q < o; ++q) inherit_face_properties(q / 4);
   }
 
   // The face map up to child face `o`, whose parent faces were all quads.
@@ -307,7 +353,7 @@ class Refiner {
     Mesh& child = level_.mesh;
     FaceId* cuf = MeshAccess::use_faces(child).data();
     EdgeUse* cnext = MeshAccess::next(child).data();
-    EdgeUse* cprev = MeshAccess::prev(child).data();
+    EdgeUse* cprev = is_intermediate_ ? nullptr : MeshAccess::prev(child).data();
     auto& cface_uses = MeshAccess::face_uses(child);
     // Half near the head of the previous use, and that use's side.
     const EdgeUse last = face_loop_[n - 1];
@@ -333,17 +379,20 @@ class Refiner {
       cnext[u1] = EdgeUse(u2);
       cnext[u2] = EdgeUse(u3);
       cnext[u3] = EdgeUse(u0);
-      cprev[u0] = EdgeUse(u3);
-      cprev[u1] = EdgeUse(u0);
-      cprev[u2] = EdgeUse(u1);
-      cprev[u3] = EdgeUse(u2);
+      if (cprev != nullptr) {
+        cprev[u0] = EdgeUse(u3);
+        cprev[u1] = EdgeUse(u0);
+        cprev[u2] = EdgeUse(u1);
+        cprev[u3] = EdgeUse(u2);
+      }
       cface_uses.push_back(EdgeUse(u0));
       prev_head_half = head_half;
       prev_side = s;
     }
   }
 
-  // (e) Each vertex point's first edge, and the child's border loops.
+  // (e) Each vertex point's first edge, and the child's border loops (not for an
+  // intermediate child, which has no `prev` wings to link them in).
   void child_vertex_edges() {
     auto& cvertex_edges = MeshAccess::vertex_edges(level_.mesh);
     for (int32_t v = 0; v < V_; ++v) {
@@ -351,7 +400,7 @@ class Refiner {
       cvertex_edges[F_ + E_ + v] =
           a.is_valid() ? EdgeId(2 * a.index + (pev_[2 * a.index].index == v ? 0 : 1)) : EdgeId::None();
     }
-    if (!p_.border_loops().empty()) MeshAccess::link_borders(level_.mesh);
+    if (has_border_loops_ && !is_intermediate_) MeshAccess::link_borders(level_.mesh);
   }
 
   // Corner sharpness decays like crease sharpness; only vertex points inherit it. A level
@@ -371,11 +420,15 @@ class Refiner {
 
   const Mesh& p_;
   const SubdivisionOptions& options_;
+  const FaceInheritance inheritance_;
+  const bool is_intermediate_;
+  const bool has_border_loops_;
+  bool stores_face_properties_;
   const int32_t F_, E_, V_;
   const std::vector<dvec3>& pos_;
   const std::vector<VertexId>& pev_;
-  const std::vector<FaceId>& puf_;
-  const std::vector<EdgeUse>& pnext_;
+  const OverwriteVector<FaceId>& puf_;
+  const OverwriteVector<EdgeUse>& pnext_;
   const std::vector<uint8_t>& pflags_;
   const std::vector<float>& psharp_;
   const std::vector<float>& pvsharp_;
@@ -394,35 +447,70 @@ class Refiner {
 
 }  // namespace
 
+namespace {
+
+std::optional<KernelError> check_level_count(const SubdivisionOptions& options) {
+  if (options.levels >= 0 && options.levels <= 12) return std::nullopt;
+  return KernelError{KernelError::Kind::InvalidArgument, "subdivision level count must be between 0 and 12", {}, {}, {}};
+}
+
+// Refuses level `level` (1-based) of `from` when it would exceed `max_vertices`.
+std::optional<KernelError> check_vertex_limit(const Mesh& from, int32_t level, const SubdivisionOptions& options) {
+  const int64_t next_vertices = int64_t{from.vertex_count()} + from.edge_count() + from.face_count();
+  if (options.max_vertices <= 0 || next_vertices <= options.max_vertices) return std::nullopt;
+  return KernelError{KernelError::Kind::InvalidArgument,
+                     fmt::format("subdivision level {} would have {} vertices, more than the {} allowed", level,
+                                 next_vertices, options.max_vertices),
+                     {},
+                     {},
+                     {}};
+}
+
+}  // namespace
+
 SubdivisionLevel subdivide_once(const Mesh& parent, const SubdivisionOptions& options) {
-  return Refiner(parent, options).run();
+  const FaceInheritance own{MeshAccess::face_sources(parent), MeshAccess::face_colors(parent), 0};
+  return Refiner(parent, options, own, /*is_intermediate=*/false, !parent.border_loops().empty()).run();
 }
 
 Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
                                                 const SubdivisionOptions& options) {
-  if (options.levels < 0 || options.levels > 12) {
-    return KernelError{KernelError::Kind::InvalidArgument,
-                       "subdivision level count must be between 0 and 12",
-                       {},
-                       {},
-                       {}};
-  }
+  if (auto error = check_level_count(options)) return *error;
   std::vector<SubdivisionLevel> levels;
   levels.reserve(options.levels);
   for (int32_t i = 0; i < options.levels; ++i) {
     const Mesh& from = i == 0 ? mesh : levels.back().mesh;
-    const int64_t next_vertices = int64_t{from.vertex_count()} + from.edge_count() + from.face_count();
-    if (options.max_vertices > 0 && next_vertices > options.max_vertices) {
-      return KernelError{KernelError::Kind::InvalidArgument,
-                         fmt::format("subdivision level {} would have {} vertices, more than the {} allowed", i + 1,
-                                     next_vertices, options.max_vertices),
-                         {},
-                         {},
-                         {}};
-    }
+    if (auto error = check_vertex_limit(from, i + 1, options)) return *error;
     levels.push_back(subdivide_once(from, options));
   }
   return levels;
+}
+
+Result<Mesh> subdivide_last_level(Mesh mesh, const SubdivisionOptions& options) {
+  if (auto error = check_level_count(options)) return *error;
+  if (options.levels == 0) return mesh;
+  SubdivisionOptions without_maps = options;
+  without_maps.has_parent_maps = false;
+  const bool has_border_loops = !mesh.border_loops().empty();
+  // The faces' sources and colours leave the meshes: every level reads them from here.
+  std::vector<FaceSource> sources = std::move(MeshAccess::face_sources(mesh));
+  std::vector<glm::vec3> colors = std::move(MeshAccess::face_colors(mesh));
+  FaceInheritance inheritance{sources, colors, 0};
+  for (int32_t i = 0; i < options.levels; ++i) {
+    if (auto error = check_vertex_limit(mesh, i + 1, options)) return *error;
+    const bool is_last = i + 1 == options.levels;
+    SubdivisionLevel child = Refiner(mesh, without_maps, inheritance, !is_last, has_border_loops).run();
+    mesh = std::move(child.mesh);  // frees the parent
+    if (is_last) break;
+    if (child.are_parent_faces_quads) {
+      inheritance.shift += 2;
+    } else {  // the child stores its own (see `Refiner`)
+      sources = std::move(MeshAccess::face_sources(mesh));
+      colors = std::move(MeshAccess::face_colors(mesh));
+      inheritance = FaceInheritance{sources, colors, 0};
+    }
+  }
+  return mesh;
 }
 
 }  // namespace nomec::kernel

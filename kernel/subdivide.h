@@ -112,4 +112,18 @@ SubdivisionLevel subdivide_once(const Mesh& mesh, const SubdivisionOptions& opti
 Result<std::vector<SubdivisionLevel>> subdivide(const Mesh& mesh,
                                                 const SubdivisionOptions& options);
 
+/// The last of `options.levels` levels only, equal bit for bit to
+/// `subdivide(mesh, options)->back().mesh` (`mesh` itself for 0 levels), with the same
+/// failures; `has_parent_maps` is ignored (no maps are returned).
+///
+/// Rationale: a caller that wants only the result (the pipeline's `--subdivide N`, a
+/// scene's `subdivision` block) should not pay for every level at once. Taking `mesh` by
+/// value lets it be freed as soon as level 1 exists, and each intermediate level as soon as
+/// the next one does, so the peak is the last two levels instead of all of them. An
+/// intermediate level also stores only what the next refinement reads: no `prev` wings, no
+/// border links, and no face sources or colours when its parent faces are all quads (its
+/// face q then inherits from its parent face q / 4, so the last level reads them from the
+/// nearest level that stores them).
+Result<Mesh> subdivide_last_level(Mesh mesh, const SubdivisionOptions& options);
+
 }  // namespace nomec::kernel

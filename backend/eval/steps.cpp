@@ -92,9 +92,9 @@ std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::
       ++kernel_ops;
       kernel::SubdivisionOptions options = s.subdivision;
       options.max_vertices = max_vertices;
-      auto r = kernel::subdivide(mesh, options);
+      auto r = kernel::subdivide_last_level(std::move(mesh), options);
       if (!r) return StepFailure{r.error(), i};
-      if (!r->empty()) mesh = std::move(r->back().mesh);
+      mesh = std::move(*r);
     } else {
       ++kernel_ops;
       auto r = s.kind == Step::Kind::Lattice

@@ -1,7 +1,10 @@
-// Catmull-Clark throughput and memory: ours (builder + `subdivide`, full winged-edge
-// topology and child→parent maps at every level) against OpenSubdiv (TopologyRefiner
-// factory + RefineUniform + PrimvarRefiner::Interpolate of double positions, default
-// options, i.e. without full topology in the last level) on the same soup.
+// Catmull-Clark throughput and memory: ours (builder + `subdivide_last_level`, the path of
+// the pipeline and of scene `subdivision` blocks: the last level with full winged-edge
+// topology, face sources and border loops, intermediate levels freed as it goes) against
+// OpenSubdiv (TopologyRefiner factory + RefineUniform + PrimvarRefiner::Interpolate of
+// double positions, default options, i.e. without full topology in the last level) on the
+// same soup. `BM_OursAllLevels_*` runs `subdivide`, which keeps every level with its
+// child→parent maps, for comparison.
 #include <benchmark/benchmark.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -37,12 +40,21 @@ void report(benchmark::State& state, size_t peak, int64_t faces, int64_t edges) 
       benchmark::Counter(double(faces), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Which of our entry points a run measures.
+enum class Path { LastLevel, AllLevels };
+
 // One refinement with our kernel; returns the number of output faces (and edges).
 int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge,
-                  int64_t* edges = nullptr) {
+                  int64_t* edges = nullptr, Path path = Path::LastLevel) {
   auto mesh = build_mesh(soup);
-  auto result = subdivide(*mesh, {.levels = levels});
-  const Mesh& last = result->back().mesh;
+  Mesh last_level;
+  Result<std::vector<SubdivisionLevel>> all_levels = std::vector<SubdivisionLevel>();
+  if (path == Path::LastLevel) {
+    last_level = std::move(*subdivide_last_level(std::move(*mesh), {.levels = levels}));
+  } else {
+    all_levels = subdivide(*mesh, {.levels = levels});
+  }
+  const Mesh& last = path == Path::LastLevel ? last_level : all_levels->back().mesh;
   benchmark::DoNotOptimize(last.positions().data());
   if (bytes_per_edge != nullptr) {
     *bytes_per_edge = double(last.memory_bytes()) / last.edge_count();
@@ -84,7 +96,7 @@ int64_t osd_once(const PolygonSoup& soup, int levels, int64_t* edges = nullptr) 
   return refiner->GetLevel(levels).GetNumFaces();
 }
 
-void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
+void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels, Path path = Path::LastLevel) {
   size_t peak = 0;
   int64_t faces = 0;
   int64_t edges = 0;
@@ -92,7 +104,7 @@ void run_ours(benchmark::State& state, const PolygonSoup& soup, int levels) {
   for (auto _ : state) {
     const size_t base = current_bytes();
     reset_peak_bytes();
-    faces = ours_once(soup, levels, &bytes_per_edge, &edges);
+    faces = ours_once(soup, levels, &bytes_per_edge, &edges, path);
     peak = peak_bytes() - base;
   }
   report(state, peak, faces, edges);
@@ -177,6 +189,11 @@ void BM_Osd_Mixed_L4(benchmark::State& s) { run_osd(s, mixed(), 4); }
 void BM_Ours_Torus100k_L2(benchmark::State& s) { run_ours(s, torus_100k(), 2); }
 void BM_Osd_Torus100k_L2(benchmark::State& s) { run_osd(s, torus_100k(), 2); }
 void BM_Ours_Smoke_L2(benchmark::State& s) { run_ours(s, small(), 2); }
+void BM_OursAllLevels_Torus2k_L4(benchmark::State& s) { run_ours(s, torus_2k(), 4, Path::AllLevels); }
+void BM_OursAllLevels_Torus2k_L5(benchmark::State& s) { run_ours(s, torus_2k(), 5, Path::AllLevels); }
+void BM_OursAllLevels_Mixed_L4(benchmark::State& s) { run_ours(s, mixed(), 4, Path::AllLevels); }
+void BM_OursAllLevels_Torus100k_L2(benchmark::State& s) { run_ours(s, torus_100k(), 2, Path::AllLevels); }
+void BM_OursAllLevels_Smoke_L2(benchmark::State& s) { run_ours(s, small(), 2, Path::AllLevels); }
 void BM_Osd_Smoke_L2(benchmark::State& s) { run_osd(s, small(), 2); }
 
 void BM_Pair_Torus2k_L4(benchmark::State& s) { run_pair(s, torus_2k(), 4); }
@@ -195,6 +212,11 @@ BENCHMARK(BM_Ours_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Osd_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Ours_Smoke_L2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Osd_Smoke_L2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_OursAllLevels_Torus2k_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OursAllLevels_Torus2k_L5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OursAllLevels_Mixed_L4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OursAllLevels_Torus100k_L2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OursAllLevels_Smoke_L2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Pair_Torus2k_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Pair_Torus2k_L5)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 BENCHMARK(BM_Pair_Mixed_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);

@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
+#include <memory>
+#include <vector>
 
 #include "kernel/topology.h"
 #include "tests/kernel/build.h"
@@ -328,6 +331,137 @@ TEST(Subdivide, RejectsBadLevelCount) {
   auto r = subdivide(cube, {.levels = -1});
   ASSERT_FALSE(r.has_value());
   EXPECT_EQ(r.error().kind, KernelError::Kind::InvalidArgument);
+}
+
+
+// ---- subdivide_last_level: the freeing path must give exactly the retaining path's mesh --
+
+// Every stored array of `a` and `b` equal, positions bit for bit.
+void expect_identical(const Mesh& a, const Mesh& b) {
+  EXPECT_TRUE(has_same_topology(a, b));
+  ASSERT_EQ(a.positions().size(), b.positions().size());
+  for (size_t v = 0; v < a.positions().size(); ++v) {
+    ASSERT_EQ(std::memcmp(&a.positions()[v], &b.positions()[v], sizeof(glm::dvec3)), 0) << v;
+  }
+}
+
+// Soups covering what the levels in between drop or must carry: non-quad faces (the first
+// level stores its face sources), borders and their loops, Möbius edges, creases and
+// corners that decay over the levels, colours and explicit face sources.
+std::vector<PolygonSoup> last_level_soups() {
+  std::vector<PolygonSoup> soups;
+  PolygonSoup cube = cube_soup();
+  for (int f = 0; f < 6; ++f) {
+    cube.face_sources.push_back({100 + f, f % 2});
+    cube.face_colors.push_back(glm::vec3(float(f), 0.5f, 0));
+  }
+  cube.creases.push_back({0, 2, 2.5f});
+  cube.creases.push_back({0, 1, kInfiniteSharpness});
+  cube.corners.push_back({5, 1.5f});
+  soups.push_back(cube);
+  PolygonSoup disk = testing::mixed_disk_soup();
+  for (int f = 0; f < disk.face_count(); ++f) disk.face_colors.push_back(glm::vec3(0, float(f), 1));
+  soups.push_back(disk);
+  soups.push_back(testing::mixed_disk_soup());
+  for (Glue glue : {Glue::None, Glue::Cylinder, Glue::Mobius, Glue::Torus, Glue::Klein}) {
+    soups.push_back(grid_soup(5, 4, glue, 0.1));
+  }
+  PolygonSoup tetra = testing::tetra_soup();
+  tetra.creases.push_back({0, 1, 1.0f});
+  soups.push_back(tetra);
+  return soups;
+}
+
+TEST(SubdivideLastLevel, EqualsLastOfAllLevels) {
+  for (const PolygonSoup& soup : last_level_soups()) {
+    const Mesh mesh = build(soup);
+    for (const SubdivisionOptions base :
+         {SubdivisionOptions{}, SubdivisionOptions{.vertex_rule = VertexRule::DeRose},
+          SubdivisionOptions{.is_sharpness_honoured = false}, SubdivisionOptions{.has_parent_maps = false}}) {
+      for (int32_t levels = 1; levels <= 4; ++levels) {
+        SubdivisionOptions options = base;
+        options.levels = levels;
+        auto all = subdivide(mesh, options);
+        auto last = subdivide_last_level(mesh, options);
+        ASSERT_TRUE(all.has_value());
+        ASSERT_TRUE(last.has_value());
+        SCOPED_TRACE(::testing::Message() << soup.face_count() << " faces, " << levels << " levels");
+        expect_identical(*last, all->back().mesh);
+        expect_wings_consistent(*last);
+      }
+    }
+  }
+}
+
+TEST(SubdivideLastLevel, ZeroLevelsReturnsTheInput) {
+  PolygonSoup s = cube_soup();
+  s.names = {"a", "b", "c", "d", "e", "f", "g", "h"};
+  const Mesh cube = build(s);
+  auto same = subdivide_last_level(cube, {.levels = 0});
+  ASSERT_TRUE(same.has_value());
+  expect_identical(*same, cube);
+}
+
+TEST(SubdivideLastLevel, SameFailuresAsAllLevels) {
+  const Mesh cube = build(cube_soup());
+  for (const SubdivisionOptions options :
+       {SubdivisionOptions{.levels = -1}, SubdivisionOptions{.levels = 13},
+        SubdivisionOptions{.levels = 3, .max_vertices = 100}, SubdivisionOptions{.levels = 2, .max_vertices = 26}}) {
+    auto all = subdivide(cube, options);
+    auto last = subdivide_last_level(cube, options);
+    ASSERT_FALSE(all.has_value());
+    ASSERT_FALSE(last.has_value());
+    EXPECT_EQ(last.error().kind, all.error().kind);
+    EXPECT_EQ(last.error().message, all.error().message);
+  }
+}
+
+
+// Fills and frees heap blocks of the sizes of the arrays that refining each of `parents`
+// leaves unwritten at first (`resize_for_overwrite`), so the allocator is likely to hand
+// them back to the refinement: an element it forgot to write then keeps `byte`.
+void poison_heap(const std::vector<const Mesh*>& parents, unsigned char byte) {
+  std::vector<std::unique_ptr<unsigned char[]>> blocks;
+  for (const Mesh* m : parents) {
+    size_t corners = 0;
+    for (int32_t f = 0; f < m->face_count(); ++f) corners += static_cast<size_t>(m->face_size(FaceId(f)));
+    const size_t child_edges = 2 * static_cast<size_t>(m->edge_count()) + corners;
+    const size_t child_vertices = static_cast<size_t>(m->vertex_count()) + m->edge_count() + m->face_count();
+    for (const size_t bytes : {2 * child_edges * sizeof(EdgeUse), child_vertices * sizeof(EdgeId)}) {
+      for (int copy = 0; copy < 4; ++copy) {
+        blocks.emplace_back(new unsigned char[bytes]);
+        std::memset(blocks.back().get(), byte, bytes);
+      }
+    }
+  }
+}
+
+// The child's wings, faces of uses and vertex anchors are allocated without being filled;
+// whatever the memory held before, the result is the same and consistent.
+TEST(SubdivideLastLevel, ChildArraysAreFullyWritten) {
+  for (const PolygonSoup& soup : last_level_soups()) {
+    const Mesh mesh = build(soup);
+    for (int32_t levels = 1; levels <= 3; ++levels) {
+      auto reference = subdivide(mesh, {.levels = levels});
+      ASSERT_TRUE(reference.has_value());
+      std::vector<const Mesh*> parents{&mesh};
+      for (const SubdivisionLevel& l : *reference) parents.push_back(&l.mesh);
+      for (const unsigned char byte : {0x00, 0xff, 0x5a}) {
+        SCOPED_TRACE(::testing::Message() << soup.face_count() << " faces, " << levels << " levels, byte " << int(byte));
+        poison_heap(parents, byte);
+        auto all = subdivide(mesh, {.levels = levels});
+        ASSERT_TRUE(all.has_value());
+        for (size_t i = 0; i < all->size(); ++i) {
+          expect_identical((*all)[i].mesh, (*reference)[i].mesh);
+          EXPECT_EQ(mesh_problem((*all)[i].mesh), "");
+        }
+        poison_heap(parents, byte);
+        auto last = subdivide_last_level(mesh, {.levels = levels});
+        ASSERT_TRUE(last.has_value());
+        expect_identical(*last, reference->back().mesh);
+      }
+    }
+  }
 }
 
 }  // namespace
