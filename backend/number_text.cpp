@@ -5,6 +5,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace nomec::backend {
@@ -33,6 +34,25 @@ bool scaled(double a, int e, double* out) {
   return true;
 }
 
+// The decimal digits of `v` (at most 20) at the end of `buf[0, 20)`; returns the first.
+char* digits_of(char* end, uint64_t v) {
+  static constexpr char kPairs[] =
+      "0001020304050607080910111213141516171819202122232425262728293031323334353637383940414243444546474849"
+      "5051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
+  while (v >= 100) {
+    end -= 2;
+    std::memcpy(end, kPairs + 2 * (v % 100), 2);
+    v /= 100;
+  }
+  if (v >= 10) {
+    end -= 2;
+    std::memcpy(end, kPairs + 2 * v, 2);
+  } else {
+    *--end = static_cast<char>('0' + v);
+  }
+  return end;
+}
+
 }  // namespace
 
 char* put_e6(char* p, double x) {
@@ -43,10 +63,14 @@ char* put_e6(char* p, double x) {
     std::memcpy(p, "0.000000e+00", 12);
     return p + 12;
   }
-  int e = static_cast<int>(std::floor(std::log10(a)));
+  // a lies in [2^(b-1), 2^b), so its decimal exponent is floor((b - 1) · log10 2) or one
+  // more (the interval spans 0.30103 decades); the scaled value says which.
+  int b = 0;
+  std::frexp(a, &b);
+  int e = static_cast<int>(std::floor((b - 1) * 0.30102999566398120));
   double s = 0;
   bool fast = scaled(a, e, &s);
-  if (fast && s < 1e6) fast = scaled(a, --e, &s);  // log10 rounded up across a power of ten
+  if (fast && s < 1e6) fast = scaled(a, --e, &s);  // (guards an estimate rounded up)
   if (fast && s >= 1e7) fast = scaled(a, ++e, &s);
   // `s` is within half an ulp (≤ 1e-9 here) of the exact value, so unless its fraction lies
   // near one half, rounding it to a whole number rounds the exact value the same way.
@@ -60,11 +84,8 @@ char* put_e6(char* p, double x) {
     m = 1'000'000;
     ++e;
   }
-  char digits[7];
-  for (int i = 6; i >= 0; --i) {
-    digits[i] = static_cast<char>('0' + m % 10);
-    m /= 10;
-  }
+  char buf[20];
+  const char* digits = digits_of(buf + sizeof buf, m);  // seven digits
   *p++ = digits[0];
   *p++ = '.';
   std::memcpy(p, digits + 1, 6);
@@ -73,20 +94,20 @@ char* put_e6(char* p, double x) {
 
 char* put_shortest(char* p, double x) {
   if (!std::isfinite(x)) return fmt::format_to(p, "{}", x);
-  // The shortest digits come from to_chars in scientific form; fmt writes them in fixed
-  // notation when the decimal exponent is in −4…15, else as `d.ddde±XX`.
-  char sci[kNumberTextMax];
-  char* end = std::to_chars(sci, sci + sizeof sci, x, std::chars_format::scientific).ptr;
-  const char* q = sci;
-  if (*q == '-') *p++ = *q++;
-  const char* epos = static_cast<const char*>(std::memchr(q, 'e', static_cast<size_t>(end - q)));
-  int e = 0;
-  std::from_chars(epos[1] == '+' ? epos + 2 : epos + 1, end, e);
-  char digits[24] = {};
-  int n = 0;
-  for (const char* d = q; d < epos; ++d) {
-    if (*d != '.') digits[n++] = *d;
+  if (std::signbit(x)) *p++ = '-';
+  const double a = std::fabs(x);
+  if (a == 0) {
+    *p++ = '0';
+    return p;
   }
+  // The shortest digits that read back to `a`, from fmt's own algorithm (Dragonbox, what
+  // `{}` runs): a = significand · 10^exponent. fmt writes them in fixed notation when the
+  // decimal exponent of the first digit is in −4…15, else as `d.ddde±XX`.
+  const auto dec = fmt::detail::dragonbox::to_decimal(a);
+  char buf[20];
+  const char* digits = digits_of(buf + sizeof buf, dec.significand);
+  const int n = static_cast<int>(buf + sizeof buf - digits);
+  const int e = dec.exponent + n - 1;
   if (e < -4 || e >= 16) {
     *p++ = digits[0];
     if (n > 1) {
@@ -104,13 +125,17 @@ char* put_shortest(char* p, double x) {
     return p + n;
   }
   // e + 1 digits before the point (padded with zeros), the rest after it.
-  for (int i = 0; i <= e; ++i) *p++ = i < n ? digits[i] : '0';
-  if (n > e + 1) {
-    *p++ = '.';
-    std::memcpy(p, digits + e + 1, static_cast<size_t>(n - e - 1));
-    p += n - e - 1;
+  if (n <= e + 1) {
+    std::memcpy(p, digits, static_cast<size_t>(n));
+    p += n;
+    for (int i = n; i <= e; ++i) *p++ = '0';
+    return p;
   }
-  return p;
+  std::memcpy(p, digits, static_cast<size_t>(e + 1));
+  p += e + 1;
+  *p++ = '.';
+  std::memcpy(p, digits + e + 1, static_cast<size_t>(n - e - 1));
+  return p + (n - e - 1);
 }
 
 char* put_int(char* p, int64_t v) { return std::to_chars(p, p + 24, v).ptr; }
