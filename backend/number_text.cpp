@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -34,23 +35,61 @@ bool scaled(double a, int e, double* out) {
   return true;
 }
 
-// The decimal digits of `v` (at most 20) at the end of `buf[0, 20)`; returns the first.
-char* digits_of(char* end, uint64_t v) {
+constexpr uint64_t kPow10Int[] = {1,
+                                  10,
+                                  100,
+                                  1'000,
+                                  10'000,
+                                  100'000,
+                                  1'000'000,
+                                  10'000'000,
+                                  100'000'000,
+                                  1'000'000'000,
+                                  10'000'000'000,
+                                  100'000'000'000,
+                                  1'000'000'000'000,
+                                  10'000'000'000'000,
+                                  100'000'000'000'000,
+                                  1'000'000'000'000'000,
+                                  10'000'000'000'000'000,
+                                  100'000'000'000'000'000,
+                                  1'000'000'000'000'000'000,
+                                  10'000'000'000'000'000'000u};
+
+// Number of decimal digits of `v` (1 for 0).
+int digit_count(uint64_t v) {
+  // floor(log10(2^(w-1))) from the bit width w (1233/4096 ≈ log10 2), then one comparison.
+  const int t = (std::bit_width(v) * 1233) >> 12;
+  return v == 0 ? 1 : t + (v >= kPow10Int[t] ? 1 : 0);
+}
+
+// Writes the last `count` decimal digits of `v` (zero-padded) so that they end at `end`,
+// straight into the output: digits built in a scratch buffer and copied over would be read
+// back before their two-byte stores have retired, which stalls the copy.
+void put_digits(char* end, uint64_t v, int count) {
   static constexpr char kPairs[] =
       "0001020304050607080910111213141516171819202122232425262728293031323334353637383940414243444546474849"
       "5051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
-  while (v >= 100) {
-    end -= 2;
-    std::memcpy(end, kPairs + 2 * (v % 100), 2);
-    v /= 100;
+  // Eight digits at a time split off in 64-bit arithmetic, the pairs in 32-bit.
+  // The four pairs of a chunk come from two independent halves (a shorter dependency chain).
+  while (count >= 8) {
+    const uint32_t low = static_cast<uint32_t>(v % 100'000'000);
+    v /= 100'000'000;
+    const uint32_t hi = low / 10'000, lo = low % 10'000;
+    std::memcpy(end - 8, kPairs + 2 * (hi / 100), 2);
+    std::memcpy(end - 6, kPairs + 2 * (hi % 100), 2);
+    std::memcpy(end - 4, kPairs + 2 * (lo / 100), 2);
+    std::memcpy(end - 2, kPairs + 2 * (lo % 100), 2);
+    end -= 8;
+    count -= 8;
   }
-  if (v >= 10) {
+  uint32_t w = static_cast<uint32_t>(v);
+  for (; count >= 2; count -= 2) {
     end -= 2;
-    std::memcpy(end, kPairs + 2 * v, 2);
-  } else {
-    *--end = static_cast<char>('0' + v);
+    std::memcpy(end, kPairs + 2 * (w % 100), 2);
+    w /= 100;
   }
-  return end;
+  if (count == 1) *--end = static_cast<char>('0' + w % 10);
 }
 
 }  // namespace
@@ -84,11 +123,9 @@ char* put_e6(char* p, double x) {
     m = 1'000'000;
     ++e;
   }
-  char buf[20];
-  const char* digits = digits_of(buf + sizeof buf, m);  // seven digits
-  *p++ = digits[0];
+  *p++ = static_cast<char>('0' + m / 1'000'000);
   *p++ = '.';
-  std::memcpy(p, digits + 1, 6);
+  put_digits(p + 6, m % 1'000'000, 6);
   return put_exponent(p + 6, e);
 }
 
@@ -104,15 +141,14 @@ char* put_shortest(char* p, double x) {
   // `{}` runs): a = significand · 10^exponent. fmt writes them in fixed notation when the
   // decimal exponent of the first digit is in −4…15, else as `d.ddde±XX`.
   const auto dec = fmt::detail::dragonbox::to_decimal(a);
-  char buf[20];
-  const char* digits = digits_of(buf + sizeof buf, dec.significand);
-  const int n = static_cast<int>(buf + sizeof buf - digits);
+  const uint64_t v = dec.significand;
+  const int n = digit_count(v);
   const int e = dec.exponent + n - 1;
   if (e < -4 || e >= 16) {
-    *p++ = digits[0];
+    *p++ = static_cast<char>('0' + v / kPow10Int[n - 1]);
     if (n > 1) {
       *p++ = '.';
-      std::memcpy(p, digits + 1, static_cast<size_t>(n - 1));
+      put_digits(p + n - 1, v % kPow10Int[n - 1], n - 1);
       p += n - 1;
     }
     return put_exponent(p, e);
@@ -121,23 +157,33 @@ char* put_shortest(char* p, double x) {
     *p++ = '0';
     *p++ = '.';
     for (int i = -1; i > e; --i) *p++ = '0';
-    std::memcpy(p, digits, static_cast<size_t>(n));
+    put_digits(p + n, v, n);
     return p + n;
   }
   // e + 1 digits before the point (padded with zeros), the rest after it.
   if (n <= e + 1) {
-    std::memcpy(p, digits, static_cast<size_t>(n));
+    put_digits(p + n, v, n);
     p += n;
     for (int i = n; i <= e; ++i) *p++ = '0';
     return p;
   }
-  std::memcpy(p, digits, static_cast<size_t>(e + 1));
+  const int fraction = n - e - 1;
+  put_digits(p + e + 1, v / kPow10Int[fraction], e + 1);
   p += e + 1;
   *p++ = '.';
-  std::memcpy(p, digits + e + 1, static_cast<size_t>(n - e - 1));
-  return p + (n - e - 1);
+  put_digits(p + fraction, v % kPow10Int[fraction], fraction);
+  return p + fraction;
 }
 
-char* put_int(char* p, int64_t v) { return std::to_chars(p, p + 24, v).ptr; }
+char* put_int(char* p, int64_t v) {
+  if (v < 0) {
+    *p++ = '-';
+    if (v == INT64_MIN) return std::to_chars(p, p + 24, static_cast<uint64_t>(INT64_MAX) + 1).ptr;
+    v = -v;
+  }
+  const int n = digit_count(static_cast<uint64_t>(v));
+  put_digits(p + n, static_cast<uint64_t>(v), n);
+  return p + n;
+}
 
 }  // namespace nomec::backend
