@@ -300,7 +300,7 @@ Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, cons
 // them for the soup `offset_through_soup` makes (positive copies, negative copies, ribbons;
 // an edge is numbered at the first corner, in soup order, that uses it), without the soup,
 // its corner pairing or the builder's per-corner arrays. Each corner's edge use is kept per
-// input use (`pos_use`, `neg_use`) for the corner that meets it later. Returns nothing
+// input edge (`oedge`) for the corner that meets it later. Returns nothing
 // where the soup path's pairing would fail (a corner whose twin joins other vertices, a
 // ribbon side met other than twice), so that path runs and reports what is wrong.
 std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
@@ -327,7 +327,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   };
   const size_t use_count = 2 * static_cast<size_t>(E);
   // The face normals, as `face_normals` computes them.
-  const std::unique_ptr<dvec3[]> fnormals = scratch(static_cast<dvec3*>(nullptr), static_cast<size_t>(F));
+  std::unique_ptr<dvec3[]> fnormals = scratch(static_cast<dvec3*>(nullptr), static_cast<size_t>(F));
   for_halves(F, [&](int32_t begin, int32_t end) {
     for (int32_t f = begin; f < end; ++f) fnormals[f] = unit_face_normal(mesh, f);
   });
@@ -342,7 +342,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   OffsetResult result;
   Mesh& m = result.mesh;
   // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
-  const std::unique_ptr<int32_t[]> compact = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(V));
+  std::unique_ptr<int32_t[]> compact = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(V));
   int32_t used = 0;
   if (has_parent_maps) reserve_large(result.vertex_parents, 2 * static_cast<size_t>(V));
   for (int32_t v = 0; v < V; ++v) {
@@ -395,6 +395,10 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     inconsistent[begin == 0 ? 0 : 1] += count;
   });
   result.inconsistent_normal_count = inconsistent[0] + inconsistent[1];
+  // Freed before the output's arrays are made, which can then reuse their pages.
+  fnormals.reset();
+  compact.reset();
+  std::vector<uint8_t>().swap(is_mobius_vertex);
 
   auto& oev = MeshAccess::edge_vertices(m);
   auto& ouf = MeshAccess::use_faces(m);
@@ -417,8 +421,15 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
   if (has_parent_maps) reserve_large(result.face_parents, static_cast<size_t>(out_faces));
   // Each corner's use, per input use, for the corner of the same edge that comes later.
-  const std::unique_ptr<int32_t[]> pos_use = scratch(static_cast<int32_t*>(nullptr), use_count);
-  const std::unique_ptr<int32_t[]> neg_use = scratch(static_cast<int32_t*>(nullptr), use_count);
+  // Each interior input edge gives two output edges, each met by two corners: the positive
+  // copies of both uses and the negative copies of both (pairing 1), or the positive copy
+  // of one use and the negative of the other (pairing 2); a border edge gives its two
+  // copies, each met again by the ribbon. The first corner keeps its new edge in one of the
+  // input edge's two slots for the second: slot 0 holds the positive copy of side 0, and
+  // the positive copy of side 1 where it pairs with side 0's (`pos_slot`).
+  const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
+  auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
+  auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
 
   // The first use of a new edge from a to b (in face `face`), or the second use of the
@@ -484,14 +495,18 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       const int32_t u = loop[i].index;
       const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
       EdgeUse x;
-      if (!iuf[u ^ 1].is_valid()) {
-        x = new_edge(a0, a1, f);  // the ribbon comes later
-      } else {
-        const int kind = pairing(u, a0, a1);
+      int kind = 1;  // on a border: the ribbon comes later
+      if (iuf[u ^ 1].is_valid()) {
+        kind = pairing(u, a0, a1);
         if (kind == 0) return std::nullopt;
-        x = kind == 1 && is_met_before(f, u ^ 1, i, n) ? second_use(EdgeUse(pos_use[u ^ 1]), a0, f) : new_edge(a0, a1, f);
       }
-      pos_use[u] = x.index;
+      const int32_t slot = pos_slot(u, kind);
+      if (kind == 1 && iuf[u ^ 1].is_valid() && is_met_before(f, u ^ 1, i, n)) {
+        x = second_use(slot_edge(u, slot), a0, f);
+      } else {
+        x = new_edge(a0, a1, f);
+        oedge[2 * (u >> 1) + slot] = x.index >> 1;
+      }
       uses[i] = x;
     }
     link(uses.data(), n);
@@ -510,21 +525,22 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
       const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
       EdgeUse x;
-      if (!iuf[w ^ 1].is_valid()) {
-        x = new_edge(a0, a1, face);
-      } else {
-        const int32_t t = w ^ 1;
-        const int kind = pairing(w, p0, p1);
+      int kind = 1;
+      if (iuf[w ^ 1].is_valid()) {
+        kind = pairing(w, p0, p1);
         if (kind == 0) return std::nullopt;
-        if (kind == 2) {
-          x = second_use(EdgeUse(pos_use[t]), a0, face);  // every positive corner comes first
-        } else {
-          // The twin's negative corner comes first in an earlier face, or in this face at
-          // a lower reversed position.
-          x = is_met_before(f, t, j, n, true) ? second_use(EdgeUse(neg_use[t]), a0, face) : new_edge(a0, a1, face);
-        }
       }
-      neg_use[w] = x.index;
+      const int32_t slot = 1 - pos_slot(w, kind);
+      if (kind == 2) {
+        x = second_use(slot_edge(w, slot), a0, face);  // every positive corner comes first
+      } else if (iuf[w ^ 1].is_valid() && is_met_before(f, w ^ 1, j, n, true)) {
+        // The twin's negative corner comes first in an earlier face, or in this face at a
+        // lower reversed position.
+        x = second_use(slot_edge(w, slot), a0, face);
+      } else {
+        x = new_edge(a0, a1, face);
+        oedge[2 * (w >> 1) + slot] = x.index >> 1;
+      }
       uses[j] = x;
     }
     link(uses.data(), n);
@@ -552,9 +568,9 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
     const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
     EdgeUse ribbon[4];
-    ribbon[0] = second_use(EdgeUse(pos_use[at_a]), x0, face);
+    ribbon[0] = second_use(slot_edge(at_a, 0), x0, face);
     ribbon[1] = side(x1, x2, face);
-    ribbon[2] = second_use(EdgeUse(neg_use[at_a]), x2, face);
+    ribbon[2] = second_use(slot_edge(at_a, 1), x2, face);
     ribbon[3] = side(x3, x0, face);
     if (!sides_ok) return std::nullopt;
     link(ribbon, 4);
