@@ -1,7 +1,8 @@
 // Output writers: STL (binary and ASCII), OBJ with an MTL of face colours, and ASCII PLY
 // with face colours, e.g. `nomec --emit stl funnel_cube.nome -o funnel_cube.stl`. Writers
-// render to a string; the CLI puts it on disk with `write_file_atomically` (base/file_io.h),
-// so a failed compile never touches an existing output.
+// render to a string, and STL and OBJ also in pieces to a sink; the CLI streams STL and OBJ
+// through an `AtomicFileWriter` and writes the rest with `write_file_atomically`
+// (base/file_io.h), so a failed compile never touches an existing output.
 #pragma once
 
 #include <functional>
