@@ -3,8 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace nomec::backend {
@@ -33,6 +35,63 @@ bool scaled(double a, int e, double* out) {
   return true;
 }
 
+constexpr uint64_t kPow10Int[] = {1,
+                                  10,
+                                  100,
+                                  1'000,
+                                  10'000,
+                                  100'000,
+                                  1'000'000,
+                                  10'000'000,
+                                  100'000'000,
+                                  1'000'000'000,
+                                  10'000'000'000,
+                                  100'000'000'000,
+                                  1'000'000'000'000,
+                                  10'000'000'000'000,
+                                  100'000'000'000'000,
+                                  1'000'000'000'000'000,
+                                  10'000'000'000'000'000,
+                                  100'000'000'000'000'000,
+                                  1'000'000'000'000'000'000,
+                                  10'000'000'000'000'000'000u};
+
+// Number of decimal digits of `v` (1 for 0).
+int digit_count(uint64_t v) {
+  // floor(log10(2^(w-1))) from the bit width w (1233/4096 ≈ log10 2), then one comparison.
+  const int t = (std::bit_width(v) * 1233) >> 12;
+  return v == 0 ? 1 : t + (v >= kPow10Int[t] ? 1 : 0);
+}
+
+// Writes the last `count` decimal digits of `v` (zero-padded) so that they end at `end`,
+// straight into the output: digits built in a scratch buffer and copied over would be read
+// back before their two-byte stores have retired, which stalls the copy.
+void put_digits(char* end, uint64_t v, int count) {
+  static constexpr char kPairs[] =
+      "0001020304050607080910111213141516171819202122232425262728293031323334353637383940414243444546474849"
+      "5051525354555657585960616263646566676869707172737475767778798081828384858687888990919293949596979899";
+  // Eight digits at a time split off in 64-bit arithmetic, the pairs in 32-bit.
+  // The four pairs of a chunk come from two independent halves (a shorter dependency chain).
+  while (count >= 8) {
+    const uint32_t low = static_cast<uint32_t>(v % 100'000'000);
+    v /= 100'000'000;
+    const uint32_t hi = low / 10'000, lo = low % 10'000;
+    std::memcpy(end - 8, kPairs + 2 * (hi / 100), 2);
+    std::memcpy(end - 6, kPairs + 2 * (hi % 100), 2);
+    std::memcpy(end - 4, kPairs + 2 * (lo / 100), 2);
+    std::memcpy(end - 2, kPairs + 2 * (lo % 100), 2);
+    end -= 8;
+    count -= 8;
+  }
+  uint32_t w = static_cast<uint32_t>(v);
+  for (; count >= 2; count -= 2) {
+    end -= 2;
+    std::memcpy(end, kPairs + 2 * (w % 100), 2);
+    w /= 100;
+  }
+  if (count == 1) *--end = static_cast<char>('0' + w % 10);
+}
+
 }  // namespace
 
 char* put_e6(char* p, double x) {
@@ -43,10 +102,14 @@ char* put_e6(char* p, double x) {
     std::memcpy(p, "0.000000e+00", 12);
     return p + 12;
   }
-  int e = static_cast<int>(std::floor(std::log10(a)));
+  // a lies in [2^(b-1), 2^b), so its decimal exponent is floor((b - 1) · log10 2) or one
+  // more (the interval spans 0.30103 decades); the scaled value says which.
+  int b = 0;
+  std::frexp(a, &b);
+  int e = static_cast<int>(std::floor((b - 1) * 0.30102999566398120));
   double s = 0;
   bool fast = scaled(a, e, &s);
-  if (fast && s < 1e6) fast = scaled(a, --e, &s);  // log10 rounded up across a power of ten
+  if (fast && s < 1e6) fast = scaled(a, --e, &s);  // (guards an estimate rounded up)
   if (fast && s >= 1e7) fast = scaled(a, ++e, &s);
   // `s` is within half an ulp (≤ 1e-9 here) of the exact value, so unless its fraction lies
   // near one half, rounding it to a whole number rounds the exact value the same way.
@@ -60,38 +123,32 @@ char* put_e6(char* p, double x) {
     m = 1'000'000;
     ++e;
   }
-  char digits[7];
-  for (int i = 6; i >= 0; --i) {
-    digits[i] = static_cast<char>('0' + m % 10);
-    m /= 10;
-  }
-  *p++ = digits[0];
+  *p++ = static_cast<char>('0' + m / 1'000'000);
   *p++ = '.';
-  std::memcpy(p, digits + 1, 6);
+  put_digits(p + 6, m % 1'000'000, 6);
   return put_exponent(p + 6, e);
 }
 
 char* put_shortest(char* p, double x) {
   if (!std::isfinite(x)) return fmt::format_to(p, "{}", x);
-  // The shortest digits come from to_chars in scientific form; fmt writes them in fixed
-  // notation when the decimal exponent is in −4…15, else as `d.ddde±XX`.
-  char sci[kNumberTextMax];
-  char* end = std::to_chars(sci, sci + sizeof sci, x, std::chars_format::scientific).ptr;
-  const char* q = sci;
-  if (*q == '-') *p++ = *q++;
-  const char* epos = static_cast<const char*>(std::memchr(q, 'e', static_cast<size_t>(end - q)));
-  int e = 0;
-  std::from_chars(epos[1] == '+' ? epos + 2 : epos + 1, end, e);
-  char digits[24] = {};
-  int n = 0;
-  for (const char* d = q; d < epos; ++d) {
-    if (*d != '.') digits[n++] = *d;
+  if (std::signbit(x)) *p++ = '-';
+  const double a = std::fabs(x);
+  if (a == 0) {
+    *p++ = '0';
+    return p;
   }
+  // The shortest digits that read back to `a`, from fmt's own algorithm (Dragonbox, what
+  // `{}` runs): a = significand · 10^exponent. fmt writes them in fixed notation when the
+  // decimal exponent of the first digit is in −4…15, else as `d.ddde±XX`.
+  const auto dec = fmt::detail::dragonbox::to_decimal(a);
+  const uint64_t v = dec.significand;
+  const int n = digit_count(v);
+  const int e = dec.exponent + n - 1;
   if (e < -4 || e >= 16) {
-    *p++ = digits[0];
+    *p++ = static_cast<char>('0' + v / kPow10Int[n - 1]);
     if (n > 1) {
       *p++ = '.';
-      std::memcpy(p, digits + 1, static_cast<size_t>(n - 1));
+      put_digits(p + n - 1, v % kPow10Int[n - 1], n - 1);
       p += n - 1;
     }
     return put_exponent(p, e);
@@ -100,19 +157,33 @@ char* put_shortest(char* p, double x) {
     *p++ = '0';
     *p++ = '.';
     for (int i = -1; i > e; --i) *p++ = '0';
-    std::memcpy(p, digits, static_cast<size_t>(n));
+    put_digits(p + n, v, n);
     return p + n;
   }
   // e + 1 digits before the point (padded with zeros), the rest after it.
-  for (int i = 0; i <= e; ++i) *p++ = i < n ? digits[i] : '0';
-  if (n > e + 1) {
-    *p++ = '.';
-    std::memcpy(p, digits + e + 1, static_cast<size_t>(n - e - 1));
-    p += n - e - 1;
+  if (n <= e + 1) {
+    put_digits(p + n, v, n);
+    p += n;
+    for (int i = n; i <= e; ++i) *p++ = '0';
+    return p;
   }
-  return p;
+  const int fraction = n - e - 1;
+  put_digits(p + e + 1, v / kPow10Int[fraction], e + 1);
+  p += e + 1;
+  *p++ = '.';
+  put_digits(p + fraction, v % kPow10Int[fraction], fraction);
+  return p + fraction;
 }
 
-char* put_int(char* p, int64_t v) { return std::to_chars(p, p + 24, v).ptr; }
+char* put_int(char* p, int64_t v) {
+  if (v < 0) {
+    *p++ = '-';
+    if (v == INT64_MIN) return std::to_chars(p, p + 24, static_cast<uint64_t>(INT64_MAX) + 1).ptr;
+    v = -v;
+  }
+  const int n = digit_count(static_cast<uint64_t>(v));
+  put_digits(p + n, static_cast<uint64_t>(v), n);
+  return p + n;
+}
 
 }  // namespace nomec::backend

@@ -1,8 +1,11 @@
 // Number text for the text writers (write.cpp): the same characters as fmt's `{:e}` (C's
 // `%e`: six decimals) and `{}` (the shortest text that reads back to the same double, fixed
-// notation for decimal exponents −4…15), written straight into a buffer. The writers
-// format millions of numbers; these are several times faster than going through fmt, and
-// tests/backend/number_text_test.cpp proves them equal to fmt on random bit patterns.
+// notation for decimal exponents −4…15), written straight into a buffer. The shortest
+// digits come from fmt's own Dragonbox (`fmt::detail::dragonbox::to_decimal`, what `{}`
+// runs), the six-decimal ones from one scaled multiplication with a to_chars fallback near
+// ties. The writers format millions of numbers; these are several times faster than going
+// through fmt, and tests/backend/number_text_test.cpp proves them equal to fmt on random bit
+// patterns, short decimals, widened floats, powers of two and ten, and layout boundaries.
 #pragma once
 
 #include <cstdint>

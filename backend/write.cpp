@@ -328,11 +328,16 @@ char* put_text(char* p, std::string_view t) {
   return p + t.size();
 }
 
-// A buffer the text writers fill by pointer: `room` makes space for a line, `done` keeps
-// what was written. Numbers go through number_text.h (fmt's characters, faster).
+// A buffer of about a megabyte that the text writers fill by pointer: `room` makes space
+// for a line (handing the text so far to the sink when the buffer is full), `done` keeps
+// what was written. The whole text is never in memory (a large ASCII STL is hundreds of
+// megabytes, whose fresh pages cost more than formatting them). Numbers go through
+// number_text.h (fmt's characters, faster).
 class TextOut {
  public:
-  explicit TextOut(size_t reserve) : buf_(static_cast<char*>(std::malloc(reserve))), cap_(reserve) {
+  static constexpr size_t kPiece = size_t{1} << 20;
+  explicit TextOut(const std::function<bool(std::string_view)>& sink)
+      : buf_(static_cast<char*>(std::malloc(kPiece))), cap_(kPiece), sink_(sink) {
     if (buf_ == nullptr) throw std::bad_alloc();
   }
   TextOut(const TextOut&) = delete;
@@ -341,24 +346,51 @@ class TextOut {
   /// Space for at least `n` more characters (not initialised), at the end of the text.
   char* room(size_t n) {
     if (size_ + n > cap_) {
-      const size_t cap = std::max(cap_ * 2, size_ + n);
-      char* grown = static_cast<char*>(std::realloc(buf_, cap));
-      if (grown == nullptr) throw std::bad_alloc();
-      buf_ = grown;
-      cap_ = cap;
+      flush();
+      if (n > cap_) {  // a line longer than a piece (a long name)
+        std::free(buf_);
+        buf_ = static_cast<char*>(std::malloc(n));
+        if (buf_ == nullptr) throw std::bad_alloc();
+        cap_ = n;
+      }
     }
     return buf_ + size_;
   }
   /// Keeps what was written into `room` up to `end`.
   void done(const char* end) { size_ = static_cast<size_t>(end - buf_); }
   void add(std::string_view text) { done(put_text(room(text.size()), text)); }
-  std::string take() const { return std::string(buf_, size_); }
+  /// False once the sink has failed (later text is then dropped).
+  bool is_ok() const { return is_ok_; }
+  /// Hands the rest to the sink; false if the sink failed for some piece.
+  bool finish() {
+    flush();
+    return is_ok_;
+  }
 
  private:
+  void flush() {
+    if (size_ > 0 && is_ok_) is_ok_ = sink_(std::string_view(buf_, size_));
+    size_ = 0;
+  }
+
   char* buf_;
   size_t cap_;
   size_t size_ = 0;
+  const std::function<bool(std::string_view)>& sink_;
+  bool is_ok_ = true;
 };
+
+// The pieces of a writer appended to one string (reserved at `estimate` bytes).
+template <typename Write>
+std::string collect(size_t estimate, Write&& write) {
+  std::string out;
+  out.reserve(estimate);
+  write([&](std::string_view piece) {
+    out.append(piece);
+    return true;
+  });
+  return out;
+}
 
 
 // `a b c` for a point: each coordinate as `put`, -0 written as 0 (`+ 0.0`), so goldens do
@@ -374,11 +406,10 @@ char* put_xyz(char* p, const glm::dvec3& v) {
 
 }  // namespace
 
-std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
-  size_t triangles = 0;
-  for (const OutputMesh& m : meshes) triangles += static_cast<size_t>(m.soup.face_count()) * 2;
-  TextOut out(triangles * 260 + 64);
+bool write_stl_ascii(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+  TextOut out(sink);
   for (const OutputMesh& m : meshes) {
+    if (!out.is_ok()) break;
     const std::string name = m.name.empty() ? "nomec" : m.name;
     out.add(fmt::format("solid {}\n", name));
     const kernel::PolygonSoup& s = m.soup;
@@ -407,20 +438,23 @@ std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
     }
     out.add(fmt::format("endsolid {}\n", name));
   }
-  return out.take();
+  return out.finish();
 }
 
-std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file) {
-  size_t points = 0, corners = 0;
-  for (const OutputMesh& m : meshes) {
-    points += m.soup.positions.size();
-    corners += m.soup.face_vertices.size();
-  }
-  TextOut out(points * 60 + corners * 8 + 64);
+std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
+  size_t triangles = 0;
+  for (const OutputMesh& m : meshes) triangles += static_cast<size_t>(m.soup.face_count()) * 2;
+  return collect(triangles * 250 + 64, [&](const auto& sink) { return write_stl_ascii(meshes, sink); });
+}
+
+bool write_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file,
+               const std::function<bool(std::string_view)>& sink) {
+  TextOut out(sink);
   out.add("# written by nomec\n");
   if (!mtl_file.empty()) out.add(fmt::format("mtllib {}\n", mtl_file));
   int64_t base = 1;
   for (const OutputMesh& m : meshes) {
+    if (!out.is_ok()) break;
     const kernel::PolygonSoup& s = m.soup;
     out.add(fmt::format("o {}\n", m.name.empty() ? "nomec" : m.name));
     for (const glm::dvec3& v : s.positions) {
@@ -453,7 +487,16 @@ std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file
     }
     base += s.vertex_count();
   }
-  return out.take();
+  return out.finish();
+}
+
+std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file) {
+  size_t points = 0, corners = 0;
+  for (const OutputMesh& m : meshes) {
+    points += m.soup.positions.size();
+    corners += m.soup.face_vertices.size();
+  }
+  return collect(points * 60 + corners * 8 + 64, [&](const auto& sink) { return write_obj(meshes, mtl_file, sink); });
 }
 
 std::string to_mtl(std::span<const OutputMesh> meshes) {

@@ -1,7 +1,8 @@
 // Output writers: STL (binary and ASCII), OBJ with an MTL of face colours, and ASCII PLY
 // with face colours, e.g. `nomec --emit stl funnel_cube.nome -o funnel_cube.stl`. Writers
-// render to a string; the CLI puts it on disk with `write_file_atomically` (base/file_io.h),
-// so a failed compile never touches an existing output.
+// render to a string, and STL and OBJ also in pieces to a sink; the CLI streams STL and OBJ
+// through an `AtomicFileWriter` and writes the rest with `write_file_atomically`
+// (base/file_io.h), so a failed compile never touches an existing output.
 #pragma once
 
 #include <functional>
@@ -33,9 +34,17 @@ bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
                                  const std::function<bool(std::string_view)>& sink);
 /// ASCII STL, one `solid` per mesh.
 std::string to_stl_ascii(std::span<const OutputMesh> meshes);
+/// The same bytes as `to_stl_ascii`, handed to `sink` in consecutive pieces of about a
+/// megabyte from one reused buffer (e.g. `nomec --emit stl --stl-ascii` writes each piece to
+/// the file as it is made). Returns false when `sink` failed for some piece (the rest is
+/// then not handed on).
+bool write_stl_ascii(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink);
 /// OBJ (`o` per mesh, polygons kept as written). When `mtl_file` is not empty, a
 /// `mtllib` line is written and `usemtl` switches per face colour.
 std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file);
+/// The same bytes as `to_obj`, handed to `sink` in pieces as `write_stl_ascii` does.
+bool write_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file,
+               const std::function<bool(std::string_view)>& sink);
 /// The MTL matching `to_obj` (one `newmtl` per distinct colour; empty if uncoloured).
 std::string to_mtl(std::span<const OutputMesh> meshes);
 /// ASCII PLY with `red green blue` face properties when any mesh has face colours.

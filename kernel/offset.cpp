@@ -48,20 +48,28 @@ void for_halves(int32_t n, Fn&& fn) {
 
 }  // namespace
 
+namespace {
+
+// Face f's unit normal (the one computation `face_normals` and the offset share, so both
+// give the same bits).
+dvec3 unit_face_normal(const Mesh& mesh, int32_t f) {
+  // Newell: sum over edges (a, b) of (a - b) x (a + b) / 2 equals the sum of cross
+  // products of consecutive edge vectors up to a factor; both give the area vector.
+  dvec3 n(0.0);
+  mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
+    n += newell_term(mesh.position(mesh.use_tail(u)), mesh.position(mesh.use_head(u)));
+  });
+  const double len = glm::length(n);
+  return len > 0.0 ? n / len : dvec3(0.0);
+}
+
+}  // namespace
+
 std::vector<dvec3> face_normals(const Mesh& mesh) {
   std::vector<dvec3> normals;
   resize_large(normals, mesh.face_count());
   for_halves(mesh.face_count(), [&](int32_t begin, int32_t end) {
-    for (int32_t f = begin; f < end; ++f) {
-      // Newell: sum over edges (a, b) of (a - b) x (a + b) / 2 equals the sum of cross
-      // products of consecutive edge vectors up to a factor; both give the area vector.
-      dvec3 n(0.0);
-      mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
-        n += newell_term(mesh.position(mesh.use_tail(u)), mesh.position(mesh.use_head(u)));
-      });
-      const double len = glm::length(n);
-      normals[f] = len > 0.0 ? n / len : dvec3(0.0);
-    }
+    for (int32_t f = begin; f < end; ++f) normals[f] = unit_face_normal(mesh, f);
   });
   return normals;
 }
@@ -292,27 +300,17 @@ Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, cons
 // them for the soup `offset_through_soup` makes (positive copies, negative copies, ribbons;
 // an edge is numbered at the first corner, in soup order, that uses it), without the soup,
 // its corner pairing or the builder's per-corner arrays. Each corner's edge use is kept per
-// input use (`pos_use`, `neg_use`) for the corner that meets it later. Returns nothing
+// input edge (`oedge`) for the corner that meets it later. Returns nothing
 // where the soup path's pairing would fail (a corner whose twin joins other vertices, a
 // ribbon side met other than twice), so that path runs and reports what is wrong.
 std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
-                                          const std::vector<dvec3>& fnormals, const VertexNormals& vn,
                                           bool has_parent_maps) {
   const int32_t V = mesh.vertex_count();
   const int32_t F = mesh.face_count();
   const int32_t E = mesh.edge_count();
-  const VertexId* iev = MeshAccess::edge_vertices(mesh).data();
   const FaceId* iuf = MeshAccess::use_faces(mesh).data();
   const EdgeUse* inext = MeshAccess::next(mesh).data();
-  const uint8_t* iflags = MeshAccess::edge_flags(mesh).data();
-  const EdgeUse* iface_uses = MeshAccess::face_uses(mesh).data();
   const uint8_t mobius = MeshAccess::mobius_flag();
-  const int8_t* signs = vn.corner_signs.data();
-  auto tail_of = [&](int32_t u) {
-    const int32_t e = u >> 1;
-    const bool is_forward = (u & 1) == 0 || (iflags[e] & mobius);
-    return iev[2 * e + (is_forward ? 0 : 1)].index;
-  };
   int64_t border_edges = 0;
   for (int32_t e = 0; e < E; ++e) border_edges += iuf[2 * e + 1].is_valid() ? 0 : 1;
   const int64_t in_corners = 2 * int64_t{E} - border_edges;
@@ -320,53 +318,87 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   const int64_t out_edges = in_corners + 2 * border_edges;  // 2C + 4B corners, two per edge
   if (2 * out_edges > int64_t{INT32_MAX} - 2) return std::nullopt;
 
+  // Scratch that is written before it is read is not initialised (a fresh page costs a
+  // fault, zeroing it costs a pass); large arrays get the huge-page advice.
+  auto scratch = [&]<typename T>(T*, size_t n) {
+    std::unique_ptr<T[]> a = std::make_unique_for_overwrite<T[]>(n);
+    advise_huge_pages(a.get(), n * sizeof(T));
+    return a;
+  };
+  const size_t use_count = 2 * static_cast<size_t>(E);
+  // The face normals, as `face_normals` computes them.
+  std::unique_ptr<dvec3[]> fnormals = scratch(static_cast<dvec3*>(nullptr), static_cast<size_t>(F));
+  for_halves(F, [&](int32_t begin, int32_t end) {
+    for (int32_t f = begin; f < end; ++f) fnormals[f] = unit_face_normal(mesh, f);
+  });
+  std::vector<uint8_t> is_mobius_vertex(V, 0);
+  for (int32_t e = 0; e < E; ++e) {
+    if (mesh.is_mobius(EdgeId(e))) {
+      is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
+      is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
+    }
+  }
+
   OffsetResult result;
   Mesh& m = result.mesh;
   // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
-  std::vector<int32_t> compact(V, -1);
-  auto& positions = MeshAccess::positions(m);
-  reserve_large(positions, 2 * static_cast<size_t>(V));
+  std::unique_ptr<int32_t[]> compact = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(V));
+  int32_t used = 0;
   if (has_parent_maps) reserve_large(result.vertex_parents, 2 * static_cast<size_t>(V));
   for (int32_t v = 0; v < V; ++v) {
-    if (!mesh.vertex_edge(VertexId(v)).is_valid()) continue;
-    compact[v] = static_cast<int32_t>(positions.size() / 2);
-    const dvec3& p = mesh.position(VertexId(v));
-    positions.push_back(p + distance * vn.normals[v]);
-    positions.push_back(p - distance * vn.normals[v]);
+    if (!mesh.vertex_edge(VertexId(v)).is_valid()) {
+      compact[v] = -1;
+      continue;
+    }
+    compact[v] = used++;
     if (has_parent_maps) {
       result.vertex_parents.push_back(VertexId(v));
       result.vertex_parents.push_back(VertexId(v));
     }
   }
-  const int32_t out_vertices = static_cast<int32_t>(positions.size());
-
-  // Per input use: its corner in the positive copy and that corner's output vertex P(u).
-  std::vector<int32_t> face_start(static_cast<size_t>(F) + 1, 0);
-  // Scratch indexed by input use is written before it is read (for every use of a face),
-  // so it is not initialised; large arrays get the huge-page advice.
-  const size_t use_count = 2 * static_cast<size_t>(E);
-  auto scratch = [&]() {
-    std::unique_ptr<int32_t[]> a = std::make_unique_for_overwrite<int32_t[]>(use_count);
-    advise_huge_pages(a.get(), use_count * sizeof(int32_t));
-    return a;
-  };
-  const std::unique_ptr<int32_t[]> pcorner = scratch();
-  const std::unique_ptr<int32_t[]> pvert = scratch();
-  for (int32_t f = 0; f < F; ++f) {
-    int32_t c = face_start[f];
-    const EdgeUse start = iface_uses[f];
-    EdgeUse u = start;
-    do {
-      const int32_t v = tail_of(u.index);
-      pcorner[u.index] = c++;
-      pvert[u.index] = 2 * compact[v] + (signs[u.index] > 0 ? 0 : 1);
-      if (vn.is_mobius_vertex[v] && double(signs[u.index]) * glm::dot(vn.normals[v], fnormals[f]) <= 0.0) {
-        ++result.inconsistent_normal_count;
+  const int32_t out_vertices = 2 * used;
+  auto& positions = MeshAccess::positions(m);
+  resize_large(positions, static_cast<size_t>(out_vertices));
+  // One walk around every vertex (§5.1, as `vertex_normals`): its normal, straight into
+  // its two offset positions, and P(u) for every use u starting at it: v+ where the
+  // Möbius counter agrees with the ring's first face, else v-. Corners at Möbius vertices
+  // are then checked against the face normals (the seed's dot-product test).
+  const std::unique_ptr<int32_t[]> pvert = scratch(static_cast<int32_t*>(nullptr), use_count);
+  int32_t inconsistent[2] = {0, 0};
+  for_halves(V, [&](int32_t begin, int32_t end) {
+    int32_t count = 0;
+    for (int32_t v = begin; v < end; ++v) {
+      const int32_t k = compact[v];
+      if (k < 0) continue;
+      dvec3 sum(0.0);
+      dvec3 first(0.0);
+      bool is_first = true;
+      mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
+        pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
+        sum += double(c.is_flipped ? -1 : 1) * fnormals[c.face.index];
+        if (is_first) {
+          first = fnormals[c.face.index];
+          is_first = false;
+        }
+      });
+      const double len = glm::length(sum);
+      const dvec3 n = len > 1e-12 ? sum / len : first;
+      const dvec3& p = mesh.position(VertexId(v));
+      positions[2 * k] = p + distance * n;
+      positions[2 * k + 1] = p - distance * n;
+      if (is_mobius_vertex[v]) {
+        mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
+          if (double(c.is_flipped ? -1 : 1) * glm::dot(n, fnormals[c.face.index]) <= 0.0) ++count;
+        });
       }
-      u = inext[u.index];
-    } while (u != start);
-    face_start[f + 1] = c;
-  }
+    }
+    inconsistent[begin == 0 ? 0 : 1] += count;
+  });
+  result.inconsistent_normal_count = inconsistent[0] + inconsistent[1];
+  // Freed before the output's arrays are made, which can then reuse their pages.
+  fnormals.reset();
+  compact.reset();
+  std::vector<uint8_t>().swap(is_mobius_vertex);
 
   auto& oev = MeshAccess::edge_vertices(m);
   auto& ouf = MeshAccess::use_faces(m);
@@ -389,8 +421,15 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
   if (has_parent_maps) reserve_large(result.face_parents, static_cast<size_t>(out_faces));
   // Each corner's use, per input use, for the corner of the same edge that comes later.
-  const std::unique_ptr<int32_t[]> pos_use = scratch();
-  const std::unique_ptr<int32_t[]> neg_use = scratch();
+  // Each interior input edge gives two output edges, each met by two corners: the positive
+  // copies of both uses and the negative copies of both (pairing 1), or the positive copy
+  // of one use and the negative of the other (pairing 2); a border edge gives its two
+  // copies, each met again by the ribbon. The first corner keeps its new edge in one of the
+  // input edge's two slots for the second: slot 0 holds the positive copy of side 0, and
+  // the positive copy of side 1 where it pairs with side 0's (`pos_slot`).
+  const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
+  auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
+  auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
 
   // The first use of a new edge from a to b (in face `face`), or the second use of the
@@ -434,6 +473,17 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   };
   std::vector<EdgeUse> loop;
   std::vector<EdgeUse> uses;
+  // Whether the copy of use t (positive, or the reversed negative copy) comes before the
+  // corner at position `at` of face f's copy (loop `loop` of n uses): corners are made face
+  // by face, so only a twin in the same face needs its position.
+  auto is_met_before = [&](int32_t f, int32_t t, int32_t at, int32_t n, bool is_negative = false) {
+    const int32_t g = iuf[t].index;
+    if (g != f) return g < f;
+    int32_t it = 0;
+    while (loop[it].index != t) ++it;
+    if (is_negative) it = it <= n - 2 ? n - 2 - it : n - 1;
+    return it < at;
+  };
 
   // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1).
   for (int32_t f = 0; f < F; ++f) {
@@ -443,17 +493,20 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     uses.resize(n);
     for (int32_t i = 0; i < n; ++i) {
       const int32_t u = loop[i].index;
-      const int32_t c = face_start[f] + i;
       const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
       EdgeUse x;
-      if (!iuf[u ^ 1].is_valid()) {
-        x = new_edge(a0, a1, f);  // the ribbon comes later
-      } else {
-        const int kind = pairing(u, a0, a1);
+      int kind = 1;  // on a border: the ribbon comes later
+      if (iuf[u ^ 1].is_valid()) {
+        kind = pairing(u, a0, a1);
         if (kind == 0) return std::nullopt;
-        x = kind == 1 && pcorner[u ^ 1] < c ? second_use(EdgeUse(pos_use[u ^ 1]), a0, f) : new_edge(a0, a1, f);
       }
-      pos_use[u] = x.index;
+      const int32_t slot = pos_slot(u, kind);
+      if (kind == 1 && iuf[u ^ 1].is_valid() && is_met_before(f, u ^ 1, i, n)) {
+        x = second_use(slot_edge(u, slot), a0, f);
+      } else {
+        x = new_edge(a0, a1, f);
+        oedge[2 * (u >> 1) + slot] = x.index >> 1;
+      }
       uses[i] = x;
     }
     link(uses.data(), n);
@@ -469,27 +522,25 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     for (int32_t j = 0; j < n; ++j) {
       const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
       const int32_t w = loop[i].index;
-      const int32_t c = face_start[f] + j;  // among the negative corners
       const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
       const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
       EdgeUse x;
-      if (!iuf[w ^ 1].is_valid()) {
-        x = new_edge(a0, a1, face);
-      } else {
-        const int32_t t = w ^ 1;
-        const int kind = pairing(w, p0, p1);
+      int kind = 1;
+      if (iuf[w ^ 1].is_valid()) {
+        kind = pairing(w, p0, p1);
         if (kind == 0) return std::nullopt;
-        if (kind == 2) {
-          x = second_use(EdgeUse(pos_use[t]), a0, face);  // every positive corner comes first
-        } else {
-          const int32_t g = iuf[t].index;
-          const int32_t og = face_start[g], ng = face_start[g + 1] - og;
-          const int32_t it = pcorner[t] - og;
-          const int32_t ct = og + (it <= ng - 2 ? ng - 2 - it : ng - 1);
-          x = ct < c ? second_use(EdgeUse(neg_use[t]), a0, face) : new_edge(a0, a1, face);
-        }
       }
-      neg_use[w] = x.index;
+      const int32_t slot = 1 - pos_slot(w, kind);
+      if (kind == 2) {
+        x = second_use(slot_edge(w, slot), a0, face);  // every positive corner comes first
+      } else if (iuf[w ^ 1].is_valid() && is_met_before(f, w ^ 1, j, n, true)) {
+        // The twin's negative corner comes first in an earlier face, or in this face at a
+        // lower reversed position.
+        x = second_use(slot_edge(w, slot), a0, face);
+      } else {
+        x = new_edge(a0, a1, face);
+        oedge[2 * (w >> 1) + slot] = x.index >> 1;
+      }
       uses[j] = x;
     }
     link(uses.data(), n);
@@ -517,9 +568,9 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
     const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
     EdgeUse ribbon[4];
-    ribbon[0] = second_use(EdgeUse(pos_use[at_a]), x0, face);
+    ribbon[0] = second_use(slot_edge(at_a, 0), x0, face);
     ribbon[1] = side(x1, x2, face);
-    ribbon[2] = second_use(EdgeUse(neg_use[at_a]), x2, face);
+    ribbon[2] = second_use(slot_edge(at_a, 1), x2, face);
     ribbon[3] = side(x3, x0, face);
     if (!sides_ok) return std::nullopt;
     link(ribbon, 4);
@@ -551,11 +602,11 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
 
 Result<OffsetResult> offset_impl(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
                                  bool has_parent_maps) {
-  const std::vector<dvec3> fnormals = face_normals(mesh);
-  const VertexNormals vn = vertex_normals(mesh, fnormals);
-  if (auto direct = offset_direct(mesh, distance, face_origin, fnormals, vn, has_parent_maps)) {
+  if (auto direct = offset_direct(mesh, distance, face_origin, has_parent_maps)) {
     return std::move(*direct);
   }
+  const std::vector<dvec3> fnormals = face_normals(mesh);
+  const VertexNormals vn = vertex_normals(mesh, fnormals);
   auto r = offset_through_soup(mesh, distance, face_origin, fnormals, vn);
   if (r.has_value() && !has_parent_maps) {
     r->face_parents.clear();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <fmt/format.h>
 #include <iostream>
 #include <unistd.h>
@@ -23,56 +24,38 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The file's bytes in the requested format, and the companion `.mtl` of a coloured OBJ.
-struct Encoded {
-  std::string content;
-  std::string mtl;
-};
-
-Encoded encode(const Cli& cli, const std::string& path, const std::string& target, const std::vector<be::OutputMesh>& meshes) {
-  Encoded e;
-  if (cli.emit == "stl") {
-    e.content = cli.stl_ascii ? be::to_stl_ascii(meshes) : be::to_stl_binary(meshes);
-  } else if (cli.emit == "ply") {
-    e.content = be::to_ply(meshes);
-  } else if (cli.emit == "summary") {
-    std::vector<be::MeshSummary> s;
-    for (const auto& m : meshes) s.push_back(be::summarize(m));
-    e.content = lsp::summary_json(path, s).dump(2) + "\n";
-  } else {
-    const bool colored = std::any_of(meshes.begin(), meshes.end(),
-                                     [](const be::OutputMesh& m) { return !m.soup.face_colors.empty(); });
-    std::string mtl_name;
-    if (target != "-" && colored) {
-      mtl_name = std::filesystem::path(target).stem().string() + ".mtl";
-      e.mtl = be::to_mtl(meshes);
-    }
-    e.content = be::to_obj(meshes, mtl_name);
-  }
-  return e;
+// The file's bytes for the formats written whole (PLY, the summary); STL and OBJ are
+// streamed (`write_mesh_streamed`).
+std::string encode(const Cli& cli, const std::string& path, const std::vector<be::OutputMesh>& meshes) {
+  if (cli.emit == "ply") return be::to_ply(meshes);
+  std::vector<be::MeshSummary> s;
+  for (const auto& m : meshes) s.push_back(be::summarize(m));
+  return lsp::summary_json(path, s).dump(2) + "\n";
 }
 
-// Writes `e` to `target` (`-`: standard output); false after printing the error.
-bool write(const std::string& target, const Encoded& e) {
+// Writes `content` to `target` (`-`: standard output); false after printing the error.
+bool write(const std::string& target, const std::string& content) {
   if (target == "-") {
-    std::cout.write(e.content.data(), static_cast<std::streamsize>(e.content.size()));
+    std::cout.write(content.data(), static_cast<std::streamsize>(content.size()));
     std::cout.flush();
     return true;
   }
-  std::string err = write_file_atomically(target, e.content);
-  if (err.empty() && !e.mtl.empty()) {
-    err = write_file_atomically(std::filesystem::path(target).replace_extension(".mtl").string(), e.mtl);
-  }
+  const std::string err = write_file_atomically(target, content);
   if (err.empty()) return true;
   std::cerr << fmt::format("nomec: {}\n", err);
   return false;
 }
 
-// Binary STL straight to `target` a piece at a time (it is the format of large models: a
-// whole-scene offset easily makes hundreds of megabytes); false after printing the error.
-bool write_stl_streamed(const std::string& target, const std::vector<be::OutputMesh>& meshes) {
+// A writer that hands its text to a sink a piece at a time (`be::write_stl_binary` and
+// the like).
+using PieceWriter = std::function<bool(const std::function<bool(std::string_view)>&)>;
+
+// STL and OBJ straight to `target` a piece at a time (they are the formats of large
+// models: a whole-scene offset easily makes hundreds of megabytes), then the OBJ's `mtl`
+// when not empty; false after printing the error.
+bool write_streamed(const std::string& target, const PieceWriter& writer, const std::string& mtl = {}) {
   if (target == "-") {
-    be::write_stl_binary(meshes, [](std::string_view piece) {
+    writer([](std::string_view piece) {
       std::cout.write(piece.data(), static_cast<std::streamsize>(piece.size()));
       return static_cast<bool>(std::cout);
     });
@@ -80,11 +63,32 @@ bool write_stl_streamed(const std::string& target, const std::vector<be::OutputM
     return true;
   }
   AtomicFileWriter file(target);
-  be::write_stl_binary(meshes, [&](std::string_view piece) { return file.append(piece); });
+  writer([&](std::string_view piece) { return file.append(piece); });
   std::string err = file.commit();
+  if (err.empty() && !mtl.empty()) {
+    err = write_file_atomically(std::filesystem::path(target).replace_extension(".mtl").string(), mtl);
+  }
   if (err.empty()) return true;
   std::cerr << fmt::format("nomec: {}\n", err);
   return false;
+}
+
+// Writes `meshes` as STL (binary or ASCII) or OBJ with its MTL, streamed.
+bool write_mesh_streamed(const Cli& cli, const std::string& target, const std::vector<be::OutputMesh>& meshes) {
+  if (cli.emit == "stl") {
+    return write_streamed(target, [&](const auto& sink) {
+      return cli.stl_ascii ? be::write_stl_ascii(meshes, sink) : be::write_stl_binary(meshes, sink);
+    });
+  }
+  const bool colored = std::any_of(meshes.begin(), meshes.end(),
+                                   [](const be::OutputMesh& m) { return !m.soup.face_colors.empty(); });
+  std::string mtl_name;
+  std::string mtl;
+  if (target != "-" && colored) {
+    mtl_name = std::filesystem::path(target).stem().string() + ".mtl";
+    mtl = be::to_mtl(meshes);
+  }
+  return write_streamed(target, [&](const auto& sink) { return be::write_obj(meshes, mtl_name, sink); }, mtl);
 }
 
 }  // namespace
@@ -113,8 +117,9 @@ int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& so
   if (target.empty()) {
     target = cli.emit == "summary" ? "-" : std::filesystem::path(path).stem().string() + "." + cli.emit;
   }
-  const bool is_streamed = cli.emit == "stl" && !cli.stl_ascii;
-  const int failed = (is_streamed ? write_stl_streamed(target, meshes) : write(target, encode(cli, path, target, meshes))) ? 0 : 1;
+  const bool is_streamed = cli.emit == "stl" || cli.emit == "obj";
+  const int failed =
+      (is_streamed ? write_mesh_streamed(cli, target, meshes) : write(target, encode(cli, path, meshes))) ? 0 : 1;
   if (cli.time_report) {
     const double write_ms = ms_since(write_start);
     const double total = check_ms + timings.evaluate_ms + timings.merge_ms + timings.subdivide_ms + timings.offset_ms + write_ms;

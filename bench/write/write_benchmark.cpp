@@ -9,6 +9,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
+#include <span>
+#include <functional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -167,9 +170,12 @@ void BM_StlBinaryToFile(benchmark::State& state) {
 // The streamed writer `nomec --emit stl` uses: pieces of about a megabyte, formatted into
 // one reused buffer, dropped (formatting alone), written to /dev/null, or written to a
 // file through the atomic writer; the whole file is never in memory.
-void streamed(benchmark::State& state, const std::string& target, bool is_overlapped = false) {
+using PieceWriter = bool (*)(std::span<const OutputMesh>, const std::function<bool(std::string_view)>&);
+void streamed(benchmark::State& state, const std::string& target, bool is_overlapped = false,
+              PieceWriter text_writer = nullptr) {
   size_t bytes = 0;
-  auto write = is_overlapped ? nomec::backend::write_stl_binary_overlapped : nomec::backend::write_stl_binary;
+  PieceWriter write = is_overlapped ? nomec::backend::write_stl_binary_overlapped : nomec::backend::write_stl_binary;
+  if (text_writer != nullptr) write = text_writer;
   for (auto _ : state) {
     if (target.empty()) {
       write(big(), [&](std::string_view piece) {
@@ -209,6 +215,32 @@ void BM_StlBinaryOverlappedToFile(benchmark::State& state) {
   std::remove(path.c_str());
 }
 
+// The text formats streamed the same way (`write_stl_ascii`, `write_obj`: what `nomec
+// --emit stl --stl-ascii` and `--emit obj` use): formatting alone, to /dev/null, to a file.
+bool obj_pieces(std::span<const OutputMesh> m, const std::function<bool(std::string_view)>& sink) {
+  return nomec::backend::write_obj(m, "", sink);
+}
+std::string temp_path(const char* name) {
+  const char* tmp = std::getenv("TMPDIR");
+  return std::string(tmp != nullptr ? tmp : "/tmp") + "/" + name;
+}
+void BM_StlAsciiStreamed(benchmark::State& state) { streamed(state, "", false, nomec::backend::write_stl_ascii); }
+void BM_StlAsciiStreamedToDevNull(benchmark::State& state) {
+  streamed(state, "/dev/null", false, nomec::backend::write_stl_ascii);
+}
+void BM_StlAsciiStreamedToFile(benchmark::State& state) {
+  const std::string path = temp_path("nomec_bench_write_streamed_ascii.stl");
+  streamed(state, path, false, nomec::backend::write_stl_ascii);
+  std::remove(path.c_str());
+}
+void BM_ObjStreamed(benchmark::State& state) { streamed(state, "", false, obj_pieces); }
+void BM_ObjStreamedToDevNull(benchmark::State& state) { streamed(state, "/dev/null", false, obj_pieces); }
+void BM_ObjStreamedToFile(benchmark::State& state) {
+  const std::string path = temp_path("nomec_bench_write_streamed.obj");
+  streamed(state, path, false, obj_pieces);
+  std::remove(path.c_str());
+}
+
 void BM_Smoke(benchmark::State& state) {
   static const std::vector<OutputMesh> small = torus(12, 8);
   render(state, small, [](const std::vector<OutputMesh>& m) { return stl_binary(m) + obj(m); });
@@ -229,6 +261,12 @@ BENCHMARK(BM_StlBinaryStreamedToDevNull)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlBinaryStreamedToFile)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlBinaryOverlappedToDevNull)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StlBinaryOverlappedToFile)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StlAsciiStreamed)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StlAsciiStreamedToDevNull)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_StlAsciiStreamedToFile)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjStreamed)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjStreamedToDevNull)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjStreamedToFile)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Smoke);
 
 }  // namespace

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <thread>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include <cstring>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "backend/evaluate.h"
 #include "backend/write.h"
@@ -288,6 +290,83 @@ TEST(Write, StreamedBinaryStlHoldsEveryTriangleInOrder) {
   EXPECT_FALSE(write_stl_binary_overlapped(std::span<const OutputMesh>(&m, 1),
                                            [&](std::string_view) { return ++overlapped_calls < 2; }));
   EXPECT_EQ(overlapped_calls, 2);
+}
+
+// The streamed text writers (what `nomec --emit stl --stl-ascii` and `--emit obj` write)
+// hand over pieces of at most about a megabyte whose concatenation is the file fmt's loops
+// make (written out here, independently of number_text.h), for a model of several pieces
+// and two named meshes; a sink that refuses stops them.
+TEST(Write, StreamedTextWritersMatchFmtAcrossPieces) {
+  std::vector<OutputMesh> meshes(2);
+  meshes[0].name = "first";
+  for (int i = 0; i < 12000; ++i) {
+    kernel::PolygonSoup& s = meshes[0].soup;
+    const double x = 0.1 * i, y = -1.0 / (i + 1), z = i * 1e-7;
+    const int32_t a = s.add_vertex({x, y, z});
+    s.add_vertex({x + 1.5, y * 3.25, -z});
+    s.add_vertex({x + 0.3, y + 1e5, 1e17 + i});
+    s.add_vertex({x - 7e-5, 2.0 / 3.0, z});
+    s.add_face({a, a + 1, a + 2, a + 3});
+  }
+  meshes[1].soup.add_vertex({0, 0, 0});
+  meshes[1].soup.add_vertex({1, 0, -0.0});
+  meshes[1].soup.add_vertex({0, 1, 0});
+  meshes[1].soup.add_face({0, 1, 2});
+  const std::span<const OutputMesh> all(meshes);
+
+  std::string obj = "# written by nomec\n";
+  int64_t base = 1;
+  std::string stl;
+  for (const OutputMesh& m : meshes) {
+    const kernel::PolygonSoup& s = m.soup;
+    const std::string name = m.name.empty() ? "nomec" : m.name;
+    obj += fmt::format("o {}\n", name);
+    for (const glm::dvec3& p : s.positions) obj += fmt::format("v {} {} {}\n", p.x + 0.0, p.y + 0.0, p.z + 0.0);
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      obj += "f";
+      for (int32_t i = 0; i < s.face_sizes[f]; ++i) obj += fmt::format(" {}", base + s.face_vertices[at + i]);
+      obj += "\n";
+      at += static_cast<size_t>(s.face_sizes[f]);
+    }
+    base += s.vertex_count();
+    stl += fmt::format("solid {}\n", name);
+    const std::vector<int32_t> t = triangulate(s);
+    for (size_t k = 0; k < t.size(); k += 3) {
+      const glm::dvec3 &a = s.positions[t[k]], &b = s.positions[t[k + 1]], &c = s.positions[t[k + 2]];
+      const glm::dvec3 x = glm::cross(b - a, c - a);
+      const glm::dvec3 n = glm::length(x) > 0 ? x / glm::length(x) : glm::dvec3(0.0);
+      stl += fmt::format("  facet normal {:e} {:e} {:e}\n    outer loop\n", n.x + 0.0, n.y + 0.0, n.z + 0.0);
+      for (const glm::dvec3* p : {&a, &b, &c}) {
+        stl += fmt::format("      vertex {:e} {:e} {:e}\n", p->x + 0.0, p->y + 0.0, p->z + 0.0);
+      }
+      stl += "    endloop\n  endfacet\n";
+    }
+    stl += fmt::format("endsolid {}\n", name);
+  }
+  ASSERT_GT(obj.size(), 2'000'000u);
+  auto pieces_of = [&](auto write) {
+    std::string text;
+    int pieces = 0;
+    EXPECT_TRUE(write([&](std::string_view piece) {
+      EXPECT_LE(piece.size(), size_t{1} << 20);
+      text.append(piece);
+      ++pieces;
+      return true;
+    }));
+    EXPECT_GT(pieces, 1);
+    return text;
+  };
+  EXPECT_EQ(pieces_of([&](const auto& sink) { return write_obj(all, "", sink); }), obj);
+  EXPECT_EQ(pieces_of([&](const auto& sink) { return write_stl_ascii(all, sink); }), stl);
+  EXPECT_EQ(to_obj(all, ""), obj);
+  EXPECT_EQ(to_stl_ascii(all), stl);
+  int calls = 0;
+  EXPECT_FALSE(write_obj(all, "", [&](std::string_view) { return ++calls < 1; }));
+  EXPECT_EQ(calls, 1);
+  calls = 0;
+  EXPECT_FALSE(write_stl_ascii(all, [&](std::string_view) { return ++calls < 2; }));
+  EXPECT_EQ(calls, 2);
 }
 
 }  // namespace

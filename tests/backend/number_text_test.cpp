@@ -98,6 +98,47 @@ TEST(NumberText, EdgeCases) {
   EXPECT_EQ(e6(9999999.5), "1.000000e+07");
 }
 
+// Numbers with few significant digits (whole numbers, short decimals, floats widened to
+// double), where the shortest digits are padded with zeros on either side of the point,
+// and the layout boundaries of `{}` (decimal exponents −5, −4, 15 and 16).
+TEST(NumberText, ShortDigitsAndLayoutBoundaries) {
+  std::mt19937_64 rng(2026);
+  std::uniform_int_distribution<int64_t> whole(0, int64_t{1} << 62);
+  std::uniform_int_distribution<int> digits(1, 17);
+  std::uniform_int_distribution<int> exponent(-24, 24);
+  for (int i = 0; i < 200000; ++i) {
+    const int64_t w = whole(rng);
+    expect_like_fmt(static_cast<double>(w));
+    expect_like_fmt(static_cast<double>(w % 1000000));
+    int64_t m = 1;
+    for (int k = digits(rng); k > 0; --k) m *= 10;
+    // A short decimal: up to 17 digits times a power of ten, and a float's value.
+    const double x = static_cast<double>(w % m) * std::pow(10.0, exponent(rng));
+    expect_like_fmt(x);
+    expect_like_fmt(static_cast<double>(static_cast<float>(x)));
+    expect_like_fmt(std::bit_cast<double>(std::bit_cast<uint64_t>(x) + 1));
+  }
+  for (int k = -6; k <= 17; ++k) {
+    const double p = std::pow(10.0, k);
+    for (double x : {p, 1.5 * p, 9.5 * p, 1.2345678901234567 * p, 9.999999999999999 * p}) {
+      expect_like_fmt(x);
+      expect_like_fmt(std::nextafter(x, 0.0));
+    }
+  }
+}
+
+// `{:e}` near powers of two, where the decimal exponent estimate from the binary exponent
+// changes, over the whole range of exponents.
+TEST(NumberText, ScientificAroundPowersOfTwo) {
+  for (int b = -1074; b <= 1023; ++b) {
+    const double x = std::ldexp(1.0, b);
+    expect_like_fmt(x);
+    expect_like_fmt(std::nextafter(x, 0.0));
+    expect_like_fmt(std::nextafter(x, std::numeric_limits<double>::infinity()));
+    expect_like_fmt(x * 1.5);
+  }
+}
+
 TEST(NumberText, WholeNumbers) {
   for (int64_t v : {int64_t{0}, int64_t{7}, int64_t{-42}, int64_t{1234567890123}, std::numeric_limits<int64_t>::min()}) {
     char buf[kNumberTextMax];
