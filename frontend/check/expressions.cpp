@@ -435,15 +435,16 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
       stack.push_back({child, depth, 0});
       continue;
     }
-    SmallVec<ir::ExprId, 4> lowered;
-    for (const ir::ExprId* k = done.end() - kids.size(); k != done.end(); ++k) lowered.push_back(*k);
-    done.truncate(done.size() - kids.size());
     bool chain_link = false;
     if (stack.size() >= 2) {
       const ast::Expr& parent = a.expr(stack[stack.size() - 2].id);
       chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs == top.id;
     }
-    done.push_back(lower_operation(c, a, x, std::span<const ir::ExprId>(lowered.data(), lowered.size()), chain_link, left_power));
+    // The operands are the last `kids.size()` lowered results: passed where they are.
+    const std::span<const ir::ExprId> lowered(done.end() - kids.size(), kids.size());
+    const ir::ExprId op = lower_operation(c, a, x, lowered, chain_link, left_power);
+    done.truncate(done.size() - kids.size());
+    done.push_back(op);
     stack.pop_back();
   }
   return done.back();

@@ -166,10 +166,10 @@ ir::NodeId lookup(Context& c, Ns ns, std::string_view name, SourceRange use, boo
   auto it = table.find(name);
   if (it == table.end()) return ir::NodeId::None();
   const Symbol* sym = &it->second;
-  // NOME3 redefinitions: the last definition above the use (compat.md E1).
-  if (auto& redefined = c.redefinitions[static_cast<int>(ns)]; redefined.empty()) {
-    // no NOME3 redefinition in this namespace: the first definition is the only one
-  } else if (auto r = redefined.find(name); r != redefined.end()) {
+  // NOME3 redefinitions: the last definition above the use (compat.md E1). Most files have
+  // none, and then the name is not hashed a second time.
+  const auto& redefined = c.redefinitions[static_cast<int>(ns)];
+  if (auto r = redefined.empty() ? redefined.end() : redefined.find(name); r != redefined.end()) {
     for (const Symbol& later : r->second) {
       if (later.order <= c.order) sym = &later;
     }
