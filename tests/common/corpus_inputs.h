@@ -59,4 +59,15 @@ inline std::vector<std::string> corpus_and_examples() {
                             fs::path(NOMEC_CORPUS_DIR) / "slide", fs::path(NOMEC_SOURCE_DIR) / "examples"});
 }
 
+/// Every golden test input (the parse, check and IR goldens' folders in that order, each
+/// sorted), whatever its extension.
+inline std::vector<std::string> golden_inputs() {
+  std::vector<std::string> out;
+  for (const char* folder : {"tests/parse", "tests/check", "tests/ir"}) {
+    std::vector<std::string> files = files_under(std::filesystem::path(NOMEC_SOURCE_DIR) / folder);
+    out.insert(out.end(), files.begin(), files.end());
+  }
+  return out;
+}
+
 }  // namespace nomec::testing_inputs

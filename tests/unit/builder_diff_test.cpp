@@ -72,13 +72,11 @@ TEST(BuilderDiff, CorpusAndExamples) {
 // when a fuzzing build beside the sources has one (or the folder NOMEC_FUZZ_CORPUS names).
 TEST(BuilderDiff, GoldenAndFuzzInputs) {
   Counts counts;
-  for (const char* folder : {"tests/parse", "tests/check", "tests/ir"}) {
-    for (const std::string& path : nomec::testing_inputs::files_under(fs::path(NOMEC_SOURCE_DIR) / folder)) {
-      const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
-      ASSERT_TRUE(text.has_value()) << path;
-      compare(path, *text, counts);
-      if (::testing::Test::HasFatalFailure()) return;
-    }
+  for (const std::string& path : nomec::testing_inputs::golden_inputs()) {
+    const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
+    ASSERT_TRUE(text.has_value()) << path;
+    compare(path, *text, counts);
+    if (::testing::Test::HasFatalFailure()) return;
   }
   EXPECT_GT(counts.texts, 200u);
   EXPECT_GT(counts.clean, 50u);

@@ -106,13 +106,11 @@ TEST(LexerDiff, CorpusAndExamples) {
 // Every golden test input (parse, check and IR goldens: most hold an error on purpose).
 TEST(LexerDiff, GoldenInputs) {
   Counts counts;
-  for (const char* folder : {"tests/parse", "tests/check", "tests/ir"}) {
-    for (const std::string& path : nomec::testing_inputs::files_under(fs::path(NOMEC_SOURCE_DIR) / folder)) {
-      const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
-      ASSERT_TRUE(text.has_value()) << path;
-      compare(path, *text, counts);
-      if (::testing::Test::HasFatalFailure()) return;
-    }
+  for (const std::string& path : nomec::testing_inputs::golden_inputs()) {
+    const std::optional<std::string> text = nomec::testing_inputs::read_file(path);
+    ASSERT_TRUE(text.has_value()) << path;
+    compare(path, *text, counts);
+    if (::testing::Test::HasFatalFailure()) return;
   }
   EXPECT_GT(counts.texts, 200u);
   EXPECT_GE(counts.fast * 100, counts.texts * 95);
