@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -66,17 +68,46 @@ enum class ExprKind : uint8_t {
 };
 
 /// One expression node, e.g. `{expr $fp_ro * 2}` becomes Binary(DollarRef, Number).
+// Rationale: a large scene has about one expression per eight source bytes, so an
+// expression is 40 bytes: what only some kinds have (a number's value, an operator's
+// operands, a call's arguments) shares two words, read through accessors that look at
+// `kind`, and a call's arguments are a slice of `Ast::args` (`Ast::args(e)`).
 struct Expr {
+  std::string_view text;  // name, reference, raw text (views the source)
+  SourceRange range;
   ExprKind kind = ExprKind::Error;
   char op = 0;
   bool in_braces = false;      // written as `{expr …}` or `{…}`
   bool parenthesized = false;  // written as `( … )`; the range is inside the parentheses
-  SourceRange range;
-  std::string_view text;  // name, reference, raw text (views the source)
-  double number = 0;
-  ExprId lhs;  // unary operand or binary left
-  ExprId rhs;
-  SmallVec<ExprId, 2> args;  // call arguments
+
+  /// Unary operand or binary left; None for other kinds.
+  ExprId lhs() const { return kind == ExprKind::Unary || kind == ExprKind::Binary ? ExprId(a_) : ExprId::None(); }
+  /// Binary right; None for other kinds.
+  ExprId rhs() const { return kind == ExprKind::Binary ? ExprId(b_) : ExprId::None(); }
+  /// A Number's value; 0 for other kinds.
+  double number() const {
+    if (kind != ExprKind::Number) return 0;
+    double v;
+    static_assert(sizeof v == sizeof a_ + sizeof b_);
+    std::memcpy(&v, &a_, sizeof v);
+    return v;
+  }
+  void set_number(double v) { std::memcpy(&a_, &v, sizeof v); }
+  void set_operands(ExprId lhs, ExprId rhs = ExprId::None()) {
+    a_ = lhs.index;
+    b_ = rhs.index;
+  }
+  /// A Call's arguments: `count` ids from `Ast::args[first]`.
+  void set_args(uint32_t first, uint32_t count) {
+    a_ = static_cast<int32_t>(first);
+    b_ = static_cast<int32_t>(count);
+  }
+  uint32_t args_first() const { return kind == ExprKind::Call ? static_cast<uint32_t>(a_) : 0; }
+  uint32_t args_count() const { return kind == ExprKind::Call ? static_cast<uint32_t>(b_) : 0; }
+
+ private:
+  alignas(8) int32_t a_ = -1;  // Number: the value's low half; Unary/Binary: lhs; Call: first argument
+  int32_t b_ = -1;             // Number: the value's high half; Binary: rhs; Call: argument count
 };
 
 /// A parenthesised list, e.g. `(0 -0.5*$b.w 0)` with three elements.
@@ -123,11 +154,14 @@ struct Ast {
   std::vector<Item> top;  // Block, Tcl, Include, or stray Word/List/Value items
   std::vector<Stmt> stmts;
   std::vector<Expr> exprs;
+  std::vector<ExprId> args;  // calls' arguments, each call's contiguous (Expr::args_first)
   std::vector<ParenList> lists;
 
   const Stmt& stmt(StmtId id) const { return stmts[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
   const ParenList& list(ListId id) const { return lists[id.index]; }
+  /// A call's arguments (empty for other kinds).
+  std::span<const ExprId> args_of(const Expr& e) const { return {args.data() + e.args_first(), e.args_count()}; }
 };
 
 }  // namespace nomec::ast

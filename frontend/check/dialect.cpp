@@ -68,10 +68,10 @@ std::optional<double> literal(const ast::Ast& a, ast::ExprId e) {
   double sign = 1;
   if (x->kind == ast::ExprKind::Unary) {
     sign = x->op == '-' ? -1 : 1;
-    x = &a.expr(x->lhs);
+    x = &a.expr(x->lhs());
   }
   if (x->kind != ast::ExprKind::Number) return std::nullopt;
-  return sign * x->number;
+  return sign * x->number();
 }
 
 // Whether a ring generator's literal arguments read validly in its `sig` order: nullopt

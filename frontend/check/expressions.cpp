@@ -162,7 +162,7 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
 ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
   switch (x.kind) {
     case ast::ExprKind::Number:
-      return constant_expr(c, x.number, x.range);
+      return constant_expr(c, x.number(), x.range);
     case ast::ExprKind::DollarRef:
     case ast::ExprKind::Name:
       return lower_name(c, x, scope);
@@ -216,7 +216,7 @@ ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
 
 // NOME3 applied `-` before `^`: warn where `-a^b` reads differently.
 void warn_unary_minus_power(Context& c, const ast::Ast& a, const ast::Expr& x, ir::ExprId unary, ir::ExprId power) {
-  const ast::Expr& operand = a.expr(x.lhs);
+  const ast::Expr& operand = a.expr(x.lhs());
   ir::EvalResult v = ir::evaluate(c.module(), unary);
   if (!v.ok) return;
   const ir::Expr& pow = c.module().expr(power);
@@ -259,12 +259,12 @@ ir::ExprId lower_nome3_power_chain(Context& c, const ast::Ast& a, const ast::Exp
                                    bool warn) {
   // The operands as written (`a`, `b`, `c`, …); the right operand holds `levels` bare powers
   // and was lowered left-associative already.
-  std::vector<const ast::Expr*> written{&a.expr(x.lhs)};
+  std::vector<const ast::Expr*> written{&a.expr(x.lhs())};
   int levels = 0;
-  const ast::Expr* r = &a.expr(x.rhs);
-  for (; is_bare_power(*r); r = &a.expr(r->rhs)) {
+  const ast::Expr* r = &a.expr(x.rhs());
+  for (; is_bare_power(*r); r = &a.expr(r->rhs())) {
     ++levels;
-    written.push_back(&a.expr(r->lhs));
+    written.push_back(&a.expr(r->lhs()));
   }
   written.push_back(r);
   const ir::ExprId out = graft_base(c, base, rhs, levels, x.range);
@@ -317,7 +317,7 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
       e.op = x.op;
       e.lhs = kids[0];
       ir::ExprId id = add(c, std::move(e));
-      const ast::Expr& operand = a.expr(x.lhs);
+      const ast::Expr& operand = a.expr(x.lhs());
       // Only a bare `^` operand reads differently: `-(a^b)` is one operand in NOME3 too.
       if (c.dialect() == Dialect::Nome3 && x.op == '-' && is_bare_power(operand) &&
           c.module().expr(kids[0]).kind == ir::ExprKind::Binary) {
@@ -326,7 +326,7 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
       return id;
     }
     case ast::ExprKind::Binary: {
-      if (left_power && x.op == '^' && is_bare_power(a.expr(x.rhs))) {
+      if (left_power && x.op == '^' && is_bare_power(a.expr(x.rhs()))) {
         return lower_nome3_power_chain(c, a, x, kids[0], kids[1], !chain_link);
       }
       e.kind = ir::ExprKind::Binary;
@@ -373,19 +373,18 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
   }
 }
 
-// The operands of an operation in the syntax tree.
-SmallVec<ast::ExprId, 2> operands_of(const ast::Expr& x) {
-  SmallVec<ast::ExprId, 2> out;
+// How many operands an operation in the syntax tree has, and its `i`th.
+uint32_t operand_count(const ast::Expr& x) {
   switch (x.kind) {
-    case ast::ExprKind::Unary: out.push_back(x.lhs); break;
-    case ast::ExprKind::Binary:
-      out.push_back(x.lhs);
-      out.push_back(x.rhs);
-      break;
-    case ast::ExprKind::Call: out = x.args; break;
-    default: break;
+    case ast::ExprKind::Unary: return 1;
+    case ast::ExprKind::Binary: return 2;
+    case ast::ExprKind::Call: return x.args_count();
+    default: return 0;
   }
-  return out;
+}
+ast::ExprId operand_of(const ast::Ast& a, const ast::Expr& x, uint32_t i) {
+  if (x.kind == ast::ExprKind::Call) return a.args_of(x)[i];
+  return i == 0 ? x.lhs() : x.rhs();
 }
 
 ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Scope& scope) {
@@ -422,15 +421,15 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
       stack.pop_back();
       continue;
     }
-    const SmallVec<ast::ExprId, 2> kids = operands_of(x);
+    const uint32_t kids = operand_count(x);
     const bool is_operation = x.kind == ast::ExprKind::Unary || x.kind == ast::ExprKind::Binary || x.kind == ast::ExprKind::Call;
     if (!is_operation) {
       done.push_back(lower_leaf(c, x, scope));
       stack.pop_back();
       continue;
     }
-    if (top.next < kids.size()) {
-      const ast::ExprId child = kids[top.next++];
+    if (top.next < kids) {
+      const ast::ExprId child = operand_of(a, x, top.next++);
       const int depth = top.depth + 1;
       stack.push_back({child, depth, 0});
       continue;
@@ -438,12 +437,12 @@ ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Sco
     bool chain_link = false;
     if (stack.size() >= 2) {
       const ast::Expr& parent = a.expr(stack[stack.size() - 2].id);
-      chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs == top.id;
+      chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs() == top.id;
     }
-    // The operands are the last `kids.size()` lowered results: passed where they are.
-    const std::span<const ir::ExprId> lowered(done.end() - kids.size(), kids.size());
+    // The operands are the last `kids` lowered results: passed where they are.
+    const std::span<const ir::ExprId> lowered(done.end() - kids, kids);
     const ir::ExprId op = lower_operation(c, a, x, lowered, chain_link, left_power);
-    done.truncate(done.size() - kids.size());
+    done.truncate(done.size() - kids);
     done.push_back(op);
     stack.pop_back();
   }

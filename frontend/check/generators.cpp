@@ -26,9 +26,9 @@ bool is_truncated_count(Context& c, const ast::Ast& a, ast::ExprId e, ir::ExprId
   }
   if (!is_nome_family(c.dialect())) return false;
   const ast::Expr* x = &a.expr(e);
-  if (x->kind == ast::ExprKind::Unary && !x->in_braces) x = &a.expr(x->lhs);
+  if (x->kind == ast::ExprKind::Unary && !x->in_braces) x = &a.expr(x->lhs());
   // A whole number reads the same either way: only a fraction is marked.
-  return x->kind == ast::ExprKind::Number && !x->in_braces && x->number != std::trunc(x->number);
+  return x->kind == ast::ExprKind::Number && !x->in_braces && x->number() != std::trunc(x->number());
 }
 
 void check_count(Context& c, ir::ExprId e, SourceRange r, std::string_view what, bool truncated = false) {

@@ -103,17 +103,17 @@ class StructureBuilder {
           out_.verbatim.emplace_back(e.range.begin, e.range.end);
           return;
         case ast::ExprKind::Binary:
-          out_.binary_gaps.emplace_back(ast_.expr(e.lhs).range.end, ast_.expr(e.rhs).range.begin);
-          expr(e.rhs);
-          id = e.lhs;
+          out_.binary_gaps.emplace_back(ast_.expr(e.lhs()).range.end, ast_.expr(e.rhs()).range.begin);
+          expr(e.rhs());
+          id = e.lhs();
           continue;
         case ast::ExprKind::Unary:
           out_.roles[e.range.begin] = Role::Unary;
-          id = e.lhs;
+          id = e.lhs();
           continue;
         case ast::ExprKind::Call:
           out_.call_names_end.push_back(e.range.begin + static_cast<uint32_t>(e.text.size()));
-          for (ast::ExprId a : e.args) expr(a);
+          for (ast::ExprId a : ast_.args_of(e)) expr(a);
           return;
         default:
           return;
@@ -181,10 +181,10 @@ class Fingerprint {
                         e.in_braces ? 'b' : 'n');
     text(e.text);
     if (e.kind == ast::ExprKind::Binary || e.kind == ast::ExprKind::Unary) {
-      expr(e.lhs);
-      expr(e.rhs);
+      expr(e.lhs());
+      expr(e.rhs());
     }
-    for (ast::ExprId a : e.args) expr(a);
+    for (ast::ExprId a : ast_.args_of(e)) expr(a);
     out_ += ';';
   }
 

@@ -654,8 +654,7 @@ class AstBuilder {
     ast::Expr e;
     e.kind = ast::ExprKind::Binary;
     e.op = op_of(op);
-    e.lhs = lhs;
-    e.rhs = rhs;
+    e.set_operands(lhs, rhs);
     // An operand the parser could not read may have no position (offset 0): the range
     // never ends before it begins.
     const SourceRange& l = ast_.exprs[lhs.index].range;
@@ -690,8 +689,9 @@ class AstBuilder {
     ast::Expr e;
     e.kind = ast::ExprKind::Unary;
     e.op = op_of(sign->terminal->getSymbol());
-    e.lhs = unary(run);
-    e.range = SourceRange{file_, token_range(sign->terminal->getSymbol()).begin, ast_.exprs[e.lhs.index].range.end};
+    const ast::ExprId operand = unary(run);
+    e.set_operands(operand);
+    e.range = SourceRange{file_, token_range(sign->terminal->getSymbol()).begin, ast_.exprs[operand.index].range.end};
     if (e.range.end < e.range.begin) e.range.end = e.range.begin;
     return add(e);
   }
@@ -723,7 +723,7 @@ class AstBuilder {
     e.range = token_range(t);
     e.text = view(e.range);
     if (kind == ast::ExprKind::Number) {
-      e.number = std::strtod(std::string(e.text).c_str(), nullptr);
+      e.set_number(std::strtod(std::string(e.text).c_str(), nullptr));
     }
     return add(e);
   }
@@ -769,10 +769,13 @@ class AstBuilder {
       }
       e.kind = ast::ExprKind::Call;  // `name ( expr (, expr)* )`
       e.range = ctx_range(ctx);
+      SmallVec<ast::ExprId, 4> args;  // an argument's own calls add theirs to `Ast::args` first
       for (antlr4::tree::ParseTree* t : ctx->children) {
         Child arg = classify(t);
-        if (arg.rule_index() == NomeParser::RuleExpr) e.args.push_back(convert_expr(arg.rule));
+        if (arg.rule_index() == NomeParser::RuleExpr) args.push_back(convert_expr(arg.rule));
       }
+      e.set_args(static_cast<uint32_t>(ast_.args.size()), args.size());
+      ast_.args.insert(ast_.args.end(), args.begin(), args.end());
       return add(e);
     }
     return error_expr(ctx);
@@ -966,7 +969,8 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
             e.kind = ast::ExprKind::Call;
             e.text = view(f.name);
             e.range = range_of(ctx);
-            for (size_t i = f.operands_at; i < operands_.size(); ++i) e.args.push_back(operands_[i]);
+            e.set_args(static_cast<uint32_t>(ast_.args.size()), static_cast<uint32_t>(operands_.size() - f.operands_at));
+            ast_.args.insert(ast_.args.end(), operands_.begin() + static_cast<ptrdiff_t>(f.operands_at), operands_.end());
             operands_.resize(f.operands_at);
             deliver_expr(add(e).index);
             break;
@@ -1094,7 +1098,7 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
     e.kind = kind;
     e.range = range_of(t);
     e.text = view(e.range);
-    if (kind == ast::ExprKind::Number) e.number = parse_number(e.text);
+    if (kind == ast::ExprKind::Number) e.set_number(parse_number(e.text));
     return add(e).index;
   }
 
@@ -1193,8 +1197,8 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
         ast::Expr e;
         e.kind = ast::ExprKind::Unary;
         e.op = op.op;
-        e.lhs = operands_.back();
-        e.range = SourceRange{file_, op.begin, ast_.exprs[e.lhs.index].range.end};
+        e.set_operands(operands_.back());
+        e.range = SourceRange{file_, op.begin, ast_.exprs[e.lhs().index].range.end};
         if (e.range.end < e.range.begin) e.range.end = e.range.begin;
         operands_.back() = add(e);
       } else {
@@ -1205,11 +1209,12 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
         ast::Expr e;
         e.kind = ast::ExprKind::Binary;
         e.op = op.op;
-        e.rhs = operands_.back();
+        const ast::ExprId rhs = operands_.back();
         operands_.pop_back();
-        e.lhs = operands_.back();
-        const SourceRange& l = ast_.exprs[e.lhs.index].range;
-        const SourceRange& r = ast_.exprs[e.rhs.index].range;
+        const ast::ExprId lhs = operands_.back();
+        e.set_operands(lhs, rhs);
+        const SourceRange& l = ast_.exprs[lhs.index].range;
+        const SourceRange& r = ast_.exprs[rhs.index].range;
         e.range = SourceRange{file_, l.begin, std::max(l.end, r.end)};
         operands_.back() = add(e);
       }

@@ -276,9 +276,12 @@ class Assembler {
       ast::Expr& c = out_.exprs.emplace_back(e);
       c.range = range(e.range);
       c.text = view(e.text);
-      c.lhs = expr(e.lhs);
-      c.rhs = expr(e.rhs);
-      for (ast::ExprId& a : c.args) a = expr(a);
+      if (e.kind == ast::ExprKind::Call) {
+        c.set_args(static_cast<uint32_t>(out_.args.size()), e.args_count());
+        for (ast::ExprId a : piece.args_of(e)) out_.args.push_back(expr(a));
+      } else if (e.kind == ast::ExprKind::Unary || e.kind == ast::ExprKind::Binary) {
+        c.set_operands(expr(e.lhs()), expr(e.rhs()));
+      }
     }
     for (int32_t k : info.unanchored_exprs) out_.exprs[e0_ + k].range = SourceRange{file_, 0, 0};
     for (const ast::ParenList& l : piece.lists) {
@@ -498,14 +501,16 @@ struct ParseCache::Steps {
   static ast::Ast assemble(const std::vector<Use>& uses, std::string_view text, FileId file, DiagnosticEngine& diags) {
     ast::Ast out;
     out.file = file;
-    size_t exprs = 0, lists = 0, stmts = 0, top = 0;
+    size_t exprs = 0, args = 0, lists = 0, stmts = 0, top = 0;
     for (const Use& u : uses) {
       exprs += u.piece->ast.exprs.size();
+      args += u.piece->ast.args.size();
       lists += u.piece->ast.lists.size();
       stmts += u.piece->ast.stmts.size();
       top += u.piece->ast.top.size();
     }
     out.exprs.reserve(exprs);
+    out.args.reserve(args);
     out.lists.reserve(lists);
     out.stmts.reserve(stmts);
     out.top.reserve(top);

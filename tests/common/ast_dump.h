@@ -37,9 +37,9 @@ inline std::string dump_ast(const nomec::ast::Ast& a) {
   for (size_t k = 0; k < a.exprs.size(); ++k) {
     const auto& e = a.exprs[k];
     s += fmt::format("e{} {} '{}' {} {} {} '{}' {} l{} r{}", k, static_cast<int>(e.kind),
-                     e.op == 0 ? ' ' : e.op, e.in_braces, e.parenthesized, dump_range(e.range), e.text, e.number,
-                     e.lhs.index, e.rhs.index);
-    for (auto arg : e.args) s += fmt::format(" a{}", arg.index);
+                     e.op == 0 ? ' ' : e.op, e.in_braces, e.parenthesized, dump_range(e.range), e.text, e.number(),
+                     e.lhs().index, e.rhs().index);
+    for (auto arg : a.args_of(e)) s += fmt::format(" a{}", arg.index);
     s += "\n";
   }
   for (size_t k = 0; k < a.lists.size(); ++k) {
