@@ -146,7 +146,9 @@ struct Stmt {
   SourceRange close_kw;  // invalid when the parser had to recover without one
   BlockKind kind;
   CloseRepair close_repair = CloseRepair::None;
-  SmallVec<Item, 4> items;
+  // Two items inline: most statements are a name and one list or value (`point p (…)`,
+  // `face f (…)`); longer ones keep theirs on the heap.
+  SmallVec<Item, 2> items;
 };
 
 struct Ast {
