@@ -489,33 +489,53 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
   // for its end could stop, so the pass stays linear in the text (a long line of
   // statements, or many unclosed ones, must not make it quadratic).
   const size_t n = real.size();
-  std::vector<size_t> line_last(n);
-  for (size_t k = n; k-- > 0;) line_last[k] = k + 1 < n && line(k + 1) == line(k) ? line_last[k + 1] : k;
-  std::vector<int> depth_at(n);  // `(` and `{` open before token k
-  for (size_t k = 0, d = 0; k < n; ++k) {
-    depth_at[k] = static_cast<int>(d);
-    const size_t t = tok(k).type;
-    if (t == L::LPAREN || t == L::LBRACE) ++d;
-    if ((t == L::RPAREN || t == L::RBRACE) && d > 0) --d;
-  }
+  // The last token of r's line. `r` only grows, so each line is scanned once.
+  size_t line_last_cached = 0;
+  bool has_line_last = false;
+  auto line_last = [&](size_t r) {
+    if (!has_line_last || r > line_last_cached) {
+      has_line_last = true;
+      line_last_cached = r;
+      while (line_last_cached + 1 < n && line(line_last_cached + 1) == line(r)) ++line_last_cached;
+    }
+    return line_last_cached;
+  };
   // The next token, from k on, outside brackets, where a scan for an end may stop: an end
   // keyword, a block nested in an instance or face, or a statement keyword opening a line.
-  std::vector<size_t> next_stop(n + 1, n);
-  for (size_t k = n; k-- > 0;) {
-    const size_t t = tok(k).type;
-    const bool stop = depth_at[k] == 0 &&
-                      (is_end_token(t) || t == L::K_LOOKAT || t == L::K_VERTEX ||
-                       (first_on_line(k) && (is_open_type(t) || t == L::K_GEN) && !is_option_keyword(t)));
-    next_stop[k] = stop ? k : next_stop[k + 1];
-  }
+  // Built the first time a statement is not closed on its line (files that write their end
+  // keywords never need it). The repairs made before then change tokens only up to the end
+  // of the current line, and every later look is past it, so building it late reads the
+  // same tokens as building it first.
+  std::vector<size_t> next_stop;
+  auto build_next_stop = [&] {
+    std::vector<int> depth_at(n);  // `(` and `{` open before token k
+    for (size_t k = 0, d = 0; k < n; ++k) {
+      depth_at[k] = static_cast<int>(d);
+      const size_t t = tok(k).type;
+      if (t == L::LPAREN || t == L::LBRACE) ++d;
+      if ((t == L::RPAREN || t == L::RBRACE) && d > 0) --d;
+    }
+    next_stop.assign(n + 1, n);
+    for (size_t k = n; k-- > 0;) {
+      const size_t t = tok(k).type;
+      const bool stop = depth_at[k] == 0 &&
+                        (is_end_token(t) || t == L::K_LOOKAT || t == L::K_VERTEX ||
+                         (first_on_line(k) && (is_open_type(t) || t == L::K_GEN) && !is_option_keyword(t)));
+      next_stop[k] = stop ? k : next_stop[k + 1];
+    }
+  };
   constexpr size_t kMaxStops = 4096;  // beyond this many nested blocks, leave the statement as written
+  size_t depth = 0;  // `(` and `{` open before token r
   for (size_t r = 0; r < n; ++r) {
     const size_t type = tok(r).type;
-    const bool at_start = depth_at[r] == 0 && may_start(r);
+    const size_t depth_at_r = depth;
+    if (type == L::LPAREN || type == L::LBRACE) ++depth;
+    if ((type == L::RPAREN || type == L::RBRACE) && depth > 0) --depth;
+    const bool at_start = depth_at_r == 0 && may_start(r);
     const size_t end_type = at_start ? line_statement_end(type, word(r)) : 0;
     if (end_type == 0) continue;
     // The rest of its line, at its own bracket depth, up to its end or an enclosing one's.
-    const size_t last = line_last[r];
+    const size_t last = line_last(r);
     bool closed = false;
     int d = 0;
     size_t foreign = 0;  // a token on the line that ends an enclosing statement
@@ -575,6 +595,7 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
     bool continues = false;
     size_t inner = 0;
     size_t stops = 0;
+    if (next_stop.empty()) build_next_stop();
     for (size_t k = next_stop[last + 1]; k < n; k = next_stop[k + 1]) {
       if (++stops > kMaxStops) {
         continues = true;
