@@ -166,6 +166,40 @@ ExprId Module::add_expr(Expr expr) {
   return ExprId(static_cast<int32_t>(exprs.size() - 1));
 }
 
+ExprId Module::add_call(Func func, std::span<const ExprId> args, SourceRange range) {
+  Expr e;
+  e.kind = ExprKind::Call;
+  e.func = func;
+  e.range = range;
+  e.args = add_expr_list(args);
+  return add_expr(e);
+}
+
+ExprId Module::add_external(uint32_t script, double value, std::span<const ExprId> params, SourceRange range) {
+  Expr e;
+  e.kind = ExprKind::External;
+  e.range = range;
+  e.external = static_cast<uint32_t>(externals.size());
+  externals.push_back(ExternalScript{value, script, add_expr_list(params)});
+  return add_expr(e);
+}
+
+Slice<ExprId> Module::add_expr_list(std::span<const ExprId> items) {
+  Slice<ExprId> s{static_cast<uint32_t>(expr_lists.size()), static_cast<uint32_t>(items.size())};
+  expr_lists.insert(expr_lists.end(), items.begin(), items.end());
+  return s;
+}
+
+std::span<const ExprId> Module::subexprs(const Expr& e) const {
+  switch (e.kind) {
+    case ExprKind::Unary: return {e.operands, 1};
+    case ExprKind::Binary: return {e.operands, 2};
+    case ExprKind::Call: return refs(e.args);
+    case ExprKind::External: return refs(externals[e.external].params);
+    default: return {};
+  }
+}
+
 OperandId Module::add_operand(Operand operand) {
   operands.push_back(std::move(operand));
   return OperandId(static_cast<int32_t>(operands.size() - 1));

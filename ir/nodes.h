@@ -29,7 +29,7 @@ namespace nomec::ir {
 /// node's kind; the payload names the ones that mean something to the backend.
 struct Operand {
   std::string_view name;  // as the file writes it: `translate`, `ro`, `sd_level` (static text)
-  SmallVec<ExprId, 4> exprs;
+  Slice<ExprId> exprs;    // Module::expr_lists: `module.refs(operand.exprs)`
   SourceRange range;
   NodeId owner;
   NodeId value_node;

@@ -104,7 +104,7 @@ bool target_has_vertex(Context& c, ir::NodeId inst, const std::string& vertex, s
         if (!canonical.starts_with(r.prefix) || r.count_arg == ir::kNoArg || g.args[r.count_arg].type != ir::ArgType::Count) continue;
         const ir::GenArgBinding* b = m.gen_arg(t, r.count_arg);
         if (b == nullptr || !b->value.is_valid() || m.operand(b->value).exprs.empty()) continue;
-        ir::EvalResult e = ir::evaluate(m, m.operand(b->value).exprs[0]);
+        ir::EvalResult e = ir::evaluate(m, m.refs(m.operand(b->value).exprs)[0]);
         const long n = e.ok ? std::lround(e.value) : -1;
         if (n >= 0 && idx >= n) {
           const std::string_view count = g.display_name(r.count_arg, c.dialect());

@@ -544,7 +544,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
   auto operand_line = [&](ir::OperandId o) {
     const ir::Operand& op = m.operand(o);
     std::vector<std::string> vals;
-    for (ir::ExprId e : op.exprs) vals.push_back(value_of(e));
+    for (ir::ExprId e : m.refs(op.exprs)) vals.push_back(value_of(e));
     return fmt::format("\n- `{}` ({})", op.name, fmt::join(vals, " | "));
   };
   if (n->kind == ir::NodeKind::Instance) {
@@ -577,7 +577,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
     for (const ir::GenArgBinding& b : m.refs(n->as<ir::GeneratorData>().args)) {
       if (!b.value.is_valid() || m.operand(b.value).exprs.empty()) continue;
       const ir::Operand& op = m.operand(b.value);
-      md += fmt::format("| `{}` | {} | {} |\n", op.name, value_of(op.exprs[0]), b.arg == ir::kNoArg ? "" : info.args[b.arg].doc);
+      md += fmt::format("| `{}` | {} | {} |\n", op.name, value_of(m.refs(op.exprs)[0]), b.arg == ir::kNoArg ? "" : info.args[b.arg].doc);
     }
     return md;
   }
