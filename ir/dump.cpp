@@ -103,7 +103,7 @@ class NodeLines {
   }
   // Operands in written order, except those `skip` prints its own way.
   void operands(const Node& n) {
-    for (OperandId o : n.operands) line(m_.operand(o).name, operand_text(m_, m_.operand(o)));
+    for (OperandId o : m_.operands_of(n)) line(m_.operand(o).name, operand_text(m_, m_.operand(o)));
   }
 
   void payload(NodeId id, const Node& n) {

@@ -9,7 +9,9 @@
 // kernel.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <span>
@@ -92,6 +94,54 @@ struct ExternalScript {
   Slice<ExprId> params;  // Module::expr_lists
 };
 
+/// One entry of a node's list of children or of operands (Node::children, Node::operands):
+/// the child's or operand's index and the entry after it in Module::links (-1 at the end).
+struct Link {
+  int32_t item = -1;
+  int32_t next = -1;
+};
+
+/// A node's children or operands in the order they were added, e.g.
+/// `for (NodeId k : module.children(node))`. Reads the module's `links` by index, so adding
+/// to the module while iterating is safe (the new entries may or may not be visited).
+template <typename IdT>
+class LinkRange {
+ public:
+  class iterator {
+   public:
+    using value_type = IdT;
+    using difference_type = std::ptrdiff_t;
+    using iterator_category = std::forward_iterator_tag;
+    using pointer = void;
+    using reference = IdT;
+    iterator() = default;
+    iterator(const std::vector<Link>* links, int32_t at) : links_(links), at_(at) {}
+    IdT operator*() const { return IdT((*links_)[static_cast<size_t>(at_)].item); }
+    iterator& operator++() {
+      at_ = (*links_)[static_cast<size_t>(at_)].next;
+      return *this;
+    }
+    iterator operator++(int) {
+      iterator old = *this;
+      ++*this;
+      return old;
+    }
+    friend bool operator==(const iterator& a, const iterator& b) { return a.at_ == b.at_; }
+
+   private:
+    const std::vector<Link>* links_ = nullptr;
+    int32_t at_ = -1;
+  };
+  LinkRange(const std::vector<Link>* links, int32_t first) : links_(links), first_(first) {}
+  iterator begin() const { return {links_, first_}; }
+  iterator end() const { return {links_, -1}; }
+  bool empty() const { return first_ < 0; }
+
+ private:
+  const std::vector<Link>* links_;
+  int32_t first_;
+};
+
 /// A checked scene.
 struct Module {
   Dialect dialect = Dialect::Nome;
@@ -105,6 +155,8 @@ struct Module {
   /// parameters (slices: `refs(expr.args)`).
   std::vector<ExprId> expr_lists;
   std::vector<ExternalScript> externals;
+  /// The nodes' lists of children and of operands (Node::children, Node::operands).
+  std::vector<Link> links;
   // Rationale: the lists of references a node holds (a face's vertices, an object's faces,
   // an instance's transforms, a generator's arguments) are slices of these shared arrays,
   // so payloads stay small and fixed-size and the whole scene is a handful of allocations;
@@ -121,6 +173,11 @@ struct Module {
   std::shared_ptr<const ExternalEvaluator> external;
 
   const Node& node(NodeId id) const { return nodes[id.index]; }
+  LinkRange<NodeId> children(const Node& n) const { return {&links, n.children.first}; }
+  LinkRange<OperandId> operands_of(const Node& n) const { return {&links, n.operands.first}; }
+  /// Appends `child` to `parent`'s children, `operand` to `owner`'s operands.
+  void add_child(NodeId parent, NodeId child);
+  void add_node_operand(NodeId owner, OperandId operand);
   Node& node(NodeId id) { return nodes[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
   const Operand& operand(OperandId id) const { return operands[id.index]; }

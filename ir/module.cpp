@@ -155,10 +155,31 @@ NodeId Module::add_node(NodeKind kind, std::string_view keyword, std::string nam
   n.name = std::move(name);
   n.range = range;
   n.parent = parent;
-  if (kind != NodeKind::Param) n.data = payload_for(kind);  // a Node starts with ParamData
+  n.data = payload_for(kind);
   NodeId id(static_cast<int32_t>(nodes.size() - 1));
   deps.resize(nodes.size());
   return id;
+}
+
+namespace {
+
+void append_link(std::vector<Link>& links, LinkList& list, int32_t item) {
+  const int32_t at = static_cast<int32_t>(links.size());
+  links.push_back(Link{item, -1});
+  if (list.last >= 0) {
+    links[static_cast<size_t>(list.last)].next = at;
+  } else {
+    list.first = at;
+  }
+  list.last = at;
+}
+
+}  // namespace
+
+void Module::add_child(NodeId parent, NodeId child) { append_link(links, nodes[parent.index].children, child.index); }
+
+void Module::add_node_operand(NodeId owner, OperandId operand) {
+  append_link(links, nodes[owner.index].operands, operand.index);
 }
 
 ExprId Module::add_expr(Expr expr) {

@@ -148,7 +148,7 @@ SweepInput sweep_input(Context& c, ir::NodeId sweep_id, std::string_view inst_pa
     if (sd.twist.is_valid()) in.twist = scalar(c, sd.twist, 0, 0);
     in.mintorsion = sd.mintorsion;
   }
-  for (ir::NodeId k : sn.children) {
+  for (ir::NodeId k : c.m.children(sn)) {
     const ir::Node& kn = c.m.node(k);
     if (kn.kind == ir::NodeKind::SweepPath) {
       read_path(c, k, inst_path, in);

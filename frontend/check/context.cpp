@@ -100,7 +100,7 @@ std::string Context::qualify(const Ctx& ctx, const std::string& name) const {
 
 void Context::adopt(ir::NodeId parent, ir::NodeId child) {
   if (!parent.is_valid() || !child.is_valid()) return;
-  m_.node(parent).children.push_back(child);
+  m_.add_child(parent, child);
   m_.deps.add_edge(child, parent);
 }
 
@@ -146,7 +146,7 @@ ir::OperandId Context::add_operand(ir::NodeId owner, std::string_view name, Smal
     m_.deps.add_edge(vid, owner);
     m_.operand(id).value_node = vid;
   }
-  m_.node(owner).operands.push_back(id);
+  m_.add_node_operand(owner, id);
   return id;
 }
 

@@ -74,7 +74,7 @@ bool mentions_vertex(const ir::Module& m, ir::NodeId n, const std::string& verte
       break;
   }
   if (depth > 16) return false;
-  for (ir::NodeId k : node.children) {
+  for (ir::NodeId k : m.children(node)) {
     if (mentions_vertex(m, k, vertex, depth + 1)) return true;
   }
   return false;
@@ -359,7 +359,7 @@ std::vector<ir::NodeId> faces_of(const ir::Module& m, ir::NodeId mesh) {
   for (ir::NodeId f : m.refs(n.as<ir::MeshData>().faces)) {
     if (f.is_valid()) out.push_back(f);
   }
-  for (ir::NodeId k : n.children) {
+  for (ir::NodeId k : m.children(n)) {
     if (m.node(k).kind == ir::NodeKind::Face) out.push_back(k);
   }
   return out;
@@ -598,7 +598,7 @@ ir::DeletedFace resolve_block_face(Context& c, const std::string& text, SourceRa
   // Candidates: `inst.face` for the block's own instances of meshes.
   const ir::Module& m = c.module();
   std::vector<std::string> cands;
-  for (ir::NodeId k : m.node(block).children) {
+  for (ir::NodeId k : m.children(m.node(block))) {
     if (m.node(k).kind != ir::NodeKind::Instance) continue;
     const ir::NodeId t = m.get<ir::InstanceData>(k).target;
     if (!t.is_valid() || m.node(t).kind != ir::NodeKind::Mesh) continue;

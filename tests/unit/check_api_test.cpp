@@ -34,7 +34,7 @@ double field_value(const Checked& c, std::string_view node, std::string_view fie
   const ir::Module& m = c.result.module;
   for (const ir::Node& n : m.nodes) {
     if (n.name != node) continue;
-    for (ir::OperandId o : n.operands) {
+    for (ir::OperandId o : m.operands_of(n)) {
       if (m.operand(o).name != field) continue;
       const std::span<const ir::ExprId> exprs = m.refs(m.operand(o).exprs);
       if (i < exprs.size()) return ir::evaluate(m, exprs[i]).value;

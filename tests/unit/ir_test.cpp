@@ -114,6 +114,39 @@ TEST(Module, SubexpressionsOfEachKind) {
   EXPECT_EQ(expr_text(m, call), "max(-2 + 3, 2, 3)");
 }
 
+// A node's children and operands are lists threaded through the module's `links`: each
+// keeps the order it was built in however the lists of several nodes interleave.
+TEST(Module, ChildrenAndOperandsKeepTheirOrder) {
+  Module m;
+  const NodeId mesh = add(m, NodeKind::Mesh, "m"), group = add(m, NodeKind::Group, "g");
+  const NodeId p0 = add(m, NodeKind::Point, "m.p0"), inst = add(m, NodeKind::Instance, "g.i");
+  const NodeId p1 = add(m, NodeKind::Point, "m.p1"), face = add(m, NodeKind::Face, "m.f");
+  m.add_child(mesh, p0);
+  m.add_child(group, inst);
+  m.add_child(mesh, p1);
+  m.add_child(mesh, face);
+  auto children = [&](NodeId n) {
+    std::vector<NodeId> out;
+    for (NodeId k : m.children(m.node(n))) out.push_back(k);
+    return out;
+  };
+  EXPECT_EQ(children(mesh), (std::vector<NodeId>{p0, p1, face}));
+  EXPECT_EQ(children(group), (std::vector<NodeId>{inst}));
+  EXPECT_TRUE(children(p0).empty());
+  EXPECT_TRUE(m.children(m.node(face)).empty());
+  const OperandId translate = m.add_operand(Operand{"translate", {}, {}, inst, {}});
+  const OperandId position = m.add_operand(Operand{"position", {}, {}, p0, {}});
+  const OperandId rotate = m.add_operand(Operand{"rotate", {}, {}, inst, {}});
+  m.add_node_operand(inst, translate);
+  m.add_node_operand(p0, position);
+  m.add_node_operand(inst, rotate);
+  std::vector<std::string_view> names;
+  for (OperandId o : m.operands_of(m.node(inst))) names.push_back(m.operand(o).name);
+  EXPECT_EQ(names, (std::vector<std::string_view>{"translate", "rotate"}));
+  Module copy = m;  // copies keep the lists
+  EXPECT_EQ(std::distance(copy.operands_of(copy.node(p0)).begin(), copy.operands_of(copy.node(p0)).end()), 1);
+}
+
 TEST(Evaluate, DomainErrorsNameTheValues) {
   Module m;
   EvalResult r = evaluate(m, bin(m, '/', num(m, 1), num(m, 0)));
