@@ -38,9 +38,7 @@ bool depends_on_input(const Module& m, ExprId id) {
         e.kind == ExprKind::External) {
       return true;
     }
-    if (e.lhs.is_valid()) todo.push_back(e.lhs);
-    if (e.rhs.is_valid()) todo.push_back(e.rhs);
-    for (ExprId c : e.args) todo.push_back(c);
+    for (ExprId c : m.subexprs(e)) todo.push_back(c);
   }
   return false;
 }
@@ -59,7 +57,7 @@ std::string value_text(const Module& m, ExprId id) {
 
 std::string operand_text(const Module& m, const Operand& o) {
   std::vector<std::string> parts;
-  for (ExprId e : o.exprs) parts.push_back(value_text(m, e));
+  for (ExprId e : m.refs(o.exprs)) parts.push_back(value_text(m, e));
   if (o.name == "rotate" && parts.size() == 4) {  // axis, then angle in degrees
     return fmt::format("({} {} {}) ({})", parts[0], parts[1], parts[2], parts[3]);
   }
@@ -105,7 +103,7 @@ class NodeLines {
   }
   // Operands in written order, except those `skip` prints its own way.
   void operands(const Node& n) {
-    for (OperandId o : n.operands) line(m_.operand(o).name, operand_text(m_, m_.operand(o)));
+    for (OperandId o : m_.operands_of(n)) line(m_.operand(o).name, operand_text(m_, m_.operand(o)));
   }
 
   void payload(NodeId id, const Node& n) {
@@ -297,7 +295,7 @@ std::string enum_text(const Module& m, const SceneEnum<E>& e, E fallback, Name n
   if (!e.is_written) return fmt::format("{} (default)", name(fallback));
   if (!e.value.is_valid()) return std::string(name(e.symbol));
   const Operand& op = m.operand(e.value);
-  const EvalResult r = op.exprs.empty() ? EvalResult{0, false, {}, {}} : evaluate(m, op.exprs[0]);
+  const EvalResult r = op.exprs.empty() ? EvalResult{0, false, {}, {}} : evaluate(m, m.refs(op.exprs)[0]);
   return r.ok ? fmt::format("{} ({})", operand_text(m, op), name(static_cast<E>(std::lround(r.value))))
               : operand_text(m, op);
 }
@@ -313,7 +311,7 @@ std::string frustum_text(const Module& m, const SceneData& d) {
   }
   const Operand& op = m.operand(d.frustum);
   std::vector<std::string> v;
-  for (ExprId e : op.exprs) v.push_back(value_text(m, e));
+  for (ExprId e : m.refs(op.exprs)) v.push_back(value_text(m, e));
   if (v.size() != 6) return operand_text(m, op);
   if (d.frustum_is_lrbtnf) return fmt::format("({}) (left right bottom top near far)", fmt::join(v, " "));
   return fmt::format("({} {} {}) ({} {} {})", v[0], v[1], v[2], v[3], v[4], v[5]);
@@ -392,24 +390,24 @@ std::string expr_text(const Module& m, ExprId id) {
     case ExprKind::Variable:
       return std::string(e.name);
     case ExprKind::External: {
-      std::string script = m.external ? std::string(m.external->text(e.script)) : std::string("?");
+      std::string script = m.external ? std::string(m.external->text(m.external_script(e).script)) : std::string("?");
       std::vector<std::string> reads;
-      for (ExprId a : e.args) reads.push_back(expr_text(m, a));
+      for (ExprId a : m.subexprs(e)) reads.push_back(expr_text(m, a));
       return fmt::format("tcl{{{}}}({})", script, fmt::join(reads, ", "));
     }
     case ExprKind::Error:
       return "<error>";
     case ExprKind::Unary:
-      return std::string(1, e.op) + sub(e.lhs, 3);
+      return std::string(1, e.op) + sub(e.lhs(), 3);
     case ExprKind::Binary: {
       int p = precedence(e);
       std::string op = e.op == 'i' ? "//" : std::string(1, e.op);
-      if (e.op == '^') return sub(e.lhs, 5) + " ^ " + sub(e.rhs, 3);
-      return sub(e.lhs, p) + " " + op + " " + sub(e.rhs, p + 1);
+      if (e.op == '^') return sub(e.lhs(), 5) + " ^ " + sub(e.rhs(), 3);
+      return sub(e.lhs(), p) + " " + op + " " + sub(e.rhs(), p + 1);
     }
     case ExprKind::Call: {
       std::vector<std::string> args;
-      for (ExprId a : e.args) args.push_back(expr_text(m, a));
+      for (ExprId a : m.refs(e.args)) args.push_back(expr_text(m, a));
       return fmt::format("{}({})", func_name(e.func), fmt::join(args, ", "));
     }
   }

@@ -26,22 +26,9 @@ EvalResult fail(std::string problem, SourceRange where) {
   return r;
 }
 
-int child_count(const Expr& e) {
-  switch (e.kind) {
-    case ExprKind::Unary: return 1;
-    case ExprKind::Binary: return 2;
-    case ExprKind::Call: return static_cast<int>(e.args.size());
-    default: return 0;
-  }
-}
-
-ExprId child(const Expr& e, int i) {
-  switch (e.kind) {
-    case ExprKind::Unary: return e.lhs;
-    case ExprKind::Binary: return i == 0 ? e.lhs : e.rhs;
-    case ExprKind::Call: return e.args[static_cast<uint32_t>(i)];
-    default: return ExprId::None();
-  }
+// The operands evaluation visits (an External's parameter references are not evaluated).
+std::span<const ExprId> evaluated_operands(const Module& m, const Expr& e) {
+  return e.kind == ExprKind::External ? std::span<const ExprId>() : m.subexprs(e);
 }
 
 EvalResult binary(const Expr& e, double a, double b) {
@@ -150,7 +137,8 @@ EvalResult external(const Module& m, const Expr& e) {
   if (!m.external) return fail("this value is a script, and nothing here can evaluate it", e.range);
   SmallVec<double, 16> values;
   for (NodeId p : m.external->inputs()) values.push_back(m.param(p).value);
-  ExternalResult r = m.external->evaluate(e.script, std::span<const double>(values.data(), values.size()));
+  ExternalResult r =
+      m.external->evaluate(m.external_script(e).script, std::span<const double>(values.data(), values.size()));
   if (!r.ok) return fail(std::move(r.problem), e.range);
   return value_of(r.value);
 }
@@ -185,10 +173,11 @@ EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variab
   while (!stack.empty()) {
     Frame& top = stack.back();
     const Expr& e = m.expr(top.id);
-    const int n = child_count(e);
+    const std::span<const ExprId> kids = evaluated_operands(m, e);
+    const int n = static_cast<int>(kids.size());
     if (e.kind == ExprKind::Error) return fail("", e.range);
     if (top.done < n) {
-      const ExprId c = child(e, top.done++);
+      const ExprId c = kids[static_cast<size_t>(top.done++)];
       stack.push_back({c, 0});
       continue;
     }

@@ -9,7 +9,9 @@
 // kernel.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <span>
@@ -56,22 +58,88 @@ enum class ExprKind : uint8_t {
 };
 
 /// A scalar expression, e.g. `{expr $fp_ro * 2}` = Binary('*', Param fp.ro, Const 2).
-// Members ordered to leave no padding (a scene has about one per syntax expression).
+// Rationale: a scene has about one per syntax expression (108 000 in a 1 MiB scene), so an
+// expression is 32 bytes: the members only one kind reads share a union, and a call's
+// arguments are a slice of the module's `expr_lists` (as an operand's expressions are)
+// instead of a vector in every expression. Read the union member of the expression's kind.
 struct Expr {
-  double value = 0;       // Const; External: its value when the scene was checked
-  std::string_view name;  // Builtin: "time" / "frame"; Variable: its name (static text)
-  // Call: the arguments. External: `Param` expressions of the parameters the script depends
-  // on (what the dependency graph and the caches see); not evaluated, the script reads them.
-  SmallVec<ExprId, 2> args;
+  Expr() : value(0) {}
+
   SourceRange range;
-  NodeId param;           // Param node
-  ExprId lhs;
-  ExprId rhs;
-  uint32_t script = 0;    // External: the script's index in the module's `external` evaluator
   ExprKind kind = ExprKind::Error;
-  char op = 0;  // + - * / % ^, 'i' for `//`
-  Func func = Func::Sin;
+  char op = 0;            // Unary, Binary: + - * / % ^, 'i' for `//`
+  Func func = Func::Sin;  // Call
   uint8_t variable = 0;   // Variable: its index among the function's variables
+  union {
+    double value;            // Const
+    NodeId param;            // Param: the parameter node
+    std::string_view name;   // Builtin: "time" / "frame"; Variable: its name (static text)
+    ExprId operands[2];      // Unary: its operand; Binary: its left and right operands
+    Slice<ExprId> args;      // Call: its arguments (Module::expr_lists)
+    uint32_t external;       // External: its script (Module::externals)
+  };
+
+  ExprId lhs() const { return operands[0]; }
+  ExprId rhs() const { return operands[1]; }
+};
+static_assert(sizeof(Expr) == 32, "an expression is 32 bytes (see the rationale above)");
+
+/// The script of an `External` expression: its index in the module's `external` evaluator,
+/// its value when the scene was checked, and `Param` expressions of the parameters it
+/// depends on (what the dependency graph and the caches see; not evaluated, the script
+/// reads them).
+struct ExternalScript {
+  double value = 0;
+  uint32_t script = 0;
+  Slice<ExprId> params;  // Module::expr_lists
+};
+
+/// One entry of a node's list of children or of operands (Node::children, Node::operands):
+/// the child's or operand's index and the entry after it in Module::links (-1 at the end).
+struct Link {
+  int32_t item = -1;
+  int32_t next = -1;
+};
+
+/// A node's children or operands in the order they were added, e.g.
+/// `for (NodeId k : module.children(node))`. Reads the module's `links` by index, so adding
+/// to the module while iterating is safe (the new entries may or may not be visited).
+template <typename IdT>
+class LinkRange {
+ public:
+  class iterator {
+   public:
+    using value_type = IdT;
+    using difference_type = std::ptrdiff_t;
+    using iterator_category = std::forward_iterator_tag;
+    using pointer = void;
+    using reference = IdT;
+    iterator() = default;
+    iterator(const std::vector<Link>* links, int32_t at) : links_(links), at_(at) {}
+    IdT operator*() const { return IdT((*links_)[static_cast<size_t>(at_)].item); }
+    iterator& operator++() {
+      at_ = (*links_)[static_cast<size_t>(at_)].next;
+      return *this;
+    }
+    iterator operator++(int) {
+      iterator old = *this;
+      ++*this;
+      return old;
+    }
+    friend bool operator==(const iterator& a, const iterator& b) { return a.at_ == b.at_; }
+
+   private:
+    const std::vector<Link>* links_ = nullptr;
+    int32_t at_ = -1;
+  };
+  LinkRange(const std::vector<Link>* links, int32_t first) : links_(links), first_(first) {}
+  iterator begin() const { return {links_, first_}; }
+  iterator end() const { return {links_, -1}; }
+  bool empty() const { return first_ < 0; }
+
+ private:
+  const std::vector<Link>* links_;
+  int32_t first_;
 };
 
 /// A checked scene.
@@ -83,6 +151,12 @@ struct Module {
   std::vector<Expr> exprs;
   std::vector<Node> nodes;
   std::vector<Operand> operands;
+  /// The lists of expressions: calls' arguments, operands' expressions, external scripts'
+  /// parameters (slices: `refs(expr.args)`).
+  std::vector<ExprId> expr_lists;
+  std::vector<ExternalScript> externals;
+  /// The nodes' lists of children and of operands (Node::children, Node::operands).
+  std::vector<Link> links;
   // Rationale: the lists of references a node holds (a face's vertices, an object's faces,
   // an instance's transforms, a generator's arguments) are slices of these shared arrays,
   // so payloads stay small and fixed-size and the whole scene is a handful of allocations;
@@ -99,6 +173,11 @@ struct Module {
   std::shared_ptr<const ExternalEvaluator> external;
 
   const Node& node(NodeId id) const { return nodes[id.index]; }
+  LinkRange<NodeId> children(const Node& n) const { return {&links, n.children.first}; }
+  LinkRange<OperandId> operands_of(const Node& n) const { return {&links, n.operands.first}; }
+  /// Appends `child` to `parent`'s children, `operand` to `owner`'s operands.
+  void add_child(NodeId parent, NodeId child);
+  void add_node_operand(NodeId owner, OperandId operand);
   Node& node(NodeId id) { return nodes[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
   const Operand& operand(OperandId id) const { return operands[id.index]; }
@@ -120,13 +199,25 @@ struct Module {
   NodeId add_node(NodeKind kind, std::string_view keyword, std::string name, SourceRange range,
                   NodeId parent = NodeId::None());
   ExprId add_expr(Expr expr);
+  /// Adds a Call of `func` to `args`.
+  ExprId add_call(Func func, std::span<const ExprId> args, SourceRange range);
+  /// Adds an External expression: script `script` of the `external` evaluator, whose value
+  /// was `value` when checked, reading the parameters of the `Param` expressions `params`.
+  ExprId add_external(uint32_t script, double value, std::span<const ExprId> params, SourceRange range);
   OperandId add_operand(Operand operand);
+  /// Appends `items` to `expr_lists` and returns their slice.
+  Slice<ExprId> add_expr_list(std::span<const ExprId> items);
   /// Appends `items` to a store and returns their slice.
   Slice<VertexRef> add_vertex_refs(std::vector<VertexRef> items);
   Slice<NodeId> add_node_refs(std::span<const NodeId> items);
 
   std::span<const VertexRef> refs(Slice<VertexRef> s) const { return {vertex_refs.data() + s.begin, s.size}; }
   std::span<const NodeId> refs(Slice<NodeId> s) const { return {node_refs.data() + s.begin, s.size}; }
+  std::span<const ExprId> refs(Slice<ExprId> s) const { return {expr_lists.data() + s.begin, s.size}; }
+  /// The sub-expressions of `e`: a unary's operand, a binary's two, a call's arguments, an
+  /// External's parameter references (which evaluation does not visit), none for a leaf.
+  std::span<const ExprId> subexprs(const Expr& e) const;
+  const ExternalScript& external_script(const Expr& e) const { return externals[e.external]; }
   std::span<const TransformOp> refs(Slice<TransformOp> s) const { return {transforms.data() + s.begin, s.size}; }
   std::span<const GenArgBinding> refs(Slice<GenArgBinding> s) const { return {gen_args.data() + s.begin, s.size}; }
   std::span<const DeletedFace> refs(Slice<DeletedFace> s) const { return {deleted_faces.data() + s.begin, s.size}; }

@@ -155,15 +155,70 @@ NodeId Module::add_node(NodeKind kind, std::string_view keyword, std::string nam
   n.name = std::move(name);
   n.range = range;
   n.parent = parent;
-  if (kind != NodeKind::Param) n.data = payload_for(kind);  // a Node starts with ParamData
+  n.data = payload_for(kind);
   NodeId id(static_cast<int32_t>(nodes.size() - 1));
   deps.resize(nodes.size());
   return id;
 }
 
+namespace {
+
+void append_link(std::vector<Link>& links, LinkList& list, int32_t item) {
+  const int32_t at = static_cast<int32_t>(links.size());
+  links.push_back(Link{item, -1});
+  if (list.last >= 0) {
+    links[static_cast<size_t>(list.last)].next = at;
+  } else {
+    list.first = at;
+  }
+  list.last = at;
+}
+
+}  // namespace
+
+void Module::add_child(NodeId parent, NodeId child) { append_link(links, nodes[parent.index].children, child.index); }
+
+void Module::add_node_operand(NodeId owner, OperandId operand) {
+  append_link(links, nodes[owner.index].operands, operand.index);
+}
+
 ExprId Module::add_expr(Expr expr) {
   exprs.push_back(std::move(expr));
   return ExprId(static_cast<int32_t>(exprs.size() - 1));
+}
+
+ExprId Module::add_call(Func func, std::span<const ExprId> args, SourceRange range) {
+  Expr e;
+  e.kind = ExprKind::Call;
+  e.func = func;
+  e.range = range;
+  e.args = add_expr_list(args);
+  return add_expr(e);
+}
+
+ExprId Module::add_external(uint32_t script, double value, std::span<const ExprId> params, SourceRange range) {
+  Expr e;
+  e.kind = ExprKind::External;
+  e.range = range;
+  e.external = static_cast<uint32_t>(externals.size());
+  externals.push_back(ExternalScript{value, script, add_expr_list(params)});
+  return add_expr(e);
+}
+
+Slice<ExprId> Module::add_expr_list(std::span<const ExprId> items) {
+  Slice<ExprId> s{static_cast<uint32_t>(expr_lists.size()), static_cast<uint32_t>(items.size())};
+  expr_lists.insert(expr_lists.end(), items.begin(), items.end());
+  return s;
+}
+
+std::span<const ExprId> Module::subexprs(const Expr& e) const {
+  switch (e.kind) {
+    case ExprKind::Unary: return {e.operands, 1};
+    case ExprKind::Binary: return {e.operands, 2};
+    case ExprKind::Call: return refs(e.args);
+    case ExprKind::External: return refs(externals[e.external].params);
+    default: return {};
+  }
 }
 
 OperandId Module::add_operand(Operand operand) {

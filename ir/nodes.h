@@ -29,7 +29,7 @@ namespace nomec::ir {
 /// node's kind; the payload names the ones that mean something to the backend.
 struct Operand {
   std::string_view name;  // as the file writes it: `translate`, `ro`, `sd_level` (static text)
-  SmallVec<ExprId, 4> exprs;
+  Slice<ExprId> exprs;    // Module::expr_lists: `module.refs(operand.exprs)`
   SourceRange range;
   NodeId owner;
   NodeId value_node;
@@ -394,10 +394,14 @@ class Boxed {
  private:
   std::unique_ptr<T> p_;
 };
-/// Which payloads are boxed: SceneData (200 bytes; cameras, lights, windows, renders) and
-/// CrossSectionData (76; sweeps only).
+/// Which payloads are boxed: SceneData (200 bytes; cameras, lights, windows, renders),
+/// CrossSectionData (76; sweeps only), ParamData (72; a parameter per few dozen nodes),
+/// ControlPointData and PolylineData (36; sweeps and curves), so that the variant is sized
+/// by payloads of at most 32 bytes.
 template <typename T>
-inline constexpr bool kIsBoxed = std::is_same_v<T, SceneData> || std::is_same_v<T, CrossSectionData>;
+inline constexpr bool kIsBoxed = std::is_same_v<T, SceneData> || std::is_same_v<T, CrossSectionData> ||
+                                 std::is_same_v<T, ParamData> || std::is_same_v<T, ControlPointData> ||
+                                 std::is_same_v<T, PolylineData>;
 template <typename T>
 using Stored = std::conditional_t<kIsBoxed<T>, Boxed<T>, T>;
 
@@ -415,22 +419,31 @@ Payload payload_for(NodeKind kind);
 /// subdivision, offset, handle, rind, sierpinski, menger, SLIDE mirror).
 bool is_block(NodeKind kind);
 
+/// Where a node's children or operands are in the module's `links` (see Module::children).
+struct LinkList {
+  int32_t first = -1;
+  int32_t last = -1;
+  bool empty() const { return first < 0; }
+};
+
 /// One IR node. Examples: Param `fp.n`; Generator `fun` with GenKind::Funnel; Instance
 /// `cf.fun1` whose payload holds its target and transform chain.
 // Rationale: a large scene has tens of thousands of nodes, so members are ordered to leave
-// no padding and the variant is sized by the common payloads (SceneData is boxed, see
-// Stored): 200 bytes a node instead of 328.
+// no padding, the variant is sized by the common payloads (the large rare ones are boxed,
+// see Stored) and the lists of children and operands are threaded through one array of
+// the module instead of a vector in each node: 128 bytes a node instead of 200.
 struct Node {
   /// The statement's keyword as written (`facet`, `object`, `bsplinecurve`): for display in
   /// hover, dumps and messages only; code decides by `kind` and the payload.
   std::string_view keyword;
   std::string name;  // qualified, e.g. "cubeMadeByFunnel.fun1"; "" if anonymous
-  std::vector<NodeId> children; // mesh points/faces/sharps, group/block instances, sweep parts
-  SmallVec<OperandId, 2> operands;  // every operand, in written order
+  /// Mesh points/faces/sharps, group/block instances, sweep parts: `module.children(node)`.
+  LinkList children;
+  LinkList operands;  // every operand, in written order: `module.operands_of(node)`
   SourceRange range;
   NodeId parent;                // enclosing mesh/group/block
   NodeKind kind = NodeKind::Value;
-  Payload data;
+  Payload data{std::in_place_type<std::monostate>};  // Module::add_node sets the kind's
 
   template <typename T>
   const T& as() const {
@@ -453,5 +466,6 @@ struct Node {
     return std::holds_alternative<Stored<T>>(data);
   }
 };
+static_assert(sizeof(Payload) <= 40 && sizeof(Node) <= 128, "see the rationale above Node");
 
 }  // namespace nomec::ir

@@ -296,7 +296,7 @@ std::optional<BlockResult> run_block(Context& c, ir::NodeId pid, const std::stri
   sink.is_deferred = c.is_incremental && !c.has_deletes();
   Sink* const saved_sink = c.sink;
   c.sink = c.is_incremental ? &sink : nullptr;
-  for (ir::NodeId k : p.children) {
+  for (ir::NodeId k : c.m.children(p)) {
     if (c.m.node(k).kind == ir::NodeKind::Instance) instance(c, k, glm::dmat4(1.0), std::nullopt, path, in, depth + 1);
   }
   c.sink = saved_sink;

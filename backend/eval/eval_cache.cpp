@@ -50,9 +50,8 @@ const std::vector<int32_t>& EvalCache::params_of(const ir::Module& m, ir::ExprId
     if (!e.is_valid()) continue;
     const ir::Expr& x = m.expr(e);
     if (x.kind == ir::ExprKind::Param && x.param.is_valid()) ps.push_back(x.param.index);
-    todo.push_back(x.lhs);
-    todo.push_back(x.rhs);
-    todo.insert(todo.end(), x.args.begin(), x.args.end());
+    const std::span<const ir::ExprId> subs = m.subexprs(x);
+    todo.insert(todo.end(), subs.begin(), subs.end());
   }
   std::sort(ps.begin(), ps.end());
   ps.erase(std::unique(ps.begin(), ps.end()), ps.end());

@@ -16,9 +16,9 @@ namespace {
 ScalarFunction function_of(Context& c, const ir::Operand& o) {
   if (o.exprs.empty()) return {};
   // The parameters it reads count as read by the generator.
-  c.cache.recorder.note(Deps{c.cache.params_of(c.m, o.exprs[0]), false});
+  const ir::ExprId e = c.m.refs(o.exprs)[0];
+  c.cache.recorder.note(Deps{c.cache.params_of(c.m, e), false});
   const ir::Module* m = &c.m;
-  const ir::ExprId e = o.exprs[0];
   return [m, e](std::span<const double> vars, std::string* problem) -> std::optional<double> {
     ir::EvalResult r = ir::evaluate(*m, e, vars);
     if (r.ok) return r.value;

@@ -37,14 +37,14 @@ std::optional<glm::dvec3> position_among(Context& c, std::span<const ir::VertexR
 std::optional<glm::dvec3> mesh_vertex(Context& c, ir::NodeId target, const ir::VertexRef& ref, std::string_view inst_path) {
   std::optional<glm::dvec3> p;
   const ir::Node& tn = c.m.node(target);
-  for (ir::NodeId k : tn.children) {
+  for (ir::NodeId k : c.m.children(tn)) {
     const ir::Node& kn = c.m.node(k);
     if (kn.kind == ir::NodeKind::Point && short_name(kn.name) == ref.vertex) {
       const ir::OperandId pos = kn.as<ir::PointData>().position;
       if (pos.is_valid()) p = vec3(c, pos);
     }
   }
-  for (ir::NodeId k : tn.children) {
+  for (ir::NodeId k : c.m.children(tn)) {
     if (p) break;
     if (c.m.node(k).kind != ir::NodeKind::Face) continue;
     p = position_among(c, c.m.refs(c.m.get<ir::FaceData>(k).vertices), ref, inst_path);
@@ -59,7 +59,7 @@ std::vector<ir::NodeId> faces_of(const ir::Module& m, ir::NodeId mesh_id) {
   for (ir::NodeId f : m.refs(mn.as<ir::MeshData>().faces)) {
     if (f.is_valid() && m.node(f).kind == ir::NodeKind::Face) faces.push_back(f);
   }
-  for (ir::NodeId k : mn.children) {
+  for (ir::NodeId k : m.children(mn)) {
     if (m.node(k).kind == ir::NodeKind::Face) faces.push_back(k);
   }
   return faces;
@@ -95,7 +95,7 @@ class VertexIndex {
 // The creases and corners of the mesh's `sharp` statements.
 void add_creases(Context& c, ir::NodeId mesh_id, const std::string& path, kernel::PolygonSoup& soup, VertexIndex& index) {
   const ir::Node& mn = c.m.node(mesh_id);
-  for (ir::NodeId k : mn.children) {
+  for (ir::NodeId k : c.m.children(mn)) {
     const ir::Node& kn = c.m.node(k);
     if (kn.kind != ir::NodeKind::Sharp) continue;
     const ir::SharpData& sd = kn.as<ir::SharpData>();

@@ -200,7 +200,7 @@ void target(Context& c, ir::NodeId tid, const Placing& at, Collected& out, int d
       std::optional<glm::vec3> color = at.color;
       if (auto sc = surface_color(c, tn.as<ir::GroupData>().surface)) color = sc;
       c.chain.push_back(tid.index);
-      for (ir::NodeId k : tn.children) {
+      for (ir::NodeId k : c.m.children(tn)) {
         if (c.m.node(k).kind == ir::NodeKind::Instance) instance(c, k, at.t, color, at.path, out, depth + 1);
       }
       c.chain.pop_back();

@@ -68,7 +68,7 @@ std::vector<Key> path_keys(Context& c, ir::NodeId curve, std::string_view inst_p
     if (d.rotate.is_valid()) {
       // `rotate (x y z)`: the z angle turns the cross section in its plane; with an angle
       // list, `rotate (0 0 1) (deg)`, the angle about the z axis.
-      const size_t n = c.m.operand(d.rotate).exprs.size();
+      const size_t n = c.m.operand(d.rotate).exprs.size;
       key.angle = n >= 4 ? scalar(c, d.rotate, 3, 0) * (scalar(c, d.rotate, 2, 0) < 0 ? -1.0 : 1.0)
                          : scalar(c, d.rotate, 2, 0);
     }
@@ -148,7 +148,7 @@ SweepInput sweep_input(Context& c, ir::NodeId sweep_id, std::string_view inst_pa
     if (sd.twist.is_valid()) in.twist = scalar(c, sd.twist, 0, 0);
     in.mintorsion = sd.mintorsion;
   }
-  for (ir::NodeId k : sn.children) {
+  for (ir::NodeId k : c.m.children(sn)) {
     const ir::Node& kn = c.m.node(k);
     if (kn.kind == ir::NodeKind::SweepPath) {
       read_path(c, k, inst_path, in);

@@ -30,8 +30,8 @@ std::string short_name(std::string_view qualified) {
 double scalar(Context& c, ir::OperandId o, size_t i, double fallback) {
   if (!o.is_valid()) return fallback;
   const ir::Operand& op = c.m.operand(o);
-  if (i >= op.exprs.size()) return fallback;
-  const ir::ExprId e = op.exprs[static_cast<uint32_t>(i)];
+  if (i >= op.exprs.size) return fallback;
+  const ir::ExprId e = c.m.refs(op.exprs)[i];
   auto memo = c.cache.exprs.find(e.index);
   if (memo == c.cache.exprs.end()) {
     memo = c.cache.exprs.emplace(e.index, Memo<ir::EvalResult>{ir::evaluate(c.m, e), Deps{c.cache.params_of(c.m, e), false}}).first;

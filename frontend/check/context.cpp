@@ -100,7 +100,7 @@ std::string Context::qualify(const Ctx& ctx, const std::string& name) const {
 
 void Context::adopt(ir::NodeId parent, ir::NodeId child) {
   if (!parent.is_valid() || !child.is_valid()) return;
-  m_.node(parent).children.push_back(child);
+  m_.add_child(parent, child);
   m_.deps.add_edge(child, parent);
 }
 
@@ -115,9 +115,7 @@ void collect_params(const ir::Module& m, ir::ExprId root, std::vector<int32_t>& 
     const ir::Expr& x = m.expr(todo.back());
     todo.pop_back();
     if (x.kind == ir::ExprKind::Param) out.push_back(x.param.index);
-    if (x.lhs.is_valid()) todo.push_back(x.lhs);
-    if (x.rhs.is_valid()) todo.push_back(x.rhs);
-    for (ir::ExprId c : x.args) todo.push_back(c);
+    for (ir::ExprId c : m.subexprs(x)) todo.push_back(c);
   }
 }
 
@@ -132,7 +130,7 @@ ir::OperandId Context::add_operand(ir::NodeId owner, std::string_view name, Smal
   params.erase(std::unique(params.begin(), params.end()), params.end());
   ir::Operand o;
   o.name = name;
-  o.exprs = std::move(exprs);
+  o.exprs = m_.add_expr_list(std::span<const ir::ExprId>(exprs.data(), exprs.size()));
   o.range = range;
   o.owner = owner;
   const ir::OperandId id = m_.add_operand(std::move(o));
@@ -148,7 +146,7 @@ ir::OperandId Context::add_operand(ir::NodeId owner, std::string_view name, Smal
     m_.deps.add_edge(vid, owner);
     m_.operand(id).value_node = vid;
   }
-  m_.node(owner).operands.push_back(id);
+  m_.add_node_operand(owner, id);
   return id;
 }
 

@@ -220,7 +220,7 @@ void warn_unary_minus_power(Context& c, const ast::Ast& a, const ast::Expr& x, i
   ir::EvalResult v = ir::evaluate(c.module(), unary);
   if (!v.ok) return;
   const ir::Expr& pow = c.module().expr(power);
-  ir::EvalResult b = ir::evaluate(c.module(), pow.lhs), p = ir::evaluate(c.module(), pow.rhs);
+  ir::EvalResult b = ir::evaluate(c.module(), pow.lhs()), p = ir::evaluate(c.module(), pow.rhs());
   double nome3 = b.ok && p.ok ? std::pow(-b.value, p.value) : 0;
   c.diags()
       .emit(DiagKind::UnaryMinusPower, x.range,
@@ -237,8 +237,8 @@ ir::ExprId power_node(Context& c, ir::ExprId base, ir::ExprId exponent, SourceRa
   ir::Expr e;
   e.kind = ir::ExprKind::Binary;
   e.op = '^';
-  e.lhs = base;
-  e.rhs = exponent;
+  e.operands[0] = base;
+  e.operands[1] = exponent;
   e.range = r;
   return add(c, std::move(e));
 }
@@ -248,7 +248,7 @@ ir::ExprId power_node(Context& c, ir::ExprId base, ir::ExprId exponent, SourceRa
 ir::ExprId graft_base(Context& c, ir::ExprId a, ir::ExprId chain, int levels, SourceRange r) {
   const ir::Expr node = c.module().expr(chain);
   if (levels == 0 || node.kind != ir::ExprKind::Binary || node.op != '^') return power_node(c, a, chain, r);
-  return power_node(c, graft_base(c, a, node.lhs, levels - 1, r), node.rhs, node.range);
+  return power_node(c, graft_base(c, a, node.lhs(), levels - 1, r), node.rhs(), node.range);
 }
 
 // `a^b^c` in a NOME3 file: NOME3's grammar made `^` left-associative (compat.md §C2), so it
@@ -274,10 +274,10 @@ ir::ExprId lower_nome3_power_chain(Context& c, const ast::Ast& a, const ast::Exp
   ir::ExprId k = out;
   for (size_t i = written.size() - 1; i > 0; --i) {
     if (c.module().expr(k).kind != ir::ExprKind::Binary) return out;
-    ir::EvalResult v = ir::evaluate(c.module(), c.module().expr(k).rhs);
+    ir::EvalResult v = ir::evaluate(c.module(), c.module().expr(k).rhs());
     if (!v.ok) return out;
     values[i] = v.value;
-    k = c.module().expr(k).lhs;
+    k = c.module().expr(k).lhs();
   }
   ir::EvalResult first = ir::evaluate(c.module(), k), nome3 = ir::evaluate(c.module(), out);
   if (!first.ok || !nome3.ok) return out;
@@ -315,7 +315,7 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
     case ast::ExprKind::Unary: {
       e.kind = ir::ExprKind::Unary;
       e.op = x.op;
-      e.lhs = kids[0];
+      e.operands[0] = kids[0];
       ir::ExprId id = add(c, std::move(e));
       const ast::Expr& operand = a.expr(x.lhs());
       // Only a bare `^` operand reads differently: `-(a^b)` is one operand in NOME3 too.
@@ -331,8 +331,8 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
       }
       e.kind = ir::ExprKind::Binary;
       e.op = x.op;
-      e.lhs = kids[0];
-      e.rhs = kids[1];
+      e.operands[0] = kids[0];
+      e.operands[1] = kids[1];
       return add(c, std::move(e));
     }
     case ast::ExprKind::Call: {
@@ -363,10 +363,7 @@ ir::ExprId lower_operation(Context& c, const ast::Ast& a, const ast::Expr& x, st
                                    kids.size()));
         return error_expr(c, x.range);
       }
-      e.kind = ir::ExprKind::Call;
-      e.func = *f;
-      for (ir::ExprId k : kids) e.args.push_back(k);
-      return add(c, std::move(e));
+      return c.module().add_call(*f, kids, x.range);
     }
     default:
       return error_expr(c, x.range);

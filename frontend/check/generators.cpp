@@ -56,13 +56,16 @@ std::vector<std::optional<double>> list_values(Context& c, const ast::Ast& a, co
   DiagnosticEngine scratch;
   std::swap(scratch, c.diags());
   // The scratch expressions (and the names they record) are dropped again.
-  const size_t exprs = c.module().exprs.size();
+  ir::Module& m = c.module();
+  const size_t exprs = m.exprs.size(), lists = m.expr_lists.size(), externals = m.externals.size();
   const size_t uses = c.name_uses != nullptr ? c.name_uses->size() : 0;
   for (ast::ExprId e : list.elems) {
     ir::EvalResult v = ir::evaluate(c.module(), lower_expr(c, a, e, false));
     out.push_back(v.ok ? std::optional<double>(v.value) : std::nullopt);
   }
-  c.module().exprs.resize(exprs);
+  m.exprs.resize(exprs);
+  m.expr_lists.resize(lists);
+  m.externals.resize(externals);
   if (c.name_uses != nullptr) c.name_uses->resize(uses);
   std::swap(scratch, c.diags());
   return out;
@@ -339,8 +342,8 @@ struct GenReader {
         if (v.operand.is_valid() && is_counted(arg.type)) {
           const ir::Operand& o = c.module().operand(v.operand);
           b.is_truncated = v.value_expr.is_valid() && !o.exprs.empty() &&
-                           is_truncated_count(c, a, v.value_expr, o.exprs[0], arg.type);
-          if (!o.exprs.empty()) check_count(c, o.exprs[0], v.value_range, v.spec->name, b.is_truncated);
+                           is_truncated_count(c, a, v.value_expr, c.module().refs(o.exprs)[0], arg.type);
+          if (!o.exprs.empty()) check_count(c, c.module().refs(o.exprs)[0], v.value_range, v.spec->name, b.is_truncated);
         }
         break;
     }
@@ -387,8 +390,8 @@ struct GenReader {
     for (const ir::GenArgBinding& b : bindings) {
       if (b.arg == ir::kNoArg || !b.value.is_valid() || info.args[b.arg].type == ir::ArgType::Function) continue;
       const ir::Operand& o = m.operand(b.value);
-      if (o.exprs.size() != 1) continue;
-      ir::EvalResult v = ir::evaluate(m, o.exprs[0]);
+      if (o.exprs.size != 1) continue;
+      ir::EvalResult v = ir::evaluate(m, m.refs(o.exprs)[0]);
       if (v.ok) known[b.arg] = b.is_truncated ? std::trunc(v.value) : v.value;
     }
     std::optional<ir::ArgProblem> problem = ir::check_arguments(info.kind, c.dialect(), known);

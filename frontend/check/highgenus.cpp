@@ -26,8 +26,8 @@ void require(Context& c, const ast::Stmt& s, bool present, std::string_view opti
 void check_level(Context& c, const ast::Stmt& s, ir::OperandId level, int max, std::string_view why) {
   if (!level.is_valid()) return;
   const ir::Operand& op = c.module().operand(level);
-  if (op.exprs.size() == 0) return;
-  const ir::EvalResult v = ir::evaluate(c.module(), op.exprs[0]);
+  if (op.exprs.empty()) return;
+  const ir::EvalResult v = ir::evaluate(c.module(), c.module().refs(op.exprs)[0]);
   if (!v.ok || std::lround(v.value) <= max) return;
   c.diags()
       .emit(DiagKind::LevelTooHigh, op.range,

@@ -140,7 +140,7 @@ ir::NodeId accumulate_consolidated(Context& c, const ast::Stmt& s, ir::NodeId id
   if (m.node(earlier).kind != ir::NodeKind::Mesh) return ir::NodeId::None();
   std::vector<ir::NodeId> faces;
   for (ir::NodeId f : m.refs(m.get<ir::MeshData>(earlier).faces)) faces.push_back(f);
-  for (ir::NodeId k : m.node(earlier).children) {
+  for (ir::NodeId k : m.children(m.node(earlier))) {
     if (m.node(k).kind == ir::NodeKind::Face) faces.push_back(k);
   }
   m.get<ir::MeshData>(id).faces = m.add_node_refs(faces);

@@ -19,7 +19,7 @@ ir::NodeId handle_sweepmorph(Context& c, const ast::Ast& a, const ast::Stmt& s, 
     if (v.spec->key == Opt::Reverse) d.reverse = true;
   });
   int paths = 0;
-  for (ir::NodeId child : c.module().node(id).children) {
+  for (ir::NodeId child : c.module().children(c.module().node(id))) {
     if (c.module().node(child).kind == ir::NodeKind::SweepPath) ++paths;
   }
   if (paths != 1) {

@@ -377,13 +377,9 @@ ir::ExprId live_tcl_value(Context& c, std::string script, const TclValue& v, Sou
                                v.value, c.module().node(deps.front()).name, got, v.value));
     return constant(c, v.value, where);
   }
-  ir::Expr e;
-  e.kind = ir::ExprKind::External;
-  e.script = id;
-  e.value = v.value;
-  e.range = where;
-  for (ir::NodeId p : deps) e.args.push_back(dependency_expr(c, p, where));
-  return c.module().add_expr(std::move(e));
+  std::vector<ir::ExprId> params;
+  for (ir::NodeId p : deps) params.push_back(dependency_expr(c, p, where));
+  return c.module().add_external(id, v.value, params, where);
 }
 
 }  // namespace nomec::check

@@ -74,7 +74,7 @@ bool mentions_vertex(const ir::Module& m, ir::NodeId n, const std::string& verte
       break;
   }
   if (depth > 16) return false;
-  for (ir::NodeId k : node.children) {
+  for (ir::NodeId k : m.children(node)) {
     if (mentions_vertex(m, k, vertex, depth + 1)) return true;
   }
   return false;
@@ -104,7 +104,7 @@ bool target_has_vertex(Context& c, ir::NodeId inst, const std::string& vertex, s
         if (!canonical.starts_with(r.prefix) || r.count_arg == ir::kNoArg || g.args[r.count_arg].type != ir::ArgType::Count) continue;
         const ir::GenArgBinding* b = m.gen_arg(t, r.count_arg);
         if (b == nullptr || !b->value.is_valid() || m.operand(b->value).exprs.empty()) continue;
-        ir::EvalResult e = ir::evaluate(m, m.operand(b->value).exprs[0]);
+        ir::EvalResult e = ir::evaluate(m, m.refs(m.operand(b->value).exprs)[0]);
         const long n = e.ok ? std::lround(e.value) : -1;
         if (n >= 0 && idx >= n) {
           const std::string_view count = g.display_name(r.count_arg, c.dialect());
@@ -359,7 +359,7 @@ std::vector<ir::NodeId> faces_of(const ir::Module& m, ir::NodeId mesh) {
   for (ir::NodeId f : m.refs(n.as<ir::MeshData>().faces)) {
     if (f.is_valid()) out.push_back(f);
   }
-  for (ir::NodeId k : n.children) {
+  for (ir::NodeId k : m.children(n)) {
     if (m.node(k).kind == ir::NodeKind::Face) out.push_back(k);
   }
   return out;
@@ -598,7 +598,7 @@ ir::DeletedFace resolve_block_face(Context& c, const std::string& text, SourceRa
   // Candidates: `inst.face` for the block's own instances of meshes.
   const ir::Module& m = c.module();
   std::vector<std::string> cands;
-  for (ir::NodeId k : m.node(block).children) {
+  for (ir::NodeId k : m.children(m.node(block))) {
     if (m.node(k).kind != ir::NodeKind::Instance) continue;
     const ir::NodeId t = m.get<ir::InstanceData>(k).target;
     if (!t.is_valid() || m.node(t).kind != ir::NodeKind::Mesh) continue;

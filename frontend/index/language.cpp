@@ -544,7 +544,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
   auto operand_line = [&](ir::OperandId o) {
     const ir::Operand& op = m.operand(o);
     std::vector<std::string> vals;
-    for (ir::ExprId e : op.exprs) vals.push_back(value_of(e));
+    for (ir::ExprId e : m.refs(op.exprs)) vals.push_back(value_of(e));
     return fmt::format("\n- `{}` ({})", op.name, fmt::join(vals, " | "));
   };
   if (n->kind == ir::NodeKind::Instance) {
@@ -554,7 +554,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
       md += fmt::format(" — instance of {} `{}`", t.keyword, t.name);
     }
     md += "\n";
-    for (ir::OperandId o : n->operands) md += operand_line(o);
+    for (ir::OperandId o : m.operands_of(*n)) md += operand_line(o);
     if (inst.surface.is_valid()) md += fmt::format("\n- `surface` `{}`", m.node(inst.surface).name);
     if (inst.is_hidden) md += "\n- `hidden`";
     if (inst.target.is_valid()) {
@@ -577,12 +577,12 @@ std::string Index::hover_symbol(const Symbol& s) const {
     for (const ir::GenArgBinding& b : m.refs(n->as<ir::GeneratorData>().args)) {
       if (!b.value.is_valid() || m.operand(b.value).exprs.empty()) continue;
       const ir::Operand& op = m.operand(b.value);
-      md += fmt::format("| `{}` | {} | {} |\n", op.name, value_of(op.exprs[0]), b.arg == ir::kNoArg ? "" : info.args[b.arg].doc);
+      md += fmt::format("| `{}` | {} | {} |\n", op.name, value_of(m.refs(op.exprs)[0]), b.arg == ir::kNoArg ? "" : info.args[b.arg].doc);
     }
     return md;
   }
   int points = 0, faces = 0, instances = 0;
-  for (ir::NodeId c : n->children) {
+  for (ir::NodeId c : m.children(*n)) {
     switch (m.node(c).kind) {
       case ir::NodeKind::Point: ++points; break;
       case ir::NodeKind::Face: ++faces; break;
@@ -593,7 +593,7 @@ std::string Index::hover_symbol(const Symbol& s) const {
   for (const Symbol& o : symbols_) instances += o.parent == s.id && o.kind == SymbolKind::Instance && !o.node.is_valid();
   if (points + faces > 0) md += fmt::format("\n{} point{}, {} face{} written here", points, points == 1 ? "" : "s", faces, faces == 1 ? "" : "s");
   if (instances > 0) md += fmt::format("\n{} instance{}", instances, instances == 1 ? "" : "s");
-  for (ir::OperandId o : n->operands) md += operand_line(o);
+  for (ir::OperandId o : m.operands_of(*n)) md += operand_line(o);
   for (ir::Slice<ir::VertexRef> list : ir::vertex_lists_of(m, *n)) {
     std::vector<std::string> vs;
     for (const ir::VertexRef& v : m.refs(list)) vs.push_back(v.text);

@@ -282,7 +282,7 @@ TEST(Session, TclValueEvaluatesFromAnotherThread) {
   ir::Module& m = c->check.module;
   ir::ExprId lod3 = ir::ExprId::None();
   for (size_t i = 0; i < m.exprs.size(); ++i) {
-    if (m.exprs[i].kind == ir::ExprKind::External && m.exprs[i].value == 0) lod3 = ir::ExprId(static_cast<int32_t>(i));
+    if (m.exprs[i].kind == ir::ExprKind::External && m.external_script(m.exprs[i]).value == 0) lod3 = ir::ExprId(static_cast<int32_t>(i));
   }
   ASSERT_TRUE(lod3.is_valid());  // `par_numS >= 3` is off at 2
   m.param(m.find_param("par", "numS")).value = 3;

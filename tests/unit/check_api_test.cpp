@@ -34,8 +34,12 @@ double field_value(const Checked& c, std::string_view node, std::string_view fie
   const ir::Module& m = c.result.module;
   for (const ir::Node& n : m.nodes) {
     if (n.name != node) continue;
-    for (ir::OperandId o : n.operands) {
-      if (m.operand(o).name == field) return ir::evaluate(m, m.operand(o).exprs.at(static_cast<uint32_t>(i))).value;
+    for (ir::OperandId o : m.operands_of(n)) {
+      if (m.operand(o).name != field) continue;
+      const std::span<const ir::ExprId> exprs = m.refs(m.operand(o).exprs);
+      if (i < exprs.size()) return ir::evaluate(m, exprs[i]).value;
+      ADD_FAILURE() << "operand " << field << " on " << node << " has " << exprs.size() << " expressions";
+      return 0;
     }
   }
   ADD_FAILURE() << "no operand " << field << " on " << node;

@@ -41,7 +41,7 @@ double eval(const std::string& text, double u = 0, double v = 0) {
     const ir::GenArgBinding* b = m.gen_arg(id, ir::arg_index(ir::gen_arg::Genparametricsurf::funcX));
     if (b == nullptr || m.operand(b->value).exprs.empty()) break;
     const double vars[] = {u, v};
-    const ir::EvalResult r = ir::evaluate(m, m.operand(b->value).exprs[0], vars);
+    const ir::EvalResult r = ir::evaluate(m, m.refs(m.operand(b->value).exprs)[0], vars);
     EXPECT_TRUE(r.ok) << text << ": " << r.problem;
     return r.value;
   }

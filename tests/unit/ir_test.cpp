@@ -60,8 +60,8 @@ ExprId bin(Module& m, char op, ExprId a, ExprId b) {
   Expr e;
   e.kind = ExprKind::Binary;
   e.op = op;
-  e.lhs = a;
-  e.rhs = b;
+  e.operands[0] = a;
+  e.operands[1] = b;
   return m.add_expr(e);
 }
 
@@ -69,11 +69,8 @@ TEST(Evaluate, ArithmeticAndFunctions) {
   Module m;
   EXPECT_DOUBLE_EQ(evaluate(m, bin(m, '^', num(m, 2), bin(m, '^', num(m, 3), num(m, 2)))).value, 512);
   EXPECT_DOUBLE_EQ(evaluate(m, bin(m, 'i', num(m, 7), num(m, 2))).value, 3);
-  Expr call;
-  call.kind = ExprKind::Call;
-  call.func = Func::Atan2;
-  call.args = {num(m, 1), num(m, 1)};
-  EXPECT_NEAR(evaluate(m, m.add_expr(call)).value, 0.7853981633974483, 1e-15);
+  const ExprId ones[] = {num(m, 1), num(m, 1)};
+  EXPECT_NEAR(evaluate(m, m.add_call(Func::Atan2, ones, SourceRange{})).value, 0.7853981633974483, 1e-15);
   NodeId p = add(m, NodeKind::Param, "b.x");
   m.param(p).value = 4;
   Expr ref;
@@ -82,16 +79,81 @@ TEST(Evaluate, ArithmeticAndFunctions) {
   EXPECT_DOUBLE_EQ(evaluate(m, bin(m, '*', m.add_expr(ref), num(m, 2))).value, 8);
 }
 
+// Generic walks (parameters read, whether a value depends on sliders, the caches' reads)
+// see every kind's operands through `subexprs`: a unary's one, a binary's two, a call's
+// arguments and an External's parameter references, which evaluation itself skips.
+TEST(Module, SubexpressionsOfEachKind) {
+  Module m;
+  const ExprId two = num(m, 2), three = num(m, 3);
+  Expr neg;
+  neg.kind = ExprKind::Unary;
+  neg.op = '-';
+  neg.operands[0] = two;
+  const ExprId minus_two = m.add_expr(neg);
+  const ExprId sum = bin(m, '+', minus_two, three);
+  const ExprId args[] = {sum, two, three};
+  const ExprId call = m.add_call(Func::Max, args, SourceRange{});
+  NodeId p = add(m, NodeKind::Param, "b.x");
+  Expr ref;
+  ref.kind = ExprKind::Param;
+  ref.param = p;
+  const ExprId reads[] = {m.add_expr(ref)};
+  const ExprId script = m.add_external(0, 1, reads, SourceRange{});
+  auto subs = [&](ExprId e) {
+    std::span<const ExprId> s = m.subexprs(m.expr(e));
+    return std::vector<ExprId>(s.begin(), s.end());
+  };
+  EXPECT_EQ(subs(minus_two), (std::vector<ExprId>{two}));
+  EXPECT_EQ(subs(sum), (std::vector<ExprId>{minus_two, three}));
+  EXPECT_EQ(subs(call), (std::vector<ExprId>{sum, two, three}));
+  EXPECT_EQ(subs(script), (std::vector<ExprId>{reads[0]}));
+  EXPECT_TRUE(subs(two).empty());
+  EXPECT_TRUE(subs(reads[0]).empty());
+  EXPECT_EQ(m.external_script(m.expr(script)).value, 1);
+  EXPECT_DOUBLE_EQ(evaluate(m, call).value, 3);
+  EXPECT_EQ(expr_text(m, call), "max(-2 + 3, 2, 3)");
+}
+
+// A node's children and operands are lists threaded through the module's `links`: each
+// keeps the order it was built in however the lists of several nodes interleave.
+TEST(Module, ChildrenAndOperandsKeepTheirOrder) {
+  Module m;
+  const NodeId mesh = add(m, NodeKind::Mesh, "m"), group = add(m, NodeKind::Group, "g");
+  const NodeId p0 = add(m, NodeKind::Point, "m.p0"), inst = add(m, NodeKind::Instance, "g.i");
+  const NodeId p1 = add(m, NodeKind::Point, "m.p1"), face = add(m, NodeKind::Face, "m.f");
+  m.add_child(mesh, p0);
+  m.add_child(group, inst);
+  m.add_child(mesh, p1);
+  m.add_child(mesh, face);
+  auto children = [&](NodeId n) {
+    std::vector<NodeId> out;
+    for (NodeId k : m.children(m.node(n))) out.push_back(k);
+    return out;
+  };
+  EXPECT_EQ(children(mesh), (std::vector<NodeId>{p0, p1, face}));
+  EXPECT_EQ(children(group), (std::vector<NodeId>{inst}));
+  EXPECT_TRUE(children(p0).empty());
+  EXPECT_TRUE(m.children(m.node(face)).empty());
+  const OperandId translate = m.add_operand(Operand{"translate", {}, {}, inst, {}});
+  const OperandId position = m.add_operand(Operand{"position", {}, {}, p0, {}});
+  const OperandId rotate = m.add_operand(Operand{"rotate", {}, {}, inst, {}});
+  m.add_node_operand(inst, translate);
+  m.add_node_operand(p0, position);
+  m.add_node_operand(inst, rotate);
+  std::vector<std::string_view> names;
+  for (OperandId o : m.operands_of(m.node(inst))) names.push_back(m.operand(o).name);
+  EXPECT_EQ(names, (std::vector<std::string_view>{"translate", "rotate"}));
+  Module copy = m;  // copies keep the lists
+  EXPECT_EQ(std::distance(copy.operands_of(copy.node(p0)).begin(), copy.operands_of(copy.node(p0)).end()), 1);
+}
+
 TEST(Evaluate, DomainErrorsNameTheValues) {
   Module m;
   EvalResult r = evaluate(m, bin(m, '/', num(m, 1), num(m, 0)));
   EXPECT_FALSE(r.ok);
   EXPECT_EQ(r.problem, "division by zero: 1 / 0");
-  Expr call;
-  call.kind = ExprKind::Call;
-  call.func = Func::Sqrt;
-  call.args = {num(m, -4)};
-  EvalResult s = evaluate(m, m.add_expr(call));
+  const ExprId minus_four[] = {num(m, -4)};
+  EvalResult s = evaluate(m, m.add_call(Func::Sqrt, minus_four, SourceRange{}));
   EXPECT_FALSE(s.ok);
   EXPECT_EQ(s.problem, "`sqrt(-4)`: square root of a negative number");
 }
@@ -119,13 +181,10 @@ TEST(Evaluate, ExternalScriptsGetTheInputsCurrentValues) {
   Expr dep;
   dep.kind = ExprKind::Param;
   dep.param = p;
-  Expr e;
-  e.kind = ExprKind::External;
-  e.args = {m.add_expr(dep)};
-  e.range = SourceRange{FileId(0), 3, 9};
-  const ExprId twice = m.add_expr(e);
-  e.script = 1;
-  const ExprId checked = m.add_expr(e);
+  const ExprId reads[] = {m.add_expr(dep)};
+  const SourceRange where{FileId(0), 3, 9};
+  const ExprId twice = m.add_external(0, 8, reads, where);
+  const ExprId checked = m.add_external(1, 4, reads, where);
   EvalResult none = evaluate(m, twice);  // no evaluator: an error, not a guess
   EXPECT_FALSE(none.ok);
   m.external = std::make_shared<Twice>(p);
