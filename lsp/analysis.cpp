@@ -132,9 +132,6 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   } else {
     CheckOptions options;
     options.dialect = options_.dialect;
-    // On didOpen the other core fills the document's ParseCache beside this parse (server.cpp):
-    // a second parsing thread here would only compete with it.
-    options.parse.two_threads_from = 0;
     if (path) {
       options.read_file = read_file_bytes;
       options.list_folder = list_folder;

@@ -56,18 +56,13 @@ int check_errors(const std::string& text, std::string* first) {
   return diags.error_count() + diags.warning_count();
 }
 
-// Parse and check of a generated scene as `nomec --check` does it: a file of 256 KiB or more
-// is parsed on two threads (ParseOptions). Timed on the wall clock (UseRealTime), so the
-// rates count the second thread's work; `…OneThread` parses on the calling thread only.
-void parse_check(benchmark::State& state, const nomec::ParseOptions& parse) {
+void BM_ParseCheck(benchmark::State& state) {
   const std::string& text = scene(static_cast<size_t>(state.range(0)));
   size_t nodes = 0;
-  nomec::CheckOptions options;
-  options.parse = parse;
   for (auto _ : state) {
     nomec::SourceManager sources;
     nomec::DiagnosticEngine diags;
-    nomec::CheckResult r = nomec::check_source(sources, "bench.nome", text, options, diags);
+    nomec::CheckResult r = nomec::check_source(sources, "bench.nome", text, nomec::CheckOptions{}, diags);
     nodes = r.module.nodes.size();
     benchmark::DoNotOptimize(nodes);
   }
@@ -75,8 +70,6 @@ void parse_check(benchmark::State& state, const nomec::ParseOptions& parse) {
   state.counters["file_bytes"] = static_cast<double>(text.size());
   state.counters["ir_nodes"] = static_cast<double>(nodes);
 }
-void BM_ParseCheck(benchmark::State& state) { parse_check(state, nomec::ParseOptions{}); }
-void BM_ParseCheckOneThread(benchmark::State& state) { parse_check(state, nomec::ParseOptions{.two_threads_from = 0}); }
 
 // The fixed cost of one check (what each fuzzer input pays before its size matters): a
 // one-statement file, a kilobyte of typical statements with a few mistakes, and that
@@ -135,14 +128,14 @@ void BM_CheckSmallSlideFile(benchmark::State& state) {
 }
 BENCHMARK(BM_CheckSmallSlideFile)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
-void parse_only(benchmark::State& state, const nomec::ParseOptions& parse) {
+void BM_ParseOnly(benchmark::State& state) {
   const std::string& text = scene(static_cast<size_t>(state.range(0)));
   size_t stmts = 0;
   for (auto _ : state) {
     nomec::SourceManager sources;
     nomec::DiagnosticEngine diags;
     nomec::FileId f = sources.add_file("bench.nome", text);
-    nomec::ast::Ast ast = nomec::parse_file(sources, f, diags, parse);
+    nomec::ast::Ast ast = nomec::parse_file(sources, f, diags);
     stmts = ast.stmts.size();
     benchmark::DoNotOptimize(stmts);
   }
@@ -150,8 +143,6 @@ void parse_only(benchmark::State& state, const nomec::ParseOptions& parse) {
   state.counters["file_bytes"] = static_cast<double>(text.size());
   state.counters["statements"] = static_cast<double>(stmts);
 }
-void BM_ParseOnly(benchmark::State& state) { parse_only(state, nomec::ParseOptions{}); }
-void BM_ParseOnlyOneThread(benchmark::State& state) { parse_only(state, nomec::ParseOptions{.two_threads_from = 0}); }
 
 nomec::CheckOptions corpus_options() {
   nomec::CheckOptions options;
@@ -436,10 +427,8 @@ BENCHMARK(BM_Keystroke)->Arg(64 << 10)->Arg(512 << 10)->Arg(1 << 20)->UseManualT
 BENCHMARK(BM_KeystrokeParse)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeCorpus)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeLargestCorpusFile)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseCheckOneThread)->Arg(512 << 10)->Arg(1 << 20)->Arg(4 << 20)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_ParseOnlyOneThread)->Arg(512 << 10)->Arg(1 << 20)->Arg(4 << 20)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParseOnly)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ParseCheckCorpus)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CheckSmallFile)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 

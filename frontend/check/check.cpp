@@ -57,7 +57,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     return result;
   }
   const double parse_start = thread_cpu_ms();
-  ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags, options.parse);
+  ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
   result.parse_ms = thread_cpu_ms() - parse_start;
 
   // Saved work (`.anom`) is checked on top of its base scene.

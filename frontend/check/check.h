@@ -13,7 +13,6 @@
 #include "base/folder_listing.h"
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
-#include "frontend/parse/parse.h"
 #include "ir/dialect.h"
 #include "ir/ir.h"
 
@@ -38,7 +37,6 @@ struct CheckOptions {
   FileReader read_file;                                    // may be empty: no includes
   FolderLister list_folder;                                // may be empty: no base search
   bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
-  ParseOptions parse;          // how the main file is parsed when no ParseCache is given
 };
 
 /// A resolved name: the word at `use` refers to the IR node `def` (recorded for the index).

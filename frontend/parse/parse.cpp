@@ -1314,7 +1314,6 @@ thread_local bool tls_tree_builder = false;
 
 namespace parse_detail {
 void use_tree_builder(bool on) { tls_tree_builder = on; }
-bool tree_builder_in_use() { return tls_tree_builder; }
 }  // namespace parse_detail
 
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
@@ -1448,13 +1447,8 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   return result;
 }
 
-ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
-                    const ParseOptions& options) {
-  const std::string_view text = sources.text(file);
-  if (options.two_threads_from > 0 && text.size() >= options.two_threads_from) {
-    if (std::optional<ast::Ast> halves = parse_in_two(text, file, diags)) return std::move(*halves);
-  }
-  return parse_piece(text, file, PieceSinks{diags, diags, diags}, nullptr);
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
+  return parse_piece(sources.text(file), file, PieceSinks{diags, diags, diags}, nullptr);
 }
 
 ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceRange raw, ast::Ast& out,

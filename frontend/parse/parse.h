@@ -11,18 +11,8 @@
 
 namespace nomec {
 
-/// How `parse_file` may use the machine.
-struct ParseOptions {
-  /// A file of at least this many bytes is parsed as two halves on two threads, cut between
-  /// top-level statements where the halves provably parse as they do in the whole file (the
-  /// proof `ParseCache` uses); when they do not, the file is parsed whole. 0: never.
-  size_t two_threads_from = 256 << 10;
-};
-
-/// Parses one file. Always returns an AST (possibly partial); problems go to `diags`. The
-/// result is the same whatever the options.
-ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
-                    const ParseOptions& options = {});
+/// Parses one file. Always returns an AST (possibly partial); problems go to `diags`.
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
 
 /// Parses the expression inside a raw `[ … ]` item of `file` (a function surface's
 /// `funcX [cos(u)*v]`; `raw` is the item's range in the file) with the grammar's `expr`

@@ -20,8 +20,6 @@
 #include <cstring>
 #include <cstdint>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -562,56 +560,6 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   m.prev_last_is_cut = chunks.last_is_cut;
   m.prev_uses = std::move(uses);
   steps.sweep(text.size());
-  return out;
-}
-
-std::optional<ast::Ast> parse_in_two(std::string_view text, FileId file, DiagnosticEngine& diags) {
-  // The first cut from the middle on: the text before a cut reads the same alone.
-  std::vector<uint32_t> cuts;
-  const size_t middle = text.size() / 2;
-  if (!scan_cuts(text, 0, cuts, [&](uint32_t e) { return e >= middle; }) || cuts.back() >= text.size()) {
-    return std::nullopt;
-  }
-  const uint32_t cut = cuts.back();
-  struct Half {
-    DiagnosticEngine comments, tokens, syntax;
-    PieceInfo info;
-    ast::Ast ast;
-    void parse(std::string_view t, FileId f) { ast = parse_piece(t, f, PieceSinks{comments, tokens, syntax}, &info); }
-  };
-  Half first, second;
-  const std::string_view second_text = text.substr(cut);
-  const bool tree_builder = parse_detail::tree_builder_in_use();
-  std::thread worker;
-  try {
-    worker = std::thread([&] {
-      parse_detail::use_tree_builder(tree_builder);
-      second.parse(second_text, file);
-    });
-  } catch (const std::system_error&) {
-    return std::nullopt;  // no thread to be had: parse whole
-  }
-  first.parse(text.substr(0, cut), file);
-  worker.join();
-  // What ParseCache requires of two runs: the first (not the last) self-contained, the
-  // second starting where a statement may start.
-  if (!first.info.self_contained || !second.info.starts_cleanly) return std::nullopt;
-  // The first half is already the file's start (its offsets and views are the file's).
-  ast::Ast out = std::move(first.ast);
-  out.exprs.reserve(out.exprs.size() + second.ast.exprs.size());
-  out.args.reserve(out.args.size() + second.ast.args.size());
-  out.lists.reserve(out.lists.size() + second.ast.lists.size());
-  out.stmts.reserve(out.stmts.size() + second.ast.stmts.size());
-  out.top.reserve(out.top.size() + second.ast.top.size());
-  Assembler assembler(out, text, file);
-  assembler.append(second.ast, second.info, second_text, cut);
-  // Diagnostics by stage, as a whole-file parse emits them.
-  diags.append(std::move(first.comments));
-  assembler.append_diags(second.comments, second_text, cut, diags);
-  diags.append(std::move(first.tokens));
-  assembler.append_diags(second.tokens, second_text, cut, diags);
-  diags.append(std::move(first.syntax));
-  assembler.append_diags(second.syntax, second_text, cut, diags);
   return out;
 }
 

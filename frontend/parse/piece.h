@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -51,19 +50,12 @@ inline bool continues_block_after_instance_name(std::string_view word) {
          word == "epsilon" || word == "instance" || word == "endsubdivision" || word == "endoffset" || word == "endmerge";
 }
 
-/// `text` (the whole of `file`) parsed as two pieces on two threads and assembled, cut at
-/// the first place from its middle on where `ParseCache` may cut; nullopt (and nothing
-/// emitted) when there is no such place or the pieces do not provably parse as they do
-/// together (the first is not self-contained, or the second does not start cleanly).
-std::optional<ast::Ast> parse_in_two(std::string_view text, FileId file, DiagnosticEngine& diags);
-
 namespace parse_detail {
 /// For the differential tests: while set (on this thread), the parse of an error-free text
 /// builds each statement's ANTLR parse tree and converts it (the tree-based builder, which
 /// a text with syntax errors always uses), instead of building the AST from the parser's
 /// events.
 void use_tree_builder(bool on);
-bool tree_builder_in_use();
 }  // namespace parse_detail
 
 }  // namespace nomec

@@ -12,7 +12,6 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <functional>
-#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -20,7 +19,6 @@
 
 #include "frontend/check/check.h"
 #include "frontend/parse/parse.h"
-#include "frontend/parse/piece.h"
 #include "ir/ir.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
@@ -77,24 +75,8 @@ std::string full_parse(const std::string& text) {
   sources.add_file("other.nome", "point p (1 2 3) endpoint\n");
   nomec::DiagnosticEngine diags;
   nomec::FileId f = sources.add_file("doc.nome", text);
-  nomec::ast::Ast a = nomec::parse_file(sources, f, diags, nomec::ParseOptions{.two_threads_from = 0});
+  nomec::ast::Ast a = nomec::parse_file(sources, f, diags);
   return dump_ast(a) + "--\n" + dump_diags(diags);
-}
-
-// `text` parsed as two halves on two threads (what `parse_file` does with a large file),
-// or nullopt when it has no cut from its middle on or its halves do not provably read as
-// the whole does; then nothing must have been emitted.
-std::optional<std::string> parse_in_two(const std::string& text) {
-  nomec::SourceManager sources;
-  sources.add_file("other.nome", "point p (1 2 3) endpoint\n");
-  nomec::DiagnosticEngine diags;
-  nomec::FileId f = sources.add_file("doc.nome", text);
-  std::optional<nomec::ast::Ast> a = nomec::parse_in_two(sources.text(f), f, diags);
-  if (!a) {
-    EXPECT_TRUE(diags.diagnostics().empty()) << "a refused split emitted diagnostics";
-    return std::nullopt;
-  }
-  return dump_ast(*a) + "--\n" + dump_diags(diags);
 }
 
 std::string cached_parse(nomec::ParseCache& cache, const std::string& text) {
@@ -479,70 +461,6 @@ TEST(ParseCache, CheckThroughCacheEqualsCheck) {
     ASSERT_EQ(check_dump(text, &cache), check_dump(text, nullptr)) << "after edit " << k;
     random_edit(text, rng);
   }
-}
-
-// A large file is parsed in two halves on two threads: the result must be exactly the
-// whole-file parse (AST, ids, ranges, diagnostics in order). Every corpus file and example
-// under seeded random edits, split at its middle wherever it has a cut there.
-TEST(ParseInTwo, EqualsWholeParseUnderRandomEdits) {
-  std::vector<Doc> docs = corpus_docs();
-  ASSERT_FALSE(docs.empty()) << "no corpus files under " << NOMEC_CORPUS_DIR;
-  size_t split = 0, versions = 0;
-  uint32_t seed = 100;
-  for (const Doc& d : docs) {
-    std::mt19937 rng(seed++);
-    std::string text = d.text;
-    for (int k = 0; k < 8; ++k) {
-      if (k > 0) random_edit(text, rng);
-      ++versions;
-      if (std::optional<std::string> got = parse_in_two(text)) {
-        ++split;
-        ASSERT_EQ(first_difference(*got, full_parse(text)), "") << d.name << " after " << k << " edits";
-      }
-    }
-  }
-  // Most files have top-level statements after their middle: the two-thread path must be
-  // what these versions took, not the fallback.
-  EXPECT_GT(split * 2, versions) << split << " of " << versions << " versions were split";
-}
-
-// The generated scene splits, and parse_file takes the two-thread path from the size set in
-// its options on (and gives the whole-file parse at every size).
-TEST(ParseInTwo, GeneratedSceneAndThreshold) {
-  const std::string text = generated_scene(60);
-  const std::string whole = full_parse(text);
-  std::optional<std::string> halves = parse_in_two(text);
-  ASSERT_TRUE(halves.has_value());
-  EXPECT_EQ(first_difference(*halves, whole), "");
-  for (size_t from : {size_t{1}, text.size(), text.size() + 1}) {
-    nomec::SourceManager sources;
-    sources.add_file("other.nome", "point p (1 2 3) endpoint\n");
-    nomec::DiagnosticEngine diags;
-    nomec::FileId f = sources.add_file("doc.nome", text);
-    const std::string got = dump_ast(nomec::parse_file(sources, f, diags, nomec::ParseOptions{.two_threads_from = from}));
-    EXPECT_EQ(first_difference(got + "--\n" + dump_diags(diags), whole), "") << "from " << from;
-  }
-}
-
-// A text with no cut from its middle on, or whose second half cannot start a statement, is
-// not split (and parse_file still reads it whole).
-TEST(ParseInTwo, RefusesWhatItCannotProve) {
-  EXPECT_FALSE(parse_in_two("").has_value());
-  EXPECT_FALSE(parse_in_two("point p (1 2 3) endpoint\n").has_value());  // the only cut is the end
-  // The only cut, after `endmesh`, is before the middle: the comment never closes.
-  EXPECT_FALSE(parse_in_two("mesh m\nendmesh\n(* never closed\npoint q (1 2 3) endpoint\n").has_value());
-  // A cut past the middle, but the second half begins with `)`, which starts no statement.
-  std::string stray = "mesh m\n";
-  for (int k = 0; k < 8; ++k) stray += fmt::format("  point v{} ({} 0 0) endpoint\n", k, k);
-  stray += "endmesh\n) point q (1 2 3) endpoint\n";
-  EXPECT_FALSE(parse_in_two(stray).has_value());
-  nomec::SourceManager sources2;
-  sources2.add_file("other.nome", "point p (1 2 3) endpoint\n");
-  nomec::DiagnosticEngine diags2;
-  nomec::FileId f2 = sources2.add_file("doc.nome", stray);
-  EXPECT_EQ(f2.index, 1);
-  const std::string got = dump_ast(nomec::parse_file(sources2, f2, diags2, nomec::ParseOptions{.two_threads_from = 1}));
-  EXPECT_EQ(got + "--\n" + dump_diags(diags2), full_parse(stray));
 }
 
 }  // namespace
