@@ -556,9 +556,9 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
       if (t == end_type) {
         closed = true;
         // `funnel … endtunnel`: one token type closes every generator; the checker decides.
-        const std::optional<ir::GenKind> gen = ir::generator_by_keyword(word(r));
-        if (t == L::E_GEN && gen && !ir::generator(*gen).closes_with(word(r), word(k))) {
-          repairs.replaced.insert(tok(k).begin);
+        if (t == L::E_GEN) {
+          const std::optional<ir::GenKind> gen = ir::generator_by_keyword(word(r));
+          if (gen && !ir::generator(*gen).closes_with(word(r), word(k))) repairs.replaced.insert(tok(k).begin);
         }
         break;
       }
