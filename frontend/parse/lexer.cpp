@@ -10,7 +10,6 @@
 #include <deque>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 
 #include "frontend/parse/tokens.h"
 
@@ -88,18 +87,40 @@ class Keywords {
       words_.push_back(word);
       max_len_ = std::max(max_len_, word.size());
       min_len_ = std::min(min_len_, word.size());
-      types_.emplace(words_.back(), static_cast<uint16_t>(type));
+      insert(words_.back(), static_cast<uint16_t>(type));
     }
   }
+  // Every keyword is lower case, so a word that starts otherwise is a name without a lookup.
   uint16_t find(std::string_view w) const {
-    if (w.size() < min_len_ || w.size() > max_len_) return 0;
-    auto it = types_.find(w);
-    return it == types_.end() ? 0 : it->second;
+    if (w.size() < min_len_ || w.size() > max_len_ || w.front() < 'a' || w.front() > 'z') return 0;
+    for (size_t i = slot(w);; i = (i + 1) & kMask) {
+      const Slot& s = slots_[i];
+      if (s.type == 0) return 0;
+      if (s.word == w) return s.type;
+    }
   }
 
  private:
+  // Open addressing over a fixed table: a handful of bytes of the word decide its slot,
+  // which costs less than hashing every byte (the lexer asks once per name in the file).
+  static constexpr size_t kSize = 1024, kMask = kSize - 1;
+  struct Slot {
+    std::string_view word;
+    uint16_t type = 0;
+  };
+  static size_t slot(std::string_view w) {
+    const size_t n = w.size();
+    const auto b = [&](size_t i) { return static_cast<size_t>(static_cast<unsigned char>(w[i])); };
+    return (n * 131 + b(0) * 31 + b(n - 1) * 7 + b(n / 2) * 3 + b((n - 1) / 3)) & kMask;
+  }
+  void insert(std::string_view w, uint16_t type) {
+    size_t i = slot(w);
+    while (slots_[i].type != 0) i = (i + 1) & kMask;
+    slots_[i] = Slot{w, type};
+  }
+
   std::deque<std::string> words_;
-  std::unordered_map<std::string_view, uint16_t> types_;
+  std::array<Slot, kSize> slots_{};
   size_t min_len_ = SIZE_MAX, max_len_ = 0;
 };
 
