@@ -337,11 +337,13 @@ void collect_tcl(Context& c, const ast::Ast& a) {
   // Names Tcl code creates: `CreateScale NAME PARENT VAR …` gives NAME_VAR (or, inside a
   // proc, `$name_VAR` for whatever name the proc is called with), `set var …` globals,
   // and slideui objects (`CreateSLIDESubdivisionObject oSubdivision`).
-  static const std::regex scale_re(R"(CreateScale\s+(\S+)\s+\S+\s+([A-Za-z_][A-Za-z0-9_]*))");
-  static const std::regex set_re(R"((?:^|[\s;{])set\s+([A-Za-z_][A-Za-z0-9_]*))");
-  static const std::regex obj_re(R"(CreateSLIDE\w*Object\s+([A-Za-z_][A-Za-z0-9_]*))");
   for (const ast::Item& it : a.top) {
     if (it.kind != ItemKind::Tcl) continue;
+    // Compiled on the first Tcl block a process sees: compiling them is a sixth of the cost
+    // of checking a small file, which most files (no Tcl) need not pay.
+    static const std::regex scale_re(R"(CreateScale\s+(\S+)\s+\S+\s+([A-Za-z_][A-Za-z0-9_]*))");
+    static const std::regex set_re(R"((?:^|[\s;{])set\s+([A-Za-z_][A-Za-z0-9_]*))");
+    static const std::regex obj_re(R"(CreateSLIDE\w*Object\s+([A-Za-z_][A-Za-z0-9_]*))");
     std::string text(it.text);
     for (std::sregex_iterator i(text.begin(), text.end(), scale_re), e; i != e; ++i) {
       std::string owner = (*i)[1];
