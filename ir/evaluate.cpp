@@ -181,22 +181,33 @@ EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variab
       stack.push_back({c, 0});
       continue;
     }
-    EvalResult r;
-    if (n == 0) {
-      r = leaf(m, e, variables);
+    // The kinds that cannot fail are computed in place; the others go through the helpers,
+    // whose results carry a problem (a string) when they fail.
+    double value;
+    if (n == 0 && e.kind == ExprKind::Const) {
+      value = e.value;
+    } else if (n == 0 && e.kind == ExprKind::Param) {
+      value = m.param(e.param).value;
+    } else if (e.kind == ExprKind::Unary) {
+      value = e.op == '-' ? -values.back() : values.back();
+      values.truncate(values.size() - 1);
+    } else if (e.kind == ExprKind::Binary && (e.op == '+' || e.op == '-' || e.op == '*')) {
+      const double a = values[values.size() - 2], b = values.back();
+      value = e.op == '+' ? a + b : e.op == '-' ? a - b : a * b;
+      values.truncate(values.size() - 2);
     } else {
-      std::span<const double> operands(values.end() - n, static_cast<size_t>(n));
-      if (e.kind == ExprKind::Unary) {
-        r = value_of(e.op == '-' ? -operands[0] : operands[0]);
-      } else if (e.kind == ExprKind::Binary) {
-        r = binary(e, operands[0], operands[1]);
+      EvalResult r;
+      if (n == 0) {
+        r = leaf(m, e, variables);
       } else {
-        r = call(e, operands);
+        std::span<const double> operands(values.end() - n, static_cast<size_t>(n));
+        r = e.kind == ExprKind::Binary ? binary(e, operands[0], operands[1]) : call(e, operands);
+        values.truncate(values.size() - static_cast<uint32_t>(n));
       }
-      values.truncate(values.size() - static_cast<uint32_t>(n));
+      if (!r.ok) return r;
+      value = r.value;
     }
-    if (!r.ok) return r;
-    values.push_back(r.value);
+    values.push_back(value);
     stack.pop_back();
   }
   return value_of(values.back());

@@ -95,7 +95,14 @@ ir::NodeId Context::node_for(const ast::Stmt& s, std::string name, const Ctx& ct
 
 std::string Context::qualify(const Ctx& ctx, const std::string& name) const {
   if (!ctx.parent.is_valid() || name.empty()) return name;
-  return fmt::format("{}.{}", m_.node(ctx.parent).name, name);
+  // Built by hand, not with a format string: every named statement inside a block passes here.
+  const std::string& parent = m_.node(ctx.parent).name;
+  std::string out;
+  out.reserve(parent.size() + 1 + name.size());
+  out += parent;
+  out += '.';
+  out += name;
+  return out;
 }
 
 void Context::adopt(ir::NodeId parent, ir::NodeId child) {

@@ -158,8 +158,10 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
                                        ir::NodeId mesh) {
   const ast::ParenList& list = a.list(list_item.list);
   c.check_commas(a, list_item.list);
-  std::vector<ir::VertexRef> refs;
-  refs.reserve(list.elems.size());
+  // Resolved straight into the module's array (resolving one adds no other reference), so
+  // a face's list costs no vector of its own.
+  std::vector<ir::VertexRef>& all = c.module().vertex_refs;
+  const ir::Slice<ir::VertexRef> out{static_cast<uint32_t>(all.size()), 0};
   for (ast::ExprId e : list.elems) {
     const ast::Expr& x = a.expr(e);
     if (x.kind != ast::ExprKind::Name) {
@@ -169,9 +171,9 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
     }
     ir::VertexRef ref = resolve_vertex(c, x.text, x.range, mesh);
     add_vertex_edges(c, owner, ref);
-    refs.push_back(std::move(ref));
+    all.push_back(std::move(ref));
   }
-  return c.module().add_vertex_refs(std::move(refs));
+  return ir::Slice<ir::VertexRef>{out.begin, static_cast<uint32_t>(all.size()) - out.begin};
 }
 
 ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item& list_item, ir::NodeId owner, Ns ns) {
