@@ -7,7 +7,12 @@ instances) and a C file of the same shape (a struct per bank, point coordinates 
 from the bank's parameters with cos/sin, meshes as point and face arrays, funnels,
 groups and instances as initialised structs). Runs each tool several times as a fresh
 process and reports, for the fastest run, wall time, throughput (MB/s of its own source),
-peak resident memory and memory per source byte; then nomec's ratios to clang.
+peak resident memory and memory per source byte; then nomec's ratios to clang. Each tool
+also runs on a one-line file of its language: the peak of that run is the process's own
+start-up memory (libraries, allocator arenas), and "beyond start-up" divides what the scene
+adds to it by the scene's size, the part of the figure that grows with the input. Peaks
+are read with GNU time (`/usr/bin/time`) when it is installed; without it they are the
+kernel's figure for the child, which is at least this script's own size (about 20 MiB).
 
     python3 bench/frontend/scene_twin.py --nomec build/tools/nomec [--bytes 1048576]
 
@@ -120,12 +125,21 @@ def generate(min_bytes):
     return "".join(nome), "".join(c), k
 
 
+# A child's ru_maxrss also counts the memory of the process it was forked from (Linux keeps
+# the larger of the two across exec), so this script's own ~20 MiB would hide a smaller peak.
+# GNU time, a small program, forks the measured one itself and prints its peak: used when
+# installed (Debian package `time`).
+GNU_TIME = "/usr/bin/time" if os.path.exists("/usr/bin/time") else None
+
+
 def run(cmd, repeat):
-    """Fastest wall time (s) and peak RSS (bytes) over `repeat` fresh processes."""
-    best_t, best_rss = None, None
+    """Fastest wall time (s), peak RSS (bytes) and least CPU time (s, user + system) over
+    `repeat` fresh processes."""
+    best_t, best_rss, best_cpu = None, None, None
     for _ in range(repeat):
+        full = [GNU_TIME, "-f", "NOMEC_PEAK_KB %M", "--"] + cmd if GNU_TIME else cmd
         start = time.perf_counter()
-        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        proc = subprocess.Popen(full, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         _, status, usage = os.wait4(proc.pid, 0)
         elapsed = time.perf_counter() - start
         err = proc.stderr.read().decode(errors="replace")
@@ -134,14 +148,19 @@ def run(cmd, repeat):
         if code != 0:
             sys.exit(f"{cmd[0]} failed ({code}):\n{err[:2000]}")
         rss = usage.ru_maxrss * 1024
+        if GNU_TIME:
+            rss = int(err.rsplit("NOMEC_PEAK_KB ", 1)[1].split()[0]) * 1024
+        cpu = usage.ru_utime + usage.ru_stime
         best_t = elapsed if best_t is None else min(best_t, elapsed)
         best_rss = rss if best_rss is None else min(best_rss, rss)
-    return best_t, best_rss
+        best_cpu = cpu if best_cpu is None else min(best_cpu, cpu)
+    return best_t, best_rss, best_cpu
 
 
-def report(name, size, t, rss):
+def report(name, size, t, rss, cpu, startup_rss):
     print(f"{name:<22} {size / 1e6:6.3f} MB  {t * 1000:8.1f} ms  {size / t / 1e6:7.2f} MB/s  "
-          f"peak {rss / 2**20:7.1f} MiB  {rss / size:6.1f} B/source byte")
+          f"cpu {cpu * 1000:7.1f} ms  peak {rss / 2**20:7.1f} MiB  {rss / size:6.1f} B/source byte  "
+          f"(start-up {startup_rss / 2**20:5.1f} MiB; beyond it {(rss - startup_rss) / size:5.1f} B/source byte)")
 
 
 def main():
@@ -166,8 +185,12 @@ def main():
     nome_size, c_size = len(nome.encode()), len(c.encode())
     print(f"{modules} modules; NOME scene {nome_size} bytes, C twin {c_size} bytes ({folder})")
 
-    t_n, rss_n = run([args.nomec, "--check", nome_path], args.repeat)
-    report("nomec --check", nome_size, t_n, rss_n)
+    small_nome = os.path.join(folder, "one_line.nome")
+    with open(small_nome, "w") as f:
+        f.write("point p (0 0 0) endpoint\n")
+    t_n, rss_n, cpu_n = run([args.nomec, "--check", nome_path], args.repeat)
+    _, startup_n, _ = run([args.nomec, "--check", small_nome], args.repeat)
+    report("nomec --check", nome_size, t_n, rss_n, cpu_n, startup_n)
     clang = None
     if not args.no_clang:
         candidates = [args.clang] if args.clang else ["clang", "clang-18", "clang-17", "clang-16", "clang-15", "clang-14"]
@@ -175,8 +198,12 @@ def main():
     if clang is None and not args.no_clang:
         print("clang not found: no ratio (install clang or pass --clang)")
     elif clang is not None:
-        t_c, rss_c = run([clang, "-fsyntax-only", "-w", c_path], args.repeat)
-        report("clang -fsyntax-only", c_size, t_c, rss_c)
+        small_c = os.path.join(folder, "one_line.c")
+        with open(small_c, "w") as f:
+            f.write("double p[3] = {0, 0, 0};\n")
+        t_c, rss_c, cpu_c = run([clang, "-fsyntax-only", "-w", c_path], args.repeat)
+        _, startup_c, _ = run([clang, "-fsyntax-only", "-w", small_c], args.repeat)
+        report("clang -fsyntax-only", c_size, t_c, rss_c, cpu_c, startup_c)
         print(f"ratio nomec/clang: time {t_n / t_c:.2f}x, throughput {(nome_size / t_n) / (c_size / t_c):.2f}x, "
               f"memory per source byte {(rss_n / nome_size) / (rss_c / c_size):.2f}x")
     if args.out is None:
