@@ -11,6 +11,7 @@
 #include <new>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "bench/kernel/bench_shapes.h"
 
@@ -134,6 +135,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (cpu_ratio != run.counters.end()) {
         pair_cpu_ratios_[name] = cpu_ratio->second.value;
       }
+      auto ns = run.counters.find("ours_ns_face");
+      if (ns != run.counters.end()) {
+        pair_ns_[name] = {ns->second.value, run.counters.at("osd_ns_face").value};
+      }
     }
   }
   void Finalize() override {
@@ -157,10 +162,34 @@ class RatioReporter : public benchmark::ConsoleReporter {
           rest.c_str(), ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest],
           edge_bytes_["BM_Ours_" + rest], edge_bytes_["BM_Osd_" + rest]);
     }
-    std::printf("interleaved pairs (ours and OpenSubdiv alternating in each iteration)\n");
+    std::printf(
+        "interleaved pairs (ours and OpenSubdiv alternating in each iteration; warm: the "
+        "allocator reuses mapped memory, cold: fresh pages; cpu = the process's CPU time)\n");
     for (const auto& [name, ratio] : pair_ratios_) {
-      std::printf("  %-40s time ratio %.3f  cpu time ratio %.3f\n", name.c_str(), ratio,
-                  pair_cpu_ratios_[name]);
+      const std::string warm = "_warm";
+      if (name.size() < warm.size() || name.compare(name.size() - warm.size(), warm.size(), warm) != 0) {
+        if (name.find("_cold") == std::string::npos) {
+          std::printf("  %-32s time ratio %.3f  cpu time ratio %.3f\n", name.c_str(), ratio,
+                      pair_cpu_ratios_[name]);
+        }
+        continue;
+      }
+      const std::string base = name.substr(0, name.size() - warm.size());
+      const std::string cold = base + "_cold";
+      std::printf("  %-26s warm: time ratio %.3f cpu %.3f (ns/face ours %.1f osd %.1f)", base.c_str(), ratio,
+                  pair_cpu_ratios_[name], pair_ns_[name].first, pair_ns_[name].second);
+      if (pair_ratios_.count(cold) != 0) {
+        std::printf("  cold: time ratio %.3f cpu %.3f (ns/face ours %.1f osd %.1f)", pair_ratios_[cold],
+                    pair_cpu_ratios_[cold], pair_ns_[cold].first, pair_ns_[cold].second);
+      }
+      std::printf("\n");
+    }
+    for (const auto& [name, ratio] : pair_ratios_) {  // a cold run without its warm one
+      const std::string cold = "_cold";
+      if (name.size() < cold.size() || name.compare(name.size() - cold.size(), cold.size(), cold) != 0) continue;
+      if (pair_ratios_.count(name.substr(0, name.size() - cold.size()) + "_warm") != 0) continue;
+      std::printf("  %-26s cold: time ratio %.3f cpu %.3f\n", name.substr(0, name.size() - cold.size()).c_str(),
+                  ratio, pair_cpu_ratios_[name]);
     }
   }
 
@@ -170,6 +199,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> edge_bytes_;
   std::map<std::string, double> pair_ratios_;
   std::map<std::string, double> pair_cpu_ratios_;
+  std::map<std::string, std::pair<double, double>> pair_ns_;  // ours, OpenSubdiv
 };
 
 }  // namespace
