@@ -117,7 +117,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (run.run_type != Run::RT_Iteration || run.error_occurred) {
         continue;
       }
-      const std::string name = run.benchmark_name();
+      std::string name = run.benchmark_name();
       times_[name] = run.GetAdjustedRealTime();
       auto it = run.counters.find("bytes_per_face");
       if (it != run.counters.end()) {
@@ -127,6 +127,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (per_edge != run.counters.end()) {
         edge_bytes_[name] = per_edge->second.value;
       }
+      // Pairs are named by case and regime; drop the run options (e.g. "/min_time:2.000").
+      const size_t options = name.find("/min_time");
+      if (options != std::string::npos) name.resize(options);
       auto ratio = run.counters.find("ratio");
       if (ratio != run.counters.end()) {
         pair_ratios_[name] = ratio->second.value;
@@ -176,11 +179,16 @@ class RatioReporter : public benchmark::ConsoleReporter {
       }
       const std::string base = name.substr(0, name.size() - warm.size());
       const std::string cold = base + "_cold";
-      std::printf("  %-26s warm: time ratio %.3f cpu %.3f (ns/face ours %.1f osd %.1f)", base.c_str(), ratio,
-                  pair_cpu_ratios_[name], pair_ns_[name].first, pair_ns_[name].second);
+      // Wall time per output face, for the pairs against OpenSubdiv.
+      auto per_face = [&](const std::string& run) {
+        auto it = pair_ns_.find(run);
+        if (it != pair_ns_.end()) std::printf(" (ns/face ours %.1f osd %.1f)", it->second.first, it->second.second);
+      };
+      std::printf("  %-26s warm: time ratio %.3f cpu %.3f", base.c_str(), ratio, pair_cpu_ratios_[name]);
+      per_face(name);
       if (pair_ratios_.count(cold) != 0) {
-        std::printf("  cold: time ratio %.3f cpu %.3f (ns/face ours %.1f osd %.1f)", pair_ratios_[cold],
-                    pair_cpu_ratios_[cold], pair_ns_[cold].first, pair_ns_[cold].second);
+        std::printf("  cold: time ratio %.3f cpu %.3f", pair_ratios_[cold], pair_cpu_ratios_[cold]);
+        per_face(cold);
       }
       std::printf("\n");
     }
