@@ -11,6 +11,7 @@
 #include <new>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "bench/kernel/bench_shapes.h"
 
@@ -116,7 +117,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (run.run_type != Run::RT_Iteration || run.error_occurred) {
         continue;
       }
-      const std::string name = run.benchmark_name();
+      std::string name = run.benchmark_name();
       times_[name] = run.GetAdjustedRealTime();
       auto it = run.counters.find("bytes_per_face");
       if (it != run.counters.end()) {
@@ -126,6 +127,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (per_edge != run.counters.end()) {
         edge_bytes_[name] = per_edge->second.value;
       }
+      // Pairs are named by case and regime; drop the run options (e.g. "/min_time:2.000").
+      const size_t options = name.find("/min_time");
+      if (options != std::string::npos) name.resize(options);
       auto ratio = run.counters.find("ratio");
       if (ratio != run.counters.end()) {
         pair_ratios_[name] = ratio->second.value;
@@ -133,6 +137,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
       auto cpu_ratio = run.counters.find("cpu_ratio");
       if (cpu_ratio != run.counters.end()) {
         pair_cpu_ratios_[name] = cpu_ratio->second.value;
+      }
+      auto ns = run.counters.find("ours_ns_face");
+      if (ns != run.counters.end()) {
+        pair_ns_[name] = {ns->second.value, run.counters.at("osd_ns_face").value};
       }
     }
   }
@@ -157,10 +165,39 @@ class RatioReporter : public benchmark::ConsoleReporter {
           rest.c_str(), ours / osd->second, bytes_["BM_Ours_" + rest], bytes_["BM_Osd_" + rest],
           edge_bytes_["BM_Ours_" + rest], edge_bytes_["BM_Osd_" + rest]);
     }
-    std::printf("interleaved pairs (ours and OpenSubdiv alternating in each iteration)\n");
+    std::printf(
+        "interleaved pairs (ours and OpenSubdiv alternating in each iteration; warm: the "
+        "allocator reuses mapped memory, cold: fresh pages; cpu = the process's CPU time)\n");
     for (const auto& [name, ratio] : pair_ratios_) {
-      std::printf("  %-40s time ratio %.3f  cpu time ratio %.3f\n", name.c_str(), ratio,
-                  pair_cpu_ratios_[name]);
+      const std::string warm = "_warm";
+      if (name.size() < warm.size() || name.compare(name.size() - warm.size(), warm.size(), warm) != 0) {
+        if (name.find("_cold") == std::string::npos) {
+          std::printf("  %-32s time ratio %.3f  cpu time ratio %.3f\n", name.c_str(), ratio,
+                      pair_cpu_ratios_[name]);
+        }
+        continue;
+      }
+      const std::string base = name.substr(0, name.size() - warm.size());
+      const std::string cold = base + "_cold";
+      // Wall time per output face, for the pairs against OpenSubdiv.
+      auto per_face = [&](const std::string& run) {
+        auto it = pair_ns_.find(run);
+        if (it != pair_ns_.end()) std::printf(" (ns/face ours %.1f osd %.1f)", it->second.first, it->second.second);
+      };
+      std::printf("  %-26s warm: time ratio %.3f cpu %.3f", base.c_str(), ratio, pair_cpu_ratios_[name]);
+      per_face(name);
+      if (pair_ratios_.count(cold) != 0) {
+        std::printf("  cold: time ratio %.3f cpu %.3f", pair_ratios_[cold], pair_cpu_ratios_[cold]);
+        per_face(cold);
+      }
+      std::printf("\n");
+    }
+    for (const auto& [name, ratio] : pair_ratios_) {  // a cold run without its warm one
+      const std::string cold = "_cold";
+      if (name.size() < cold.size() || name.compare(name.size() - cold.size(), cold.size(), cold) != 0) continue;
+      if (pair_ratios_.count(name.substr(0, name.size() - cold.size()) + "_warm") != 0) continue;
+      std::printf("  %-26s cold: time ratio %.3f cpu %.3f\n", name.substr(0, name.size() - cold.size()).c_str(),
+                  ratio, pair_cpu_ratios_[name]);
     }
   }
 
@@ -170,6 +207,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> edge_bytes_;
   std::map<std::string, double> pair_ratios_;
   std::map<std::string, double> pair_cpu_ratios_;
+  std::map<std::string, std::pair<double, double>> pair_ns_;  // ours, OpenSubdiv
 };
 
 }  // namespace

@@ -4,7 +4,8 @@
 // OpenSubdiv (TopologyRefiner factory + RefineUniform + PrimvarRefiner::Interpolate of
 // double positions, default options, i.e. without full topology in the last level) on the
 // same soup. `BM_OursAllLevels_*` runs `subdivide`, which keeps every level with its
-// child→parent maps, for comparison.
+// child→parent maps, for comparison. `BM_Pair/*` runs both alternately, once with the
+// allocator handing back memory already mapped and once with fresh pages (`Memory`).
 #include <benchmark/benchmark.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -12,7 +13,12 @@
 
 #include <chrono>
 #include <ctime>
+#include <limits>
 #include <memory>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "bench/kernel/bench_shapes.h"
 #include "kernel/subdivide.h"
@@ -124,43 +130,92 @@ void run_osd(benchmark::State& state, const PolygonSoup& soup, int levels) {
   report(state, peak, faces, edges);
 }
 
-// CPU time of the calling thread (kernel time on its behalf, e.g. page faults, included),
-// which other processes on a shared machine disturb far less than wall time.
-double thread_cpu_seconds() {
+// CPU time of the whole process (both threads of a level split over two, and kernel time
+// on its behalf, e.g. page faults), which other processes on a shared machine disturb far
+// less than wall time.
+double process_cpu_seconds() {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+// The state of the C library's allocator a pair is measured in (bench_kernel runs on glibc
+// malloc). Both sides' times depend on it more than on the mesh: filling memory the process
+// has already mapped ("warm") costs a fraction of filling fresh pages, which the operating
+// system must map and clear on first touch ("cold").
+enum class Memory { Warm, Cold };
+
+// Warm: large blocks come from the heap instead of their own mappings (`M_MMAP_MAX` 0) and
+// the heap is never trimmed, so after one untimed run of each side every array reuses pages
+// already mapped. Cold: blocks of 128 KiB and more get their own mapping, unmapped when
+// freed, and the heap is trimmed (its free pages handed back) before every timed run, so
+// every large array is fresh memory.
+void set_memory(Memory memory) {
+#if defined(__GLIBC__)
+  if (memory == Memory::Warm) {
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  } else {
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+    malloc_trim(0);
+  }
+#else
+  (void)memory;
+#endif
+}
+
+// glibc's documented defaults (the thresholds then stay fixed instead of adapting).
+void restore_memory() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_MAX, 65536);
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+  malloc_trim(0);
+#endif
+}
+
 // Ours and OpenSubdiv alternately within each iteration, so that load from other
-// processes on a shared machine affects both alike; reports both times and the ratios of
-// wall time (`ratio`) and of thread CPU time (`cpu_ratio`).
-void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels) {
+// processes on a shared machine affects both alike, in the allocator regime `memory`;
+// reports both times, the ratios of wall time (`ratio`) and of the process's CPU time
+// (`cpu_ratio`), and each side's wall time per output face.
+void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memory memory) {
   using Clock = std::chrono::steady_clock;
+  set_memory(memory);
+  int64_t faces = 0;
+  if (memory == Memory::Warm) {  // map the pages both sides will reuse
+    faces = ours_once(soup, levels, nullptr);
+    osd_once(soup, levels);
+  }
   double ours = 0, osd = 0, ours_cpu = 0, osd_cpu = 0;
   bool is_ours_first = true;  // alternate the order to cancel allocator-state effects
   for (auto _ : state) {
     for (int k = 0; k < 2; ++k) {
       const bool is_ours = (k == 0) == is_ours_first;
+#if defined(__GLIBC__)
+      if (memory == Memory::Cold) malloc_trim(0);
+#endif
       const auto t0 = Clock::now();
-      const double c0 = thread_cpu_seconds();
+      const double c0 = process_cpu_seconds();
       if (is_ours) {
-        ours_once(soup, levels, nullptr);
+        faces = ours_once(soup, levels, nullptr);
       } else {
         osd_once(soup, levels);
       }
-      const double dc = thread_cpu_seconds() - c0;
+      const double dc = process_cpu_seconds() - c0;
       const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
       (is_ours ? ours : osd) += dt;
       (is_ours ? ours_cpu : osd_cpu) += dc;
     }
     is_ours_first = !is_ours_first;
   }
+  restore_memory();
   const double n = double(state.iterations());
   state.counters["ours_ms"] = 1e3 * ours / n;
   state.counters["osd_ms"] = 1e3 * osd / n;
   state.counters["ratio"] = ours / osd;
   state.counters["cpu_ratio"] = ours_cpu / osd_cpu;
+  state.counters["ours_ns_face"] = 1e9 * ours / n / double(faces);
+  state.counters["osd_ns_face"] = 1e9 * osd / n / double(faces);
 }
 
 const PolygonSoup& torus_2k() {
@@ -196,11 +251,10 @@ void BM_OursAllLevels_Torus100k_L2(benchmark::State& s) { run_ours(s, torus_100k
 void BM_OursAllLevels_Smoke_L2(benchmark::State& s) { run_ours(s, small(), 2, Path::AllLevels); }
 void BM_Osd_Smoke_L2(benchmark::State& s) { run_osd(s, small(), 2); }
 
-void BM_Pair_Torus2k_L4(benchmark::State& s) { run_pair(s, torus_2k(), 4); }
-void BM_Pair_Torus2k_L5(benchmark::State& s) { run_pair(s, torus_2k(), 5); }
-void BM_Pair_Mixed_L4(benchmark::State& s) { run_pair(s, mixed(), 4); }
-void BM_Pair_Torus100k_L2(benchmark::State& s) { run_pair(s, torus_100k(), 2); }
-void BM_Pair_Smoke_L2(benchmark::State& s) { run_pair(s, small(), 2); }
+// `BM_Pair/<case>_warm` and `BM_Pair/<case>_cold`: the summary prints both regimes' ratios.
+void BM_Pair(benchmark::State& s, const PolygonSoup& (*soup)(), int levels, Memory memory) {
+  run_pair(s, soup(), levels, memory);
+}
 
 BENCHMARK(BM_Ours_Torus2k_L4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Osd_Torus2k_L4)->Unit(benchmark::kMillisecond);
@@ -217,11 +271,16 @@ BENCHMARK(BM_OursAllLevels_Torus2k_L5)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Mixed_L4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Smoke_L2)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Pair_Torus2k_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_Pair_Torus2k_L5)->Unit(benchmark::kMillisecond)->MinTime(3.0);
-BENCHMARK(BM_Pair_Mixed_L4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_Pair_Torus100k_L2)->Unit(benchmark::kMillisecond)->MinTime(3.0);
-BENCHMARK(BM_Pair_Smoke_L2)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Pair, Torus2k_L4_warm, torus_2k, 4, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Pair, Torus2k_L4_cold, torus_2k, 4, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Pair, Torus2k_L5_warm, torus_2k, 5, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Pair, Torus2k_L5_cold, torus_2k, 5, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Pair, Mixed_L4_warm, mixed, 4, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Pair, Mixed_L4_cold, mixed, 4, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Pair, Torus100k_L2_warm, torus_100k, 2, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Pair, Torus100k_L2_cold, torus_100k, 2, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Pair, Smoke_L2_warm, small, 2, Memory::Warm)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Pair, Smoke_L2_cold, small, 2, Memory::Cold)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace nomec::kernel::bench
