@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
@@ -412,10 +413,14 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   reserve_large(oev, 2 * static_cast<size_t>(out_edges));
   reserve_large(ouf, 2 * static_cast<size_t>(out_edges));
   reserve_large(oflags, static_cast<size_t>(out_edges));
-  resize_large(onext, 2 * static_cast<size_t>(out_edges));
-  resize_large(oprev, 2 * static_cast<size_t>(out_edges));
+  // Every use of every output edge lies in one face loop (`link` writes its wings), so the
+  // wings are not filled first; the anchors start as None (all bits set).
+  resize_for_overwrite(onext, 2 * static_cast<size_t>(out_edges));
+  resize_for_overwrite(oprev, 2 * static_cast<size_t>(out_edges));
   reserve_large(oface_uses, static_cast<size_t>(out_faces));
-  resize_large(overtex_edges, static_cast<size_t>(out_vertices));  // all None
+  resize_for_overwrite(overtex_edges, static_cast<size_t>(out_vertices));
+  static_assert(EdgeId::None().index == -1);
+  std::memset(overtex_edges.data(), 0xff, overtex_edges.size() * sizeof(EdgeId));
   reserve_large(osources, static_cast<size_t>(out_faces));
   const bool has_colors = mesh.has_face_colors();
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
@@ -445,7 +450,9 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
     return EdgeUse(EdgeId(e), 0);
   };
+  int64_t second_uses = 0;
   auto second_use = [&](EdgeUse first, int32_t a, int32_t face) {
+    ++second_uses;
     const int32_t e = first.index >> 1;
     ouf[2 * e + 1] = FaceId(face);
     if (oev[2 * e].index == a) oflags[e] |= mobius;  // both corners run the same way
@@ -579,6 +586,8 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   for (const EdgeUse s : side_use) {
     if (s.is_valid()) return std::nullopt;  // a side without a partner
   }
+  // Every edge met twice: then every use is in a loop and every wing was written.
+  if (second_uses != static_cast<int64_t>(oflags.size())) return std::nullopt;
   // Sources, colours and parents follow the input faces.
   for (int32_t copy = 0; copy < 2; ++copy) {
     for (int32_t f = 0; f < F; ++f) {
