@@ -333,8 +333,10 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     for (int32_t f = begin; f < end; ++f) fnormals[f] = unit_face_normal(mesh, f);
   });
   std::vector<uint8_t> is_mobius_vertex(V, 0);
+  bool has_mobius = false;
   for (int32_t e = 0; e < E; ++e) {
     if (mesh.is_mobius(EdgeId(e))) {
+      has_mobius = true;
       is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
       is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
     }
@@ -432,7 +434,10 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // copies, each met again by the ribbon. The first corner keeps its new edge in one of the
   // input edge's two slots for the second: slot 0 holds the positive copy of side 0, and
   // the positive copy of side 1 where it pairs with side 0's (`pos_slot`).
+  // A slot holds -1 until its first corner is made (corners are made face by face, in loop
+  // order), so a corner finds by its slot whether it comes second.
   const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
+  std::memset(oedge.get(), 0xff, use_count * sizeof(int32_t));
   auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
   auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
@@ -478,19 +483,13 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (same(a0, a1, b0, b1)) return 1;
     return same(a0, a1, b0 ^ 1, b1 ^ 1) ? 2 : 0;
   };
+  // The pairing of use u's copies: without Möbius edges no corner is flipped, so every
+  // interior edge pairs positive with positive (and a border edge's copies meet its ribbon).
+  auto kind_of = [&](int32_t u, int32_t a0, int32_t a1) {
+    return has_mobius && iuf[u ^ 1].is_valid() ? pairing(u, a0, a1) : 1;
+  };
   std::vector<EdgeUse> loop;
   std::vector<EdgeUse> uses;
-  // Whether the copy of use t (positive, or the reversed negative copy) comes before the
-  // corner at position `at` of face f's copy (loop `loop` of n uses): corners are made face
-  // by face, so only a twin in the same face needs its position.
-  auto is_met_before = [&](int32_t f, int32_t t, int32_t at, int32_t n, bool is_negative = false) {
-    const int32_t g = iuf[t].index;
-    if (g != f) return g < f;
-    int32_t it = 0;
-    while (loop[it].index != t) ++it;
-    if (is_negative) it = it <= n - 2 ? n - 2 - it : n - 1;
-    return it < at;
-  };
 
   // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1).
   for (int32_t f = 0; f < F; ++f) {
@@ -501,18 +500,16 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     for (int32_t i = 0; i < n; ++i) {
       const int32_t u = loop[i].index;
       const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+      const int kind = kind_of(u, a0, a1);
+      if (kind == 0) return std::nullopt;
+      // Under pairing 1 the corner that comes second finds the edge kept in the slot.
+      int32_t& kept = oedge[2 * (u >> 1) + pos_slot(u, kind)];
       EdgeUse x;
-      int kind = 1;  // on a border: the ribbon comes later
-      if (iuf[u ^ 1].is_valid()) {
-        kind = pairing(u, a0, a1);
-        if (kind == 0) return std::nullopt;
-      }
-      const int32_t slot = pos_slot(u, kind);
-      if (kind == 1 && iuf[u ^ 1].is_valid() && is_met_before(f, u ^ 1, i, n)) {
-        x = second_use(slot_edge(u, slot), a0, f);
+      if (kind == 1 && kept >= 0) {
+        x = second_use(EdgeUse(EdgeId(kept), 0), a0, f);
       } else {
         x = new_edge(a0, a1, f);
-        oedge[2 * (u >> 1) + slot] = x.index >> 1;
+        kept = x.index >> 1;
       }
       uses[i] = x;
     }
@@ -531,22 +528,17 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       const int32_t w = loop[i].index;
       const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
       const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
+      const int kind = kind_of(w, p0, p1);
+      if (kind == 0) return std::nullopt;
+      int32_t& kept = oedge[2 * (w >> 1) + 1 - pos_slot(w, kind)];
       EdgeUse x;
-      int kind = 1;
-      if (iuf[w ^ 1].is_valid()) {
-        kind = pairing(w, p0, p1);
-        if (kind == 0) return std::nullopt;
-      }
-      const int32_t slot = 1 - pos_slot(w, kind);
-      if (kind == 2) {
-        x = second_use(slot_edge(w, slot), a0, face);  // every positive corner comes first
-      } else if (iuf[w ^ 1].is_valid() && is_met_before(f, w ^ 1, j, n, true)) {
-        // The twin's negative corner comes first in an earlier face, or in this face at a
-        // lower reversed position.
-        x = second_use(slot_edge(w, slot), a0, face);
+      if (kept >= 0) {
+        // Pairing 2: every positive corner came first; pairing 1: the twin's negative corner
+        // came first, in an earlier face or earlier in this one.
+        x = second_use(EdgeUse(EdgeId(kept), 0), a0, face);
       } else {
         x = new_edge(a0, a1, face);
-        oedge[2 * (w >> 1) + slot] = x.index >> 1;
+        kept = x.index >> 1;
       }
       uses[j] = x;
     }
@@ -589,11 +581,13 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // Every edge met twice: then every use is in a loop and every wing was written.
   if (second_uses != static_cast<int64_t>(oflags.size())) return std::nullopt;
   // Sources, colours and parents follow the input faces.
+  const auto& isources = MeshAccess::face_sources(mesh);
+  const auto& icolors = MeshAccess::face_colors(mesh);
   for (int32_t copy = 0; copy < 2; ++copy) {
-    for (int32_t f = 0; f < F; ++f) {
-      osources.push_back(mesh.face_source(FaceId(f)));
-      if (has_colors) ocolors.push_back(mesh.face_color(FaceId(f)));
-      if (has_parent_maps) {
+    osources.insert(osources.end(), isources.begin(), isources.begin() + F);
+    if (has_colors) ocolors.insert(ocolors.end(), icolors.begin(), icolors.begin() + F);
+    if (has_parent_maps) {
+      for (int32_t f = 0; f < F; ++f) {
         result.face_parents.push_back(
             {copy == 0 ? OffsetParent::Kind::PositiveFace : OffsetParent::Kind::NegativeFace, origin(f), {}});
       }
