@@ -34,9 +34,10 @@ namespace {
 // Runs `fn(begin, end)` over [0, n): for large n the upper half on a second thread, which
 // on two cores halves the time of an independent per-element pass (the elements are
 // computed exactly as in one pass, so the results are the same).
+constexpr int32_t kThreadedFrom = 1 << 15;
+
 template <typename Fn>
 void for_halves(int32_t n, Fn&& fn) {
-  constexpr int32_t kThreadedFrom = 1 << 15;
   if (n < kThreadedFrom || std::thread::hardware_concurrency() < 2) {
     fn(0, n);
     return;
@@ -412,17 +413,18 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   auto& overtex_edges = MeshAccess::vertex_edges(m);
   auto& osources = MeshAccess::face_sources(m);
   auto& ocolors = MeshAccess::face_colors(m);
-  reserve_large(oev, 2 * static_cast<size_t>(out_edges));
-  reserve_large(ouf, 2 * static_cast<size_t>(out_edges));
-  reserve_large(oflags, static_cast<size_t>(out_edges));
-  // Every use of every output edge lies in one face loop (`link` writes its wings), so the
-  // wings are not filled first; the anchors start as None (all bits set).
+  // The arrays are written by index (the two copies may be made on two threads). Every use
+  // of every output edge lies in one face loop, and every edge gets its second use, so the
+  // wings and the uses' faces are not filled first; the anchors start as None (all bits set).
+  resize_large(oev, 2 * static_cast<size_t>(out_edges));
+  resize_for_overwrite(ouf, 2 * static_cast<size_t>(out_edges));
+  resize_large(oflags, static_cast<size_t>(out_edges));
   resize_for_overwrite(onext, 2 * static_cast<size_t>(out_edges));
   resize_for_overwrite(oprev, 2 * static_cast<size_t>(out_edges));
-  reserve_large(oface_uses, static_cast<size_t>(out_faces));
+  resize_large(oface_uses, static_cast<size_t>(out_faces));
   resize_for_overwrite(overtex_edges, static_cast<size_t>(out_vertices));
   static_assert(EdgeId::None().index == -1);
-  std::memset(overtex_edges.data(), 0xff, overtex_edges.size() * sizeof(EdgeId));
+  std::memset(static_cast<void*>(overtex_edges.data()), 0xff, overtex_edges.size() * sizeof(EdgeId));
   reserve_large(osources, static_cast<size_t>(out_faces));
   const bool has_colors = mesh.has_face_colors();
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
@@ -442,29 +444,38 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
 
+  // One sequence of corners (the positive copies, the negative copies, the ribbons): the
+  // number its next new edge gets, the end of its numbers, and how many second uses it made.
+  struct Run {
+    int32_t next_edge = 0;
+    int32_t end = 0;
+    int64_t second_uses = 0;
+    std::vector<EdgeUse> loop;
+    std::vector<EdgeUse> uses;
+  };
   // The first use of a new edge from a to b (in face `face`), or the second use of the
   // edge whose first use is `first` by the corner starting at `a`.
-  auto new_edge = [&](int32_t a, int32_t b, int32_t face) {
-    const int32_t e = static_cast<int32_t>(oflags.size());
-    oev.push_back(VertexId(a));
-    oev.push_back(VertexId(b));
-    ouf.push_back(FaceId(face));
-    ouf.push_back(FaceId::None());
-    oflags.push_back(0);
+  // None once the run has used up its numbers (only for input that breaks the mesh's
+  // invariants: then nothing is written out of bounds or into another run's edges).
+  auto new_edge = [&](Run& run, int32_t a, int32_t b, int32_t face) {
+    if (run.next_edge == run.end) return EdgeUse::None();
+    const int32_t e = run.next_edge++;
+    oev[2 * e] = VertexId(a);
+    oev[2 * e + 1] = VertexId(b);
+    ouf[2 * e] = FaceId(face);
     if (!anchors[a].is_valid()) anchors[a] = EdgeId(e);
     if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
     return EdgeUse(EdgeId(e), 0);
   };
-  int64_t second_uses = 0;
-  auto second_use = [&](EdgeUse first, int32_t a, int32_t face) {
-    ++second_uses;
+  auto second_use = [&](Run& run, EdgeUse first, int32_t a, int32_t face) {
+    ++run.second_uses;
     const int32_t e = first.index >> 1;
     ouf[2 * e + 1] = FaceId(face);
     if (oev[2 * e].index == a) oflags[e] |= mobius;  // both corners run the same way
     return EdgeUse(EdgeId(e), 1);
   };
-  auto link = [&](const EdgeUse* loop, int32_t n) {
-    oface_uses.push_back(loop[0]);
+  auto link = [&](const EdgeUse* loop, int32_t n, int32_t face) {
+    oface_uses[face] = loop[0];
     for (int32_t i = 0; i < n; ++i) {
       const EdgeUse x = loop[i], y = loop[i + 1 == n ? 0 : i + 1];
       onext[x.index] = y;
@@ -488,61 +499,92 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   auto kind_of = [&](int32_t u, int32_t a0, int32_t a1) {
     return has_mobius && iuf[u ^ 1].is_valid() ? pairing(u, a0, a1) : 1;
   };
-  std::vector<EdgeUse> loop;
-  std::vector<EdgeUse> uses;
+  auto face_loop = [&](Run& run, int32_t f) {
+    run.loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { run.loop.push_back(u); });
+    const int32_t n = static_cast<int32_t>(run.loop.size());
+    run.uses.resize(n);
+    return n;
+  };
 
-  // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1).
-  for (int32_t f = 0; f < F; ++f) {
-    loop.clear();
-    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
-    const int32_t n = static_cast<int32_t>(loop.size());
-    uses.resize(n);
-    for (int32_t i = 0; i < n; ++i) {
-      const int32_t u = loop[i].index;
-      const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
-      const int kind = kind_of(u, a0, a1);
-      if (kind == 0) return std::nullopt;
-      // Under pairing 1 the corner that comes second finds the edge kept in the slot.
-      int32_t& kept = oedge[2 * (u >> 1) + pos_slot(u, kind)];
-      EdgeUse x;
-      if (kind == 1 && kept >= 0) {
-        x = second_use(EdgeUse(EdgeId(kept), 0), a0, f);
-      } else {
-        x = new_edge(a0, a1, f);
-        kept = x.index >> 1;
+  // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1). False where a corner
+  // pairs with neither copy of its twin.
+  auto make_positive = [&](Run& run) {
+    for (int32_t f = 0; f < F; ++f) {
+      const int32_t n = face_loop(run, f);
+      const EdgeUse* loop = run.loop.data();
+      for (int32_t i = 0; i < n; ++i) {
+        const int32_t u = loop[i].index;
+        const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int kind = kind_of(u, a0, a1);
+        if (kind == 0) return false;
+        // Under pairing 1 the corner that comes second finds the edge kept in the slot.
+        int32_t& kept = oedge[2 * (u >> 1) + pos_slot(u, kind)];
+        EdgeUse x;
+        if (kind == 1 && kept >= 0) {
+          x = second_use(run, EdgeUse(EdgeId(kept), 0), a0, f);
+        } else {
+          x = new_edge(run, a0, a1, f);
+          if (!x.is_valid()) return false;
+          kept = x.index >> 1;
+        }
+        run.uses[i] = x;
       }
-      uses[i] = x;
+      link(run.uses.data(), n, f);
     }
-    link(uses.data(), n);
-  }
+    return true;
+  };
   // Negative copies, loops reversed: corner j of face F + f runs from N(u_i+1) to N(u_i)
   // for i = n - 2 - j (mod n), with N = P ^ 1.
-  for (int32_t f = 0; f < F; ++f) {
-    loop.clear();
-    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
-    const int32_t n = static_cast<int32_t>(loop.size());
-    uses.resize(n);
-    const int32_t face = F + f;
-    for (int32_t j = 0; j < n; ++j) {
-      const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
-      const int32_t w = loop[i].index;
-      const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
-      const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
-      const int kind = kind_of(w, p0, p1);
-      if (kind == 0) return std::nullopt;
-      int32_t& kept = oedge[2 * (w >> 1) + 1 - pos_slot(w, kind)];
-      EdgeUse x;
-      if (kept >= 0) {
-        // Pairing 2: every positive corner came first; pairing 1: the twin's negative corner
-        // came first, in an earlier face or earlier in this one.
-        x = second_use(EdgeUse(EdgeId(kept), 0), a0, face);
-      } else {
-        x = new_edge(a0, a1, face);
-        kept = x.index >> 1;
+  auto make_negative = [&](Run& run) {
+    for (int32_t f = 0; f < F; ++f) {
+      const int32_t n = face_loop(run, f);
+      const EdgeUse* loop = run.loop.data();
+      const int32_t face = F + f;
+      for (int32_t j = 0; j < n; ++j) {
+        const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
+        const int32_t w = loop[i].index;
+        const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
+        const int kind = kind_of(w, p0, p1);
+        if (kind == 0) return false;
+        int32_t& kept = oedge[2 * (w >> 1) + 1 - pos_slot(w, kind)];
+        EdgeUse x;
+        if (kept >= 0) {
+          // Pairing 2: every positive corner came first; pairing 1: the twin's negative
+          // corner came first, in an earlier face or earlier in this one.
+          x = second_use(run, EdgeUse(EdgeId(kept), 0), a0, face);
+        } else {
+          x = new_edge(run, a0, a1, face);
+          if (!x.is_valid()) return false;
+          kept = x.index >> 1;
+        }
+        run.uses[j] = x;
       }
-      uses[j] = x;
+      link(run.uses.data(), n, face);
     }
-    link(uses.data(), n);
+    return true;
+  };
+  // Without Möbius edges the copies share no edge, slot or vertex (the positive copies use
+  // only v+, the negative only v-), and the positive copies make exactly one new edge per
+  // input edge, so the negative copies' edges are numbered from E on: the two copies are
+  // made on two threads for large meshes, the same arrays as one after the other.
+  Run positive, negative;
+  if (!has_mobius && F >= kThreadedFrom && std::thread::hardware_concurrency() >= 2) {
+    positive.end = E;
+    negative.next_edge = E;
+    negative.end = static_cast<int32_t>(out_edges);
+    bool is_negative_made = false;
+    std::thread second([&] { is_negative_made = make_negative(negative); });
+    const bool is_positive_made = make_positive(positive);
+    second.join();
+    if (!is_positive_made || !is_negative_made || positive.next_edge != E) return std::nullopt;
+  } else {
+    positive.end = static_cast<int32_t>(out_edges);
+    if (!make_positive(positive)) return std::nullopt;
+    negative.next_edge = positive.next_edge;
+    negative.end = static_cast<int32_t>(out_edges);
+    if (!make_negative(negative)) return std::nullopt;
   }
   // Ribbons: border edge a->b gives [P(b), P(a), N(a), N(b)]; its sides (corners 1 and 3)
   // pair with the neighbouring ribbons' sides at the same vertex (`side_use`: None, the
@@ -550,14 +592,21 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   constexpr int32_t kPaired = -2;
   std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
   bool sides_ok = true;
+  Run ribbons;
+  ribbons.next_edge = negative.next_edge;
+  ribbons.end = static_cast<int32_t>(out_edges);
   auto side = [&](int32_t a, int32_t b, int32_t face) {
     EdgeUse& s = side_use[a >> 1];
     if (s.index == kPaired) {
       sides_ok = false;
       return EdgeUse::None();
     }
-    if (!s.is_valid()) return s = new_edge(a, b, face);
-    const EdgeUse x = second_use(s, a, face);
+    if (!s.is_valid()) {
+      s = new_edge(ribbons, a, b, face);
+      if (!s.is_valid()) sides_ok = false;
+      return s;
+    }
+    const EdgeUse x = second_use(ribbons, s, a, face);
     s = EdgeUse(kPaired);
     return x;
   };
@@ -566,20 +615,24 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (iuf[2 * e + 1].is_valid()) continue;
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
     const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
+    if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
     EdgeUse ribbon[4];
-    ribbon[0] = second_use(slot_edge(at_a, 0), x0, face);
+    ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
     ribbon[1] = side(x1, x2, face);
-    ribbon[2] = second_use(slot_edge(at_a, 1), x2, face);
+    ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
     ribbon[3] = side(x3, x0, face);
     if (!sides_ok) return std::nullopt;
-    link(ribbon, 4);
+    link(ribbon, 4, face);
     ++face;
   }
   for (const EdgeUse s : side_use) {
     if (s.is_valid()) return std::nullopt;  // a side without a partner
   }
-  // Every edge met twice: then every use is in a loop and every wing was written.
-  if (second_uses != static_cast<int64_t>(oflags.size())) return std::nullopt;
+  // Every edge made and met twice: then every use is in a loop and every wing was written.
+  if (ribbons.next_edge != out_edges ||
+      positive.second_uses + negative.second_uses + ribbons.second_uses != out_edges) {
+    return std::nullopt;
+  }
   // Sources, colours and parents follow the input faces.
   const auto& isources = MeshAccess::face_sources(mesh);
   const auto& icolors = MeshAccess::face_colors(mesh);
