@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <bit>
 #include <condition_variable>
-#include <exception>
 #include <mutex>
 #include <thread>
 #include <iterator>
@@ -360,12 +359,6 @@ class TextOut {
   /// Keeps what was written into `room` up to `end`.
   void done(const char* end) { size_ = static_cast<size_t>(end - buf_); }
   void add(std::string_view text) { done(put_text(room(text.size()), text)); }
-  /// Hands the text so far, then `text` (in pieces of at most `kPiece`), to the sink
-  /// without copying `text` into the buffer.
-  void pass(std::string_view text) {
-    flush();
-    for (size_t at = 0; at < text.size() && is_ok_; at += kPiece) is_ok_ = sink_(text.substr(at, kPiece));
-  }
   /// False once the sink has failed (later text is then dropped).
   bool is_ok() const { return is_ok_; }
   /// Hands the rest to the sink; false if the sink failed for some piece.
@@ -454,212 +447,43 @@ std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
   return collect(triangles * 250 + 64, [&](const auto& sink) { return write_stl_ascii(meshes, sink); });
 }
 
-namespace {
-
-// The text of one range of lines, formatted by either thread (`room`/`done` as `TextOut`,
-// growing instead of handing pieces on).
-class RangeText {
- public:
-  char* room(size_t n) {
-    if (size_ + n > cap_) grow(size_ + n);
-    return buf_.get() + size_;
-  }
-  void done(const char* end) { size_ = static_cast<size_t>(end - buf_.get()); }
-  void add(std::string_view text) { done(put_text(room(text.size()), text)); }
-  void clear() { size_ = 0; }
-  std::string_view text() const { return {buf_.get(), size_}; }
-
- private:
-  void grow(size_t n) {
-    const size_t cap = std::max(n, 2 * cap_);
-    std::unique_ptr<char[]> bigger = std::make_unique_for_overwrite<char[]>(cap);
-    if (size_ > 0) std::memcpy(bigger.get(), buf_.get(), size_);
-    buf_ = std::move(bigger);
-    cap_ = cap;
-  }
-
-  std::unique_ptr<char[]> buf_;
-  size_t cap_ = 0;
-  size_t size_ = 0;
-};
-
-// Formats lines [0, count) in ranges of `range_lines`, `format(begin, end, RangeText&)`
-// writing one range, on the calling thread and a second one, and hands the ranges' text to
-// `out` in order. Each thread claims the next range whose slot is free (at most `kSlots`
-// ranges are formatted ahead of the one `out` waits for); the calling thread alone calls
-// the sink, between ranges of its own. The bytes are those of one loop over all lines.
-template <typename Format>
-void format_ranges_in_order(size_t count, size_t range_lines, TextOut& out, const Format& format) {
-  constexpr size_t kSlots = 4;
-  const size_t ranges = (count + range_lines - 1) / range_lines;
-  if (ranges == 0 || !out.is_ok()) return;
-  RangeText slots[kSlots];
-  bool is_ready[kSlots] = {};  // slot r % kSlots holds range r, formatted
-  std::mutex mutex;
-  std::condition_variable changed;
-  size_t claimed = 0;  // ranges a thread has taken
-  size_t emitted = 0;  // ranges handed to `out`
-  bool is_stopped = false;
-  std::exception_ptr failure;
-  auto run = [&](size_t r) {
-    RangeText& slot = slots[r % kSlots];
-    slot.clear();
-    format(r * range_lines, std::min(count, (r + 1) * range_lines), slot);
-  };
-  auto helper = [&] {
-    std::unique_lock lock(mutex);
-    for (;;) {
-      changed.wait(lock, [&] { return is_stopped || claimed >= ranges || claimed < emitted + kSlots; });
-      if (is_stopped || claimed >= ranges) return;
-      const size_t r = claimed++;
-      lock.unlock();
-      try {
-        run(r);
-      } catch (...) {
-        lock.lock();
-        failure = std::current_exception();
-        is_stopped = true;
-        changed.notify_all();
-        return;
-      }
-      lock.lock();
-      is_ready[r % kSlots] = true;
-      changed.notify_all();
-    }
-  };
-  std::thread second(helper);
-  // Stops and joins the second thread however this function is left.
-  struct Join {
-    std::thread& thread;
-    std::mutex& mutex;
-    std::condition_variable& changed;
-    bool& is_stopped;
-    ~Join() {
-      {
-        std::lock_guard lock(mutex);
-        is_stopped = true;
-      }
-      changed.notify_all();
-      thread.join();
-    }
-  } join{second, mutex, changed, is_stopped};
-  std::unique_lock lock(mutex);
-  while (emitted < ranges && !is_stopped) {
-    if (is_ready[emitted % kSlots]) {
-      const size_t r = emitted;
-      lock.unlock();
-      out.pass(slots[r % kSlots].text());
-      lock.lock();
-      is_ready[r % kSlots] = false;
-      ++emitted;
-      if (!out.is_ok()) is_stopped = true;  // the sink failed: nothing more to make
-      changed.notify_all();
-      continue;
-    }
-    if (claimed < ranges && claimed < emitted + kSlots) {
-      const size_t r = claimed++;
-      lock.unlock();
-      run(r);
-      lock.lock();
-      is_ready[r % kSlots] = true;
-      continue;
-    }
-    changed.wait(lock);  // for the second thread's range that `out` needs next
-  }
-  lock.unlock();
-  if (failure) std::rethrow_exception(failure);
-}
-
-// OBJ `v` lines of points [begin, end).
-template <typename Out>
-void obj_vertex_lines(const kernel::PolygonSoup& s, size_t begin, size_t end, Out& out) {
-  for (size_t i = begin; i < end; ++i) {
-    char* p = out.room(3 * kNumberTextMax + 8);
-    p = put_text(p, "v ");
-    p = put_xyz<put_shortest>(p, s.positions[i]);
-    *p++ = '\n';
-    out.done(p);
-  }
-}
-
-// The colour name's bytes in `color_name`, as a number (two colours have the same name
-// exactly when these are equal).
-uint32_t color_key(const glm::vec3& c) {
-  auto q = [](float x) { return static_cast<uint32_t>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
-  return q(c.r) << 16 | q(c.g) << 8 | q(c.b);
-}
-
-// OBJ `f` lines of faces [begin, end), whose first corner is `at` in `face_vertices`, with a
-// `usemtl` line wherever the colour's name differs from the face before (from the first
-// face of the mesh on, so a range starting later compares with the face before it).
-template <typename Out>
-void obj_face_lines(const kernel::PolygonSoup& s, int64_t base, bool has_mtl, int32_t begin, int32_t end, size_t at,
-                    Out& out) {
-  const bool is_switching = has_mtl && !s.face_colors.empty();
-  constexpr uint32_t kNone = 0xffffffffu;  // before the first face: no colour yet
-  uint32_t current = is_switching && begin > 0 ? color_key(s.face_colors[begin - 1]) : kNone;
-  for (int32_t f = begin; f < end; ++f) {
-    if (is_switching) {
-      const uint32_t c = color_key(s.face_colors[f]);
-      if (c != current) {
-        out.add(fmt::format("usemtl {}\n", color_name(s.face_colors[f])));
-        current = c;
-      }
-    }
-    const int32_t n = s.face_sizes[f];
-    char* p = out.room(static_cast<size_t>(n) * 24 + 4);
-    *p++ = 'f';
-    for (int32_t i = 0; i < n; ++i) {
-      *p++ = ' ';
-      p = put_int(p, base + s.face_vertices[at + i]);
-    }
-    *p++ = '\n';
-    out.done(p);
-    at += static_cast<size_t>(n);
-  }
-}
-
-}  // namespace
-
 bool write_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file,
-               const std::function<bool(std::string_view)>& sink, const TextThreads& threads) {
+               const std::function<bool(std::string_view)>& sink) {
   TextOut out(sink);
-  const bool is_threaded =
-      threads.threads == 2 || (threads.threads == 0 && std::thread::hardware_concurrency() >= 2);
-  const size_t range_lines = static_cast<size_t>(std::max<int32_t>(1, threads.range_lines));
-  auto is_large = [&](size_t lines) { return is_threaded && lines >= static_cast<size_t>(threads.threaded_from); };
   out.add("# written by nomec\n");
   if (!mtl_file.empty()) out.add(fmt::format("mtllib {}\n", mtl_file));
-  const bool has_mtl = !mtl_file.empty();
   int64_t base = 1;
   for (const OutputMesh& m : meshes) {
     if (!out.is_ok()) break;
     const kernel::PolygonSoup& s = m.soup;
     out.add(fmt::format("o {}\n", m.name.empty() ? "nomec" : m.name));
-    if (is_large(s.positions.size())) {
-      format_ranges_in_order(s.positions.size(), range_lines, out, [&](size_t begin, size_t end, RangeText& text) {
-        obj_vertex_lines(s, begin, end, text);
-      });
-    } else {
-      obj_vertex_lines(s, 0, s.positions.size(), out);
+    for (const glm::dvec3& v : s.positions) {
+      char* p = out.room(3 * kNumberTextMax + 8);
+      p = put_text(p, "v ");
+      p = put_xyz<put_shortest>(p, v);
+      *p++ = '\n';
+      out.done(p);
     }
-    const size_t faces = static_cast<size_t>(s.face_count());
-    if (!out.is_ok()) break;
-    if (is_large(faces)) {
-      // Where each range's corners start in `face_vertices`.
-      std::vector<size_t> range_at;
-      range_at.reserve(faces / range_lines + 2);
-      size_t at = 0;
-      for (size_t f = 0; f < faces; ++f) {
-        if (f % range_lines == 0) range_at.push_back(at);
-        at += static_cast<size_t>(s.face_sizes[f]);
+    std::string current;
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      if (!mtl_file.empty() && !s.face_colors.empty()) {
+        std::string c = color_name(s.face_colors[f]);
+        if (c != current) {
+          out.add(fmt::format("usemtl {}\n", c));
+          current = c;
+        }
       }
-      format_ranges_in_order(faces, range_lines, out, [&](size_t begin, size_t end, RangeText& text) {
-        obj_face_lines(s, base, has_mtl, static_cast<int32_t>(begin), static_cast<int32_t>(end),
-                       range_at[begin / range_lines], text);
-      });
-    } else {
-      obj_face_lines(s, base, has_mtl, 0, s.face_count(), 0, out);
+      const int32_t n = s.face_sizes[f];
+      char* p = out.room(static_cast<size_t>(n) * 24 + 4);
+      *p++ = 'f';
+      for (int32_t i = 0; i < n; ++i) {
+        *p++ = ' ';
+        p = put_int(p, base + s.face_vertices[at + i]);
+      }
+      *p++ = '\n';
+      out.done(p);
+      at += static_cast<size_t>(n);
     }
     base += s.vertex_count();
   }

@@ -42,24 +42,9 @@ bool write_stl_ascii(std::span<const OutputMesh> meshes, const std::function<boo
 /// OBJ (`o` per mesh, polygons kept as written). When `mtl_file` is not empty, a
 /// `mtllib` line is written and `usemtl` switches per face colour.
 std::string to_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file);
-/// How `write_obj` spreads its formatting over threads. The defaults are what `nomec
-/// --emit obj` uses; tests pick short ranges so that small meshes take the threaded path.
-struct TextThreads {
-  /// 1: format on the calling thread only; 2: also on a second thread; 0: two when the
-  /// machine has at least two cores.
-  int threads = 0;
-  /// Lines per range a thread formats at a time (the text of a range is one or more pieces).
-  int32_t range_lines = 8192;
-  /// A section (one mesh's `v` lines or its `f` lines) with fewer lines is formatted on the
-  /// calling thread alone.
-  int32_t threaded_from = 32768;
-};
-/// The same bytes as `to_obj`, handed to `sink` in pieces of at most a megabyte from the
-/// calling thread, in order. The `v` and `f` lines of a large mesh are formatted in ranges
-/// on two threads (each range into its own buffer; the sink gets them in order), the same
-/// bytes as one thread makes.
+/// The same bytes as `to_obj`, handed to `sink` in pieces as `write_stl_ascii` does.
 bool write_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file,
-               const std::function<bool(std::string_view)>& sink, const TextThreads& threads = {});
+               const std::function<bool(std::string_view)>& sink);
 /// The MTL matching `to_obj` (one `newmtl` per distinct colour; empty if uncoloured).
 std::string to_mtl(std::span<const OutputMesh> meshes);
 /// ASCII PLY with `red green blue` face properties when any mesh has face colours.

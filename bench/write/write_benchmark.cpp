@@ -220,11 +220,6 @@ void BM_StlBinaryOverlappedToFile(benchmark::State& state) {
 bool obj_pieces(std::span<const OutputMesh> m, const std::function<bool(std::string_view)>& sink) {
   return nomec::backend::write_obj(m, "", sink);
 }
-// The OBJ writer on the calling thread only (`write_obj` formats the lines of a large mesh in
-// ranges on two threads): the reference of the same run.
-bool obj_pieces_one_thread(std::span<const OutputMesh> m, const std::function<bool(std::string_view)>& sink) {
-  return nomec::backend::write_obj(m, "", sink, {.threads = 1});
-}
 std::string temp_path(const char* name) {
   const char* tmp = std::getenv("TMPDIR");
   return std::string(tmp != nullptr ? tmp : "/tmp") + "/" + name;
@@ -243,13 +238,6 @@ void BM_ObjStreamedToDevNull(benchmark::State& state) { streamed(state, "/dev/nu
 void BM_ObjStreamedToFile(benchmark::State& state) {
   const std::string path = temp_path("nomec_bench_write_streamed.obj");
   streamed(state, path, false, obj_pieces);
-  std::remove(path.c_str());
-}
-void BM_ObjOneThread(benchmark::State& state) { streamed(state, "", false, obj_pieces_one_thread); }
-void BM_ObjOneThreadToDevNull(benchmark::State& state) { streamed(state, "/dev/null", false, obj_pieces_one_thread); }
-void BM_ObjOneThreadToFile(benchmark::State& state) {
-  const std::string path = temp_path("nomec_bench_write_one_thread.obj");
-  streamed(state, path, false, obj_pieces_one_thread);
   std::remove(path.c_str());
 }
 
@@ -276,13 +264,9 @@ BENCHMARK(BM_StlBinaryOverlappedToFile)->Unit(benchmark::kMillisecond)->UseRealT
 BENCHMARK(BM_StlAsciiStreamed)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlAsciiStreamedToDevNull)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StlAsciiStreamedToFile)->Unit(benchmark::kMillisecond);
-// `write_obj` uses two threads: wall time (the rates too) and the whole process's CPU time.
-BENCHMARK(BM_ObjStreamed)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(BM_ObjStreamedToDevNull)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(BM_ObjStreamedToFile)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(BM_ObjOneThread)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(BM_ObjOneThreadToDevNull)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(BM_ObjOneThreadToFile)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(BM_ObjStreamed)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjStreamedToDevNull)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ObjStreamedToFile)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Smoke);
 
 }  // namespace

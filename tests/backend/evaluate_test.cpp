@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
-#include <cmath>
 #include <cstring>
 #include <span>
 #include <string>
@@ -368,75 +367,6 @@ TEST(Write, StreamedTextWritersMatchFmtAcrossPieces) {
   calls = 0;
   EXPECT_FALSE(write_stl_ascii(all, [&](std::string_view) { return ++calls < 2; }));
   EXPECT_EQ(calls, 2);
-}
-
-// `write_obj` formats the `v` and `f` lines of large meshes in ranges on two threads (each
-// range into its own buffer, handed to the sink in order). With short ranges and no size
-// threshold, small meshes take that path too: the bytes must equal the one-thread writer's
-// for every range length (one line, a few, ranges ending exactly at the end of a section,
-// one range longer than the section), on an empty mesh, a mesh of one vertex, a mesh of
-// points only, mixed polygons and colours switching from face to face (the `usemtl` state
-// carried across a range boundary) with and without an MTL file. The threaded path hands
-// over at least one piece per range, and a sink that refuses a piece stops it.
-TEST(Write, ThreadedObjEqualsOneThread) {
-  std::vector<OutputMesh> meshes(5);
-  meshes[0].name = "empty";
-  meshes[1].name = "one vertex";
-  meshes[1].soup.add_vertex({-0.0, 1e-7, 3.0 / 7.0});
-  meshes[2].name = "polygons";
-  uint32_t seed = 99;
-  auto random = [&] {
-    seed = seed * 1664525u + 1013904223u;
-    return seed >> 8;
-  };
-  kernel::PolygonSoup& s = meshes[2].soup;
-  for (int i = 0; i < 192; ++i) {  // 192 = 3 · 64 = 12 · 16: ranges of 16 and 64 end at the end
-    s.add_vertex({std::ldexp(double(random()), -int(random() % 40)) - 1000.0, -1.0 / (i + 1), i * 0.1});
-  }
-  const glm::vec3 colors[3] = {{1, 0, 0}, {0, 0.5f, 1}, {0.2f, 0.2f, 0.2f}};
-  for (int f = 0; f < 96; ++f) {  // 96 faces: triangles to hexagons
-    const int32_t n = 3 + f % 4;
-    std::vector<int32_t> loop;
-    for (int32_t i = 0; i < n; ++i) loop.push_back(static_cast<int32_t>((2 * f + i) % 192));
-    s.add_face(loop);
-    s.face_colors.push_back(colors[(f / 3 + f % 2) % 3]);  // runs of one colour and switches
-  }
-  meshes[3].name = "points";
-  for (int i = 0; i < 5; ++i) meshes[3].soup.add_vertex({double(i), 0.5, -2.0});
-  meshes[4] = meshes[2];
-  meshes[4].name = "";  // written `o nomec`; its indices continue after the others
-  meshes[4].soup.positions.push_back({1, 2, 3});  // 193 points: a range of one at the end
-  const std::span<const OutputMesh> all(meshes);
-
-  auto pieces_of = [&](std::string_view mtl, const TextThreads& threads, int& pieces) {
-    std::string text;
-    pieces = 0;
-    EXPECT_TRUE(write_obj(all, mtl, [&](std::string_view piece) {
-      text.append(piece);
-      ++pieces;
-      return true;
-    }, threads));
-    return text;
-  };
-  for (const std::string_view mtl : {std::string_view(), std::string_view("out.mtl")}) {
-    int one_thread_pieces = 0;
-    const std::string one_thread = pieces_of(mtl, {.threads = 1}, one_thread_pieces);
-    EXPECT_EQ(one_thread, to_obj(all, mtl));
-    EXPECT_EQ(one_thread.find("usemtl") != std::string::npos, !mtl.empty());
-    for (const int32_t range : {1, 2, 7, 16, 64, 96, 192, 193, 1000}) {
-      int pieces = 0;
-      EXPECT_EQ(pieces_of(mtl, {.threads = 2, .range_lines = range, .threaded_from = 0}, pieces), one_thread)
-          << "ranges of " << range << " lines, mtl `" << mtl << "`";
-      // Two meshes of 192/193 points and 96 faces, one of 5 points, one of 1: a piece per range.
-      auto ranges_of = [&](int lines) { return (lines + range - 1) / range; };
-      EXPECT_GE(pieces, ranges_of(192) + ranges_of(193) + 2 * ranges_of(96) + ranges_of(5) + ranges_of(1)) << range;
-    }
-  }
-  // A sink that refuses the third piece is not called again, and the writer reports it.
-  int calls = 0;
-  EXPECT_FALSE(write_obj(all, "", [&](std::string_view) { return ++calls < 3; },
-                         {.threads = 2, .range_lines = 5, .threaded_from = 0}));
-  EXPECT_EQ(calls, 3);
 }
 
 }  // namespace
