@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
@@ -33,9 +34,10 @@ namespace {
 // Runs `fn(begin, end)` over [0, n): for large n the upper half on a second thread, which
 // on two cores halves the time of an independent per-element pass (the elements are
 // computed exactly as in one pass, so the results are the same).
+constexpr int32_t kThreadedFrom = 1 << 15;
+
 template <typename Fn>
 void for_halves(int32_t n, Fn&& fn) {
-  constexpr int32_t kThreadedFrom = 1 << 15;
   if (n < kThreadedFrom || std::thread::hardware_concurrency() < 2) {
     fn(0, n);
     return;
@@ -332,8 +334,10 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     for (int32_t f = begin; f < end; ++f) fnormals[f] = unit_face_normal(mesh, f);
   });
   std::vector<uint8_t> is_mobius_vertex(V, 0);
+  bool has_mobius = false;
   for (int32_t e = 0; e < E; ++e) {
     if (mesh.is_mobius(EdgeId(e))) {
+      has_mobius = true;
       is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
       is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
     }
@@ -409,13 +413,18 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   auto& overtex_edges = MeshAccess::vertex_edges(m);
   auto& osources = MeshAccess::face_sources(m);
   auto& ocolors = MeshAccess::face_colors(m);
-  reserve_large(oev, 2 * static_cast<size_t>(out_edges));
-  reserve_large(ouf, 2 * static_cast<size_t>(out_edges));
-  reserve_large(oflags, static_cast<size_t>(out_edges));
-  resize_large(onext, 2 * static_cast<size_t>(out_edges));
-  resize_large(oprev, 2 * static_cast<size_t>(out_edges));
-  reserve_large(oface_uses, static_cast<size_t>(out_faces));
-  resize_large(overtex_edges, static_cast<size_t>(out_vertices));  // all None
+  // The arrays are written by index (the two copies may be made on two threads). Every use
+  // of every output edge lies in one face loop, and every edge gets its second use, so the
+  // wings and the uses' faces are not filled first; the anchors start as None (all bits set).
+  resize_large(oev, 2 * static_cast<size_t>(out_edges));
+  resize_for_overwrite(ouf, 2 * static_cast<size_t>(out_edges));
+  resize_large(oflags, static_cast<size_t>(out_edges));
+  resize_for_overwrite(onext, 2 * static_cast<size_t>(out_edges));
+  resize_for_overwrite(oprev, 2 * static_cast<size_t>(out_edges));
+  resize_large(oface_uses, static_cast<size_t>(out_faces));
+  resize_for_overwrite(overtex_edges, static_cast<size_t>(out_vertices));
+  static_assert(EdgeId::None().index == -1);
+  std::memset(static_cast<void*>(overtex_edges.data()), 0xff, overtex_edges.size() * sizeof(EdgeId));
   reserve_large(osources, static_cast<size_t>(out_faces));
   const bool has_colors = mesh.has_face_colors();
   if (has_colors) reserve_large(ocolors, static_cast<size_t>(out_faces));
@@ -427,32 +436,46 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // copies, each met again by the ribbon. The first corner keeps its new edge in one of the
   // input edge's two slots for the second: slot 0 holds the positive copy of side 0, and
   // the positive copy of side 1 where it pairs with side 0's (`pos_slot`).
+  // A slot holds -1 until its first corner is made (corners are made face by face, in loop
+  // order), so a corner finds by its slot whether it comes second.
   const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
+  std::memset(oedge.get(), 0xff, use_count * sizeof(int32_t));
   auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
   auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
 
+  // One sequence of corners (the positive copies, the negative copies, the ribbons): the
+  // number its next new edge gets, the end of its numbers, and how many second uses it made.
+  struct Run {
+    int32_t next_edge = 0;
+    int32_t end = 0;
+    int64_t second_uses = 0;
+    std::vector<EdgeUse> loop;
+    std::vector<EdgeUse> uses;
+  };
   // The first use of a new edge from a to b (in face `face`), or the second use of the
   // edge whose first use is `first` by the corner starting at `a`.
-  auto new_edge = [&](int32_t a, int32_t b, int32_t face) {
-    const int32_t e = static_cast<int32_t>(oflags.size());
-    oev.push_back(VertexId(a));
-    oev.push_back(VertexId(b));
-    ouf.push_back(FaceId(face));
-    ouf.push_back(FaceId::None());
-    oflags.push_back(0);
+  // None once the run has used up its numbers (only for input that breaks the mesh's
+  // invariants: then nothing is written out of bounds or into another run's edges).
+  auto new_edge = [&](Run& run, int32_t a, int32_t b, int32_t face) {
+    if (run.next_edge == run.end) return EdgeUse::None();
+    const int32_t e = run.next_edge++;
+    oev[2 * e] = VertexId(a);
+    oev[2 * e + 1] = VertexId(b);
+    ouf[2 * e] = FaceId(face);
     if (!anchors[a].is_valid()) anchors[a] = EdgeId(e);
     if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
     return EdgeUse(EdgeId(e), 0);
   };
-  auto second_use = [&](EdgeUse first, int32_t a, int32_t face) {
+  auto second_use = [&](Run& run, EdgeUse first, int32_t a, int32_t face) {
+    ++run.second_uses;
     const int32_t e = first.index >> 1;
     ouf[2 * e + 1] = FaceId(face);
     if (oev[2 * e].index == a) oflags[e] |= mobius;  // both corners run the same way
     return EdgeUse(EdgeId(e), 1);
   };
-  auto link = [&](const EdgeUse* loop, int32_t n) {
-    oface_uses.push_back(loop[0]);
+  auto link = [&](const EdgeUse* loop, int32_t n, int32_t face) {
+    oface_uses[face] = loop[0];
     for (int32_t i = 0; i < n; ++i) {
       const EdgeUse x = loop[i], y = loop[i + 1 == n ? 0 : i + 1];
       onext[x.index] = y;
@@ -471,79 +494,97 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (same(a0, a1, b0, b1)) return 1;
     return same(a0, a1, b0 ^ 1, b1 ^ 1) ? 2 : 0;
   };
-  std::vector<EdgeUse> loop;
-  std::vector<EdgeUse> uses;
-  // Whether the copy of use t (positive, or the reversed negative copy) comes before the
-  // corner at position `at` of face f's copy (loop `loop` of n uses): corners are made face
-  // by face, so only a twin in the same face needs its position.
-  auto is_met_before = [&](int32_t f, int32_t t, int32_t at, int32_t n, bool is_negative = false) {
-    const int32_t g = iuf[t].index;
-    if (g != f) return g < f;
-    int32_t it = 0;
-    while (loop[it].index != t) ++it;
-    if (is_negative) it = it <= n - 2 ? n - 2 - it : n - 1;
-    return it < at;
+  // The pairing of use u's copies: without Möbius edges no corner is flipped, so every
+  // interior edge pairs positive with positive (and a border edge's copies meet its ribbon).
+  auto kind_of = [&](int32_t u, int32_t a0, int32_t a1) {
+    return has_mobius && iuf[u ^ 1].is_valid() ? pairing(u, a0, a1) : 1;
+  };
+  auto face_loop = [&](Run& run, int32_t f) {
+    run.loop.clear();
+    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { run.loop.push_back(u); });
+    const int32_t n = static_cast<int32_t>(run.loop.size());
+    run.uses.resize(n);
+    return n;
   };
 
-  // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1).
-  for (int32_t f = 0; f < F; ++f) {
-    loop.clear();
-    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
-    const int32_t n = static_cast<int32_t>(loop.size());
-    uses.resize(n);
-    for (int32_t i = 0; i < n; ++i) {
-      const int32_t u = loop[i].index;
-      const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
-      EdgeUse x;
-      int kind = 1;  // on a border: the ribbon comes later
-      if (iuf[u ^ 1].is_valid()) {
-        kind = pairing(u, a0, a1);
-        if (kind == 0) return std::nullopt;
+  // Positive copies: corner i of face f runs from P(u_i) to P(u_i+1). False where a corner
+  // pairs with neither copy of its twin.
+  auto make_positive = [&](Run& run) {
+    for (int32_t f = 0; f < F; ++f) {
+      const int32_t n = face_loop(run, f);
+      const EdgeUse* loop = run.loop.data();
+      for (int32_t i = 0; i < n; ++i) {
+        const int32_t u = loop[i].index;
+        const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int kind = kind_of(u, a0, a1);
+        if (kind == 0) return false;
+        // Under pairing 1 the corner that comes second finds the edge kept in the slot.
+        int32_t& kept = oedge[2 * (u >> 1) + pos_slot(u, kind)];
+        EdgeUse x;
+        if (kind == 1 && kept >= 0) {
+          x = second_use(run, EdgeUse(EdgeId(kept), 0), a0, f);
+        } else {
+          x = new_edge(run, a0, a1, f);
+          if (!x.is_valid()) return false;
+          kept = x.index >> 1;
+        }
+        run.uses[i] = x;
       }
-      const int32_t slot = pos_slot(u, kind);
-      if (kind == 1 && iuf[u ^ 1].is_valid() && is_met_before(f, u ^ 1, i, n)) {
-        x = second_use(slot_edge(u, slot), a0, f);
-      } else {
-        x = new_edge(a0, a1, f);
-        oedge[2 * (u >> 1) + slot] = x.index >> 1;
-      }
-      uses[i] = x;
+      link(run.uses.data(), n, f);
     }
-    link(uses.data(), n);
-  }
+    return true;
+  };
   // Negative copies, loops reversed: corner j of face F + f runs from N(u_i+1) to N(u_i)
   // for i = n - 2 - j (mod n), with N = P ^ 1.
-  for (int32_t f = 0; f < F; ++f) {
-    loop.clear();
-    mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) { loop.push_back(u); });
-    const int32_t n = static_cast<int32_t>(loop.size());
-    uses.resize(n);
-    const int32_t face = F + f;
-    for (int32_t j = 0; j < n; ++j) {
-      const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
-      const int32_t w = loop[i].index;
-      const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
-      const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
-      EdgeUse x;
-      int kind = 1;
-      if (iuf[w ^ 1].is_valid()) {
-        kind = pairing(w, p0, p1);
-        if (kind == 0) return std::nullopt;
+  auto make_negative = [&](Run& run) {
+    for (int32_t f = 0; f < F; ++f) {
+      const int32_t n = face_loop(run, f);
+      const EdgeUse* loop = run.loop.data();
+      const int32_t face = F + f;
+      for (int32_t j = 0; j < n; ++j) {
+        const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
+        const int32_t w = loop[i].index;
+        const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
+        const int kind = kind_of(w, p0, p1);
+        if (kind == 0) return false;
+        int32_t& kept = oedge[2 * (w >> 1) + 1 - pos_slot(w, kind)];
+        EdgeUse x;
+        if (kept >= 0) {
+          // Pairing 2: every positive corner came first; pairing 1: the twin's negative
+          // corner came first, in an earlier face or earlier in this one.
+          x = second_use(run, EdgeUse(EdgeId(kept), 0), a0, face);
+        } else {
+          x = new_edge(run, a0, a1, face);
+          if (!x.is_valid()) return false;
+          kept = x.index >> 1;
+        }
+        run.uses[j] = x;
       }
-      const int32_t slot = 1 - pos_slot(w, kind);
-      if (kind == 2) {
-        x = second_use(slot_edge(w, slot), a0, face);  // every positive corner comes first
-      } else if (iuf[w ^ 1].is_valid() && is_met_before(f, w ^ 1, j, n, true)) {
-        // The twin's negative corner comes first in an earlier face, or in this face at a
-        // lower reversed position.
-        x = second_use(slot_edge(w, slot), a0, face);
-      } else {
-        x = new_edge(a0, a1, face);
-        oedge[2 * (w >> 1) + slot] = x.index >> 1;
-      }
-      uses[j] = x;
+      link(run.uses.data(), n, face);
     }
-    link(uses.data(), n);
+    return true;
+  };
+  // Without Möbius edges the copies share no edge, slot or vertex (the positive copies use
+  // only v+, the negative only v-), and the positive copies make exactly one new edge per
+  // input edge, so the negative copies' edges are numbered from E on: the two copies are
+  // made on two threads for large meshes, the same arrays as one after the other.
+  Run positive, negative;
+  if (!has_mobius && F >= kThreadedFrom && std::thread::hardware_concurrency() >= 2) {
+    positive.end = E;
+    negative.next_edge = E;
+    negative.end = static_cast<int32_t>(out_edges);
+    bool is_negative_made = false;
+    std::thread second([&] { is_negative_made = make_negative(negative); });
+    const bool is_positive_made = make_positive(positive);
+    second.join();
+    if (!is_positive_made || !is_negative_made || positive.next_edge != E) return std::nullopt;
+  } else {
+    positive.end = static_cast<int32_t>(out_edges);
+    if (!make_positive(positive)) return std::nullopt;
+    negative.next_edge = positive.next_edge;
+    negative.end = static_cast<int32_t>(out_edges);
+    if (!make_negative(negative)) return std::nullopt;
   }
   // Ribbons: border edge a->b gives [P(b), P(a), N(a), N(b)]; its sides (corners 1 and 3)
   // pair with the neighbouring ribbons' sides at the same vertex (`side_use`: None, the
@@ -551,14 +592,21 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   constexpr int32_t kPaired = -2;
   std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
   bool sides_ok = true;
+  Run ribbons;
+  ribbons.next_edge = negative.next_edge;
+  ribbons.end = static_cast<int32_t>(out_edges);
   auto side = [&](int32_t a, int32_t b, int32_t face) {
     EdgeUse& s = side_use[a >> 1];
     if (s.index == kPaired) {
       sides_ok = false;
       return EdgeUse::None();
     }
-    if (!s.is_valid()) return s = new_edge(a, b, face);
-    const EdgeUse x = second_use(s, a, face);
+    if (!s.is_valid()) {
+      s = new_edge(ribbons, a, b, face);
+      if (!s.is_valid()) sides_ok = false;
+      return s;
+    }
+    const EdgeUse x = second_use(ribbons, s, a, face);
     s = EdgeUse(kPaired);
     return x;
   };
@@ -567,24 +615,32 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (iuf[2 * e + 1].is_valid()) continue;
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
     const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
+    if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
     EdgeUse ribbon[4];
-    ribbon[0] = second_use(slot_edge(at_a, 0), x0, face);
+    ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
     ribbon[1] = side(x1, x2, face);
-    ribbon[2] = second_use(slot_edge(at_a, 1), x2, face);
+    ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
     ribbon[3] = side(x3, x0, face);
     if (!sides_ok) return std::nullopt;
-    link(ribbon, 4);
+    link(ribbon, 4, face);
     ++face;
   }
   for (const EdgeUse s : side_use) {
     if (s.is_valid()) return std::nullopt;  // a side without a partner
   }
+  // Every edge made and met twice: then every use is in a loop and every wing was written.
+  if (ribbons.next_edge != out_edges ||
+      positive.second_uses + negative.second_uses + ribbons.second_uses != out_edges) {
+    return std::nullopt;
+  }
   // Sources, colours and parents follow the input faces.
+  const auto& isources = MeshAccess::face_sources(mesh);
+  const auto& icolors = MeshAccess::face_colors(mesh);
   for (int32_t copy = 0; copy < 2; ++copy) {
-    for (int32_t f = 0; f < F; ++f) {
-      osources.push_back(mesh.face_source(FaceId(f)));
-      if (has_colors) ocolors.push_back(mesh.face_color(FaceId(f)));
-      if (has_parent_maps) {
+    osources.insert(osources.end(), isources.begin(), isources.begin() + F);
+    if (has_colors) ocolors.insert(ocolors.end(), icolors.begin(), icolors.begin() + F);
+    if (has_parent_maps) {
+      for (int32_t f = 0; f < F; ++f) {
         result.face_parents.push_back(
             {copy == 0 ? OffsetParent::Kind::PositiveFace : OffsetParent::Kind::NegativeFace, origin(f), {}});
       }

@@ -21,6 +21,55 @@ using testing::grid_soup;
 
 using testing::build;
 
+// `s` with its faces in a shuffled order, each rotated to start at a random corner (so the
+// twin of a corner comes before or after it in every combination), all faces coloured.
+PolygonSoup shuffled_soup(const PolygonSoup& s, uint32_t& seed) {
+  auto random = [&](uint32_t n) {
+    seed = seed * 1664525u + 1013904223u;
+    return (seed >> 8) % n;
+  };
+  std::vector<std::vector<int32_t>> faces;
+  size_t at = 0;
+  for (int32_t n : s.face_sizes) {
+    faces.emplace_back(s.face_vertices.begin() + at, s.face_vertices.begin() + at + n);
+    at += n;
+  }
+  for (size_t i = faces.size(); i > 1; --i) std::swap(faces[i - 1], faces[random(uint32_t(i))]);
+  PolygonSoup shuffled;
+  shuffled.positions = s.positions;
+  for (auto& f : faces) {
+    std::rotate(f.begin(), f.begin() + random(uint32_t(f.size())), f.end());
+    shuffled.add_face(f);
+  }
+  shuffled.face_colors.assign(shuffled.face_count(), glm::vec3(0.25f, 0.5f, 1.0f));
+  return shuffled;
+}
+
+// Expects the direct slab and the reference construction of `mesh` to be the same: every
+// array, the parents and the inconsistent-corner count, with and without parent maps.
+void expect_direct_equals_reference(const Mesh& mesh, double distance, const std::string& what) {
+  auto direct = offset(mesh, {.distance = distance});
+  auto reference = offset_through_builder(mesh, {.distance = distance});
+  ASSERT_TRUE(direct.has_value()) << what;
+  ASSERT_TRUE(reference.has_value()) << what;
+  EXPECT_TRUE(has_same_topology(direct->mesh, reference->mesh)) << what;
+  EXPECT_EQ(direct->mesh.positions(), reference->mesh.positions()) << what;
+  EXPECT_EQ(direct->mesh.has_mobius_edges(), reference->mesh.has_mobius_edges()) << what;
+  EXPECT_EQ(direct->vertex_parents, reference->vertex_parents) << what;
+  ASSERT_EQ(direct->face_parents.size(), reference->face_parents.size()) << what;
+  for (size_t f = 0; f < direct->face_parents.size(); ++f) {
+    ASSERT_EQ(direct->face_parents[f].kind, reference->face_parents[f].kind) << what << " face " << f;
+    ASSERT_EQ(direct->face_parents[f].face, reference->face_parents[f].face) << what << " face " << f;
+    ASSERT_EQ(direct->face_parents[f].edge, reference->face_parents[f].edge) << what << " face " << f;
+  }
+  EXPECT_EQ(direct->inconsistent_normal_count, reference->inconsistent_normal_count) << what;
+  auto without_maps = offset(mesh, {.distance = distance, .has_parent_maps = false});
+  ASSERT_TRUE(without_maps.has_value()) << what;
+  EXPECT_TRUE(has_same_topology(without_maps->mesh, reference->mesh)) << what;
+  EXPECT_EQ(without_maps->mesh.positions(), reference->mesh.positions()) << what;
+  EXPECT_TRUE(without_maps->face_parents.empty() && without_maps->vertex_parents.empty()) << what;
+}
+
 // Closed, orientable, no Möbius edges, one component per expected entry.
 void expect_closed_orientable(const Mesh& m, int32_t euler, size_t components) {
   TopologyReport r = topology(m);
@@ -203,28 +252,9 @@ TEST(Offset, DirectSlabEqualsTheReferenceConstruction) {
                                      grid_soup(9, 4, Glue::Mobius), grid_soup(6, 5, Glue::Torus),
                                      grid_soup(8, 6, Glue::Klein, 0.01), grid_soup(7, 5, Glue::Klein)};
   uint32_t seed = 12345;
-  auto random = [&](uint32_t n) {
-    seed = seed * 1664525u + 1013904223u;
-    return (seed >> 8) % n;
-  };
   const size_t plain = inputs.size();
   for (size_t k = 0; k < plain; ++k) {
-    // Shuffled faces, each rotated to start at a random corner.
-    const PolygonSoup& s = inputs[k];
-    std::vector<std::vector<int32_t>> faces;
-    size_t at = 0;
-    for (int32_t n : s.face_sizes) {
-      faces.emplace_back(s.face_vertices.begin() + at, s.face_vertices.begin() + at + n);
-      at += n;
-    }
-    for (size_t i = faces.size(); i > 1; --i) std::swap(faces[i - 1], faces[random(uint32_t(i))]);
-    PolygonSoup shuffled;
-    shuffled.positions = s.positions;
-    for (auto& f : faces) {
-      std::rotate(f.begin(), f.begin() + random(uint32_t(f.size())), f.end());
-      shuffled.add_face(f);
-    }
-    shuffled.face_colors.assign(shuffled.face_count(), glm::vec3(0.25f, 0.5f, 1.0f));
+    PolygonSoup shuffled = shuffled_soup(inputs[k], seed);
     shuffled.add_vertex({7, 7, 7});
     inputs.push_back(std::move(shuffled));
   }
@@ -232,27 +262,26 @@ TEST(Offset, DirectSlabEqualsTheReferenceConstruction) {
   for (const PolygonSoup& s : inputs) meshes.push_back(build(s));
   meshes.push_back(subdivide_once(build(grid_soup(5, 3, Glue::Mobius))).mesh);
   meshes.push_back(subdivide_once(build(testing::mixed_disk_soup())).mesh);
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    auto direct = offset(meshes[i], {.distance = 0.1});
-    auto reference = offset_through_builder(meshes[i], {.distance = 0.1});
-    ASSERT_TRUE(direct.has_value()) << i;
-    ASSERT_TRUE(reference.has_value()) << i;
-    EXPECT_TRUE(has_same_topology(direct->mesh, reference->mesh)) << i;
-    EXPECT_EQ(direct->mesh.positions(), reference->mesh.positions()) << i;
-    EXPECT_EQ(direct->mesh.has_mobius_edges(), reference->mesh.has_mobius_edges()) << i;
-    EXPECT_EQ(direct->vertex_parents, reference->vertex_parents) << i;
-    ASSERT_EQ(direct->face_parents.size(), reference->face_parents.size()) << i;
-    for (size_t f = 0; f < direct->face_parents.size(); ++f) {
-      EXPECT_EQ(direct->face_parents[f].kind, reference->face_parents[f].kind) << i << " face " << f;
-      EXPECT_EQ(direct->face_parents[f].face, reference->face_parents[f].face) << i << " face " << f;
-      EXPECT_EQ(direct->face_parents[f].edge, reference->face_parents[f].edge) << i << " face " << f;
-    }
-    EXPECT_EQ(direct->inconsistent_normal_count, reference->inconsistent_normal_count) << i;
-    auto without_maps = offset(meshes[i], {.distance = 0.1, .has_parent_maps = false});
-    ASSERT_TRUE(without_maps.has_value()) << i;
-    EXPECT_TRUE(has_same_topology(without_maps->mesh, reference->mesh)) << i;
-    EXPECT_EQ(without_maps->mesh.positions(), reference->mesh.positions()) << i;
-    EXPECT_TRUE(without_maps->face_parents.empty() && without_maps->vertex_parents.empty()) << i;
+  for (size_t i = 0; i < meshes.size(); ++i) expect_direct_equals_reference(meshes[i], 0.1, std::to_string(i));
+}
+
+// Without Möbius edges the positive and negative copies of a large mesh are made on two
+// threads, the negative copies' edges numbered from the input's edge count on: on meshes
+// above the threshold (32,768 faces) with borders, shuffled faces and starting corners (a
+// corner's twin before or after it, in the same face or another), mixed polygons and the
+// layout of a Catmull-Clark level, the slab must equal the reference construction. A
+// Möbius grid of the same size (made on one thread) is the control.
+TEST(Offset, ThreadedCopiesEqualTheReference) {
+  uint32_t seed = 777;
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  meshes.emplace_back("shuffled disk", build(shuffled_soup(grid_soup(200, 180, Glue::None), seed)));
+  meshes.emplace_back("shuffled cylinder", build(shuffled_soup(grid_soup(190, 180, Glue::Cylinder), seed)));
+  meshes.emplace_back("subdivided cylinder", subdivide_once(build(grid_soup(100, 90, Glue::Cylinder))).mesh);
+  meshes.emplace_back("subdivided mixed disk", subdivide_last_level(build(testing::mixed_disk_soup()), {.levels = 6}).value());
+  meshes.emplace_back("Möbius grid", build(grid_soup(200, 180, Glue::Mobius)));
+  for (const auto& [what, mesh] : meshes) {
+    ASSERT_GE(mesh.face_count(), 1 << 15) << what;
+    expect_direct_equals_reference(mesh, 0.05, what);
   }
 }
 
