@@ -9,12 +9,27 @@
 
 #include <dlfcn.h>
 #include <malloc.h>
+#include <pthread.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 
 namespace nomec::lsp {
 
 namespace {
+
+// The background threads (geometry, and the after thread: cache fills, freeing, indexing)
+// run at a lower priority than the analysis thread, whose diagnostics the sculptor waits
+// for: on a machine with fewer free cores than busy threads, the next keystroke's check is
+// scheduled first. A thread may lower its own priority without privileges (Linux applies
+// `setpriority` to one thread when given its id); failing that, it keeps the default.
+// Each thread also carries its name (`nomec-analysis` …), which `top -H` and debuggers show.
+void name_thread(const char* name) { pthread_setname_np(pthread_self(), name); }
+
+void yield_to_analysis() {
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBackgroundNice);
+}
 
 // A request id is an integer or a string; anything else is not a valid request.
 bool valid_id(const json& id) { return id.is_number_integer() || id.is_string(); }
@@ -67,10 +82,28 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
 #include "lsp/handlers.def"
 #undef NOMEC_LSP_HANDLER
   // Each worker frees what checking SLIDE files left for its thread (Tcl's per-thread data).
-  request_thread_ = std::thread([this] { request_loop(); release_thread_resources(); });
-  analysis_thread_ = std::thread([this] { analysis_loop(); release_thread_resources(); });
-  geometry_thread_ = std::thread([this] { geometry_loop(); release_thread_resources(); });
-  after_thread_ = std::thread([this] { after_loop(); release_thread_resources(); });
+  request_thread_ = std::thread([this] {
+    name_thread("nomec-request");
+    request_loop();
+    release_thread_resources();
+  });
+  analysis_thread_ = std::thread([this] {
+    name_thread("nomec-analysis");
+    analysis_loop();
+    release_thread_resources();
+  });
+  geometry_thread_ = std::thread([this] {
+    name_thread("nomec-geometry");
+    yield_to_analysis();
+    geometry_loop();
+    release_thread_resources();
+  });
+  after_thread_ = std::thread([this] {
+    name_thread("nomec-after");
+    yield_to_analysis();
+    after_loop();
+    release_thread_resources();
+  });
 }
 
 ServerImpl::~ServerImpl() {

@@ -36,6 +36,11 @@ struct ServerOptions {
   int idle_release_ms = 2000;
 };
 
+/// How much lower than the analysis thread the background threads run (a `nice` step:
+/// geometry, and the cache fills, freeing and indexing after publishing). Threads are named
+/// `nomec-request`, `nomec-analysis`, `nomec-geometry` and `nomec-after`.
+inline constexpr int kBackgroundNice = 5;
+
 class ServerImpl;
 
 /// What parsing the latest analysed version of a document did (see ParseCache::Stats).

@@ -3,7 +3,12 @@
 // and the diagnostics it publishes equal those of a fresh check of the same text.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -134,6 +139,46 @@ TEST(LspMemory, ZeroIdleTimeNeverReleases) {
   c.diagnostics(uri, 2);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_EQ(c.server().memory_releases(), 0u);
+}
+
+// The nice value of each of this process's threads, by thread name (/proc/self/task).
+std::map<std::string, int> thread_nice_by_name() {
+  std::map<std::string, int> out;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm"), stat(task.path() / "stat");
+    std::string name, line;
+    std::getline(comm, name);
+    std::getline(stat, line);
+    const size_t close = line.rfind(')');
+    if (name.empty() || close == std::string::npos) continue;
+    std::istringstream fields(line.substr(close + 2));  // from field 3, the state
+    std::string field;
+    for (int i = 3; i <= 19 && fields >> field; ++i) {
+      if (i == 19) out[name] = std::stoi(field);  // field 19: nice
+    }
+  }
+  return out;
+}
+
+// The background threads yield the processor to the analysis thread, whose diagnostics the
+// sculptor waits for: they run `kBackgroundNice` lower; the others keep the process's own.
+TEST(LspThreads, BackgroundThreadsRunBelowTheAnalysisThread) {
+  Client c;
+  c.initialize();
+  const std::string uri = "file:///tmp/lsp-test/threads.nome";
+  c.open(uri, large_document(20), 1);
+  c.diagnostics(uri, 1);
+  const int base = thread_nice_by_name().at("nomec-analysis");
+  const int want = std::min(19, base + kBackgroundNice);  // nice values stop at 19
+  std::map<std::string, int> nice;
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  do {  // each thread sets its own name and priority when it starts
+    nice = thread_nice_by_name();
+  } while ((nice["nomec-after"] != want || nice["nomec-geometry"] != want) && std::chrono::steady_clock::now() < deadline);
+  EXPECT_EQ(nice["nomec-after"], want);
+  EXPECT_EQ(nice["nomec-geometry"], want);
+  EXPECT_EQ(nice["nomec-request"], base);
+  EXPECT_EQ(nice["nomec-analysis"], base);
 }
 
 }  // namespace
