@@ -233,14 +233,14 @@ class Mesh {
   std::vector<glm::dvec3> normals_;
   std::vector<float> vertex_sharpness_;
   // edges (2 entries per edge: end vertices / per-use arrays indexed by EdgeUse)
-  std::vector<VertexId> edge_vertices_;
+  OverwriteVector<VertexId> edge_vertices_;
   OverwriteVector<FaceId> use_faces_;
   OverwriteVector<EdgeUse> next_;
   OverwriteVector<EdgeUse> prev_;
-  std::vector<uint8_t> edge_flags_;
+  OverwriteVector<uint8_t> edge_flags_;
   std::vector<float> sharpness_;
   // faces
-  std::vector<EdgeUse> face_uses_;
+  OverwriteVector<EdgeUse> face_uses_;
   std::vector<FaceSource> face_sources_;
   std::vector<glm::vec3> face_colors_;
   // borders
@@ -274,26 +274,26 @@ PolygonSoup to_soup(const Mesh& mesh);
 struct MeshAccess {
   static std::vector<glm::dvec3>& positions(Mesh& m) { return m.positions_; }
   static OverwriteVector<EdgeId>& vertex_edges(Mesh& m) { return m.vertex_edges_; }
-  static std::vector<VertexId>& edge_vertices(Mesh& m) { return m.edge_vertices_; }
+  static OverwriteVector<VertexId>& edge_vertices(Mesh& m) { return m.edge_vertices_; }
   static OverwriteVector<FaceId>& use_faces(Mesh& m) { return m.use_faces_; }
   static OverwriteVector<EdgeUse>& next(Mesh& m) { return m.next_; }
   static OverwriteVector<EdgeUse>& prev(Mesh& m) { return m.prev_; }
-  static std::vector<uint8_t>& edge_flags(Mesh& m) { return m.edge_flags_; }
+  static OverwriteVector<uint8_t>& edge_flags(Mesh& m) { return m.edge_flags_; }
   static std::vector<float>& sharpness(Mesh& m) { return m.sharpness_; }
   static std::vector<float>& vertex_sharpness(Mesh& m) { return m.vertex_sharpness_; }
-  static std::vector<EdgeUse>& face_uses(Mesh& m) { return m.face_uses_; }
+  static OverwriteVector<EdgeUse>& face_uses(Mesh& m) { return m.face_uses_; }
   static std::vector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
   static std::vector<glm::vec3>& face_colors(Mesh& m) { return m.face_colors_; }
   static const std::vector<glm::dvec3>& positions(const Mesh& m) { return m.positions_; }
   static const OverwriteVector<EdgeId>& vertex_edges(const Mesh& m) { return m.vertex_edges_; }
-  static const std::vector<VertexId>& edge_vertices(const Mesh& m) { return m.edge_vertices_; }
+  static const OverwriteVector<VertexId>& edge_vertices(const Mesh& m) { return m.edge_vertices_; }
   static const OverwriteVector<FaceId>& use_faces(const Mesh& m) { return m.use_faces_; }
   static const OverwriteVector<EdgeUse>& next(const Mesh& m) { return m.next_; }
   static const OverwriteVector<EdgeUse>& prev(const Mesh& m) { return m.prev_; }
-  static const std::vector<uint8_t>& edge_flags(const Mesh& m) { return m.edge_flags_; }
+  static const OverwriteVector<uint8_t>& edge_flags(const Mesh& m) { return m.edge_flags_; }
   static const std::vector<float>& sharpness(const Mesh& m) { return m.sharpness_; }
   static const std::vector<float>& vertex_sharpness(const Mesh& m) { return m.vertex_sharpness_; }
-  static const std::vector<EdgeUse>& face_uses(const Mesh& m) { return m.face_uses_; }
+  static const OverwriteVector<EdgeUse>& face_uses(const Mesh& m) { return m.face_uses_; }
   static const std::vector<FaceSource>& face_sources(const Mesh& m) { return m.face_sources_; }
   static const std::vector<glm::vec3>& face_colors(const Mesh& m) { return m.face_colors_; }
   static std::vector<std::string>& names(Mesh& m) { return m.names_; }

@@ -14,12 +14,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <span>
 #include <glm/geometric.hpp>
 
 #include "kernel/large_arrays.h"
+#include "kernel/two_threads.h"
 
 namespace nomec::kernel {
 namespace {
@@ -63,10 +66,45 @@ struct FaceInheritance {
   int shift = 0;
 };
 
+// The parent elements one part of a level's passes handles, and what it found. With one
+// part it is every element; with two, part 0 has the faces below the middle face (and the
+// edges whose first face is one of them), part 1 the others, and each has half of the
+// edges for the child edge halves and half of the vertices.
+struct Part {
+  int32_t face_begin = 0, face_end = 0;
+  int32_t edge_begin = 0, edge_end = 0;  // for the child edge halves and `scan_edges`
+  int32_t vertex_begin = 0, vertex_end = 0;
+  int index = 0;                 // in `Refiner::parts_`
+  int32_t first_child_face = 0;  // the first child of face `face_begin`
+  // Counted by `scan_edges` over its edges.
+  int64_t border_edges = 0;
+  int64_t first_part_uses = 0;  // uses whose face belongs to part 0
+  bool has_sharp_edges = false;
+  // Found by the passes.
+  bool are_quads = true;
+  bool has_child_creases = false;
+  std::vector<EdgeUse> face_loop;  // the uses of the face being split, reused
+  // Contributions to the sums of vertices that both parts touch, which are added after
+  // both parts, in the order one pass would add them: (vertex, face) of face points, and
+  // 2 * edge + end of edge ends.
+  std::vector<std::pair<int32_t, int32_t>> deferred_face_points;
+  std::vector<int32_t> deferred_edge_ends;
+};
+
 // One level of refinement as named passes over the parent's flat arrays (see the top of
 // the file); the passes share the parent's arrays and the child being built. Every child
 // array is allocated once at its exact size, and the only scratch memory is a valence per
-// parent vertex (plus `SharpSums` when there are sharp edges).
+// parent vertex (plus `SharpSums` when there are sharp edges, and with two threads two
+// bytes per parent vertex).
+//
+// Two threads (`Part`): every child element is written by one part, at an index known in
+// advance, so the parts never write the same memory — except the vertex points' slots,
+// which accumulate sums whose rounding depends on the order of the terms. A vertex that
+// the faces of only one part touch gets its terms from that part alone, in one pass's
+// order; for a vertex that faces of both parts touch (the seam between the two face
+// ranges: a few per cent of the vertices of a mesh whose faces are numbered with some
+// locality) both parts set the terms aside and they are added afterwards in one pass's
+// order. So the child is the same bit for bit as with one thread.
 //
 // An intermediate child (`is_intermediate`, see `subdivide_last_level`) is only ever read
 // by the next refinement, which reads neither its `prev` wings nor its border links, and
@@ -97,15 +135,18 @@ class Refiner {
         mobius_flag_(MeshAccess::mobius_flag()),
         has_creases_(options.is_sharpness_honoured && !psharp_.empty()),
         has_corners_(options.is_sharpness_honoured && !pvsharp_.empty()),
+        is_derose_(options.vertex_rule == VertexRule::DeRose),
         cpos_(MeshAccess::positions(level_.mesh)) {}
 
   SubdivisionLevel run() {
-    count_corners();
-    child_edge_halves();
-    faces();
-    edge_points();
-    vertex_points();
-    child_vertex_edges();
+    const bool is_split = options_.threading == Threading::TwoThreads ||
+                          (options_.threading == Threading::Automatic && E_ >= kTwoThreadEdges &&
+                           has_two_hardware_threads());
+    if (is_split) {
+      run_split();
+    } else {
+      run_whole();
+    }
     inherit_corners_and_creases();
     level_.parent_face_count = F_;
     level_.parent_edge_count = E_;
@@ -113,6 +154,54 @@ class Refiner {
   }
 
  private:
+  // The passes on one thread: one part with every element.
+  void run_whole() {
+    parts_.resize(1);
+    Part& p = parts_[0];
+    p.face_end = F_;
+    p.edge_end = E_;
+    p.vertex_end = V_;
+    scan_edges(p);
+    allocate_child();
+    child_edge_halves(p);
+    faces(p);
+    after_faces();
+    edge_points(p);
+    vertex_points(p);
+    child_vertex_edges(p);
+    after_vertices();
+  }
+
+  // The passes on two threads, joined between passes; what remains in between (adding the
+  // terms set aside, allocating) runs on the calling thread.
+  void run_split() {
+    parts_.resize(2);
+    parts_[1].index = 1;
+    middle_face_ = F_ / 2;
+    parts_[0].face_end = parts_[1].face_begin = middle_face_;
+    parts_[1].face_end = F_;
+    parts_[0].edge_end = parts_[1].edge_begin = E_ / 2;
+    parts_[1].edge_end = E_;
+    parts_[0].vertex_end = parts_[1].vertex_begin = V_ / 2;
+    parts_[1].vertex_end = V_;
+    touched_.assign(V_, {0, 0});
+    run_two_parts([&](int k) { scan_edges(parts_[k]); });
+    parts_[1].first_child_face = static_cast<int32_t>(parts_[0].first_part_uses + parts_[1].first_part_uses);
+    allocate_child();
+    run_two_parts([&](int k) {
+      child_edge_halves(parts_[k]);
+      faces(parts_[k]);
+    });
+    after_faces();
+    run_two_parts([&](int k) { edge_points(parts_[k]); });
+    add_deferred_edge_ends();
+    run_two_parts([&](int k) {
+      vertex_points(parts_[k]);
+      child_vertex_edges(parts_[k]);
+    });
+    after_vertices();
+  }
+
   // The vertex whose position starts use `u` (Möbius edges are read forwards on both sides).
   int32_t tail_of(EdgeUse u) const {
     const int32_t e = u.index >> 1;
@@ -120,154 +209,262 @@ class Refiner {
     return pev_[2 * e + (is_forward ? 0 : 1)].index;
   }
 
-  // Every use of an edge belongs to a face except the second side of a border edge, so
-  // the parent has 2E minus its border edges corners (= child faces).
-  void count_corners() {
-    int64_t border_edges = 0;
-    for (int32_t e = 0; e < E_; ++e) border_edges += puf_[2 * e + 1].is_valid() ? 0 : 1;
-    corner_total_ = static_cast<int32_t>(2 * int64_t{E_} - border_edges);
+  // The part whose faces include `f` (two parts: below the middle face or not).
+  int part_of(FaceId f) const { return f.index < middle_face_ ? 0 : 1; }
+
+  // True if faces of both parts touch vertex `v` (never with one part).
+  bool is_shared(int32_t v) const {
+    if (touched_.empty()) return false;
+    const std::array<uint8_t, 2>& t = touched_[v];
+    return (t[0] & t[1]) != 0;
   }
 
-  // (a) The two child edges of every parent edge (edge 2e from its tail's vertex point to
-  // the edge point, 2e+1 on to its head's), which depend on the parent's edges alone. Every
-  // child array is allocated here at its exact size: arrays written in index order are
-  // filled by push_back (one pass over the memory), the per-use arrays, written out of
-  // order by `faces`, are sized.
-  void child_edge_halves() {
+  // Marks vertex `v` as touched by part `k` (both threads may mark the same vertex).
+  void touch(int32_t v, int k) { std::atomic_ref<uint8_t>(touched_[v][k]).store(1, std::memory_order_relaxed); }
+
+  // (a) Every use of an edge belongs to a face except the second side of a border edge, so
+  // the parent has 2E minus its border edges corners (= child faces); whether some edge is
+  // sharp (then every vertex gets `SharpSums`). With two parts also which part's faces
+  // touch each vertex (both ends of each of their edges) and how many corners part 0 has.
+  void scan_edges(Part& p) {
+    const bool is_split = !touched_.empty();
+    for (int32_t e = p.edge_begin; e < p.edge_end; ++e) {
+      const FaceId fb = puf_[2 * e + 1];
+      const bool is_border = !fb.is_valid();
+      p.border_edges += is_border ? 1 : 0;
+      p.has_sharp_edges = p.has_sharp_edges || is_border || (has_creases_ && psharp_[e] > 0.0f);
+      if (!is_split) continue;
+      const int32_t a = pev_[2 * e].index;
+      const int32_t b = pev_[2 * e + 1].index;
+      for (const FaceId f : {puf_[2 * e], fb}) {
+        if (!f.is_valid()) continue;
+        const int k = part_of(f);
+        touch(a, k);
+        touch(b, k);
+        p.first_part_uses += k == 0 ? 1 : 0;
+      }
+    }
+  }
+
+  // Every child array at its exact size, before the passes write them by index: without a
+  // fill where every element is then written (`OverwriteVector`), zeroed where the passes
+  // accumulate (the vertex points' slots) or write only some elements (creases).
+  void allocate_child() {
+    int64_t border_edges = 0;
+    bool has_sharp_edges = false;
+    for (const Part& p : parts_) {
+      border_edges += p.border_edges;
+      has_sharp_edges = has_sharp_edges || p.has_sharp_edges;
+    }
+    corner_total_ = static_cast<int32_t>(2 * int64_t{E_} - border_edges);
     Mesh& child = level_.mesh;
     const size_t cE = 2 * static_cast<size_t>(E_) + corner_total_;
-    auto& cev = MeshAccess::edge_vertices(child);
-    auto& cuf = MeshAccess::use_faces(child);
-    auto& cflags = MeshAccess::edge_flags(child);
-    auto& csharp = MeshAccess::sharpness(child);
-    auto& cvertex_edges = MeshAccess::vertex_edges(child);
-    reserve_large(cev, 2 * cE);
-    auto& cnext = MeshAccess::next(child);
-    auto& cprev = MeshAccess::prev(child);
-    // Every element of these four is written below or by `faces` (the per-use arrays: the
-    // uses of the faces there, the unused side of a border edge here) or, for vertex
-    // anchors, by `faces` (face points), here (edge points) and `child_vertex_edges`.
-    resize_for_overwrite(cuf, 2 * cE);
-    resize_for_overwrite(cnext, 2 * cE);
-    if (!is_intermediate_) resize_for_overwrite(cprev, 2 * cE);
-    reserve_large(cflags, cE);
-    if (has_creases_) reserve_large(csharp, cE);
-    resize_for_overwrite(cvertex_edges, static_cast<size_t>(F_) + E_ + V_);
-    reserve_large(MeshAccess::face_uses(child), corner_total_);
-    if (stores_face_properties_) reserve_face_properties();
+    resize_for_overwrite(MeshAccess::edge_vertices(child), 2 * cE);
+    // Every element of these is written by `faces` (the uses of the faces) or by
+    // `child_edge_halves` (the unused side of a border edge); vertex anchors by `faces`
+    // (face points), `child_edge_halves` (edge points) and `child_vertex_edges`.
+    resize_for_overwrite(MeshAccess::use_faces(child), 2 * cE);
+    resize_for_overwrite(MeshAccess::next(child), 2 * cE);
+    if (!is_intermediate_) resize_for_overwrite(MeshAccess::prev(child), 2 * cE);
+    resize_for_overwrite(MeshAccess::edge_flags(child), cE);
+    if (has_creases_) resize_large(MeshAccess::sharpness(child), cE);  // the faces' edges are smooth
+    resize_for_overwrite(MeshAccess::vertex_edges(child), static_cast<size_t>(F_) + E_ + V_);
+    resize_for_overwrite(MeshAccess::face_uses(child), corner_total_);
+    if (stores_face_properties_) allocate_face_properties();
+    resize_large(cpos_, static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
+    valence_.assign(V_, 0);
+    if (has_sharp_edges) sharp_.resize(V_);
+  }
+
+  void allocate_face_properties() {
+    resize_large(MeshAccess::face_sources(level_.mesh), corner_total_);
+    if (!inheritance_.colors.empty()) resize_large(MeshAccess::face_colors(level_.mesh), corner_total_);
+  }
+
+  // (b) The two child edges of every parent edge (edge 2e from its tail's vertex point to
+  // the edge point, 2e+1 on to its head's), which depend on the parent's edges alone.
+  void child_edge_halves(Part& p) {
+    Mesh& child = level_.mesh;
+    VertexId* cev = MeshAccess::edge_vertices(child).data();
+    FaceId* cuf = MeshAccess::use_faces(child).data();
+    EdgeUse* cnext = MeshAccess::next(child).data();
+    EdgeUse* cprev = is_intermediate_ ? nullptr : MeshAccess::prev(child).data();
+    uint8_t* cflags = MeshAccess::edge_flags(child).data();
+    float* csharp = MeshAccess::sharpness(child).data();
+    EdgeId* cvertex_edges = MeshAccess::vertex_edges(child).data();
     const int32_t vp_base = F_ + E_;
-    for (int32_t e = 0; e < E_; ++e) {
-      cev.push_back(VertexId(vp_base + pev_[2 * e].index));
-      cev.push_back(VertexId(F_ + e));
-      cev.push_back(VertexId(F_ + e));
-      cev.push_back(VertexId(vp_base + pev_[2 * e + 1].index));
-      cflags.push_back(pflags_[e]);
-      cflags.push_back(pflags_[e]);
+    for (int32_t e = p.edge_begin; e < p.edge_end; ++e) {
+      cev[4 * e] = VertexId(vp_base + pev_[2 * e].index);
+      cev[4 * e + 1] = VertexId(F_ + e);
+      cev[4 * e + 2] = VertexId(F_ + e);
+      cev[4 * e + 3] = VertexId(vp_base + pev_[2 * e + 1].index);
+      cflags[2 * e] = cflags[2 * e + 1] = pflags_[e];
       if (has_creases_) {
         const float cs = child_sharpness(psharp_[e]);
-        csharp.push_back(cs);
-        csharp.push_back(cs);
-        has_child_creases_ = has_child_creases_ || cs > 0.0f;
+        csharp[2 * e] = csharp[2 * e + 1] = cs;
+        p.has_child_creases = p.has_child_creases || cs > 0.0f;
       }
       if (!puf_[2 * e + 1].is_valid()) {  // no wings yet; `link_borders` may add some
         for (const int32_t u : {4 * e + 1, 4 * e + 3}) {
           cuf[u] = FaceId::None();
           cnext[u] = EdgeUse::None();
-          if (!is_intermediate_) cprev[u] = EdgeUse::None();
+          if (cprev != nullptr) cprev[u] = EdgeUse::None();
         }
       }
       cvertex_edges[F_ + e] = EdgeId(2 * e);
     }
   }
 
-  // (b) One walk around every parent face: its face point, scattered into the slots of its
+  // (c) One walk around every parent face: its face point, added to the slots of its
   // vertices' points (each slot starts as the sum of the face points around the vertex),
   // and its child quads with their interior edges (from the edge point to the face point),
   // whose wings are known arithmetically, so no hashing.
-  void faces() {
+  void faces(Part& p) {
     Mesh& child = level_.mesh;
-    auto& cev = MeshAccess::edge_vertices(child);
-    auto& cflags = MeshAccess::edge_flags(child);
-    auto& csharp = MeshAccess::sharpness(child);
-    auto& cvertex_edges = MeshAccess::vertex_edges(child);
-    resize_large(cpos_, static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
+    VertexId* cev = MeshAccess::edge_vertices(child).data();
+    uint8_t* cflags = MeshAccess::edge_flags(child).data();
+    EdgeId* cvertex_edges = MeshAccess::vertex_edges(child).data();
+    FaceSource* csources = stores_face_properties_ ? MeshAccess::face_sources(child).data() : nullptr;
+    glm::vec3* ccolors = stores_face_properties_ ? MeshAccess::face_colors(child).data() : nullptr;
     dvec3* vertex_points = cpos_.data() + F_ + E_;
-    bool are_quads = true;  // so far; the face map is stored from the first other polygon
-    int32_t o = 0;
-    for (int32_t f = 0; f < F_; ++f) {
-      face_loop_.clear();
+    std::vector<EdgeUse>& loop = p.face_loop;
+    int32_t o = p.first_child_face;
+    for (int32_t f = p.face_begin; f < p.face_end; ++f) {
+      loop.clear();
       dvec3 sum(0.0);
       const EdgeUse start = pface_uses_[f];
       EdgeUse u = start;
       do {
-        face_loop_.push_back(u);
+        loop.push_back(u);
         sum += pos_[tail_of(u)];
         u = pnext_[u.index];
       } while (u != start);
-      const int32_t n = static_cast<int32_t>(face_loop_.size());
-      if (n != 4 && are_quads) {
-        are_quads = false;
-        if (options_.has_parent_maps) start_face_map(o);
-        if (!stores_face_properties_) start_face_properties(o);
-      }
+      const int32_t n = static_cast<int32_t>(loop.size());
+      p.are_quads = p.are_quads && n == 4;
       const dvec3 fp = sum / double(n);
       cpos_[f] = fp;
-      for (const EdgeUse x : face_loop_) vertex_points[tail_of(x)] += fp;
+      for (const EdgeUse x : loop) {
+        const int32_t v = tail_of(x);
+        if (is_shared(v)) {
+          p.deferred_face_points.emplace_back(v, f);
+        } else {
+          vertex_points[v] += fp;
+        }
+      }
       cvertex_edges[f] = EdgeId(2 * E_ + o);
-      link_face_children(o, n);
+      link_face_children(o, loop);
       for (int32_t i = 0; i < n; ++i) {
-        cev.push_back(VertexId(F_ + (face_loop_[i].index >> 1)));
-        cev.push_back(VertexId(f));
-        cflags.push_back(0);
-        if (has_creases_) csharp.push_back(0.0f);
-        if (stores_face_properties_) inherit_face_properties(f);
-        if (!are_quads && options_.has_parent_maps) level_.face_parents.push_back(FaceId(f));
+        const int32_t ce = 2 * E_ + o + i;
+        cev[2 * ce] = VertexId(F_ + (loop[i].index >> 1));
+        cev[2 * ce + 1] = VertexId(f);
+        cflags[ce] = 0;
+      }
+      if (csources != nullptr) {
+        const size_t from = static_cast<size_t>(f) >> inheritance_.shift;
+        std::fill_n(csources + o, n, inheritance_.sources[from]);
+        if (!inheritance_.colors.empty()) std::fill_n(ccolors + o, n, inheritance_.colors[from]);
       }
       o += n;
     }
+  }
+
+  // The wings of the child quads of the face whose uses are `loop`, numbered from `o`:
+  // quad i runs tail half of use i, interior edge i (edge point to face point), interior
+  // edge i-1 backwards, head half of use i-1.
+  void link_face_children(int32_t o, const std::vector<EdgeUse>& loop) {
+    Mesh& child = level_.mesh;
+    FaceId* cuf = MeshAccess::use_faces(child).data();
+    EdgeUse* cnext = MeshAccess::next(child).data();
+    EdgeUse* cprev = is_intermediate_ ? nullptr : MeshAccess::prev(child).data();
+    EdgeUse* cface_uses = MeshAccess::face_uses(child).data();
+    const int32_t n = static_cast<int32_t>(loop.size());
+    // Half near the head of the previous use, and that use's side.
+    const EdgeUse last = loop[n - 1];
+    const bool last_forward = (last.index & 1) == 0 || (pflags_[last.index >> 1] & mobius_flag_);
+    int32_t prev_head_half = 2 * (last.index >> 1) + (last_forward ? 1 : 0);
+    int32_t prev_side = last.index & 1;
+    for (int32_t i = 0; i < n; ++i) {
+      const EdgeUse u = loop[i];
+      const int32_t e = u.index >> 1;
+      const int32_t s = u.index & 1;
+      const bool is_forward = s == 0 || (pflags_[e] & mobius_flag_);
+      const int32_t tail_half = 2 * e + (is_forward ? 0 : 1);
+      const int32_t head_half = 2 * e + (is_forward ? 1 : 0);
+      const int32_t q = o + i;
+      const int32_t interior = 2 * E_ + o + i;
+      const int32_t interior_prev = 2 * E_ + o + (i == 0 ? n - 1 : i - 1);
+      const int32_t u0 = 2 * tail_half + s;
+      const int32_t u1 = 2 * interior;
+      const int32_t u2 = 2 * interior_prev + 1;
+      const int32_t u3 = 2 * prev_head_half + prev_side;
+      cuf[u0] = cuf[u1] = cuf[u2] = cuf[u3] = FaceId(q);
+      cnext[u0] = EdgeUse(u1);
+      cnext[u1] = EdgeUse(u2);
+      cnext[u2] = EdgeUse(u3);
+      cnext[u3] = EdgeUse(u0);
+      if (cprev != nullptr) {
+        cprev[u0] = EdgeUse(u3);
+        cprev[u1] = EdgeUse(u0);
+        cprev[u2] = EdgeUse(u1);
+        cprev[u3] = EdgeUse(u2);
+      }
+      cface_uses[q] = EdgeUse(u0);
+      prev_head_half = head_half;
+      prev_side = s;
+    }
+  }
+
+  // The face point terms set aside by the parts (all of part 0's faces come before part
+  // 1's), then, if some parent face is not a quad, the face map and an intermediate
+  // child's face sources and colours.
+  void after_faces() {
+    dvec3* vertex_points = cpos_.data() + F_ + E_;
+    bool are_quads = true;
+    for (Part& p : parts_) {
+      for (const auto& [v, f] : p.deferred_face_points) vertex_points[v] += cpos_[f];
+      std::vector<std::pair<int32_t, int32_t>>().swap(p.deferred_face_points);
+      are_quads = are_quads && p.are_quads;
+    }
     level_.are_parent_faces_quads = are_quads;
+    if (are_quads) return;
+    if (options_.has_parent_maps) {
+      reserve_large(level_.face_parents, corner_total_);
+      for (int32_t q = 0; q < corner_total_; ++q) level_.face_parents.push_back(FaceId(parent_face_of(q)));
+    }
+    if (!stores_face_properties_) {
+      stores_face_properties_ = true;
+      allocate_face_properties();
+      auto& sources = MeshAccess::face_sources(level_.mesh);
+      auto& colors = MeshAccess::face_colors(level_.mesh);
+      for (int32_t q = 0; q < corner_total_; ++q) {
+        const size_t from = static_cast<size_t>(parent_face_of(q)) >> inheritance_.shift;
+        sources[q] = inheritance_.sources[from];
+        if (!inheritance_.colors.empty()) colors[q] = inheritance_.colors[from];
+      }
+    }
   }
 
-  void reserve_face_properties() {
-    reserve_large(MeshAccess::face_sources(level_.mesh), corner_total_);
-    if (!inheritance_.colors.empty()) reserve_large(MeshAccess::face_colors(level_.mesh), corner_total_);
+  // The parent face of child face `q`: the face of the parent use whose tail half starts
+  // the child's loop (`link_face_children`: use 2 * tail_half + side, tail_half = 2e or
+  // 2e + 1).
+  int32_t parent_face_of(int32_t q) const {
+    const int32_t u0 = MeshAccess::face_uses(level_.mesh)[q].index;
+    return puf_[2 * (u0 >> 2) + (u0 & 1)].index;
   }
 
-  // Appends the source and colour of a child of parent face `f`.
-  void inherit_face_properties(int32_t f) {
-    const size_t i = static_cast<size_t>(f) >> inheritance_.shift;
-    MeshAccess::face_sources(level_.mesh).push_back(inheritance_.sources[i]);
-    if (!inheritance_.colors.empty()) MeshAccess::face_colors(level_.mesh).push_back(inheritance_.colors[i]);
-  }
-
-  // An intermediate child's sources and colours up to child face `o`, whose parent faces
-  // were all quads, and from there on.
-  void start_face_properties(int32_t o) {
-    stores_face_properties_ = true;
-    reserve_face_properties();
-    for (int32_t q = 0; q < o; ++q) inherit_face_properties(q / 4);
-  }
-
-  // The face map up to child face `o`, whose parent faces were all quads.
-  void start_face_map(int32_t o) {
-    reserve_large(level_.face_parents, corner_total_);
-    for (int32_t q = 0; q < o; ++q) level_.face_parents.push_back(FaceId(q / 4));
-  }
-
-  // (c) Edge points, and per-vertex sums over edges: the other ends of a vertex's edges (or
+  // (d) Edge points, and per-vertex sums over edges: the other ends of a vertex's edges (or
   // its edge points, DeRose) are added to its vertex-point slot, and its valence is counted.
-  void edge_points() {
-    valence_.assign(V_, 0);
-    const bool is_derose = options_.vertex_rule == VertexRule::DeRose;
+  // With two parts, each takes the edges whose first face is its own.
+  void edge_points(Part& p) {
+    const bool is_split = parts_.size() > 1;
     dvec3* edge_points = cpos_.data() + F_;
-    dvec3* vertex_points = edge_points + E_;
     for (int32_t e = 0; e < E_; ++e) {
+      if (is_split && part_of(puf_[2 * e]) != p.index) continue;
       const int32_t a = pev_[2 * e].index;
       const int32_t b = pev_[2 * e + 1].index;
       const dvec3& pa = pos_[a];
       const dvec3& pb = pos_[b];
-      const bool is_boundary = !puf_[2 * e + 1].is_valid();
-      const float s = is_boundary ? kInfiniteSharpness : (has_creases_ ? psharp_[e] : 0.0f);
+      const float s = edge_sharpness(e);
       dvec3 point;
       if (s >= 1.0f) {
         point = 0.5 * (pa + pb);
@@ -276,39 +473,62 @@ class Refiner {
         point = s <= 0.0f ? smooth : double(s) * (0.5 * (pa + pb)) + (1.0 - double(s)) * smooth;
       }
       edge_points[e] = point;
-      ++valence_[a];
-      ++valence_[b];
-      vertex_points[a] += is_derose ? point : pb;
-      vertex_points[b] += is_derose ? point : pa;
-      if (s > 0.0f) add_sharp_edge(a, b, s);
-    }
-  }
-
-  void add_sharp_edge(int32_t a, int32_t b, float s) {
-    if (sharp_.empty()) sharp_.resize(V_);
-    const float cs = child_sharpness(s);
-    for (int end = 0; end < 2; ++end) {
-      SharpSums& ss = sharp_[end == 0 ? a : b];
-      const dvec3& other = pos_[end == 0 ? b : a];
-      ss.parent_neighbours += other;
-      ++ss.parent_count;
-      if (cs > 0.0f) {
-        ss.child_neighbours += other;
-        ++ss.child_count;
+      if (is_shared(a)) {
+        p.deferred_edge_ends.push_back(2 * e);
       } else {
-        ss.transition_sum += s;
-        ++ss.transition_count;
+        add_edge_end(a, b, point, s);
+      }
+      if (is_shared(b)) {
+        p.deferred_edge_ends.push_back(2 * e + 1);
+      } else {
+        add_edge_end(b, a, point, s);
       }
     }
   }
 
-  // (d) Vertex points, overwriting each vertex's sum of face points and neighbours once it
+  float edge_sharpness(int32_t e) const {
+    if (!puf_[2 * e + 1].is_valid()) return kInfiniteSharpness;
+    return has_creases_ ? psharp_[e] : 0.0f;
+  }
+
+  // Edge (v, other) with edge point `point` and sharpness `s`, counted at its end `v`.
+  void add_edge_end(int32_t v, int32_t other, const dvec3& point, float s) {
+    ++valence_[v];
+    cpos_[F_ + E_ + v] += is_derose_ ? point : pos_[other];
+    if (s <= 0.0f) return;
+    SharpSums& ss = sharp_[v];
+    const dvec3& other_position = pos_[other];
+    ss.parent_neighbours += other_position;
+    ++ss.parent_count;
+    if (child_sharpness(s) > 0.0f) {
+      ss.child_neighbours += other_position;
+      ++ss.child_count;
+    } else {
+      ss.transition_sum += s;
+      ++ss.transition_count;
+    }
+  }
+
+  // The edge ends set aside by the parts, in edge order (each part's are in edge order).
+  void add_deferred_edge_ends() {
+    const std::vector<int32_t>& x = parts_[0].deferred_edge_ends;
+    const std::vector<int32_t>& y = parts_[1].deferred_edge_ends;
+    std::vector<int32_t> merged(x.size() + y.size());
+    std::merge(x.begin(), x.end(), y.begin(), y.end(), merged.begin());
+    for (const int32_t end : merged) {
+      const int32_t e = end >> 1;
+      const int32_t v = pev_[end].index;
+      const int32_t other = pev_[end ^ 1].index;
+      add_edge_end(v, other, cpos_[F_ + e], edge_sharpness(e));
+    }
+    for (Part& p : parts_) std::vector<int32_t>().swap(p.deferred_edge_ends);
+  }
+
+  // (e) Vertex points, overwriting each vertex's sum of face points and neighbours once it
   // is read.
-  void vertex_points() {
+  void vertex_points(const Part& p) {
     dvec3* vertex_points = cpos_.data() + F_ + E_;
-    for (int32_t v = 0; v < V_; ++v) vertex_points[v] = vertex_point(v, vertex_points[v]);
-    std::vector<int32_t>().swap(valence_);
-    std::vector<SharpSums>().swap(sharp_);
+    for (int32_t v = p.vertex_begin; v < p.vertex_end; ++v) vertex_points[v] = vertex_point(v, vertex_points[v]);
   }
 
   dvec3 vertex_point(int32_t v, const dvec3& ring_sum) const {
@@ -346,60 +566,23 @@ class Refiner {
     return w * parent_point + (1.0 - w) * point_for(child_rule, ss.child_neighbours);
   }
 
-  // The wings of the `n` child quads of the face whose uses are `face_loop_`, numbered from
-  // `o`: quad i runs tail half of use i, interior edge i (edge point to face point),
-  // interior edge i-1 backwards, head half of use i-1.
-  void link_face_children(int32_t o, int32_t n) {
-    Mesh& child = level_.mesh;
-    FaceId* cuf = MeshAccess::use_faces(child).data();
-    EdgeUse* cnext = MeshAccess::next(child).data();
-    EdgeUse* cprev = is_intermediate_ ? nullptr : MeshAccess::prev(child).data();
-    auto& cface_uses = MeshAccess::face_uses(child);
-    // Half near the head of the previous use, and that use's side.
-    const EdgeUse last = face_loop_[n - 1];
-    const bool last_forward = (last.index & 1) == 0 || (pflags_[last.index >> 1] & mobius_flag_);
-    int32_t prev_head_half = 2 * (last.index >> 1) + (last_forward ? 1 : 0);
-    int32_t prev_side = last.index & 1;
-    for (int32_t i = 0; i < n; ++i) {
-      const EdgeUse u = face_loop_[i];
-      const int32_t e = u.index >> 1;
-      const int32_t s = u.index & 1;
-      const bool is_forward = s == 0 || (pflags_[e] & mobius_flag_);
-      const int32_t tail_half = 2 * e + (is_forward ? 0 : 1);
-      const int32_t head_half = 2 * e + (is_forward ? 1 : 0);
-      const int32_t q = o + i;
-      const int32_t interior = 2 * E_ + o + i;
-      const int32_t interior_prev = 2 * E_ + o + (i == 0 ? n - 1 : i - 1);
-      const int32_t u0 = 2 * tail_half + s;
-      const int32_t u1 = 2 * interior;
-      const int32_t u2 = 2 * interior_prev + 1;
-      const int32_t u3 = 2 * prev_head_half + prev_side;
-      cuf[u0] = cuf[u1] = cuf[u2] = cuf[u3] = FaceId(q);
-      cnext[u0] = EdgeUse(u1);
-      cnext[u1] = EdgeUse(u2);
-      cnext[u2] = EdgeUse(u3);
-      cnext[u3] = EdgeUse(u0);
-      if (cprev != nullptr) {
-        cprev[u0] = EdgeUse(u3);
-        cprev[u1] = EdgeUse(u0);
-        cprev[u2] = EdgeUse(u1);
-        cprev[u3] = EdgeUse(u2);
-      }
-      cface_uses.push_back(EdgeUse(u0));
-      prev_head_half = head_half;
-      prev_side = s;
-    }
-  }
-
-  // (e) Each vertex point's first edge, and the child's border loops (not for an
-  // intermediate child, which has no `prev` wings to link them in).
-  void child_vertex_edges() {
-    auto& cvertex_edges = MeshAccess::vertex_edges(level_.mesh);
-    for (int32_t v = 0; v < V_; ++v) {
+  // (f) Each vertex point's first edge.
+  void child_vertex_edges(const Part& p) {
+    EdgeId* cvertex_edges = MeshAccess::vertex_edges(level_.mesh).data();
+    for (int32_t v = p.vertex_begin; v < p.vertex_end; ++v) {
       const EdgeId a = p_.vertex_edge(VertexId(v));
       cvertex_edges[F_ + E_ + v] =
           a.is_valid() ? EdgeId(2 * a.index + (pev_[2 * a.index].index == v ? 0 : 1)) : EdgeId::None();
     }
+  }
+
+  // The scratch memory freed, and the child's border loops (not for an intermediate child,
+  // which has no `prev` wings to link them in).
+  void after_vertices() {
+    std::vector<int32_t>().swap(valence_);
+    std::vector<SharpSums>().swap(sharp_);
+    std::vector<std::array<uint8_t, 2>>().swap(touched_);
+    for (const Part& p : parts_) has_child_creases_ = has_child_creases_ || p.has_child_creases;
     if (has_border_loops_ && !is_intermediate_) MeshAccess::link_borders(level_.mesh);
   }
 
@@ -426,23 +609,26 @@ class Refiner {
   bool stores_face_properties_;
   const int32_t F_, E_, V_;
   const std::vector<dvec3>& pos_;
-  const std::vector<VertexId>& pev_;
+  const OverwriteVector<VertexId>& pev_;
   const OverwriteVector<FaceId>& puf_;
   const OverwriteVector<EdgeUse>& pnext_;
-  const std::vector<uint8_t>& pflags_;
+  const OverwriteVector<uint8_t>& pflags_;
   const std::vector<float>& psharp_;
   const std::vector<float>& pvsharp_;
-  const std::vector<EdgeUse>& pface_uses_;
+  const OverwriteVector<EdgeUse>& pface_uses_;
   const uint8_t mobius_flag_;
   const bool has_creases_;
   const bool has_corners_;
+  const bool is_derose_;
   SubdivisionLevel level_;
   std::vector<dvec3>& cpos_;
   int32_t corner_total_ = 0;
   bool has_child_creases_ = false;
-  std::vector<int32_t> valence_;    // per parent vertex, its number of edges
-  std::vector<SharpSums> sharp_;    // per parent vertex, once some edge is sharp
-  std::vector<EdgeUse> face_loop_;  // the uses of the face being split, reused
+  std::vector<Part> parts_;
+  int32_t middle_face_ = 0;               // two parts: part 1's first face
+  std::vector<int32_t> valence_;          // per parent vertex, its number of edges
+  std::vector<SharpSums> sharp_;          // per parent vertex, if some edge is sharp
+  std::vector<std::array<uint8_t, 2>> touched_;  // two parts: per parent vertex, by whose faces
 };
 
 }  // namespace

@@ -20,6 +20,21 @@ enum class VertexRule : uint8_t {
   DeRose,
 };
 
+/// Whether the passes of a level run on two threads. The result is the same bit for bit.
+enum class Threading : uint8_t {
+  /// Two threads for a level whose parent has at least `kTwoThreadEdges` edges, on a
+  /// machine that runs two threads at once; one thread otherwise.
+  Automatic,
+  OneThread,
+  /// Two threads for every level, however small (for tests).
+  TwoThreads,
+};
+
+/// The parent edge count from which `Threading::Automatic` splits a level's passes over two
+/// threads. Rationale: measured on a 2-core machine (bench/kernel); below it the cost of
+/// starting the threads and of the vertex sums set aside at the seam is not repaid.
+inline constexpr int32_t kTwoThreadEdges = 1 << 15;
+
 /// Options for `subdivide`, e.g. from NOME's `subdivision s sd_type NOME_SD_CC_sharp
 /// sd_level 3 … endsubdivision`.
 struct SubdivisionOptions {
@@ -35,6 +50,7 @@ struct SubdivisionOptions {
   /// Refuse (InvalidArgument) a level whose mesh would have more vertices than this; 0 is
   /// no limit. Each level has V + E + F vertices of the level before.
   int64_t max_vertices = 0;
+  Threading threading = Threading::Automatic;
 };
 
 /// What a child vertex was created from.

@@ -51,14 +51,15 @@ enum class Path { LastLevel, AllLevels };
 
 // One refinement with our kernel; returns the number of output faces (and edges).
 int64_t ours_once(const PolygonSoup& soup, int levels, double* bytes_per_edge,
-                  int64_t* edges = nullptr, Path path = Path::LastLevel) {
+                  int64_t* edges = nullptr, Path path = Path::LastLevel,
+                  Threading threading = Threading::Automatic) {
   auto mesh = build_mesh(soup);
   Mesh last_level;
   Result<std::vector<SubdivisionLevel>> all_levels = std::vector<SubdivisionLevel>();
   if (path == Path::LastLevel) {
-    last_level = std::move(*subdivide_last_level(std::move(*mesh), {.levels = levels}));
+    last_level = std::move(*subdivide_last_level(std::move(*mesh), {.levels = levels, .threading = threading}));
   } else {
-    all_levels = subdivide(*mesh, {.levels = levels});
+    all_levels = subdivide(*mesh, {.levels = levels, .threading = threading});
   }
   const Mesh& last = path == Path::LastLevel ? last_level : all_levels->back().mesh;
   benchmark::DoNotOptimize(last.positions().data());
@@ -218,6 +219,37 @@ void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memo
   state.counters["osd_ns_face"] = 1e9 * osd / n / double(faces);
 }
 
+// Ours with the automatic threading and ours on one thread alternately (`ratio` < 1: the
+// second thread pays off), in the allocator regime `memory`.
+void run_threads_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memory memory) {
+  using Clock = std::chrono::steady_clock;
+  set_memory(memory);
+  if (memory == Memory::Warm) ours_once(soup, levels, nullptr, nullptr, Path::LastLevel, Threading::OneThread);
+  double automatic = 0, one = 0, automatic_cpu = 0, one_cpu = 0;
+  bool is_automatic_first = true;
+  for (auto _ : state) {
+    for (int k = 0; k < 2; ++k) {
+      const bool is_automatic = (k == 0) == is_automatic_first;
+#if defined(__GLIBC__)
+      if (memory == Memory::Cold) malloc_trim(0);
+#endif
+      const auto t0 = Clock::now();
+      const double c0 = process_cpu_seconds();
+      ours_once(soup, levels, nullptr, nullptr, Path::LastLevel,
+                is_automatic ? Threading::Automatic : Threading::OneThread);
+      (is_automatic ? automatic_cpu : one_cpu) += process_cpu_seconds() - c0;
+      (is_automatic ? automatic : one) += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    is_automatic_first = !is_automatic_first;
+  }
+  restore_memory();
+  const double n = double(state.iterations());
+  state.counters["auto_ms"] = 1e3 * automatic / n;
+  state.counters["one_thread_ms"] = 1e3 * one / n;
+  state.counters["ratio"] = automatic / one;
+  state.counters["cpu_ratio"] = automatic_cpu / one_cpu;
+}
+
 const PolygonSoup& torus_2k() {
   static const PolygonSoup s = torus_soup(64, 32);  // 2048 quads
   return s;
@@ -271,6 +303,19 @@ BENCHMARK(BM_OursAllLevels_Torus2k_L5)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Mixed_L4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Torus100k_L2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OursAllLevels_Smoke_L2)->Unit(benchmark::kMicrosecond);
+// `BM_Threads/<case>_<regime>`: automatic threading against one thread, ours only.
+void BM_Threads(benchmark::State& s, const PolygonSoup& (*soup)(), int levels, Memory memory) {
+  run_threads_pair(s, soup(), levels, memory);
+}
+BENCHMARK_CAPTURE(BM_Threads, Torus2k_L4_warm, torus_2k, 4, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Threads, Torus2k_L4_cold, torus_2k, 4, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Threads, Torus2k_L5_warm, torus_2k, 5, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Threads, Torus2k_L5_cold, torus_2k, 5, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Threads, Mixed_L4_warm, mixed, 4, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Threads, Mixed_L4_cold, mixed, 4, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(BM_Threads, Torus100k_L2_warm, torus_100k, 2, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK_CAPTURE(BM_Threads, Torus100k_L2_cold, torus_100k, 2, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
 BENCHMARK_CAPTURE(BM_Pair, Torus2k_L4_warm, torus_2k, 4, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK_CAPTURE(BM_Pair, Torus2k_L4_cold, torus_2k, 4, Memory::Cold)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK_CAPTURE(BM_Pair, Torus2k_L5_warm, torus_2k, 5, Memory::Warm)->Unit(benchmark::kMillisecond)->MinTime(3.0);
