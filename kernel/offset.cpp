@@ -14,9 +14,9 @@
 #include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
-#include <thread>
 
 #include "kernel/large_arrays.h"
+#include "kernel/two_threads.h"
 
 namespace nomec::kernel {
 
@@ -38,14 +38,12 @@ constexpr int32_t kThreadedFrom = 1 << 15;
 
 template <typename Fn>
 void for_halves(int32_t n, Fn&& fn) {
-  if (n < kThreadedFrom || std::thread::hardware_concurrency() < 2) {
+  if (n < kThreadedFrom || !has_two_hardware_threads()) {
     fn(0, n);
     return;
   }
   const int32_t mid = n / 2;
-  std::thread upper([&] { fn(mid, n); });
-  fn(0, mid);
-  upper.join();
+  run_two_parts([&](int part) { part == 0 ? fn(0, mid) : fn(mid, n); });
 }
 
 }  // namespace
@@ -570,15 +568,13 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // input edge, so the negative copies' edges are numbered from E on: the two copies are
   // made on two threads for large meshes, the same arrays as one after the other.
   Run positive, negative;
-  if (!has_mobius && F >= kThreadedFrom && std::thread::hardware_concurrency() >= 2) {
+  if (!has_mobius && F >= kThreadedFrom && has_two_hardware_threads()) {
     positive.end = E;
     negative.next_edge = E;
     negative.end = static_cast<int32_t>(out_edges);
-    bool is_negative_made = false;
-    std::thread second([&] { is_negative_made = make_negative(negative); });
-    const bool is_positive_made = make_positive(positive);
-    second.join();
-    if (!is_positive_made || !is_negative_made || positive.next_edge != E) return std::nullopt;
+    bool made[2] = {false, false};  // positive, negative
+    run_two_parts([&](int part) { made[part] = part == 0 ? make_positive(positive) : make_negative(negative); });
+    if (!made[0] || !made[1] || positive.next_edge != E) return std::nullopt;
   } else {
     positive.end = static_cast<int32_t>(out_edges);
     if (!make_positive(positive)) return std::nullopt;
