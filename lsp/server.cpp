@@ -82,28 +82,19 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
 #include "lsp/handlers.def"
 #undef NOMEC_LSP_HANDLER
   // Each worker frees what checking SLIDE files left for its thread (Tcl's per-thread data).
-  request_thread_ = std::thread([this] {
-    name_thread("nomec-request");
-    request_loop();
-    release_thread_resources();
-  });
-  analysis_thread_ = std::thread([this] {
-    name_thread("nomec-analysis");
-    analysis_loop();
-    release_thread_resources();
-  });
-  geometry_thread_ = std::thread([this] {
-    name_thread("nomec-geometry");
-    yield_to_analysis();
-    geometry_loop();
-    release_thread_resources();
-  });
-  after_thread_ = std::thread([this] {
-    name_thread("nomec-after");
-    yield_to_analysis();
-    after_loop();
-    release_thread_resources();
-  });
+  // The background threads yield the processor to the analysis thread (see above).
+  auto start = [this](const char* name, void (ServerImpl::*loop)(), bool background) {
+    return std::thread([this, name, loop, background] {
+      name_thread(name);
+      if (background) yield_to_analysis();
+      (this->*loop)();
+      release_thread_resources();
+    });
+  };
+  request_thread_ = start("nomec-request", &ServerImpl::request_loop, false);
+  analysis_thread_ = start("nomec-analysis", &ServerImpl::analysis_loop, false);
+  geometry_thread_ = start("nomec-geometry", &ServerImpl::geometry_loop, true);
+  after_thread_ = start("nomec-after", &ServerImpl::after_loop, true);
 }
 
 ServerImpl::~ServerImpl() {

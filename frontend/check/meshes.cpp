@@ -161,7 +161,7 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
   // Resolved straight into the module's array (resolving one adds no other reference), so
   // a face's list costs no vector of its own.
   std::vector<ir::VertexRef>& all = c.module().vertex_refs;
-  const ir::Slice<ir::VertexRef> out{static_cast<uint32_t>(all.size()), 0};
+  const uint32_t first = static_cast<uint32_t>(all.size());
   for (ast::ExprId e : list.elems) {
     const ast::Expr& x = a.expr(e);
     if (x.kind != ast::ExprKind::Name) {
@@ -173,7 +173,7 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
     add_vertex_edges(c, owner, ref);
     all.push_back(std::move(ref));
   }
-  return ir::Slice<ir::VertexRef>{out.begin, static_cast<uint32_t>(all.size()) - out.begin};
+  return ir::Slice<ir::VertexRef>{first, static_cast<uint32_t>(all.size()) - first};
 }
 
 ir::Slice<ir::NodeId> read_names(Context& c, const ast::Ast& a, const ast::Item& list_item, ir::NodeId owner, Ns ns) {
