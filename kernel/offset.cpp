@@ -16,7 +16,7 @@
 #include <optional>
 
 #include "kernel/large_arrays.h"
-#include "kernel/two_threads.h"
+#include "base/two_threads.h"
 
 namespace nomec::kernel {
 

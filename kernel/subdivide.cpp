@@ -22,7 +22,7 @@
 #include <glm/geometric.hpp>
 
 #include "kernel/large_arrays.h"
-#include "kernel/two_threads.h"
+#include "base/two_threads.h"
 
 namespace nomec::kernel {
 namespace {

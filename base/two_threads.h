@@ -1,7 +1,7 @@
-// Two-way parallelism for the kernel's passes over large flat arrays: a pass split into
-// two parts by index range runs its second part on another thread. Rationale: the machines
-// the kernel targets have few cores and the passes are memory-bound, so two parts are what
-// pays off; a pool would only add state.
+// Two-way parallelism: work split into two parts (the kernel's passes over large flat
+// arrays by index range, the parser's pieces of a large text by bytes) runs its second part
+// on another thread. Rationale: the machines nomec targets have few cores and the work is
+// memory-bound, so two parts are what pays off; a pool would only add state.
 #pragma once
 
 #include <exception>
@@ -9,7 +9,7 @@
 #include <thread>
 #include <utility>
 
-namespace nomec::kernel {
+namespace nomec {
 
 /// True if the machine runs at least two threads at once (so splitting a pass can pay off).
 inline bool has_two_hardware_threads() {
@@ -49,4 +49,4 @@ void run_two_parts(Part&& part) {
   if (second_error) std::rethrow_exception(second_error);
 }
 
-}  // namespace nomec::kernel
+}  // namespace nomec
