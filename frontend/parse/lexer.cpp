@@ -561,6 +561,7 @@ thread_local bool reference_lexer = false;
 }  // namespace
 
 void use_reference_lexer(bool on) { reference_lexer = on; }
+bool reference_lexer_in_use() { return reference_lexer; }
 
 Lexed lex_text(std::string_view text, FileId file, DiagnosticEngine& comment_diags, std::string& blanked_storage,
                bool drop_whitespace) {

@@ -1314,6 +1314,13 @@ thread_local bool tls_tree_builder = false;
 
 namespace parse_detail {
 void use_tree_builder(bool on) { tls_tree_builder = on; }
+
+ParseSwitches ParseSwitches::current() { return {reference_lexer_in_use(), tls_tree_builder}; }
+
+void ParseSwitches::apply() const {
+  use_reference_lexer(reference_lexer);
+  use_tree_builder(tree_builder);
+}
 }  // namespace parse_detail
 
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
@@ -1447,8 +1454,12 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   return result;
 }
 
-ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags) {
-  return parse_piece(sources.text(file), file, PieceSinks{diags, diags, diags}, nullptr);
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags, ParseThreads threads) {
+  const std::string_view text = sources.text(file);
+  if (parse_detail::uses_two_threads(threads, text.size())) {
+    if (std::optional<ast::Ast> halves = parse_detail::parse_in_two_pieces(text, file, diags)) return std::move(*halves);
+  }
+  return parse_piece(text, file, PieceSinks{diags, diags, diags}, nullptr);
 }
 
 ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceRange raw, ast::Ast& out,

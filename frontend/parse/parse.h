@@ -11,8 +11,18 @@
 
 namespace nomec {
 
+/// Whether a parse may use a second thread. A large text is cut in two at the end of a
+/// top-level statement near its middle and the halves are parsed at once, on two threads
+/// (`parse_file`; `ParseCache` parses a new document's pieces so); the result is the same
+/// as on one thread (the halves are used only when each parses as it does inside the whole
+/// text, see piece.h). Automatic: texts of at least `kTwoThreadParseBytes`, on a machine
+/// that runs two threads at once.
+enum class ParseThreads : uint8_t { Automatic, One, Two };
+inline constexpr size_t kTwoThreadParseBytes = 128 * 1024;
+
 /// Parses one file. Always returns an AST (possibly partial); problems go to `diags`.
-ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags);
+ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
+                    ParseThreads threads = ParseThreads::Automatic);
 
 /// Parses the expression inside a raw `[ … ]` item of `file` (a function surface's
 /// `funcX [cos(u)*v]`; `raw` is the item's range in the file) with the grammar's `expr`
@@ -36,10 +46,12 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
 /// twice the document's pieces or three times its bytes, so memory stays proportional to
 /// the document. Only the text around an edit (found by comparing with the previous version)
 /// is scanned for cuts and looked up; the cuts and runs before and after it are reused,
-/// shifted. Assembling the result still copies the whole AST.
+/// shifted. Assembling the result still copies the whole AST. The first version of a large
+/// document (no previous version to reuse) has its pieces parsed on two threads
+/// (`ParseThreads`), half of the text's bytes each.
 class ParseCache {
  public:
-  ParseCache();
+  explicit ParseCache(ParseThreads threads = ParseThreads::Automatic);
   ~ParseCache();
   ParseCache(ParseCache&&) noexcept;
   ParseCache& operator=(ParseCache&&) noexcept;
@@ -57,6 +69,7 @@ class ParseCache {
     size_t looked_up_bytes = 0;  // bytes of piece text hashed to find cached pieces
     size_t cached_pieces = 0;    // pieces kept for the next versions after this call
     size_t cached_bytes = 0;     // their text
+    int threads = 1;             // threads that parsed pieces (two for a large new document)
   };
   const Stats& last_stats() const;
 

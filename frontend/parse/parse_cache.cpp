@@ -19,11 +19,14 @@
 #include <cstddef>
 #include <cstring>
 #include <cstdint>
+#include <exception>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
+#include "base/two_threads.h"
 #include "frontend/parse/parse.h"
 #include "frontend/parse/piece.h"
 
@@ -219,6 +222,7 @@ struct ParseCache::Impl {
     bool has_diags;        // the piece reported something (most do not)
   };
   std::unordered_map<std::string, Piece, TextHash, std::equal_to<>> pieces;
+  ParseThreads threads = ParseThreads::Automatic;
   uint64_t generation = 0;
   size_t cached_bytes = 0;  // the text of every cached piece
   Stats stats;
@@ -249,7 +253,7 @@ struct ParseCache::Impl {
   }
 };
 
-ParseCache::ParseCache() : impl_(std::make_unique<Impl>()) {}
+ParseCache::ParseCache(ParseThreads threads) : impl_(std::make_unique<Impl>()) { impl_->threads = threads; }
 ParseCache::~ParseCache() = default;
 ParseCache::ParseCache(ParseCache&&) noexcept = default;
 ParseCache& ParseCache::operator=(ParseCache&&) noexcept = default;
@@ -347,6 +351,45 @@ class Assembler {
 
 namespace {
 
+// Runs `part(0)` here and `part(1)` on a second thread that parses with this thread's test
+// switches (piece.h).
+template <typename Part>
+void run_parse_parts(Part&& part) {
+  const parse_detail::ParseSwitches switches = parse_detail::ParseSwitches::current();
+  run_two_parts([&](int k) {
+    if (k == 1) switches.apply();
+    part(k);
+  });
+}
+
+// One piece of a text to assemble: what parsing `key` alone gave, placed at byte `at`.
+struct PieceRef {
+  const ast::Ast* ast;
+  const PieceInfo* info;
+  const DiagnosticEngine* comments;
+  const DiagnosticEngine* tokens;
+  const DiagnosticEngine* syntax;
+  std::string_view key;
+  uint32_t at;
+  bool has_diags;  // the piece reported something (most do not)
+};
+
+// The pieces' diagnostics, as one parse of the whole text orders them: every piece's
+// comment problems, then every piece's token problems, then every piece's syntax errors.
+void append_piece_diags(std::span<const PieceRef> pieces, Assembler& assembler, DiagnosticEngine& diags) {
+  std::vector<const PieceRef*> reporting;
+  for (const PieceRef& p : pieces) {
+    if (p.has_diags) reporting.push_back(&p);
+  }
+  for (const PieceRef* p : reporting) assembler.append_diags(*p->comments, p->key, p->at, diags);
+  for (const PieceRef* p : reporting) assembler.append_diags(*p->tokens, p->key, p->at, diags);
+  for (const PieceRef* p : reporting) assembler.append_diags(*p->syntax, p->key, p->at, diags);
+}
+
+bool reports_something(const DiagnosticEngine& comments, const DiagnosticEngine& tokens, const DiagnosticEngine& syntax) {
+  return !comments.diagnostics().empty() || !tokens.diagnostics().empty() || !syntax.diagnostics().empty();
+}
+
 // Where a version differs from the previous one: text[0, prefix) is unchanged, and so is
 // text[tail, size) (it was old[tail - delta, old size)). Without a previous version nothing
 // is kept and every step below is the full computation.
@@ -370,6 +413,7 @@ struct Chunks {
 // The cached steps of `ParseCache::parse`.
 struct ParseCache::Steps {
   using Use = Impl::Use;
+  using Piece = Impl::Piece;
   Impl& m;
 
   Edit edit_since_previous(std::string_view text) const {
@@ -457,8 +501,7 @@ struct ParseCache::Steps {
           break;
         }
         if (piece->info.self_contained || j == n - 1) {
-          const bool has_diags = !piece->comments.diagnostics().empty() || !piece->tokens.diagnostics().empty() ||
-                                 !piece->syntax.diagnostics().empty();
+          const bool has_diags = reports_something(piece->comments, piece->tokens, piece->syntax);
           uses.push_back({key, piece, begin, static_cast<uint32_t>(i), static_cast<uint32_t>(j), has_diags});
           min_last = 0;
           i = j + 1;
@@ -515,15 +558,57 @@ struct ParseCache::Steps {
     out.stmts.reserve(stmts);
     out.top.reserve(top);
     Assembler assembler(out, text, file);
-    for (const Use& u : uses) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
-    std::vector<const Use*> reporting;
+    std::vector<PieceRef> refs;
+    refs.reserve(uses.size());
     for (const Use& u : uses) {
-      if (u.has_diags) reporting.push_back(&u);
+      assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
+      const Piece& p = *u.piece;
+      refs.push_back({&p.ast, &p.info, &p.comments, &p.tokens, &p.syntax, u.key, u.at, u.has_diags});
     }
-    for (const Use* u : reporting) assembler.append_diags(u->piece->comments, u->key, u->at, diags);
-    for (const Use* u : reporting) assembler.append_diags(u->piece->tokens, u->key, u->at, diags);
-    for (const Use* u : reporting) assembler.append_diags(u->piece->syntax, u->key, u->at, diags);
+    append_piece_diags(refs, assembler, diags);
     return out;
+  }
+
+  // 0. A new document (nothing to reuse) of some size: its chunks, which the runs ask for
+  // first, are parsed now on two threads, half of the bytes each, and cached; the runs then
+  // find them (and parse on this thread only runs of several chunks, rare).
+  void parse_chunks_on_two_threads(std::string_view text, const Chunks& chunks) const {
+    struct Todo {
+      std::string_view key;
+      Piece* piece;
+    };
+    std::vector<Todo> todo;
+    todo.reserve(chunks.ends.size());
+    size_t bytes = 0;
+    uint32_t begin = 0;
+    for (const uint32_t end : chunks.ends) {
+      // Map nodes do not move: the key's text and the piece stay where they are while the
+      // map grows and while the threads write the pieces (the map itself is left alone).
+      auto [it, inserted] = m.pieces.try_emplace(std::string(text.substr(begin, end - begin)));
+      if (inserted) {
+        todo.push_back({it->first, &it->second});
+        bytes += end - begin;
+      }
+      begin = end;
+    }
+    size_t half = 0;
+    for (size_t acc = 0; half < todo.size() && 2 * acc < bytes; ++half) acc += todo[half].key.size();
+    try {
+      run_parse_parts([&](int k) {
+        const size_t from = k == 0 ? 0 : half, to = k == 0 ? half : todo.size();
+        for (size_t i = from; i < to; ++i) {
+          Piece& p = *todo[i].piece;
+          p.ast = parse_piece(todo[i].key, FileId{0}, PieceSinks{p.comments, p.tokens, p.syntax}, &p.info);
+        }
+      });
+    } catch (...) {
+      for (const Todo& t : todo) m.pieces.erase(m.pieces.find(t.key));  // none is half-made in the cache
+      throw;
+    }
+    m.cached_bytes += bytes;
+    m.stats.parsed += todo.size();
+    m.stats.parsed_bytes += bytes;
+    m.stats.threads = 2;
   }
 
   // 4. Keep what this version and the one before used (an undo finds its pieces again);
@@ -551,6 +636,7 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   Steps steps{m};
   const Edit edit = steps.edit_since_previous(text);
   Chunks chunks = steps.chunk_ends(edit);
+  if (!m.have_prev && parse_detail::uses_two_threads(m.threads, text.size())) steps.parse_chunks_on_two_threads(text, chunks);
   std::vector<Impl::Use> uses = steps.runs(edit, chunks);
   ast::Ast out = Steps::assemble(uses, text, file, diags);
   m.stats.pieces = uses.size();
@@ -562,5 +648,57 @@ ast::Ast ParseCache::parse(const SourceManager& sources, FileId file, Diagnostic
   steps.sweep(text.size());
   return out;
 }
+
+namespace parse_detail {
+
+bool uses_two_threads(ParseThreads threads, size_t bytes) {
+  switch (threads) {
+    case ParseThreads::One: return false;
+    case ParseThreads::Two: return true;
+    case ParseThreads::Automatic: return bytes >= kTwoThreadParseBytes && has_two_hardware_threads();
+  }
+  return false;
+}
+
+std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, DiagnosticEngine& diags) {
+  std::vector<uint32_t> cuts;
+  const size_t middle = text.size() / 2;
+  scan_cuts(text, 0, cuts, [&](uint32_t cut) { return cut >= middle; });
+  if (cuts.empty() || cuts.back() >= text.size()) return std::nullopt;
+  const uint32_t cut = cuts.back();
+  struct Half {
+    ast::Ast ast;
+    DiagnosticEngine comments, tokens, syntax;
+    PieceInfo info;
+  };
+  Half halves[2];
+  const std::string_view texts[2] = {text.substr(0, cut), text.substr(cut)};
+  // The first half is parsed as the file itself: its ranges, views and ids are then those of
+  // the assembled AST already, and only the second half is copied after it.
+  run_parse_parts([&](int k) {
+    Half& h = halves[k];
+    h.ast = parse_piece(texts[k], k == 0 ? file : FileId{0}, PieceSinks{h.comments, h.tokens, h.syntax}, &h.info);
+  });
+  if (!halves[0].info.self_contained || !halves[1].info.starts_cleanly) return std::nullopt;
+  ast::Ast out = std::move(halves[0].ast);
+  const ast::Ast& second = halves[1].ast;
+  out.exprs.reserve(out.exprs.size() + second.exprs.size());
+  out.args.reserve(out.args.size() + second.args.size());
+  out.lists.reserve(out.lists.size() + second.lists.size());
+  out.stmts.reserve(out.stmts.size() + second.stmts.size());
+  out.top.reserve(out.top.size() + second.top.size());
+  Assembler assembler(out, text, file);
+  assembler.append(second, halves[1].info, texts[1], cut);
+  PieceRef refs[2];
+  for (int k = 0; k < 2; ++k) {
+    const Half& h = halves[k];
+    refs[k] = {&h.ast, &h.info, &h.comments, &h.tokens, &h.syntax, texts[k], k == 0 ? 0 : cut,
+               reports_something(h.comments, h.tokens, h.syntax)};
+  }
+  append_piece_diags(refs, assembler, diags);
+  return out;
+}
+
+}  // namespace parse_detail
 
 }  // namespace nomec

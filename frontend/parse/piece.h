@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
+#include "frontend/parse/parse.h"
 
 namespace nomec {
 
@@ -56,6 +58,27 @@ namespace parse_detail {
 /// a text with syntax errors always uses), instead of building the AST from the parser's
 /// events.
 void use_tree_builder(bool on);
+
+/// The parse switches of the tests (`use_reference_lexer`, `use_tree_builder`) that are set
+/// on the calling thread; a thread that parses pieces for it sets the same (`apply`), so a
+/// parse split over two threads takes the same paths as one on a single thread.
+struct ParseSwitches {
+  bool reference_lexer = false;
+  bool tree_builder = false;
+  static ParseSwitches current();
+  void apply() const;
+};
+
+/// Whether a parse of `bytes` bytes with `threads` uses two threads.
+bool uses_two_threads(ParseThreads threads, size_t bytes);
+
+/// `parse_file` of `text` as two pieces parsed at once on two threads: the text is cut at
+/// the cut point (see ParseCache) nearest after its middle, and the pieces' ASTs and
+/// diagnostics are assembled as ParseCache assembles its runs. Returns nothing (and reports
+/// nothing) when the text has no such cut or the pieces do not parse as they would inside
+/// the text (the first must be self-contained, the second must start cleanly): the caller
+/// then parses it in one piece.
+std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, DiagnosticEngine& diags);
 }  // namespace parse_detail
 
 }  // namespace nomec

@@ -76,5 +76,7 @@ Lexed lex_unblanked(std::string_view text);
 /// For the differential tests: while set (on this thread), every parse lexes with NomeLexer
 /// instead of the hand-written lexer.
 void use_reference_lexer(bool on);
+/// Whether `use_reference_lexer` is set on this thread.
+bool reference_lexer_in_use();
 
 }  // namespace nomec::parse_detail

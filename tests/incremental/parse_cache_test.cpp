@@ -15,10 +15,13 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "frontend/check/check.h"
+#include "base/two_threads.h"
 #include "frontend/parse/parse.h"
+#include "frontend/parse/piece.h"
 #include "ir/ir.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
@@ -69,13 +72,14 @@ std::string generated_scene(int modules) {
 }
 
 // Both parses see the document as file 1 (file 0 is another file), so a cache that kept
-// the file id its pieces were parsed with would show up.
-std::string full_parse(const std::string& text) {
+// the file id its pieces were parsed with would show up. The reference is the parse on one
+// thread, in one piece.
+std::string full_parse(const std::string& text, nomec::ParseThreads threads = nomec::ParseThreads::One) {
   nomec::SourceManager sources;
   sources.add_file("other.nome", "point p (1 2 3) endpoint\n");
   nomec::DiagnosticEngine diags;
   nomec::FileId f = sources.add_file("doc.nome", text);
-  nomec::ast::Ast a = nomec::parse_file(sources, f, diags);
+  nomec::ast::Ast a = nomec::parse_file(sources, f, diags, threads);
   return dump_ast(a) + "--\n" + dump_diags(diags);
 }
 
@@ -159,9 +163,10 @@ void random_edit(std::string& text, std::mt19937& rng) {
 }
 
 // Runs `edits` random edits over `text` with one cache; every version must match.
-void differential(const std::string& name, std::string text, int edits, uint32_t seed) {
+void differential(const std::string& name, std::string text, int edits, uint32_t seed,
+                  nomec::ParseThreads threads = nomec::ParseThreads::Automatic) {
   std::mt19937 rng(seed);
-  nomec::ParseCache cache;
+  nomec::ParseCache cache(threads);
   ASSERT_EQ(cached_parse(cache, text), full_parse(text)) << name << " (unedited)";
   std::string original = text;
   for (int k = 0; k < edits; ++k) {
@@ -464,3 +469,92 @@ TEST(ParseCache, CheckThroughCacheEqualsCheck) {
 }
 
 }  // namespace
+
+// A large text parsed on two threads (`parse_file`: two halves parsed alone at once and
+// assembled; a new document's cache: its pieces, half of the bytes on each thread) must be
+// exactly the parse on one thread. Every corpus file and example is cut in two (forced
+// below the automatic size), also after random edits, which often leave a half that does
+// not parse as it does inside the whole text: then the text is parsed in one piece.
+TEST(ParseTwoThreads, EqualsOneThreadOnCorpusFilesUnderRandomEdits) {
+  std::vector<Doc> docs = corpus_docs();
+  ASSERT_FALSE(docs.empty());
+  int versions = 0, halved = 0;
+  uint32_t seed = 500;
+  for (const Doc& d : docs) {
+    std::mt19937 rng(seed++);
+    std::string text = d.text;
+    for (int k = 0; k < 6; ++k) {
+      if (k > 0) random_edit(text, rng);
+      const std::string want = full_parse(text);
+      ASSERT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), want), "")
+          << d.name << " after " << k << " edits, parse_file on two threads";
+      nomec::ParseCache cache(nomec::ParseThreads::Two);
+      ASSERT_EQ(first_difference(cached_parse(cache, text), want), "")
+          << d.name << " after " << k << " edits, a new cache on two threads";
+      EXPECT_EQ(cache.last_stats().threads, 2);
+      nomec::DiagnosticEngine scratch;
+      halved += nomec::parse_detail::parse_in_two_pieces(text, nomec::FileId{1}, scratch).has_value() ? 1 : 0;
+      ++versions;
+    }
+  }
+  // Most versions were really parsed as two halves, not in one piece after all.
+  EXPECT_GT(halved, versions / 2) << halved << " of " << versions;
+}
+
+// With the parse layer's test switches set (the reference lexer and the tree-based
+// builder), a parse on two threads still equals the one-thread parse; `ParseSwitches`
+// carries the switches to the thread that parses the second half.
+TEST(ParseTwoThreads, UnderTheReferenceSwitchesEqualsOneThread) {
+  const std::string text = generated_scene(40);
+  const std::string want = full_parse(text);
+  nomec::parse_detail::ParseSwitches{true, true}.apply();
+  const std::string got = full_parse(text, nomec::ParseThreads::Two);
+  nomec::ParseCache cache(nomec::ParseThreads::Two);
+  const std::string cached = cached_parse(cache, text);
+  nomec::parse_detail::ParseSwitches{}.apply();
+  EXPECT_EQ(first_difference(got, want), "");
+  EXPECT_EQ(first_difference(cached, want), "");
+  nomec::parse_detail::ParseSwitches seen;
+  std::thread([&] {
+    nomec::parse_detail::ParseSwitches{true, false}.apply();
+    seen = nomec::parse_detail::ParseSwitches::current();
+  }).join();
+  EXPECT_TRUE(seen.reference_lexer);
+  EXPECT_FALSE(seen.tree_builder);
+  EXPECT_FALSE(nomec::parse_detail::ParseSwitches::current().reference_lexer);  // this thread's own
+}
+
+// Above `kTwoThreadParseBytes` both parse on two threads by themselves (on a machine with
+// two hardware threads), and a cache filled so keeps matching under edits.
+TEST(ParseTwoThreads, LargeSceneAutomaticallyOnTwoThreads) {
+  const std::string scene = generated_scene(400);
+  ASSERT_GE(scene.size(), nomec::kTwoThreadParseBytes);
+  const std::string want = full_parse(scene);
+  EXPECT_EQ(first_difference(full_parse(scene, nomec::ParseThreads::Automatic), want), "");
+  nomec::ParseCache cache;
+  EXPECT_EQ(first_difference(cached_parse(cache, scene), want), "");
+  EXPECT_EQ(cache.last_stats().threads, nomec::has_two_hardware_threads() ? 2 : 1);
+  EXPECT_EQ(cache.last_stats().parsed, cache.last_stats().pieces);
+  differential("large generated", scene, 12, 700);
+}
+
+// The cut after the middle may be followed by a token that cannot start a statement (a
+// stray `)`): a piece starting there recovers differently from the whole text (piece.h),
+// so the text is parsed in one piece, with the same result.
+TEST(ParseTwoThreads, SecondHalfThatCannotStartAStatementIsNotUsed) {
+  const int m = 20;
+  std::string text;
+  for (int k = 0; k < 2 * m; ++k) {
+    if (k == m + 1) text += ") ";
+    text += fmt::format("point p{:02} (1 2 3) endpoint\n", k);
+  }
+  nomec::DiagnosticEngine scratch;
+  EXPECT_FALSE(nomec::parse_detail::parse_in_two_pieces(text, nomec::FileId{1}, scratch).has_value());
+  EXPECT_TRUE(scratch.diagnostics().empty());  // nothing reported when the halves are not used
+  EXPECT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), full_parse(text)), "");
+  // Without the stray `)` the same text is parsed as two halves.
+  std::string clean = text;
+  clean.erase(clean.find(") "), 2);
+  EXPECT_TRUE(nomec::parse_detail::parse_in_two_pieces(clean, nomec::FileId{1}, scratch).has_value());
+  EXPECT_EQ(first_difference(full_parse(clean, nomec::ParseThreads::Two), full_parse(clean)), "");
+}
