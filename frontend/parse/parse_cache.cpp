@@ -579,6 +579,7 @@ struct ParseCache::Steps {
     };
     std::vector<Todo> todo;
     todo.reserve(chunks.ends.size());
+    m.pieces.reserve(m.pieces.size() + chunks.ends.size());
     size_t bytes = 0;
     uint32_t begin = 0;
     for (const uint32_t end : chunks.ends) {
