@@ -432,6 +432,27 @@ BENCHMARK(BM_Keystroke)->Arg(64 << 10)->Arg(512 << 10)->Arg(1 << 20)->UseManualT
 BENCHMARK(BM_KeystrokeParse)->Arg(512 << 10)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeCorpus)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KeystrokeLargestCorpusFile)->UseManualTime()->Unit(benchmark::kMillisecond);
+// A document's first parse in the editor: a new ParseCache parses every chunk (one
+// top-level statement each) and assembles them, on range(1) threads (1 or 2), against
+// BM_ParseOnly's one piece.
+void BM_FirstCacheParse(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  const nomec::ParseThreads threads = state.range(1) == 1 ? nomec::ParseThreads::One : nomec::ParseThreads::Two;
+  size_t pieces = 0;
+  for (auto _ : state) {
+    nomec::ParseCache cache(threads);
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::FileId f = sources.add_file("bench.nome", text);
+    nomec::ast::Ast ast = cache.parse(sources, f, diags);
+    pieces = cache.last_stats().pieces;
+    benchmark::DoNotOptimize(ast.stmts.size());
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(text.size()));
+  state.counters["pieces"] = static_cast<double>(pieces);
+}
+BENCHMARK(BM_FirstCacheParse)->Args({1 << 20, 1})->Args({1 << 20, 2})->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+
 // Wall time (bytes per second from it) and the whole process's CPU time: a large text is
 // parsed on two threads.
 BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond)

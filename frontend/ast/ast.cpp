@@ -24,6 +24,9 @@ struct KeywordMaps {
   std::unordered_map<std::string_view, BlockKind> open;
   std::unordered_map<std::string_view, BlockKind> close;
   std::vector<std::string_view> words;
+  // The generators with a digit keyword (NOME2's `bspline3`): the only ones a word ending in
+  // a digit is compared with (the cache's cut scanner asks about every word it meets).
+  std::vector<const ir::GeneratorInfo*> digit_generators;
   void add(std::string_view keyword, BlockKind kind) {
     open.emplace(keyword, kind);
     close.emplace(end_words.emplace_back(end_keyword(keyword)), kind);
@@ -40,6 +43,7 @@ const KeywordMaps& keyword_maps() {
     }
     for (const ir::GeneratorInfo& g : ir::generators()) {
       for (std::string_view kw : g.keywords) m.add(kw, BlockKind::Generator);
+      if (!g.digit_prefix.empty()) m.digit_generators.push_back(&g);
     }
     return m;
   }();
@@ -58,8 +62,8 @@ namespace {
 // A generator keyword made of a prefix and digits (NOME2's `bspline3`), which no table lists.
 bool is_digit_keyword(std::string_view word) {
   if (word.empty() || word.back() < '0' || word.back() > '9') return false;
-  for (const ir::GeneratorInfo& g : ir::generators()) {
-    if (g.keyword_digits(word)) return true;
+  for (const ir::GeneratorInfo* g : keyword_maps().digit_generators) {
+    if (g->keyword_digits(word)) return true;
   }
   return false;
 }
