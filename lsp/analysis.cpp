@@ -140,7 +140,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     index::Checked checked = index::check_document(path.value_or(uri), std::move(text), options, diags, cache);
     if (cache != nullptr) {
       const ParseCache::Stats& s = cache->last_stats();
-      a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes, s.threads};
+      a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};
     } else {
       a->parse_stats = {1, 1, bytes};
     }
@@ -158,6 +158,16 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   for (const Diagnostic& d : a->diagnostics) a->diagnostics_json.push_back(diagnostic_json(*a, d));
   a->times.diagnostics_ms = thread_cpu_ms() - checked_at;
   return a;
+}
+
+void ServerImpl::fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text) {
+  std::lock_guard lock(slot.mu);
+  if (slot.filled) return;
+  SourceManager sources;
+  FileId file = sources.add_file(path, text);
+  DiagnosticEngine scratch;  // the same as the published ones: the result equals parse_file's
+  slot.cache.parse(sources, file, scratch);
+  slot.filled = true;
 }
 
 std::shared_ptr<Geometry> ServerImpl::evaluate_geometry(const Analysis& a) {

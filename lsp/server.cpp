@@ -19,7 +19,7 @@ namespace nomec::lsp {
 
 namespace {
 
-// The background threads (geometry, and the after thread: freeing, indexing)
+// The background threads (geometry, and the after thread: cache fills, freeing, indexing)
 // run at a lower priority than the analysis thread, whose diagnostics the sculptor waits
 // for: on a machine with fewer free cores than busy threads, the next keystroke's check is
 // scheduled first. A thread may lower its own priority without privileges (Linux applies
@@ -501,8 +501,25 @@ void ServerImpl::analysis_loop() {
     lock.unlock();
     std::shared_ptr<Analysis> a;
     if (cache) {
-      std::lock_guard cache_lock(cache->mu);
-      a = analyse(uri, version, std::move(text), &cache->cache);
+      // Waits while the after thread fills the cache: then this change re-parses little.
+      std::unique_lock cache_lock(cache->mu);
+      if (cache->filled) {
+        a = analyse(uri, version, std::move(text), &cache->cache);
+      } else {
+        cache_lock.unlock();
+        // The first version is parsed by `parse_file` for its diagnostics while the after
+        // thread fills the cache from the same text on the other core: filling is not on the
+        // path to these diagnostics, and is done by the time the sculptor types.
+        if (!cache->scheduled && text.size() <= options_.max_document_bytes) {
+          cache->scheduled = true;
+          {
+            std::lock_guard after_lock(after_mu_);
+            after_fill_.push_back({cache, uri_to_path(uri).value_or(uri), text});
+          }
+          after_cv_.notify_all();
+        }
+        a = analyse(uri, version, std::move(text), nullptr);
+      }
     } else {
       a = analyse(uri, version, std::move(text), nullptr);
     }
@@ -582,10 +599,11 @@ void ServerImpl::after_loop() {
   for (;;) {
     std::shared_ptr<const Analysis> job;
     std::vector<std::shared_ptr<const Analysis>> release;
+    std::vector<CacheFill> fill;
     {
       std::unique_lock lock(after_mu_);
       auto has_work = [&] {
-        return stopped() || after_index_ != nullptr || !after_release_.empty();
+        return stopped() || after_index_ != nullptr || !after_release_.empty() || !after_fill_.empty();
       };
       if (after_freed_ && options_.idle_release_ms > 0) {
         // Typing pauses: once nothing arrived for idle_release_ms, give the memory back.
@@ -603,9 +621,12 @@ void ServerImpl::after_loop() {
       job = std::move(after_index_);
       after_index_.reset();
       release.swap(after_release_);
+      fill.swap(after_fill_);
       after_busy_ = true;
     }
-    // First freeing, then indexing.
+    // First the caches (the next change waits for its document's), then freeing, indexing.
+    for (CacheFill& f : fill) fill_parse_cache(*f.slot, f.path, f.text);
+    fill.clear();
     release.clear();  // frees here unless a request still holds one
     if (job && document_version(job->uri) == job->version) {
       const double index_start = thread_cpu_ms();
@@ -696,7 +717,7 @@ bool ServerImpl::background_busy() const {
   if (analysing_) return true;
   {
     std::lock_guard lock(after_mu_);
-    if (after_busy_ || after_index_ || !after_release_.empty()) return true;
+    if (after_busy_ || after_index_ || !after_release_.empty() || !after_fill_.empty()) return true;
   }
   std::lock_guard lock(geo_mu_);
   return geo_busy_;

@@ -37,7 +37,7 @@ struct ServerOptions {
 };
 
 /// How much lower than the analysis thread the background threads run (a `nice` step:
-/// geometry, and the freeing and indexing after publishing). Threads are named
+/// geometry, and the cache fills, freeing and indexing after publishing). Threads are named
 /// `nomec-request`, `nomec-analysis`, `nomec-geometry` and `nomec-after`.
 inline constexpr int kBackgroundNice = 5;
 
@@ -48,7 +48,6 @@ struct ParseStats {
   size_t pieces = 0;        // top-level pieces of the document
   size_t parsed = 0;        // pieces re-parsed for this version (the rest were reused)
   size_t parsed_bytes = 0;  // bytes re-parsed
-  int threads = 1;          // threads that parsed them (two for a large document's first version)
 };
 
 /// Where the latest analysis of a document spent its time, in milliseconds of the CPU time

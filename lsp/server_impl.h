@@ -24,12 +24,16 @@
 
 namespace nomec::lsp {
 
-/// A document's ParseCache. The first version of a large document has its pieces parsed
-/// on two threads (`ParseThreads`), which fills the cache while it parses: each later
-/// change re-parses only what it touched. The analysis thread takes `mu` to use the cache.
+/// A document's ParseCache, and whether it holds a version yet. The first analysis of a
+/// document parses its text with `parse_file` (one parser run per half is cheaper than one per top-level
+/// statement) and publishes; meanwhile, on the other core, the after thread fills the
+/// cache from the same text, so the next change re-parses only what it touched and seldom
+/// waits for the fill. The analysis thread and the after thread take `mu` to use the cache.
 struct DocumentParseCache {
   std::mutex mu;
   ParseCache cache;
+  bool filled = false;     // the cache has parsed a version (under mu)
+  bool scheduled = false;  // the after thread was asked to fill it (analysis thread only)
 };
 
 /// One open document: its latest text and version, the latest finished analysis and
@@ -89,6 +93,7 @@ class ServerImpl {
                                     ParseCache* cache) const;
   /// Fills a document's ParseCache from the text of the version being analysed, named
   /// `path` (after thread).
+  static void fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text);
   /// Evaluates the scene of an analysis (analysis.cpp).
   static std::shared_ptr<Geometry> evaluate_geometry(const Analysis& a);
 
@@ -160,6 +165,14 @@ class ServerImpl {
   mutable std::mutex after_mu_;
   std::condition_variable after_cv_;
   std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
+  // Caches to fill from the text of a version whose first analysis (`parse_file`) is under way,
+  // before indexing.
+  struct CacheFill {
+    std::shared_ptr<DocumentParseCache> slot;
+    std::string path;
+    std::string text;
+  };
+  std::vector<CacheFill> after_fill_;
   std::vector<std::shared_ptr<const Analysis>> after_release_;
   bool after_busy_ = false;
   bool after_freed_ = false;              // memory was freed since the last release
