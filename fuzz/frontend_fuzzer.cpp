@@ -5,7 +5,9 @@
 // hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference, and
 // on a text that parses without errors the AST builder that reads the parser's events must
 // give exactly the AST and diagnostics of the one that converts parse trees (a text with
-// errors takes the tree-based path in both).
+// errors takes the tree-based path in both); and the text cut in two and parsed on two
+// threads must give exactly its parse on one (`ParseThreads`, forced below the automatic
+// size).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -37,11 +39,11 @@ bool lexers_agree(std::string_view text) {
   return fast.tokens == reference.tokens && fast.eof_touch_start == reference.eof_touch_start;
 }
 
-std::string parse_dump(const std::string& text, bool* clean) {
+std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads threads = nomec::ParseThreads::One) {
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
   const nomec::FileId f = sources.add_file("fuzz.nome", text);
-  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags);
+  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags, threads);
   *clean = diags.error_count() == 0;
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
@@ -58,6 +60,13 @@ bool builders_agree(const std::string& text) {
   return from_events == from_tree;
 }
 
+// The text cut in two and parsed on two threads (or, when its halves would not parse as
+// inside it, in one piece after all) gives its parse on one thread, errors and all.
+bool threads_agree(const std::string& text) {
+  bool ignored = false;
+  return parse_dump(text, &ignored, nomec::ParseThreads::Two) == parse_dump(text, &ignored);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -66,6 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);
   if (!lexers_agree(text)) std::abort();
   if (!builders_agree(text)) std::abort();
+  if (!threads_agree(text)) std::abort();
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions options;

@@ -1374,6 +1374,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       antlr4::atn::PredictionMode::SLL);
   std::vector<int32_t> unanchored;
   bool parsed = false;
+  bool gave_up = false;
   {
     DiagnosticEngine builder_diags;
     if (!tls_tree_builder) {
@@ -1433,6 +1434,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     } catch (const std::exception&) {
       tree = nullptr;  // recovery gave up; diagnostics were emitted
       stream.eof_seen_early_ = true;
+      gave_up = true;
     }
   }
   if (info != nullptr) {
@@ -1444,6 +1446,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
         first_type == antlr4::Token::EOF ||
         atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(first_type);
     info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
+    info->gave_up = gave_up;
   }
   if (tree != nullptr) {
     AstBuilder builder(file, text, offsets, result, &unanchored, &sinks.syntax);

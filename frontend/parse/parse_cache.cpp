@@ -560,8 +560,9 @@ struct ParseCache::Steps {
     Assembler assembler(out, text, file);
     std::vector<PieceRef> refs;
     refs.reserve(uses.size());
+    const bool gave_up = !uses.empty() && uses.back().piece->info.gave_up;  // see PieceInfo::gave_up
     for (const Use& u : uses) {
-      assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
+      if (!gave_up) assembler.append(u.piece->ast, u.piece->info, u.key, u.at);
       const Piece& p = *u.piece;
       refs.push_back({&p.ast, &p.info, &p.comments, &p.tokens, &p.syntax, u.key, u.at, u.has_diags});
     }
@@ -681,7 +682,9 @@ std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, 
     h.ast = parse_piece(texts[k], k == 0 ? file : FileId{0}, PieceSinks{h.comments, h.tokens, h.syntax}, &h.info);
   });
   if (!halves[0].info.self_contained || !halves[1].info.starts_cleanly) return std::nullopt;
-  ast::Ast out = std::move(halves[0].ast);
+  ast::Ast out;
+  out.file = file;
+  if (!halves[1].info.gave_up) out = std::move(halves[0].ast);  // see PieceInfo::gave_up
   const ast::Ast& second = halves[1].ast;
   out.exprs.reserve(out.exprs.size() + second.exprs.size());
   out.args.reserve(out.args.size() + second.args.size());
@@ -689,7 +692,7 @@ std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, 
   out.stmts.reserve(out.stmts.size() + second.stmts.size());
   out.top.reserve(out.top.size() + second.top.size());
   Assembler assembler(out, text, file);
-  assembler.append(second, halves[1].info, texts[1], cut);
+  if (!halves[1].info.gave_up) assembler.append(second, halves[1].info, texts[1], cut);
   PieceRef refs[2];
   for (int k = 0; k < 2; ++k) {
     const Half& h = halves[k];

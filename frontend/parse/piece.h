@@ -32,6 +32,11 @@ struct PieceInfo {
   /// Error expressions the parser could not place (range `{file, 0, 0}` in any parse): they
   /// keep offset 0 wherever the piece lands.
   std::vector<int32_t> unanchored_exprs;
+  /// Error recovery gave up (the parser threw): the piece's AST is empty. A piece that gave
+  /// up is never self-contained, so it can only be the last of a text; the whole text's
+  /// parse then gives up at the same place and keeps no AST either, so the assembled AST
+  /// must be empty too (its diagnostics are still every piece's).
+  bool gave_up = false;
 };
 
 /// Parses `text` as if it were the whole of `file`: ranges are byte offsets into `text` and
