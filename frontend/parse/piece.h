@@ -78,7 +78,7 @@ struct ParseSwitches {
 bool uses_two_threads(ParseThreads threads, size_t bytes);
 
 /// `parse_file` of `text` as two pieces parsed at once on two threads: the text is cut at
-/// the cut point (see ParseCache) nearest after its middle, and the pieces' ASTs and
+/// the first cut point (see ParseCache) after its middle, or the last one before it, and the pieces' ASTs and
 /// diagnostics are assembled as ParseCache assembles its runs. Returns nothing (and reports
 /// nothing) when the text has no such cut or the pieces do not parse as they would inside
 /// the text (the first must be self-contained, the second must start cleanly): the caller
