@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "bench/kernel/bench_shapes.h"
+#include "tests/kernel/shapes.h"
 
 namespace {
 
@@ -78,31 +79,7 @@ PolygonSoup torus_soup(int n, int m) {
   return s;
 }
 
-PolygonSoup mixed_torus_soup(int n, int m) {
-  PolygonSoup grid = torus_soup(n, m);
-  PolygonSoup s;
-  s.positions = grid.positions;
-  auto id = [&](int i, int j) { return (i % n) * m + (j % m); };
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if (i % 3 == 0) {
-        s.add_face({a, b, c});
-        s.add_face({a, c, d});
-      } else if (i % 3 == 1 && j % 2 == 0 && j + 1 < m) {
-        // Pentagon pair sharing edge c-d, split by a midpoint.
-        const int mid = s.add_vertex(0.5 * (grid.positions[c] + grid.positions[d]));
-        s.add_face({a, b, c, mid, d});
-        const int e = id(i + 1, j + 2), f = id(i, j + 2);
-        s.add_face({d, mid, c, e, f});
-        ++j;
-      } else {
-        s.add_face({a, b, c, d});
-      }
-    }
-  }
-  return s;
-}
+PolygonSoup mixed_torus_soup(int n, int m) { return testing::mixed_torus_from(torus_soup(n, m), n, m); }
 
 }  // namespace nomec::kernel::bench
 

@@ -1,6 +1,6 @@
 // Benchmark meshes shared by the kernel benchmarks (a quad torus of any size and a
-// mixed triangle/quad/pentagon torus), and the allocation counter used to report bytes
-// per output face.
+// mixed triangle/quad/pentagon torus, made by tests/kernel/shapes.h's `mixed_torus_from`),
+// and the allocation counter used to report bytes per output face.
 #pragma once
 
 #include <cstddef>

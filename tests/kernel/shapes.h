@@ -145,4 +145,31 @@ inline PolygonSoup mixed_disk_soup() {
   return s;
 }
 
+/// The faces of an n x m torus `grid` (vertex (i, j) at index i * m + j, as `grid_soup`'s
+/// Torus and the benchmarks' quad torus number them) made mixed: every third row split into
+/// triangles, and in the row after it pairs of cells turned into pentagons by a vertex on
+/// their shared edge (mixed polygons on a closed surface).
+inline PolygonSoup mixed_torus_from(const PolygonSoup& grid, int n, int m) {
+  PolygonSoup s;
+  s.positions = grid.positions;
+  auto id = [&](int i, int j) { return (i % n) * m + (j % m); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (i % 3 == 0) {
+        s.add_face({a, b, c});
+        s.add_face({a, c, d});
+      } else if (i % 3 == 1 && j % 2 == 0 && j + 1 < m) {
+        const int mid = s.add_vertex(0.5 * (grid.positions[c] + grid.positions[d]));
+        s.add_face({a, b, c, mid, d});
+        s.add_face({d, mid, c, id(i + 1, j + 2), id(i, j + 2)});
+        ++j;
+      } else {
+        s.add_face({a, b, c, d});
+      }
+    }
+  }
+  return s;
+}
+
 }  // namespace nomec::kernel::testing

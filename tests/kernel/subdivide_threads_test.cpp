@@ -21,6 +21,7 @@ namespace {
 using testing::build;
 using testing::Glue;
 using testing::grid_soup;
+using testing::mixed_torus_from;
 
 // Every stored array of `a` and `b`, each compared exactly; positions by their bytes.
 void expect_same_arrays(const Mesh& a, const Mesh& b) {
@@ -77,31 +78,8 @@ PolygonSoup shuffled_faces(const PolygonSoup& s) {
   return out;
 }
 
-// A torus of n x m cells where every third row is split into triangles and some cells of
-// another row are pentagon pairs (mixed polygons on a closed surface).
-PolygonSoup mixed_torus_soup(int n, int m) {
-  const PolygonSoup grid = grid_soup(n, m, Glue::Torus, 0.05);
-  PolygonSoup s;
-  s.positions = grid.positions;
-  auto id = [&](int i, int j) { return (i % n) * m + (j % m); };
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if (i % 3 == 0) {
-        s.add_face({a, b, c});
-        s.add_face({a, c, d});
-      } else if (i % 3 == 1 && j % 2 == 0 && j + 1 < m) {
-        const int mid = s.add_vertex(0.5 * (grid.positions[c] + grid.positions[d]));
-        s.add_face({a, b, c, mid, d});
-        s.add_face({d, mid, c, id(i + 1, j + 2), id(i, j + 2)});
-        ++j;
-      } else {
-        s.add_face({a, b, c, d});
-      }
-    }
-  }
-  return s;
-}
+// A jittered torus of n x m cells with triangles and pentagon pairs (`mixed_torus_from`).
+PolygonSoup mixed_torus_soup(int n, int m) { return mixed_torus_from(grid_soup(n, m, Glue::Torus, 0.05), n, m); }
 
 struct Case {
   std::string name;
