@@ -175,79 +175,79 @@ void restore_memory() {
 #endif
 }
 
-// Ours and OpenSubdiv alternately within each iteration, so that load from other
-// processes on a shared machine affects both alike, in the allocator regime `memory`;
-// reports both times, the ratios of wall time (`ratio`) and of the process's CPU time
-// (`cpu_ratio`), and each side's wall time per output face.
-void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memory memory) {
+// Each side's total wall and process CPU seconds over the iterations of a pair.
+struct PairTimes {
+  double first = 0, second = 0, first_cpu = 0, second_cpu = 0;
+};
+
+// Runs `first` and `second` alternately within each iteration, so that load from other
+// processes on a shared machine affects both alike, swapping which goes first every
+// iteration to cancel allocator-state effects, in the allocator regime `memory`; in the
+// warm regime `warm` runs once first, untimed, to map the pages both sides will reuse.
+template <typename Warm, typename First, typename Second>
+PairTimes alternate(benchmark::State& state, Memory memory, Warm&& warm, First&& first, Second&& second) {
   using Clock = std::chrono::steady_clock;
   set_memory(memory);
-  int64_t faces = 0;
-  if (memory == Memory::Warm) {  // map the pages both sides will reuse
-    faces = ours_once(soup, levels, nullptr);
-    osd_once(soup, levels);
-  }
-  double ours = 0, osd = 0, ours_cpu = 0, osd_cpu = 0;
-  bool is_ours_first = true;  // alternate the order to cancel allocator-state effects
+  if (memory == Memory::Warm) warm();
+  PairTimes t;
+  bool is_first_first = true;
   for (auto _ : state) {
     for (int k = 0; k < 2; ++k) {
-      const bool is_ours = (k == 0) == is_ours_first;
+      const bool is_first = (k == 0) == is_first_first;
 #if defined(__GLIBC__)
       if (memory == Memory::Cold) malloc_trim(0);
 #endif
       const auto t0 = Clock::now();
       const double c0 = process_cpu_seconds();
-      if (is_ours) {
-        faces = ours_once(soup, levels, nullptr);
+      if (is_first) {
+        first();
       } else {
-        osd_once(soup, levels);
+        second();
       }
       const double dc = process_cpu_seconds() - c0;
       const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-      (is_ours ? ours : osd) += dt;
-      (is_ours ? ours_cpu : osd_cpu) += dc;
+      (is_first ? t.first : t.second) += dt;
+      (is_first ? t.first_cpu : t.second_cpu) += dc;
     }
-    is_ours_first = !is_ours_first;
+    is_first_first = !is_first_first;
   }
   restore_memory();
+  return t;
+}
+
+// Ours and OpenSubdiv alternately (see `alternate`); reports both times, the ratios of wall
+// time (`ratio`) and of the process's CPU time (`cpu_ratio`), and each side's wall time per
+// output face.
+void run_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memory memory) {
+  int64_t faces = 0;
+  const PairTimes t = alternate(
+      state, memory,
+      [&] {
+        faces = ours_once(soup, levels, nullptr);
+        osd_once(soup, levels);
+      },
+      [&] { faces = ours_once(soup, levels, nullptr); }, [&] { osd_once(soup, levels); });
   const double n = double(state.iterations());
-  state.counters["ours_ms"] = 1e3 * ours / n;
-  state.counters["osd_ms"] = 1e3 * osd / n;
-  state.counters["ratio"] = ours / osd;
-  state.counters["cpu_ratio"] = ours_cpu / osd_cpu;
-  state.counters["ours_ns_face"] = 1e9 * ours / n / double(faces);
-  state.counters["osd_ns_face"] = 1e9 * osd / n / double(faces);
+  state.counters["ours_ms"] = 1e3 * t.first / n;
+  state.counters["osd_ms"] = 1e3 * t.second / n;
+  state.counters["ratio"] = t.first / t.second;
+  state.counters["cpu_ratio"] = t.first_cpu / t.second_cpu;
+  state.counters["ours_ns_face"] = 1e9 * t.first / n / double(faces);
+  state.counters["osd_ns_face"] = 1e9 * t.second / n / double(faces);
 }
 
 // Ours with the automatic threading and ours on one thread alternately (`ratio` < 1: the
 // second thread pays off), in the allocator regime `memory`.
 void run_threads_pair(benchmark::State& state, const PolygonSoup& soup, int levels, Memory memory) {
-  using Clock = std::chrono::steady_clock;
-  set_memory(memory);
-  if (memory == Memory::Warm) ours_once(soup, levels, nullptr, nullptr, Path::LastLevel, Threading::OneThread);
-  double automatic = 0, one = 0, automatic_cpu = 0, one_cpu = 0;
-  bool is_automatic_first = true;
-  for (auto _ : state) {
-    for (int k = 0; k < 2; ++k) {
-      const bool is_automatic = (k == 0) == is_automatic_first;
-#if defined(__GLIBC__)
-      if (memory == Memory::Cold) malloc_trim(0);
-#endif
-      const auto t0 = Clock::now();
-      const double c0 = process_cpu_seconds();
-      ours_once(soup, levels, nullptr, nullptr, Path::LastLevel,
-                is_automatic ? Threading::Automatic : Threading::OneThread);
-      (is_automatic ? automatic_cpu : one_cpu) += process_cpu_seconds() - c0;
-      (is_automatic ? automatic : one) += std::chrono::duration<double>(Clock::now() - t0).count();
-    }
-    is_automatic_first = !is_automatic_first;
-  }
-  restore_memory();
+  auto run = [&](Threading threading) { ours_once(soup, levels, nullptr, nullptr, Path::LastLevel, threading); };
+  const PairTimes t = alternate(
+      state, memory, [&] { run(Threading::OneThread); }, [&] { run(Threading::Automatic); },
+      [&] { run(Threading::OneThread); });
   const double n = double(state.iterations());
-  state.counters["auto_ms"] = 1e3 * automatic / n;
-  state.counters["one_thread_ms"] = 1e3 * one / n;
-  state.counters["ratio"] = automatic / one;
-  state.counters["cpu_ratio"] = automatic_cpu / one_cpu;
+  state.counters["auto_ms"] = 1e3 * t.first / n;
+  state.counters["one_thread_ms"] = 1e3 * t.second / n;
+  state.counters["ratio"] = t.first / t.second;
+  state.counters["cpu_ratio"] = t.first_cpu / t.second_cpu;
 }
 
 const PolygonSoup& torus_2k() {
