@@ -159,6 +159,37 @@ EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variable
 
 }  // namespace
 
+bool may_fail(const Module& m, const Expr& e) {
+  switch (e.kind) {
+    case ExprKind::Const:
+    case ExprKind::Param:
+    case ExprKind::Builtin:
+    case ExprKind::Unary:
+      return false;
+    case ExprKind::Binary:
+      if (e.op == '+' || e.op == '-' || e.op == '*') return false;
+      if (e.op == '/' || e.op == 'i' || e.op == '%') {  // `binary`: fails on a zero divisor only
+        const Expr& divisor = m.expr(e.rhs());
+        return divisor.kind != ExprKind::Const || divisor.value == 0;
+      }
+      return true;
+    case ExprKind::Call:
+      switch (e.func) {  // the functions `call` may fail for
+        case Func::Asin: case Func::Acos: case Func::Sqrt: case Func::Log: case Func::Ln:
+        case Func::Log10: case Func::Pow: case Func::Mod: case Func::Int: case Func::Wide:
+        case Func::Fmod: case Func::Srand:
+          return true;
+        default:
+          return false;
+      }
+    case ExprKind::Variable:
+    case ExprKind::External:
+    case ExprKind::Error:
+      return true;
+  }
+  return true;
+}
+
 EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variables) {
   if (!root.is_valid()) return fail("", SourceRange{});
   // Post-order walk: a frame is an expression and how many of its operands are evaluated;

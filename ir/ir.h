@@ -248,6 +248,13 @@ struct EvalResult {
 /// are the values of a function's variables (`u`, `v` …) by index. Iterative: expressions
 /// of any depth are evaluated without deep recursion.
 EvalResult evaluate(const Module& module, ExprId expr, std::span<const double> variables = {});
+/// False when `evaluate` cannot report a problem at expression `e` itself, whatever the
+/// values of its operands: a constant, a parameter, a built-in, `-x`, `a + b`, `a - b`,
+/// `a * b`, a division or remainder by a non-zero constant, or a call of a function defined
+/// everywhere (`sin`, `exp` …). True for the rest (`^`, `sqrt`, `log`, a division by a
+/// value, a script, a variable, an error). The checker evaluates a new value only when one
+/// of its expressions may fail.
+bool may_fail(const Module& module, const Expr& e);
 
 /// The values of a viewing statement (camera, light, window, viewport, render) by field, with
 /// the defaults it takes for those not written (marked "(default)"), e.g. `{"projection",

@@ -3,6 +3,7 @@
 // table, and each value is evaluated once so a division by zero is reported where it is
 // written. Iterative (an explicit stack): an expression nesting thousands of operations deep
 // is refused with one `NestingTooDeep` error, without deep recursion.
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -461,11 +462,14 @@ ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Sc
   if (scope.variables.empty() && c.tcl_available && (a.expr(id).in_braces || is_tcl_raw(a.expr(id)))) {
     return lower_tcl_value(c, a, id, scope);
   }
+  const size_t first = c.module().exprs.size();
   ir::ExprId out = lower_tree(c, a, id, scope);
   if (!scope.variables.empty()) return out;  // a function is evaluated where it is used
-  // A number, a slider or a built-in always has a value (ir::evaluate's leaves).
-  if (const ir::ExprKind k = c.module().expr(out).kind;
-      k == ir::ExprKind::Const || k == ir::ExprKind::Param || k == ir::ExprKind::Builtin) {
+  // Evaluated only if it may fail: the expressions lowered for this value are the ones
+  // added since `first` (most values, `$r * cos(2 * pi / 8)`, cannot fail).
+  const std::vector<ir::Expr>& added = c.module().exprs;
+  if (std::none_of(added.begin() + static_cast<std::ptrdiff_t>(first), added.end(),
+                   [&](const ir::Expr& e) { return ir::may_fail(c.module(), e); })) {
     return out;
   }
   ir::EvalResult r = ir::evaluate(c.module(), out);

@@ -2,6 +2,9 @@
 // evaluation including domain errors, and external scripts through an `ExternalEvaluator`.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+
 #include "ir/ir.h"
 
 namespace nomec::ir {
@@ -156,6 +159,51 @@ TEST(Evaluate, DomainErrorsNameTheValues) {
   EvalResult s = evaluate(m, m.add_call(Func::Sqrt, minus_four, SourceRange{}));
   EXPECT_FALSE(s.ok);
   EXPECT_EQ(s.problem, "`sqrt(-4)`: square root of a negative number");
+}
+
+// `may_fail` says false only where `evaluate` cannot fail, and true only where some operand
+// values make it fail: every function and operator over operands with awkward values.
+TEST(Evaluate, MayFailIsExactlyWhereEvaluationCanFail) {
+  const double samples[] = {0, 1, -1, 2, -2, 0.5, 1e300, -1e300, 6.6, std::nan(""), INFINITY, -INFINITY};
+  auto fails_somewhere = [&](auto make, size_t operands) {
+    bool failed = false;
+    for (double x : samples) {
+      for (double y : samples) {
+        Module m;
+        const ExprId e = make(m, num(m, x), num(m, y));
+        const bool fails = !evaluate(m, e).ok;
+        EXPECT_FALSE(fails && !may_fail(m, m.expr(e))) << expr_text(m, e);
+        failed = failed || fails;
+        if (operands == 1) break;
+      }
+    }
+    return failed;
+  };
+  for (char op : std::string("+-*/i%^")) {
+    SCOPED_TRACE(std::string(1, op));
+    const bool failed = fails_somewhere([&](Module& m, ExprId a, ExprId b) { return bin(m, op, a, b); }, 2);
+    Module m;  // operands that are not constants
+    const ExprId x = bin(m, '+', num(m, 1), num(m, 1));
+    EXPECT_EQ(may_fail(m, m.expr(bin(m, op, x, x))), failed);
+  }
+  for (std::string_view name : func_names()) {
+    SCOPED_TRACE(name);
+    const Func f = *func_by_name(name);
+    const size_t arity = func_arity(f) == 1 ? 1 : 2;
+    auto call = [&](Module& m, ExprId a, ExprId b) {
+      const ExprId args[] = {a, b};
+      return m.add_call(f, std::span<const ExprId>(args, arity), SourceRange{});
+    };
+    const bool failed = fails_somewhere(call, arity);
+    Module m;
+    const ExprId x = bin(m, '+', num(m, 1), num(m, 1));
+    EXPECT_EQ(may_fail(m, m.expr(call(m, x, x))), failed);
+  }
+  // A division or remainder by a non-zero constant cannot fail; by zero or by a value, it may.
+  Module m;
+  EXPECT_FALSE(may_fail(m, m.expr(bin(m, '/', num(m, 1), num(m, 3)))));
+  EXPECT_TRUE(may_fail(m, m.expr(bin(m, '/', num(m, 1), num(m, 0)))));
+  EXPECT_TRUE(may_fail(m, m.expr(bin(m, '%', num(m, 1), bin(m, '-', num(m, 1), num(m, 1))))));
 }
 
 // An evaluator of external scripts as the front end provides one: script 0 is twice its
