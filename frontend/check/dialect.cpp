@@ -6,7 +6,9 @@
 // ones (`object`, ring arguments that read validly in only one era's order), then the
 // extension; and the names SLIDE's Tcl code creates, so their uses are reported as Tcl's,
 // not typos.
+#include <algorithm>
 #include <array>
+#include <iterator>
 #include <cmath>
 #include <fmt/format.h>
 #include <regex>
@@ -52,10 +54,11 @@ struct Signals {
 };
 
 bool is_jipcad_word(std::string_view w) {
-  static const std::unordered_set<std::string_view> words = {
-      "frontcolor", "backcolor", "backgroundcolor", "backface", "sweepmorph",
-      "morphvisualizer", "cutbegin", "cutend", "mergeinstance"};
-  return words.contains(w);
+  // Asked of every word of a file: compared in turn, which mostly compares lengths, rather
+  // than hashed.
+  static constexpr std::string_view kWords[] = {"frontcolor", "backcolor", "backgroundcolor", "backface", "sweepmorph",
+                                                "morphvisualizer", "cutbegin", "cutend", "mergeinstance"};
+  return std::find(std::begin(kWords), std::end(kWords), w) != std::end(kWords);
 }
 
 bool is_2018_block_word(std::string_view w) {
