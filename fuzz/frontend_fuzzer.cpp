@@ -5,7 +5,8 @@
 // hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference, and
 // on a text that parses without errors the AST builder that reads the parser's events must
 // give exactly the AST and diagnostics of the one that converts parse trees (a text with
-// errors takes the tree-based path in both); and the text cut in two and parsed on two
+// errors takes the tree-based path in both), the parser's remembered walks exactly the
+// parse of ANTLR's simulator alone (frontend/parse/prediction_seed.h); and the text cut in two and parsed on two
 // threads must give exactly its parse on one (`ParseThreads`, forced below the automatic
 // size).
 #include <cstddef>
@@ -16,6 +17,7 @@
 #include "frontend/check/check.h"
 #include "frontend/parse/parse.h"
 #include "frontend/parse/piece.h"
+#include "frontend/parse/prediction_seed.h"
 #include "frontend/parse/tokens.h"
 #include "tests/common/ast_dump.h"
 
@@ -56,12 +58,14 @@ bool parses_agree(const std::string& text) {
   bool clean = false;
   const std::string one = parse_dump(text, &clean);
   bool ignored = false;
-  if (clean) {
-    nomec::parse_detail::use_tree_builder(true);
-    const std::string from_tree = parse_dump(text, &ignored);
-    nomec::parse_detail::use_tree_builder(false);
-    if (from_tree != one) return false;
-  }
+  // The reference parse: the tree-based builder (when the text has no errors), and every
+  // prediction asked of ANTLR's simulator, none of the remembered walks.
+  nomec::parse_detail::use_tree_builder(clean);
+  nomec::parse_detail::use_remembered_predictions(false);
+  const std::string reference = parse_dump(text, &ignored);
+  nomec::parse_detail::use_remembered_predictions(true);
+  nomec::parse_detail::use_tree_builder(false);
+  if (reference != one) return false;
   return parse_dump(text, &ignored, nomec::ParseThreads::Two) == one;
 }
 

@@ -149,7 +149,8 @@ class Predictor {
  public:
   size_t adaptivePredict(antlr4::TokenStream* input, size_t decision, antlr4::ParserRuleContext* outer) {
     auto* sim = static_cast<antlr4::atn::ParserATNSimulator*>(*interpreter_);
-    if (array_ == nullptr || !sll_ || input != static_cast<antlr4::TokenStream*>(array_) || decision >= kDecisions) {
+    if (array_ == nullptr || !sll_ || !remembers_ || input != static_cast<antlr4::TokenStream*>(array_) ||
+        decision >= kDecisions) {
       return sim->adaptivePredict(input, decision, outer);
     }
     Memo& memo = shared_memo();
@@ -166,6 +167,31 @@ class Predictor {
   }
   antlr4::atn::PredictionMode getPredictionMode() {
     return static_cast<antlr4::atn::ParserATNSimulator*>(*interpreter_)->getPredictionMode();
+  }
+
+  // Remembered walks as one array of records `decision, alternative, length, token types…`
+  // (what `remembered_walks` writes and `remember_walks` reads): a build step parses
+  // training texts, writes the walks the trie then holds into a source file, and every
+  // program remembers them before its first parse (frontend/parse/prediction_seed.h), so no
+  // program pays the simulator's first predictions (building its DFA states) for walks a
+  // build already saw. A walk is a fact about the grammar, not about the text it was seen
+  // in, so remembering it is the same as having seen it.
+  static std::vector<uint16_t> remembered_walks() {
+    std::vector<uint16_t> out;
+    shared_memo().walks(out);
+    return out;
+  }
+  /// Remembers the walks of `records`; false (and stops) at a malformed record.
+  static bool remember_walks(const uint16_t* records, size_t size) {
+    Memo& memo = shared_memo();
+    for (size_t i = 0; i < size;) {
+      if (size - i < 3) return false;
+      const size_t decision = records[i], alt = records[i + 1], length = records[i + 2];
+      if (decision >= kDecisions || length == 0 || size - i - 3 < length) return false;
+      memo.insert(decision, records + i + 3, length, alt);
+      i += 3 + length;
+    }
+    return true;
   }
 
  private:
@@ -216,7 +242,31 @@ class Predictor {
       if (last.load(std::memory_order_relaxed) == 0) last.store(static_cast<int32_t>(alt), std::memory_order_release);
     }
 
+    // Every walk, decision by decision and in order of token types (see remembered_walks).
+    void walks(std::vector<uint16_t>& out) const {
+      std::vector<uint16_t> path;
+      for (size_t d = 0; d < kDecisions; ++d) {
+        if (const int32_t root = roots_[d].load(std::memory_order_acquire); root > 0) walks_from(d, root, path, out);
+      }
+    }
+
    private:
+    void walks_from(size_t decision, int32_t node, std::vector<uint16_t>& path, std::vector<uint16_t>& out) const {
+      for (size_t t = 0; t < kTypes; ++t) {
+        const int32_t e = entry(node, t).load(std::memory_order_acquire);
+        if (e == 0) continue;
+        path.push_back(static_cast<uint16_t>(t));
+        if (e > 0 && e <= 0xFFFF) {
+          out.push_back(static_cast<uint16_t>(decision));
+          out.push_back(static_cast<uint16_t>(e));
+          out.push_back(static_cast<uint16_t>(path.size()));
+          out.insert(out.end(), path.begin(), path.end());
+        } else if (e < 0) {
+          walks_from(decision, -e, path, out);
+        }
+        path.pop_back();
+      }
+    }
     std::atomic<int32_t>& entry(int32_t node, size_t type) const {
       const size_t n = static_cast<size_t>(node);  // nodes count from 1
       return chunks_[n / kChunkNodes].load(std::memory_order_acquire)[(n % kChunkNodes) * kTypes + type];
@@ -246,6 +296,7 @@ class Predictor {
   antlr4::atn::ATNSimulator* const* interpreter_ = nullptr;
   TokenArrayStream* array_ = nullptr;
   bool sll_ = false;
+  bool remembers_ = true;  // false: every prediction asks the simulator (differential tests)
 };
 
 template <class T>
@@ -279,6 +330,10 @@ class NomeParserBase : public antlr4::Parser {
     events_ = events;
     setBuildParseTree(events == nullptr);
   }
+
+  /// Off: every prediction goes to ANTLR's simulator, none to the remembered walks (for the
+  /// tests that hold the walks to the simulator's answers).
+  void remember_predictions(bool on) { predictor_.remembers_ = on; }
 
   /// Frees the rule contexts of what was parsed so far (nothing may point to them).
   void reset_contexts() { _tracker.reset(); }

@@ -23,6 +23,7 @@
 #include "ir/generator_catalogue.h"
 
 #include "frontend/parse/generated.h"
+#include "frontend/parse/prediction_seed.h"
 
 #include "frontend/parse/token_passes.h"
 #include "frontend/parse/token_stream.h"
@@ -1309,17 +1310,45 @@ class BailOut final : public antlr4::BailErrorStrategy {
 };
 
 thread_local bool tls_tree_builder = false;
+thread_local bool tls_remembered_predictions = true;
+
+// A parser as every parse makes one: the remembered walks known, and used unless a test
+// switched them off.
+void prepare_parser(NomeParser& parser) {
+  parse_detail::remember_seeded_predictions();
+  parser.remember_predictions(tls_remembered_predictions);
+}
 
 }  // namespace
 
 namespace parse_detail {
 void use_tree_builder(bool on) { tls_tree_builder = on; }
 
-ParseSwitches ParseSwitches::current() { return {reference_lexer_in_use(), tls_tree_builder}; }
+void use_remembered_predictions(bool on) { tls_remembered_predictions = on; }
+bool remembered_predictions_in_use() { return tls_remembered_predictions; }
+
+void remember_seeded_predictions() {
+  // Thread-safe once (a static's initialisation); the records are the build's own, so a
+  // malformed one (never written) would only stop the remembering there.
+  static const bool remembered = [] {
+    return remember_walks(prediction_seed());
+  }();
+  (void)remembered;
+}
+
+std::vector<uint16_t> remembered_walks() { return nomec_antlr::Predictor::remembered_walks(); }
+bool remember_walks(std::span<const uint16_t> records) {
+  return nomec_antlr::Predictor::remember_walks(records.data(), records.size());
+}
+
+ParseSwitches ParseSwitches::current() {
+  return {reference_lexer_in_use(), tls_tree_builder, tls_remembered_predictions};
+}
 
 void ParseSwitches::apply() const {
   use_reference_lexer(reference_lexer);
   use_tree_builder(tree_builder);
+  use_remembered_predictions(remembered_predictions);
 }
 }  // namespace parse_detail
 
@@ -1361,6 +1390,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   reserve_ast(tokens, result);
   std::vector<Tok>().swap(tokens);
   NomeParser parser(&stream);
+  prepare_parser(parser);
   stream.parser_ = &parser;
   parser.removeErrorListeners();
 
@@ -1502,6 +1532,7 @@ ast::ExprId parse_function_text(std::string_view file_text, FileId file, SourceR
   insert_implicit_multiplication(tokens);
   ArenaTokenStream stream(tokens, text);
   NomeParser parser(&stream);
+  prepare_parser(parser);
   parser.removeErrorListeners();
   SyntaxErrorListener listener(file, offsets, diags);
   listener.in_function();

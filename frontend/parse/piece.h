@@ -64,12 +64,14 @@ namespace parse_detail {
 /// events.
 void use_tree_builder(bool on);
 
-/// The parse switches of the tests (`use_reference_lexer`, `use_tree_builder`) that are set
+/// The parse switches of the tests (`use_reference_lexer`, `use_tree_builder`,
+/// `use_remembered_predictions`) that are set
 /// on the calling thread; a thread that parses pieces for it sets the same (`apply`), so a
 /// parse split over two threads takes the same paths as one on a single thread.
 struct ParseSwitches {
   bool reference_lexer = false;
   bool tree_builder = false;
+  bool remembered_predictions = true;  // prediction_seed.h
   static ParseSwitches current();
   void apply() const;
 };
