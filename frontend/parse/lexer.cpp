@@ -14,6 +14,7 @@
 #include "frontend/parse/tokens.h"
 
 #include "frontend/parse/generated.h"
+#include "frontend/parse/token_stream.h"
 
 #include <fmt/format.h>
 
@@ -75,9 +76,7 @@ using L = nomec_antlr::NomeLexer;
 class Keywords {
  public:
   Keywords() {
-    antlr4::ANTLRInputStream empty(std::string{});
-    L lexer(&empty);
-    const antlr4::dfa::Vocabulary& vocab = lexer.getVocabulary();
+    const antlr4::dfa::Vocabulary& vocab = grammar_vocabulary();
     for (size_t type = 1; type <= vocab.getMaxTokenType(); ++type) {
       const std::string lit = vocab.getLiteralName(type);
       if (lit.size() <= 2 || lit.front() != '\'') continue;

@@ -13,6 +13,7 @@
 #include "ir/generator_catalogue.h"
 
 #include "frontend/parse/generated.h"
+#include "frontend/parse/token_stream.h"
 
 namespace nomec::parse_detail {
 
@@ -30,9 +31,7 @@ struct KeywordTable {
 const KeywordTable& keyword_table() {
   static const KeywordTable table = [] {
     KeywordTable t;
-    antlr4::ANTLRInputStream empty(std::string{});
-    nomec_antlr::NomeLexer lexer(&empty);
-    const antlr4::dfa::Vocabulary& vocab = lexer.getVocabulary();
+    const antlr4::dfa::Vocabulary& vocab = grammar_vocabulary();
     const size_t size = std::max<size_t>({vocab.getMaxTokenType(), L::K_GEN, L::E_GEN, L::SPLUS, L::SMINUS}) + 1;
     t.open.resize(size);
     t.close.resize(size);

@@ -95,4 +95,14 @@ bool ArenaTokenStream::all_consumed() const {
   return false;
 }
 
+const antlr4::dfa::Vocabulary& grammar_vocabulary() {
+  static const antlr4::dfa::Vocabulary* const vocabulary = [] {
+    const std::vector<Tok> no_tokens;
+    ArenaTokenStream empty(no_tokens, "");
+    nomec_antlr::NomeParser parser(&empty);
+    return &parser.getVocabulary();  // the generated parser's static vocabulary
+  }();
+  return *vocabulary;
+}
+
 }  // namespace nomec::parse_detail

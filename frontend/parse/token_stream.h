@@ -110,4 +110,10 @@ class ArenaTokenStream final : public nomec_antlr::TokenArrayStream {
   std::vector<uint16_t> codes_storage_;  // each token's type for the parser's direct reads (codes_)
 };
 
+/// The grammar's token vocabulary (literal and symbolic names by token type), read from a
+/// parser, which is cheap to make: a NomeLexer would build the lexer's ATN, which nomec
+/// needs only for the lexer's reference (grammar/lazy_lexer.cmake). The lexer's vocabulary
+/// is the same (one grammar; the lexer diff tests compare their tokens).
+const antlr4::dfa::Vocabulary& grammar_vocabulary();
+
 }  // namespace nomec::parse_detail
