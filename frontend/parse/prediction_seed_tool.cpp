@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -53,10 +52,8 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, out_path, ec);
-  if (ec) {
-    fmt::print(stderr, "prediction_seed_tool: cannot write {}: {}\n", out_path, ec.message());
+  if (std::rename(tmp.c_str(), out_path.c_str()) != 0) {
+    fmt::print(stderr, "prediction_seed_tool: cannot write {}\n", out_path);
     return 1;
   }
   return 0;
