@@ -1325,14 +1325,11 @@ namespace parse_detail {
 void use_tree_builder(bool on) { tls_tree_builder = on; }
 
 void use_remembered_predictions(bool on) { tls_remembered_predictions = on; }
-bool remembered_predictions_in_use() { return tls_remembered_predictions; }
 
 void remember_seeded_predictions() {
   // Thread-safe once (a static's initialisation); the records are the build's own, so a
   // malformed one (never written) would only stop the remembering there.
-  static const bool remembered = [] {
-    return remember_walks(prediction_seed());
-  }();
+  static const bool remembered = remember_walks(prediction_seed());
   (void)remembered;
 }
 

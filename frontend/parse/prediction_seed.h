@@ -30,6 +30,5 @@ bool remember_walks(std::span<const uint16_t> records);
 /// For the differential tests: while off (on this thread), the parser asks ANTLR's
 /// simulator for every prediction and remembers none.
 void use_remembered_predictions(bool on);
-bool remembered_predictions_in_use();
 
 }  // namespace nomec::parse_detail
