@@ -5,10 +5,10 @@
 // hand-written lexer must give exactly the tokens of ANTLR's NomeLexer, its reference, and
 // on a text that parses without errors the AST builder that reads the parser's events must
 // give exactly the AST and diagnostics of the one that converts parse trees (a text with
-// errors takes the tree-based path in both), the parser's remembered walks exactly the
-// parse of ANTLR's simulator alone (frontend/parse/prediction_seed.h); and the text cut in two and parsed on two
-// threads must give exactly its parse on one (`ParseThreads`, forced below the automatic
-// size).
+// errors takes the tree-based path in both); the parse with the parser's remembered
+// predictions must be exactly the parse with ANTLR's simulator alone (prediction_seed.h);
+// and the text cut in two and parsed on two threads must give exactly its parse on one
+// (`ParseThreads`, forced below the automatic size).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -50,10 +50,11 @@ std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
 
-// The text's parse on one thread (`one`, from the event-driven AST builder) agrees with
-// the tree-based builder's when the text has no errors, and, errors and all, with its parse
-// cut in two and parsed on two threads (or, when its halves would not parse as inside it,
-// in one piece after all).
+// The text's parse on one thread (`one`: the event-driven AST builder, remembered
+// predictions) agrees, errors and all, with the reference parse (the tree-based builder
+// when the text has no errors, every prediction from the simulator) and with its parse cut
+// in two and parsed on two threads (or, when its halves would not parse as inside it, in
+// one piece after all).
 bool parses_agree(const std::string& text) {
   bool clean = false;
   const std::string one = parse_dump(text, &clean);

@@ -65,9 +65,9 @@ namespace parse_detail {
 void use_tree_builder(bool on);
 
 /// The parse switches of the tests (`use_reference_lexer`, `use_tree_builder`,
-/// `use_remembered_predictions`) that are set
-/// on the calling thread; a thread that parses pieces for it sets the same (`apply`), so a
-/// parse split over two threads takes the same paths as one on a single thread.
+/// `use_remembered_predictions`) that are set on the calling thread; a thread that parses
+/// pieces for it sets the same (`apply`), so a parse split over two threads takes the same
+/// paths as one on a single thread.
 struct ParseSwitches {
   bool reference_lexer = false;
   bool tree_builder = false;
