@@ -11,6 +11,7 @@
 // (`ParseThreads`, forced below the automatic size).
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -50,6 +51,13 @@ std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
 
+// Prints both dumps of a disagreement (what a finding's reader needs first) and returns false.
+bool report(const char* what, const std::string& other, const std::string& one) {
+  std::fprintf(stderr, "frontend_fuzzer: %s differs from the parse on one thread.\n--- %s:\n%s\n--- one thread:\n%s\n",
+               what, what, other.c_str(), one.c_str());
+  return false;
+}
+
 // The text's parse on one thread (`one`: the event-driven AST builder, remembered
 // predictions) agrees, errors and all, with the reference parse (the tree-based builder
 // when the text has no errors, every prediction from the simulator) and with its parse cut
@@ -66,8 +74,9 @@ bool parses_agree(const std::string& text) {
   const std::string reference = parse_dump(text, &ignored);
   nomec::parse_detail::use_remembered_predictions(true);
   nomec::parse_detail::use_tree_builder(false);
-  if (reference != one) return false;
-  return parse_dump(text, &ignored, nomec::ParseThreads::Two) == one;
+  if (reference != one) return report("the reference parse", reference, one);
+  const std::string two = parse_dump(text, &ignored, nomec::ParseThreads::Two);
+  return two == one || report("the parse on two threads", two, one);
 }
 
 }  // namespace

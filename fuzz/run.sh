@@ -53,7 +53,8 @@ for t in "${targets[@]}"; do
       -dict="$repo/fuzz/nome.dict" -artifact_prefix="$artifacts" -print_final_stats=1 \
       "$work" "${seeds[@]}" >"$log" 2>&1; then
     echo "run.sh: $t found a problem; input in $artifacts, log $log" >&2
-    grep -E "ERROR|SUMMARY|==[0-9]+==" "$log" | head -20 >&2 || true
+    # The report, the stack (its first frames) and what a differential check printed.
+    grep -E "ERROR|SUMMARY|==[0-9]+==|^    #[0-9] |_fuzzer: " "$log" | head -40 >&2 || true
     exit 1
   fi
   # One process prints its final stats; with -fork the parent's last `#N:` line is the total.

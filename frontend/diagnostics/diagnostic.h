@@ -81,6 +81,8 @@ class DiagnosticEngine {
   /// Moves every diagnostic of `other` into this engine, both in position order (by start
   /// offset; this engine's first on ties), keeping that order.
   void merge_in_order(DiagnosticEngine&& other);
+  /// Orders the diagnostics by start offset, keeping the order of those that start together.
+  void sort_by_position();
 
  private:
   std::vector<Diagnostic> diags_;

@@ -19,6 +19,11 @@ void DiagnosticEngine::merge_in_order(DiagnosticEngine&& other) {
   other.diags_.clear();
 }
 
+void DiagnosticEngine::sort_by_position() {
+  std::stable_sort(diags_.begin(), diags_.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) { return a.range.begin < b.range.begin; });
+}
+
 namespace {
 struct KindInfo {
   std::string_view name;

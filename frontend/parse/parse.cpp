@@ -1445,7 +1445,10 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     }
   }
   NomeParser::FileContext* tree = nullptr;
-  SyntaxErrorListener listener(file, offsets, sinks.syntax);
+  // Stage 2's diagnostics (the parser's, then the AST builder's) are reported in position
+  // order, so that a file cut into pieces reports them as the whole file does.
+  DiagnosticEngine recovery_diags;
+  SyntaxErrorListener listener(file, offsets, recovery_diags);
   if (!parsed) {
     // Stage 2: error reporting and recovery. Still SLL prediction: the grammar needs no
     // more (stage 1 would fail on a valid file that did), and full LL costs four times as
@@ -1476,10 +1479,12 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     info->gave_up = gave_up;
   }
   if (tree != nullptr) {
-    AstBuilder builder(file, text, offsets, result, &unanchored, &sinks.syntax);
+    AstBuilder builder(file, text, offsets, result, &unanchored, &recovery_diags);
     builder.repairs_ = &repairs;
     builder.build_file(tree);
   }
+  recovery_diags.sort_by_position();
+  sinks.syntax.append(std::move(recovery_diags));
   if (info != nullptr) info->unanchored_exprs = std::move(unanchored);
   return result;
 }

@@ -562,11 +562,17 @@ TEST(ParseTwoThreads, SecondHalfThatCannotStartAStatementIsNotUsed) {
 // Inputs on which the front-end fuzzer found the two-thread parse differing from the
 // one-thread parse (fuzz/frontend_fuzzer.cpp compares them on every input). The first: the
 // whole text's error recovery gives up in its second statement and keeps no AST, while its
-// first statement parsed alone was kept (the cache did the same: PieceInfo::gave_up).
+// first statement parsed alone was kept (the cache did the same: PieceInfo::gave_up). The
+// next two: the error recovery's diagnostics and the AST builder's came in another order
+// when the text was cut in two (a recovery error after the cut, a wrong `end` word before
+// it); the parse now reports them in position order.
 TEST(ParseTwoThreads, FuzzFindings) {
   const std::vector<std::string> texts = {
       std::string("point pnt p1 (0 2 1) endpoint\npoint ") + std::string(39, '\xff') +
           "\x91\x8b`)\xb1) endpt\npoint  (   1      -0 pr\x01\x86rus1 (",
+      std::string("q\0n bspline  1  endtorus\ninst    0.1sav ) endtorus\ninstanc\ne c   ", 65),
+      "point p1 (0- 1) endp\xff\xffot\xffn\xf2i\nciircle (20 1) endcircle\ntorus - 1) endp\xff\xffot\xffn"
+      "\xf2i\nciircle (20 1) endcircle\ntorutor0s0 (",
   };
   for (const std::string& text : texts) {
     EXPECT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), full_parse(text)), "") << text;
