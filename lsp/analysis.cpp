@@ -116,7 +116,7 @@ json diagnostic_json(const Analysis& a, const Diagnostic& d) {
 }
 
 std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text,
-                                              ParseCache* cache) const {
+                                              ParseCache* cache, const std::function<void()>& parsed) const {
   const double start = thread_cpu_ms();
   auto a = std::make_shared<Analysis>();
   a->uri = uri;
@@ -132,6 +132,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   } else {
     CheckOptions options;
     options.dialect = options_.dialect;
+    options.parsed = parsed;
     if (path) {
       options.read_file = read_file_bytes;
       options.list_folder = list_folder;

@@ -507,18 +507,23 @@ void ServerImpl::analysis_loop() {
         a = analyse(uri, version, std::move(text), &cache->cache);
       } else {
         cache_lock.unlock();
-        // The first version is parsed by `parse_file` for its diagnostics while the after
-        // thread fills the cache from the same text on the other core: filling is not on the
-        // path to these diagnostics, and is done by the time the sculptor types.
+        // The first version is parsed by `parse_file` (on both cores, for a large text) for
+        // its diagnostics; once it is parsed, the after thread fills the cache from the same
+        // text on one core while this thread checks on the other. Filling is then neither on
+        // the path to these diagnostics nor in that parse's way, and is done by the time the
+        // sculptor types.
+        std::function<void()> fill_cache;
         if (!cache->scheduled && text.size() <= options_.max_document_bytes) {
           cache->scheduled = true;
-          {
-            std::lock_guard after_lock(after_mu_);
-            after_fill_.push_back({cache, uri_to_path(uri).value_or(uri), text});
-          }
-          after_cv_.notify_all();
+          fill_cache = [this, cache, path = uri_to_path(uri).value_or(uri), text] {
+            {
+              std::lock_guard after_lock(after_mu_);
+              after_fill_.push_back({cache, path, text});
+            }
+            after_cv_.notify_all();
+          };
         }
-        a = analyse(uri, version, std::move(text), nullptr);
+        a = analyse(uri, version, std::move(text), nullptr, fill_cache);
       }
     } else {
       a = analyse(uri, version, std::move(text), nullptr);

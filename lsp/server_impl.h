@@ -88,9 +88,10 @@ class ServerImpl {
   SliderSessions& slider_sessions() { return slider_sessions_; }
 
   /// Checks one version of a document (analysis.cpp), parsing it through `cache` (the
-  /// document's ParseCache; may be null).
+  /// document's ParseCache; may be null); calls `parsed` (may be empty) once its text is
+  /// parsed, before the check.
   std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
-                                    ParseCache* cache) const;
+                                    ParseCache* cache, const std::function<void()>& parsed = {}) const;
   /// Fills a document's ParseCache from the text of the version being analysed, named
   /// `path` (after thread).
   static void fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text);
@@ -165,8 +166,8 @@ class ServerImpl {
   mutable std::mutex after_mu_;
   std::condition_variable after_cv_;
   std::shared_ptr<const Analysis> after_index_;  // newest published analysis to index
-  // Caches to fill from the text of a version whose first analysis (`parse_file`) is under way,
-  // before indexing.
+  // Caches to fill from the text of a version whose first analysis (`parse_file`) has parsed
+  // it and is checking it, before indexing.
   struct CacheFill {
     std::shared_ptr<DocumentParseCache> slot;
     std::string path;

@@ -47,6 +47,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   FileId file = sources.add_file(path, std::move(text));
   if (std::optional<ir::FlatFormat> format = flat::format_of_path(path)) {
     // A flat mesh file is a scene of that one mesh, instanced once (language.md §8).
+    if (options.parsed) options.parsed();
     c.set_dialect(options.dialect.value_or(Dialect::Nome));
     result.dialect = c.dialect();
     result.module.dialect = c.dialect();
@@ -59,6 +60,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   const double parse_start = thread_cpu_ms();
   ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
   result.parse_ms = thread_cpu_ms() - parse_start;
+  if (options.parsed) options.parsed();
 
   // Saved work (`.anom`) is checked on top of its base scene.
   std::unique_ptr<ast::Ast> base_ast;

@@ -36,6 +36,10 @@ struct CheckOptions {
   double frame = 0;                                        // --frame: value of `$frame`
   FileReader read_file;                                    // may be empty: no includes
   FolderLister list_folder;                                // may be empty: no base search
+  /// May be empty; called once the file's text is parsed (a flat mesh file's: before it is
+  /// read), before its check begins (the language server then starts work that must not
+  /// share the cores with that parse).
+  std::function<void()> parsed;
   bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
 };
 

@@ -53,7 +53,7 @@ TEST(LspIncremental, OneCharacterEditReparsesOnePieceAndMatchesAFreshCheck) {
   std::string text = large_document(modules);
   c.open(uri, text, 1);
   EXPECT_TRUE(c.diagnostics(uri, 1)["diagnostics"].empty());
-  // didOpen parses the text in one piece; the cache is filled after publishing.
+  // didOpen parses the text in one piece; the after thread fills the cache once it is parsed.
   std::optional<ParseStats> first = c.server().parse_stats(uri);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->pieces, 1u);

@@ -192,5 +192,33 @@ TEST(Check, InvalidUtf8AndNulBytesDoNotStopTheChecker) {
   EXPECT_EQ(c->result.module.nodes.size(), 2u);
 }
 
+// `CheckOptions::parsed` is called once per check, after the parse and before the check:
+// the parse's syntax errors are reported by then, the checker's unknown names not yet (the
+// language server starts filling its parse cache there). A flat mesh file calls it too.
+TEST(Check, ParsedIsCalledOnceBetweenTheParseAndTheCheck) {
+  SourceManager sources;
+  DiagnosticEngine diags;
+  CheckOptions options;
+  int calls = 0;
+  std::vector<DiagKind> seen;
+  options.parsed = [&] {
+    ++calls;
+    for (const Diagnostic& d : diags.diagnostics()) seen.push_back(d.kind);
+  };
+  check_source(sources, "a.nom", "point p (0 0 0) endpoint\ninstance i nowhere endinstance\npoint q (1 2 3 endpoint\n",
+               options, diags);
+  EXPECT_EQ(calls, 1);
+  EXPECT_NE(std::find(seen.begin(), seen.end(), DiagKind::SyntaxError), seen.end());
+  EXPECT_EQ(std::find(seen.begin(), seen.end(), DiagKind::UnknownName), seen.end());
+  EXPECT_NE(std::find_if(diags.diagnostics().begin(), diags.diagnostics().end(),
+                         [](const Diagnostic& d) { return d.kind == DiagKind::UnknownName; }),
+            diags.diagnostics().end());
+
+  calls = 0;
+  DiagnosticEngine flat_diags;
+  check_source(sources, "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", options, flat_diags);
+  EXPECT_EQ(calls, 1);
+}
+
 }  // namespace
 }  // namespace nomec
