@@ -129,8 +129,18 @@ const Keywords& keywords() {
 }
 
 bool is_digit(unsigned char c) { return c >= '0' && c <= '9'; }
-bool is_id_start(unsigned char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '.'; }
-bool is_id_part(unsigned char c) { return is_id_start(c) || is_digit(c); }
+// Byte classes, one table lookup each (the lexer asks about every byte of every name).
+constexpr uint8_t kIdStart = 1, kIdPart = 2;
+constexpr std::array<uint8_t, 256> kByteClass = [] {
+  std::array<uint8_t, 256> c{};
+  for (int b = 0; b < 256; ++b) {
+    const bool start = (b >= 'a' && b <= 'z') || (b >= 'A' && b <= 'Z') || b == '_' || b == '.';
+    c[b] = static_cast<uint8_t>((start ? kIdStart | kIdPart : 0) | (b >= '0' && b <= '9' ? kIdPart : 0));
+  }
+  return c;
+}();
+bool is_id_start(unsigned char c) { return (kByteClass[c] & kIdStart) != 0; }
+bool is_id_part(unsigned char c) { return (kByteClass[c] & kIdPart) != 0; }
 bool is_ws(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
 // The lexer's state over one text. `at(j)` reads byte j, and notes when a rule looked past
@@ -178,12 +188,18 @@ class Scanner {
   void percent();
   void word_or_number(unsigned char c);
   bool no_break_spaces();
-  void emit(size_t end, uint16_t type, bool hidden = false) {
+  // The token [start_, end), which holds `newlines` line breaks: only whitespace, `[…]`,
+  // `%{…}%` and `tclinit {…}` may hold any (a string or a comment ends at its line's end),
+  // and their rules count them (newlines_in).
+  void emit(size_t end, uint16_t type, bool hidden = false, uint32_t newlines = 0) {
     out_.last = Tok{static_cast<uint32_t>(start_), static_cast<uint32_t>(end), line_, type, hidden};
     if (!hidden || type == L::NBSP || !out_.drop_whitespace) out_.tokens.push_back(out_.last);
     if (end == n_) at(end);  // NomeLexer reads past the last token
-    for (size_t j = start_; j < end; ++j) line_ += s_[j] == '\n' ? 1 : 0;
+    line_ += newlines;
     start_ = end;
+  }
+  uint32_t newlines_in(size_t begin, size_t end) const {
+    return static_cast<uint32_t>(std::count(s_.data() + begin, s_.data() + end, '\n'));
   }
   void unexpected() {
     char32_t cp = 0;
@@ -318,7 +334,11 @@ void Scanner::bracket() {
       break;
     }
   }
-  emit(end != 0 ? end : start_ + 1, end != 0 ? L::BRACKET_RAW : L::UNEXPECTED_CHAR);
+  if (end != 0) {
+    emit(end, L::BRACKET_RAW, false, newlines_in(start_, end));
+  } else {
+    emit(start_ + 1, L::UNEXPECTED_CHAR);
+  }
 }
 
 // TCL_ARRAY_REF, DOLLAR_REF, or a lone `$` as UNEXPECTED_CHAR.
@@ -349,7 +369,7 @@ void Scanner::percent() {
   if (at(start_ + 1) == '{') {
     const size_t close = s_.find("}%", start_ + 2);
     if (close != std::string_view::npos) {
-      emit(close + 2, L::PCT_RAW);
+      emit(close + 2, L::PCT_RAW, false, newlines_in(start_, close + 2));
       return;
     }
     at(n_);  // searched to the end
@@ -369,7 +389,7 @@ void Scanner::word_or_number(unsigned char c) {
   if (num_end > start_ && num_end >= id_end) {
     emit(num_end, L::NUMBER);
   } else {
-    emit(id_end, type);
+    emit(id_end, type, false, type == L::TCLINIT ? newlines_in(start_, id_end) : 0);
   }
 }
 
@@ -398,13 +418,15 @@ bool Scanner::run() {
     const auto c = static_cast<unsigned char>(s_[start_]);
     switch (c) {
       case ' ': case '\t': case '\r': case '\n': case '\f': case '\v': {
+        uint32_t newlines = c == '\n' ? 1 : 0;
         size_t j = start_ + 1;
         while (true) {
           const int d = at(j);
           if (d < 0 || !is_ws(static_cast<unsigned char>(d))) break;
+          newlines += d == '\n' ? 1 : 0;
           ++j;
         }
-        emit(j, L::WS, true);
+        emit(j, L::WS, true, newlines);
         continue;
       }
       case '#': {
@@ -454,6 +476,12 @@ namespace {
 // accepts overlong forms): NomeLexer reads it as that character.
 bool has_overlong_ascii(std::string_view s) {
   for (size_t i = 0; i < s.size(); ++i) {
+    // ASCII eight bytes at a time (most texts are all ASCII).
+    for (uint64_t w = 0; i + 8 <= s.size(); i += 8) {
+      std::memcpy(&w, s.data() + i, 8);
+      if ((w & 0x8080808080808080ULL) != 0) break;
+    }
+    if (i >= s.size()) break;
     const auto b = static_cast<unsigned char>(s[i]);
     if (b < 0xC0) continue;
     if (b == 0xC0 || b == 0xC1) return true;
