@@ -116,7 +116,7 @@ json diagnostic_json(const Analysis& a, const Diagnostic& d) {
 }
 
 std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text,
-                                              ParseCache* cache, const std::function<void()>& parsed) const {
+                                              ParseCache* cache, std::function<void()> parsed) const {
   const double start = thread_cpu_ms();
   auto a = std::make_shared<Analysis>();
   a->uri = uri;
@@ -132,13 +132,13 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   } else {
     CheckOptions options;
     options.dialect = options_.dialect;
-    options.parsed = parsed;
+    options.parsed = std::move(parsed);
     if (path) {
       options.read_file = read_file_bytes;
       options.list_folder = list_folder;
     }
     const size_t bytes = text.size();
-    index::Checked checked = index::check_document(path.value_or(uri), std::move(text), options, diags, cache);
+    index::Checked checked = index::check_document(path.value_or(uri), std::move(text), std::move(options), diags, cache);
     if (cache != nullptr) {
       const ParseCache::Stats& s = cache->last_stats();
       a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};

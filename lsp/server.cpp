@@ -515,15 +515,15 @@ void ServerImpl::analysis_loop() {
         std::function<void()> fill_cache;
         if (!cache->scheduled && text.size() <= options_.max_document_bytes) {
           cache->scheduled = true;
-          fill_cache = [this, cache, path = uri_to_path(uri).value_or(uri), text] {
+          fill_cache = [this, cache, path = uri_to_path(uri).value_or(uri), text]() mutable {
             {
               std::lock_guard after_lock(after_mu_);
-              after_fill_.push_back({cache, path, text});
+              after_fill_.push_back({std::move(cache), std::move(path), std::move(text)});
             }
             after_cv_.notify_all();
           };
         }
-        a = analyse(uri, version, std::move(text), nullptr, fill_cache);
+        a = analyse(uri, version, std::move(text), nullptr, std::move(fill_cache));
       }
     } else {
       a = analyse(uri, version, std::move(text), nullptr);

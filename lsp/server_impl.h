@@ -91,7 +91,7 @@ class ServerImpl {
   /// document's ParseCache; may be null); calls `parsed` (may be empty) once its text is
   /// parsed, before the check.
   std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
-                                    ParseCache* cache, const std::function<void()>& parsed = {}) const;
+                                    ParseCache* cache, std::function<void()> parsed = {}) const;
   /// Fills a document's ParseCache from the text of the version being analysed, named
   /// `path` (after thread).
   static void fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text);

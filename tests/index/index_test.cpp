@@ -56,6 +56,19 @@ instance mi m endinstance
 face bridge (cube_fun1_hc0 cube_fun2_hc1 mi_p1) endface
 )";
 
+// A check's `parsed` callback belongs to that check: what the index keeps of its options
+// for later checks (renames, includes) does not hold it, nor what it captured.
+TEST(Index, KeepsNoParsedCallback) {
+  auto held = std::make_shared<int>(0);
+  CheckOptions options;
+  options.parsed = [held] { ++*held; };
+  DiagnosticEngine diags;
+  Checked checked = check_document("t.nome", "point p (0 0 0) endpoint\n", std::move(options), diags, nullptr);
+  EXPECT_EQ(*held, 1);
+  EXPECT_FALSE(static_cast<bool>(checked.options.parsed));
+  EXPECT_EQ(held.use_count(), 1);
+}
+
 TEST(Index, DefinitionsAndUses) {
   auto d = open(kFunnels);
   EXPECT_EQ(d->diags.error_count(), 0);
