@@ -8,20 +8,23 @@
 
 namespace nomec {
 
+namespace {
+// The position order of merge_in_order and sort_by_position: by start offset only.
+bool starts_before(const Diagnostic& a, const Diagnostic& b) { return a.range.begin < b.range.begin; }
+}  // namespace
+
 void DiagnosticEngine::merge_in_order(DiagnosticEngine&& other) {
   std::vector<Diagnostic> merged;
   merged.reserve(diags_.size() + other.diags_.size());
   std::merge(std::make_move_iterator(diags_.begin()), std::make_move_iterator(diags_.end()),
              std::make_move_iterator(other.diags_.begin()), std::make_move_iterator(other.diags_.end()),
-             std::back_inserter(merged),
-             [](const Diagnostic& a, const Diagnostic& b) { return a.range.begin < b.range.begin; });
+             std::back_inserter(merged), starts_before);
   diags_ = std::move(merged);
   other.diags_.clear();
 }
 
 void DiagnosticEngine::sort_by_position() {
-  std::stable_sort(diags_.begin(), diags_.end(),
-                   [](const Diagnostic& a, const Diagnostic& b) { return a.range.begin < b.range.begin; });
+  std::stable_sort(diags_.begin(), diags_.end(), starts_before);
 }
 
 namespace {
