@@ -48,8 +48,8 @@ class SmallVec {
 
   uint32_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
-  T* data() { return heap_ != nullptr ? heap_ : inline_; }
-  const T* data() const { return heap_ != nullptr ? heap_ : inline_; }
+  T* data() { return heap_ != nullptr ? heap_ : inline_data(); }
+  const T* data() const { return heap_ != nullptr ? heap_ : inline_data(); }
   T& operator[](size_t i) { return data()[i]; }
   const T& operator[](size_t i) const { return data()[i]; }
   const T& at(size_t i) const {
@@ -136,7 +136,13 @@ class SmallVec {
   T* heap_ = nullptr;  // null while the elements fit inline
   uint32_t size_ = 0;
   uint32_t cap_ = 0;  // of heap_
-  T inline_[N];
+  // Raw room rather than `T inline_[N]`: an element type with a default constructor (an
+  // `Id` is -1 until set) would otherwise be constructed N times for every vector made,
+  // though only the first `size_` elements are ever read. The elements are trivially
+  // copyable, so they begin to exist where they are copied in.
+  alignas(T) unsigned char inline_[sizeof(T) * N];
+  T* inline_data() { return std::launder(reinterpret_cast<T*>(inline_)); }
+  const T* inline_data() const { return std::launder(reinterpret_cast<const T*>(inline_)); }
 };
 
 }  // namespace nomec
