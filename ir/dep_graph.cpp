@@ -49,10 +49,20 @@ void DepGraph::compact() const {
     for (size_t i = 0; i < n; ++i) {
       auto first = items_.begin() + begin_[i];
       auto last = items_.begin() + begin_[i + 1];
-      std::sort(first, last, [](NodeId a, NodeId b) { return a.index < b.index; });
-      last = std::unique(first, last);
+      // Most nodes have one or two users: those need no call to sort.
+      if (last - first == 2) {
+        if (first[1].index < first[0].index) std::swap(first[0], first[1]);
+        if (first[1] == first[0]) last = first + 1;
+      } else if (last - first > 2) {
+        std::sort(first, last, [](NodeId a, NodeId b) { return a.index < b.index; });
+        last = std::unique(first, last);
+      }
       begin_[i] = out;
-      out = static_cast<uint32_t>(std::move(first, last, items_.begin() + out) - items_.begin());
+      if (items_.begin() + out == first) {
+        out += static_cast<uint32_t>(last - first);
+      } else {
+        out = static_cast<uint32_t>(std::move(first, last, items_.begin() + out) - items_.begin());
+      }
     }
     begin_[n] = out;
     items_.resize(out);

@@ -18,7 +18,9 @@ class DepGraph {
  public:
   /// Makes room for nodes 0..n-1 (the graph only grows).
   void resize(size_t n) {
-    if (n > last_to_.size()) last_to_.resize(n, -1);
+    // Called for every node added, one at a time: a push_back each, rather than resize's
+    // out-of-line fill.
+    while (last_to_.size() < n) last_to_.push_back(-1);
   }
   void reserve(size_t n) { last_to_.reserve(n); }
   void add_edge(NodeId from, NodeId to);

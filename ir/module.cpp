@@ -57,14 +57,15 @@ std::string_view node_kind_name(NodeKind kind) {
   return "?";
 }
 
-Payload payload_for(NodeKind kind) {
+void emplace_payload(Payload& data, NodeKind kind) {
   switch (kind) {
 #define NOMEC_IR_NODE(Kind, Payload, Name) \
   case NodeKind::Kind:                     \
-    return Stored<Payload>{};
+    data.emplace<Stored<Payload>>();       \
+    return;
 #include "ir/node_kinds.def"
   }
-  return std::monostate{};
+  data.emplace<std::monostate>();
 }
 
 bool is_block(NodeKind kind) {
@@ -155,7 +156,7 @@ NodeId Module::add_node(NodeKind kind, std::string_view keyword, std::string nam
   n.name = std::move(name);
   n.range = range;
   n.parent = parent;
-  n.data = payload_for(kind);
+  emplace_payload(n.data, kind);  // in place: no payload made and then moved
   NodeId id(static_cast<int32_t>(nodes.size() - 1));
   deps.resize(nodes.size());
   return id;

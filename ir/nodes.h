@@ -412,8 +412,8 @@ using Payload = std::variant<
 #include "ir/node_kinds.def"
     std::monostate>;
 
-/// The default payload of `kind`.
-Payload payload_for(NodeKind kind);
+/// Makes `data` hold `kind`'s payload, default-constructed in place.
+void emplace_payload(Payload& data, NodeKind kind);
 
 /// True for the pipeline blocks, whose children are the instances they work on (merge,
 /// subdivision, offset, handle, rind, sierpinski, menger, SLIDE mirror).

@@ -2,7 +2,9 @@
 // evaluation including domain errors, and external scripts through an `ExternalEvaluator`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "ir/ir.h"
@@ -37,6 +39,41 @@ TEST(DepGraph, TopologicalOrderAndReachability) {
   std::vector<NodeId> affected = m.deps.affected_by(p);
   EXPECT_EQ(affected, (std::vector<NodeId>{v, pt, inst}));
   EXPECT_TRUE(m.deps.affected_by(other).empty());
+}
+
+// After finalize every node's users are sorted and unique, whatever their number: the short
+// lists (one or two users, sorted without a call to sort) and the long ones alike. Checked
+// against a std::set of the same edges for lists of every length up to 6, in every order
+// of insertion that a rotation and a reversal give, with duplicates.
+TEST(DepGraph, UsersAreSortedAndUniqueForEveryListLength) {
+  Module m;
+  std::vector<NodeId> targets;
+  for (int i = 0; i < 8; ++i) targets.push_back(add(m, NodeKind::Instance, "t" + std::to_string(i)));
+  std::vector<std::pair<NodeId, std::set<int32_t>>> expected;
+  for (int len = 1; len <= 6; ++len) {
+    for (int rot = 0; rot < len; ++rot) {
+      for (bool reverse : {false, true}) {
+        NodeId from = add(m, NodeKind::Param, "p");
+        std::vector<NodeId> to(targets.begin(), targets.begin() + len);
+        std::rotate(to.begin(), to.begin() + rot, to.end());
+        if (reverse) std::reverse(to.begin(), to.end());
+        std::set<int32_t> want;
+        for (NodeId t : to) {
+          m.deps.add_edge(from, t);
+          want.insert(t.index);
+        }
+        m.deps.add_edge(from, to.front());  // a duplicate, not adjacent when len > 1
+        expected.push_back({from, want});
+      }
+    }
+  }
+  m.deps.finalize();
+  for (const auto& [from, want] : expected) {
+    std::vector<int32_t> got;
+    for (NodeId u : m.deps.users(from)) got.push_back(u.index);
+    EXPECT_EQ(got, std::vector<int32_t>(want.begin(), want.end())) << "users of node " << from.index;
+  }
+  for (NodeId t : targets) EXPECT_TRUE(m.deps.users(t).empty());
 }
 
 TEST(DepGraph, CyclesAreReported) {
