@@ -53,13 +53,10 @@ struct Signals {
   bool has(Sig k) const { return (*this)[k].is_set(); }
 };
 
-bool is_jipcad_word(std::string_view w) {
-  // Asked of every word of a file: compared in turn, which mostly compares lengths, rather
-  // than hashed.
-  static constexpr std::string_view kWords[] = {"frontcolor", "backcolor", "backgroundcolor", "backface", "sweepmorph",
-                                                "morphvisualizer", "cutbegin", "cutend", "mergeinstance"};
-  return std::find(std::begin(kWords), std::end(kWords), w) != std::end(kWords);
-}
+constexpr std::string_view kJipcadWords[] = {"frontcolor", "backcolor",     "backgroundcolor", "backface",
+                                             "sweepmorph", "morphvisualizer", "cutbegin",     "cutend",
+                                             "mergeinstance"};
+
 
 bool is_2018_block_word(std::string_view w) {
   return w == "foreground" || w == "background" || w == "insidefaces" || w == "outsidefaces" || w == "offsetfaces";
@@ -118,12 +115,43 @@ void ring_signals(const ast::Ast& a, const ast::Stmt& s, ir::GenKind gen, Signal
   }
 }
 
+// Every word `word_signals` looks for, by first letter and length: most words of a file are
+// names (`v0`, `fb0_hc0`) that share no first letter and length with any of them, and are
+// passed over with one table lookup instead of a score of comparisons.
+class SignalWords {
+ public:
+  constexpr SignalWords() {
+    // Keep in step with the comparisons in `word_signals`.
+    constexpr std::string_view kOthers[] = {"isloop",  "sd_type", "list",         "consolidatedmesh", "closed",
+                                            "mirror",  "reverse", "subdivisions", "epsilon",          "min",
+                                            "max",     "step",    "direction",    "crosssection",     "slices"};
+    for (std::string_view w : kOthers) add(w);
+    for (std::string_view w : kJipcadWords) add(w);
+  }
+  constexpr void add(std::string_view w) { lengths_[static_cast<unsigned char>(w[0])] |= 1u << w.size(); }
+  constexpr bool may_be(std::string_view w) const {
+    return !w.empty() && w.size() < 32 && (lengths_[static_cast<unsigned char>(w[0])] & (1u << w.size())) != 0;
+  }
+
+ private:
+  uint32_t lengths_[256] = {};
+};
+constexpr SignalWords kSignalWords;
+
+bool is_jipcad_word(std::string_view w) {
+  // Asked of every statement's keyword: most are passed over by the table, the rest
+  // compared in turn.
+  if (!kSignalWords.may_be(w)) return false;
+  return std::find(std::begin(kJipcadWords), std::end(kJipcadWords), w) != std::end(kJipcadWords);
+}
+
 // Words inside statements that only some dialects have.
 void word_signals(const ast::Stmt& s, std::optional<ir::GenKind> gen, Signals& sig) {
   for (size_t i = 0; i < s.items.size(); ++i) {
     const ast::Item& it = s.items[i];
     if (it.kind != ItemKind::Word) continue;
     const std::string_view w = it.text;
+    if (!kSignalWords.may_be(w)) continue;
     if (w == "isloop") sig.add(Sig::Nome2016, it.range, "`isloop`");
     if (w == "sd_type") sig.add(Sig::Nome3, it.range, "`sd_type`");
     if (w == "list" && s.kind == BlockKind::Bank) sig.add(Sig::Nome3, it.range, "`list` in a bank");
