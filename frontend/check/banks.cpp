@@ -1,6 +1,7 @@
 // Banks and sliders (see handlers.h): `bank fp set n 8 3 10 1 … list (n) endbank`, the
 // values saved work sets (`savedparameter`), `-D bank.param=value` overrides, the `list`
 // entries checked once all banks are known, and finding the slider a reference names.
+#include <algorithm>
 #include <map>
 #include <fmt/format.h>
 
@@ -182,6 +183,7 @@ void apply_overrides(Context& c) {
     if (!p.is_valid()) {
       std::vector<std::string> all;
       for (const auto& [k, v] : c.params) all.push_back(k);
+      std::sort(all.begin(), all.end());  // "did you mean" prefers the first best match
       std::string hint = closest_match(name, all);
       c.diags().emit(DiagKind::OverrideUnknown, SourceRange{},
                      fmt::format("`-D {}={}`: no parameter `{}` in this file{}", name, value, name,
@@ -213,6 +215,7 @@ void check_pending_lists(Context& c) {
     for (const auto& [k, v] : c.params) {
       if (k.rfind(pl.bank + ".", 0) == 0) cands.push_back(k.substr(pl.bank.size() + 1));
     }
+    std::sort(cands.begin(), cands.end());  // "did you mean" prefers the first best match
     std::string hint = closest_match(pl.name, cands);
     c.diags().emit(DiagKind::UnknownParameter, pl.range,
                    fmt::format("`list` names `{}`, which bank `{}` does not define{}", pl.name, pl.bank,

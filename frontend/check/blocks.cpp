@@ -40,6 +40,7 @@ void take_instance(Context& c, ir::NodeId id, const OptionValue& v) {
     std::vector<std::string_view> names;
     if (top != c.instance_scopes.end()) {
       for (const auto& [k, _] : top->second) names.push_back(k);
+      std::sort(names.begin(), names.end());  // "did you mean" prefers the first best match
     }
     const std::string hint = closest_match(name, names);
     c.diags().emit(DiagKind::UnknownName, v.value_range,

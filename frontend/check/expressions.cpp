@@ -1,8 +1,8 @@
 // Lowering expressions from the syntax tree into the IR (see handlers.h): names become
 // sliders, constants or a function's variables, calls are checked against the function
 // table, and each value is evaluated once so a division by zero is reported where it is
-// written. Iterative (an explicit stack): an expression nesting thousands of operations deep
-// is refused with one `NestingTooDeep` error, without deep recursion.
+// written. The recursion is bounded: an expression nesting more than a thousand operations
+// deep is refused with one `NestingTooDeep` error, and its deeper operations are not visited.
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -55,10 +55,11 @@ std::string tcl_var_hint(const Context& c, std::string_view name) {
 
 std::vector<std::string> slider_names(const Context& c, bool dotted_style) {
   std::vector<std::string> all;
-  for (const auto& [k, v] : c.params) {
-    std::string shown = k;
-    if (!dotted_style) std::replace(shown.begin(), shown.end(), '.', '_');
-    all.push_back(shown);
+  all.reserve(c.params.size());
+  for (const auto& [k, v] : c.params) all.push_back(k);
+  std::sort(all.begin(), all.end());  // "did you mean" prefers the first best match
+  if (!dotted_style) {
+    for (std::string& shown : all) std::replace(shown.begin(), shown.end(), '.', '_');
   }
   return all;
 }
@@ -385,66 +386,47 @@ ast::ExprId operand_of(const ast::Ast& a, const ast::Expr& x, uint32_t i) {
   return i == 0 ? x.lhs() : x.rhs();
 }
 
-ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Scope& scope) {
-  // Post-order: a frame is a syntax expression and how many of its operands are lowered;
-  // the lowered operands wait on `done` until their operation is built.
-  struct Frame {
-    ast::ExprId id;
-    int depth;
-    uint32_t next;
-  };
-  // Most values are one number or name: lowered without the stacks below (the same result:
-  // a leaf at depth 0 is lowered by lower_leaf there too).
-  if (const ast::Expr& x = a.expr(root);
-      x.kind != ast::ExprKind::Unary && x.kind != ast::ExprKind::Binary && x.kind != ast::ExprKind::Call) {
-    return lower_leaf(c, x, scope);
+bool is_operation(const ast::Expr& x) {
+  return x.kind == ast::ExprKind::Unary || x.kind == ast::ExprKind::Binary || x.kind == ast::ExprKind::Call;
+}
+
+// Post-order, recursively: the operands in written order, then the operation. The depth is
+// bounded (a node deeper than kMaxExprDepth becomes an error without its operands), so the
+// recursion is too. `parent` is the syntax operation `id` is an operand of, if any.
+ir::ExprId lower_node(Context& c, const ast::Ast& a, ast::ExprId id, ast::ExprId parent, int depth, const Scope& scope,
+                      bool left_power) {
+  const ast::Expr& x = a.expr(id);
+  if (depth > kMaxExprDepth) {
+    if (!c.reported_deep_expr) {
+      c.reported_deep_expr = true;
+      c.diags().emit(DiagKind::NestingTooDeep, x.range,
+                     fmt::format("expression nests more than {} operations deep; split it into sliders or points", kMaxExprDepth));
+    }
+    return error_expr(c, x.range);
   }
-  // Inline room for the trees values have (a few operations), so lowering one allocates
-  // nothing but its expressions.
-  SmallVec<Frame, 16> stack{{root, 0, 0}};
-  SmallVec<ir::ExprId, 16> done;
+  if (!is_operation(x)) return lower_leaf(c, x, scope);
+  const uint32_t kids = operand_count(x);
+  // Inline room for an operation's operands (a call may have more: they go to the heap).
+  SmallVec<ir::ExprId, 4> lowered;
+  for (uint32_t i = 0; i < kids; ++i) {
+    lowered.push_back(lower_node(c, a, operand_of(a, x, i), id, depth + 1, scope, left_power));
+  }
+  bool chain_link = false;
+  if (parent.is_valid()) {
+    const ast::Expr& p = a.expr(parent);
+    chain_link = is_bare_power(x) && is_bare_power(p) && p.rhs() == id;
+  }
+  return lower_operation(c, a, x, std::span<const ir::ExprId>(lowered.data(), lowered.size()), chain_link, left_power);
+}
+
+ir::ExprId lower_tree(Context& c, const ast::Ast& a, ast::ExprId root, const Scope& scope) {
+  // Most values are one number or name: lowered without the recursion's set-up (the same
+  // result: a leaf at depth 0 is lowered by lower_leaf there too).
+  if (const ast::Expr& x = a.expr(root); !is_operation(x)) return lower_leaf(c, x, scope);
   // NOME3's grammar grouped `^` from the left (compat.md §C2). A function text (`funcX [ … ]`,
   // evaluated at variables) was not read by that grammar and keeps the usual grouping.
   const bool left_power = c.dialect() == Dialect::Nome3 && scope.variables.empty();
-  while (!stack.empty()) {
-    Frame& top = stack.back();
-    const ast::Expr& x = a.expr(top.id);
-    if (top.depth > kMaxExprDepth) {
-      if (!c.reported_deep_expr) {
-        c.reported_deep_expr = true;
-        c.diags().emit(DiagKind::NestingTooDeep, x.range,
-                       fmt::format("expression nests more than {} operations deep; split it into sliders or points", kMaxExprDepth));
-      }
-      done.push_back(error_expr(c, x.range));
-      stack.pop_back();
-      continue;
-    }
-    const uint32_t kids = operand_count(x);
-    const bool is_operation = x.kind == ast::ExprKind::Unary || x.kind == ast::ExprKind::Binary || x.kind == ast::ExprKind::Call;
-    if (!is_operation) {
-      done.push_back(lower_leaf(c, x, scope));
-      stack.pop_back();
-      continue;
-    }
-    if (top.next < kids) {
-      const ast::ExprId child = operand_of(a, x, top.next++);
-      const int depth = top.depth + 1;
-      stack.push_back({child, depth, 0});
-      continue;
-    }
-    bool chain_link = false;
-    if (stack.size() >= 2) {
-      const ast::Expr& parent = a.expr(stack[stack.size() - 2].id);
-      chain_link = is_bare_power(x) && is_bare_power(parent) && parent.rhs() == top.id;
-    }
-    // The operands are the last `kids` lowered results: passed where they are.
-    const std::span<const ir::ExprId> lowered(done.end() - kids, kids);
-    const ir::ExprId op = lower_operation(c, a, x, lowered, chain_link, left_power);
-    done.truncate(done.size() - kids);
-    done.push_back(op);
-    stack.pop_back();
-  }
-  return done.back();
+  return lower_node(c, a, root, ast::ExprId::None(), 0, scope, left_power);
 }
 
 // A SLIDE value in braces (`{expr $r*2}`, `{if {…} {expr 1} else {expr 0}}`, `%{ … }%`),

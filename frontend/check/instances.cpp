@@ -132,6 +132,8 @@ bool check_swapped(Context& c, const ast::Stmt& s, const InstanceHead& head) {
   if (c.dialect() == Dialect::Slide || head.target == nullptr || head.name.empty() || s.items.empty()) return false;
   const std::string target(head.target->text);
   auto defined = [&](const std::string& n) {
+    // Shapes first: an instance's target is one in all but misspelt files.
+    if (c.scopes[static_cast<int>(Ns::Shape)].contains(n)) return true;
     for (const auto& scope : c.scopes) {
       if (scope.contains(n)) return true;
     }

@@ -169,9 +169,8 @@ ir::Slice<ir::VertexRef> read_vertices(Context& c, const ast::Ast& a, const ast:
                      fmt::format("expected a vertex name in this list, found `{}`", Context::clip(c.sources().text(x.range))));
       continue;
     }
-    ir::VertexRef ref = resolve_vertex(c, x.text, x.range, mesh);
-    add_vertex_edges(c, owner, ref);
-    all.push_back(std::move(ref));
+    all.push_back(resolve_vertex(c, x.text, x.range, mesh));
+    add_vertex_edges(c, owner, all.back());
   }
   return ir::Slice<ir::VertexRef>{first, static_cast<uint32_t>(all.size()) - first};
 }

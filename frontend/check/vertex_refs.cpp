@@ -196,8 +196,12 @@ std::string substring_match(Context& c, ir::NodeId mesh, const std::string& text
   if (points == c.mesh_points.end()) return {};
   const std::string& mesh_name = c.module().node(mesh).name;
   const std::string needle = "." + text;
-  for (const auto& [name, node] : points->second) {
-    if ((mesh_name + "." + name).find(needle) != std::string::npos) return name;
+  std::vector<std::string_view> names;  // in name order: the first match is the hint
+  names.reserve(points->second.size());
+  for (const auto& [name, node] : points->second) names.push_back(name);
+  std::sort(names.begin(), names.end());
+  for (std::string_view name : names) {
+    if ((mesh_name + "." + std::string(name)).find(needle) != std::string::npos) return std::string(name);
   }
   return {};
 }
@@ -258,8 +262,8 @@ std::vector<PathMatch> match_underscored(Context& c, const std::string& text, co
   while (!path.empty() && path[0] == '_') path = path.substr(1);
   std::vector<PathMatch> matches;
   // Try the top-level scope, then any instance scope (2016 names may omit outer instances).
-  std::function<void(const OrderedNames<ir::NodeId>&, size_t, std::vector<ir::NodeId>&)> try_scope =
-      [&](const OrderedNames<ir::NodeId>& scope, size_t at, std::vector<ir::NodeId>& chain) {
+  std::function<void(const NameTable<ir::NodeId>&, size_t, std::vector<ir::NodeId>&)> try_scope =
+      [&](const NameTable<ir::NodeId>& scope, size_t at, std::vector<ir::NodeId>& chain) {
         // The names that can match are the prefixes of `path[at:]` that end before an
         // `_`; looking each up (shortest first) costs the underscores in the reference
         // instead of every name in the scope.
@@ -330,6 +334,7 @@ void report_ambiguous(Context& c, const std::vector<PathMatch>& matches, std::st
 
 // Sorts matches into file order: by the instances of their chains, outermost first.
 void sort_file_order(std::vector<PathMatch>& matches) {
+  if (matches.size() < 2) return;  // most paths match once; a stable sort would still take a buffer
   std::stable_sort(matches.begin(), matches.end(), [](const PathMatch& x, const PathMatch& y) {
     return std::lexicographical_compare(x.chain.begin(), x.chain.end(), y.chain.begin(), y.chain.end(),
                                         [](ir::NodeId p, ir::NodeId q) { return p.index < q.index; });
@@ -445,7 +450,10 @@ ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use,
     ref.point = cp;
     return ref;
   }
-  if (ir::VertexRef flat = flat_scene_vertex(c, text, use); !flat.instances.empty()) return flat;
+  if (ir::VertexRef flat = flat_scene_vertex(c, text, use); !flat.instances.empty()) {
+    ref = std::move(flat);  // every path returns `ref`, so it is built in the caller's place
+    return ref;
+  }
   const LeafCheck has_vertex = [&](ir::NodeId inst, const std::string& rest, std::string* why) {
     return target_has_vertex(c, inst, rest, why);
   };
@@ -459,9 +467,9 @@ ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use,
     // instances of enclosing groups (compat.md E4).
     if ((!at_top || !error.empty()) && is_nome_family(c.dialect())) {
       if (std::vector<PathMatch> matches = match_dotted_anywhere(c, path, has_vertex); !matches.empty()) {
-        ref.instances = matches[0].chain;
-        ref.vertex = matches[0].rest;
         if (matches.size() > 1) report_ambiguous(c, matches, text, use);
+        ref.instances = std::move(matches[0].chain);
+        ref.vertex = std::move(matches[0].rest);
         return ref;
       }
     }
@@ -481,9 +489,9 @@ ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use,
     }
   } else if (std::vector<PathMatch> matches = match_underscored(c, path, has_vertex); !matches.empty()) {
     if (is_nome_family(c.dialect())) sort_file_order(matches);
-    ref.instances = matches[0].chain;
-    ref.vertex = matches[0].rest;
     if (matches.size() > 1) report_ambiguous(c, matches, text, use);
+    ref.instances = std::move(matches[0].chain);
+    ref.vertex = std::move(matches[0].rest);
     return ref;
   }
   if (unresolved != nullptr) {
@@ -501,7 +509,9 @@ ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use,
   }
   std::vector<std::string_view> cands = names_in(c, Ns::Point);
   if (mesh.is_valid()) {
+    const size_t scope_names = cands.size();
     for (auto& [k, v] : c.mesh_points[mesh.index]) cands.push_back(k);
+    std::sort(cands.begin() + static_cast<std::ptrdiff_t>(scope_names), cands.end());  // "did you mean" prefers the first best match
   }
   std::string hint = closest_match(text, cands);
   auto d = c.diags().emit(DiagKind::UnknownVertex, use,

@@ -275,6 +275,7 @@ void follow_instances(Context& c, ir::ScenePath& p, const std::vector<PathPart>&
       std::vector<std::string_view> names;
       if (sc != c.instance_scopes.end()) {
         for (const auto& [k, _] : sc->second) names.push_back(k);
+        std::sort(names.begin(), names.end());  // "did you mean" prefers the first best match
       }
       const std::string hint = closest_match(parts[i].text, names);
       auto d = c.diags().emit(DiagKind::UnknownName, parts[i].range,
