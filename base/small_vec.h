@@ -28,7 +28,14 @@ class SmallVec {
 
   SmallVec() = default;
   SmallVec(std::initializer_list<T> init) { assign(init.begin(), init.size()); }
-  SmallVec(const SmallVec& o) { assign(o.data(), o.size_); }
+  SmallVec(const SmallVec& o) {
+    if (o.heap_ == nullptr) {
+      copy_inline_room(o);
+      size_ = o.size_;
+    } else {
+      assign(o.data(), o.size_);
+    }
+  }
   SmallVec(SmallVec&& o) noexcept { take(o); }
   SmallVec& operator=(const SmallVec& o) {
     if (this != &o) {
@@ -118,8 +125,8 @@ class SmallVec {
       heap_ = o.heap_;
       cap_ = o.cap_;
       o.heap_ = nullptr;
-    } else if (size_ > 0) {
-      std::memcpy(static_cast<void*>(inline_), o.inline_, sizeof(T) * size_);
+    } else {
+      copy_inline_room(o);
     }
     o.size_ = 0;
   }
@@ -141,6 +148,18 @@ class SmallVec {
   // though only the first `size_` elements are ever read. The elements are trivially
   // copyable, so they begin to exist where they are copied in.
   alignas(T) unsigned char inline_[sizeof(T) * N];
+  // The whole inline room, a fixed size the compiler copies in a few moves, rather than a
+  // call to memcpy for `size_` elements (copying a syntax tree copies many of these). The
+  // bytes past `size_` may never have been written: copying them as bytes is allowed, and
+  // nothing reads them as elements.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+  void copy_inline_room(const SmallVec& o) { std::memcpy(inline_, o.inline_, sizeof inline_); }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
   T* inline_data() { return std::launder(reinterpret_cast<T*>(inline_)); }
   const T* inline_data() const { return std::launder(reinterpret_cast<const T*>(inline_)); }
 };

@@ -323,10 +323,13 @@ class Assembler {
     return SourceRange{file_, r.begin + at_, r.end + at_};
   }
   std::string_view view(std::string_view v) const {
-    if (v.data() == nullptr || v.data() < key_.data() || v.data() > key_.data() + key_.size()) {
-      return v;
-    }
-    return full_.substr(at_ + static_cast<size_t>(v.data() - key_.data()), v.size());
+    // Every text of every piece passes here: compared as addresses against the key's bounds
+    // (a null or static text lies outside them), and moved by the key's offset in `full_`
+    // without substr's bounds check (a view inside the key fits in `full_` at `at_`).
+    const auto p = reinterpret_cast<uintptr_t>(v.data());
+    const auto k = reinterpret_cast<uintptr_t>(key_.data());
+    if (p < k || p > k + key_.size() || v.data() == nullptr) return v;
+    return std::string_view(full_.data() + at_ + (p - k), v.size());
   }
   ast::ExprId expr(ast::ExprId id) const {
     return id.is_valid() ? ast::ExprId{id.index + e0_} : id;
