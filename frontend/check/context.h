@@ -61,8 +61,6 @@ struct NameHash {
 };
 template <typename V>
 using NameTable = std::unordered_map<std::string, V, NameHash, std::equal_to<>>;
-template <typename V>
-using OrderedNames = std::map<std::string, V, std::less<>>;
 
 /// A definition in a namespace: its node, where its name is, and where it was declared.
 struct Symbol {
