@@ -181,10 +181,7 @@ void apply_overrides(Context& c) {
   for (const auto& [name, value] : c.options().overrides) {
     ir::NodeId p = lookup_param_text(c, name);
     if (!p.is_valid()) {
-      std::vector<std::string> all;
-      for (const auto& [k, v] : c.params) all.push_back(k);
-      std::sort(all.begin(), all.end());  // "did you mean" prefers the first best match
-      std::string hint = closest_match(name, all);
+      std::string hint = closest_match(name, sorted_names(c.params));
       c.diags().emit(DiagKind::OverrideUnknown, SourceRange{},
                      fmt::format("`-D {}={}`: no parameter `{}` in this file{}", name, value, name,
                                  hint.empty() ? "" : fmt::format("; did you mean `{}`?", hint)));

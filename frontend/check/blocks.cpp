@@ -37,11 +37,8 @@ void take_instance(Context& c, ir::NodeId id, const OptionValue& v) {
   const ir::NodeId inst = top == c.instance_scopes.end() || !top->second.contains(name) ? ir::NodeId::None()
                                                                                           : top->second.at(name);
   if (!inst.is_valid()) {
-    std::vector<std::string_view> names;
-    if (top != c.instance_scopes.end()) {
-      for (const auto& [k, _] : top->second) names.push_back(k);
-      std::sort(names.begin(), names.end());  // "did you mean" prefers the first best match
-    }
+    const std::vector<std::string_view> names =
+        top != c.instance_scopes.end() ? sorted_names(top->second) : std::vector<std::string_view>{};
     const std::string hint = closest_match(name, names);
     c.diags().emit(DiagKind::UnknownName, v.value_range,
                    fmt::format("`instance {}` in `{}` names no top-level instance{}", name, c.module().node(id).keyword,

@@ -6,6 +6,7 @@
 // check::Context and Handle* functions.
 #pragma once
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -61,6 +62,17 @@ struct NameHash {
 };
 template <typename V>
 using NameTable = std::unordered_map<std::string, V, NameHash, std::equal_to<>>;
+
+/// A table's names in name order: the candidates of a "did you mean" hint, which prefers the
+/// first best match, so a hint does not depend on the table's hash order.
+template <typename V>
+std::vector<std::string_view> sorted_names(const NameTable<V>& table) {
+  std::vector<std::string_view> out;
+  out.reserve(table.size());
+  for (const auto& [k, v] : table) out.push_back(k);
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 /// A definition in a namespace: its node, where its name is, and where it was declared.
 struct Symbol {

@@ -57,7 +57,6 @@ constexpr std::string_view kJipcadWords[] = {"frontcolor", "backcolor",     "bac
                                              "sweepmorph", "morphvisualizer", "cutbegin",     "cutend",
                                              "mergeinstance"};
 
-
 bool is_2018_block_word(std::string_view w) {
   return w == "foreground" || w == "background" || w == "insidefaces" || w == "outsidefaces" || w == "offsetfaces";
 }

@@ -133,9 +133,8 @@ bool check_swapped(Context& c, const ast::Stmt& s, const InstanceHead& head) {
   const std::string target(head.target->text);
   auto defined = [&](const std::string& n) {
     // Shapes first: an instance's target is one in all but misspelt files.
-    if (c.scopes[static_cast<int>(Ns::Shape)].contains(n)) return true;
-    for (const auto& scope : c.scopes) {
-      if (scope.contains(n)) return true;
+    for (Ns ns : {Ns::Shape, Ns::Surface, Ns::Point, Ns::Face, Ns::Scene}) {
+      if (c.scopes[static_cast<int>(ns)].contains(n)) return true;
     }
     return false;
   };

@@ -195,11 +195,7 @@ ir::NodeId lookup(Context& c, Ns ns, std::string_view name, SourceRange use, boo
 }
 
 std::vector<std::string_view> names_in(const Context& c, Ns ns) {
-  std::vector<std::string_view> out;
-  out.reserve(c.scopes[static_cast<int>(ns)].size());
-  for (const auto& [k, v] : c.scopes[static_cast<int>(ns)]) out.push_back(k);
-  std::sort(out.begin(), out.end());  // "did you mean" prefers the first best match
-  return out;
+  return sorted_names(c.scopes[static_cast<int>(ns)]);
 }
 
 ir::NodeId report_unknown(Context& c, Ns ns, std::string_view name, SourceRange use, std::string_view wanted) {

@@ -196,11 +196,7 @@ std::string substring_match(Context& c, ir::NodeId mesh, const std::string& text
   if (points == c.mesh_points.end()) return {};
   const std::string& mesh_name = c.module().node(mesh).name;
   const std::string needle = "." + text;
-  std::vector<std::string_view> names;  // in name order: the first match is the hint
-  names.reserve(points->second.size());
-  for (const auto& [name, node] : points->second) names.push_back(name);
-  std::sort(names.begin(), names.end());
-  for (std::string_view name : names) {
+  for (std::string_view name : sorted_names(points->second)) {  // in name order: the first match is the hint
     if ((mesh_name + "." + std::string(name)).find(needle) != std::string::npos) return std::string(name);
   }
   return {};
@@ -509,9 +505,7 @@ ir::VertexRef resolve_vertex(Context& c, std::string_view text, SourceRange use,
   }
   std::vector<std::string_view> cands = names_in(c, Ns::Point);
   if (mesh.is_valid()) {
-    const size_t scope_names = cands.size();
-    for (auto& [k, v] : c.mesh_points[mesh.index]) cands.push_back(k);
-    std::sort(cands.begin() + static_cast<std::ptrdiff_t>(scope_names), cands.end());  // "did you mean" prefers the first best match
+    for (std::string_view k : sorted_names(c.mesh_points[mesh.index])) cands.push_back(k);
   }
   std::string hint = closest_match(text, cands);
   auto d = c.diags().emit(DiagKind::UnknownVertex, use,

@@ -272,11 +272,8 @@ void follow_instances(Context& c, ir::ScenePath& p, const std::vector<PathPart>&
     const ir::NodeId inst = sc == c.instance_scopes.end() || !sc->second.contains(parts[i].text) ? ir::NodeId::None()
                                                                                                   : sc->second.at(parts[i].text);
     if (!inst.is_valid()) {
-      std::vector<std::string_view> names;
-      if (sc != c.instance_scopes.end()) {
-        for (const auto& [k, _] : sc->second) names.push_back(k);
-        std::sort(names.begin(), names.end());  // "did you mean" prefers the first best match
-      }
+      const std::vector<std::string_view> names =
+          sc != c.instance_scopes.end() ? sorted_names(sc->second) : std::vector<std::string_view>{};
       const std::string hint = closest_match(parts[i].text, names);
       auto d = c.diags().emit(DiagKind::UnknownName, parts[i].range,
                               fmt::format("`{}` has no instance named `{}`{}", m.node(scope).name, parts[i].text,

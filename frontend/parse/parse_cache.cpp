@@ -328,7 +328,7 @@ class Assembler {
     // without substr's bounds check (a view inside the key fits in `full_` at `at_`).
     const auto p = reinterpret_cast<uintptr_t>(v.data());
     const auto k = reinterpret_cast<uintptr_t>(key_.data());
-    if (p < k || p > k + key_.size() || v.data() == nullptr) return v;
+    if (p < k || p > k + key_.size()) return v;
     return std::string_view(full_.data() + at_ + (p - k), v.size());
   }
   ast::ExprId expr(ast::ExprId id) const {
