@@ -21,6 +21,7 @@ void handle_set(Context& c, const ast::Ast& a, const ast::Stmt& bank, const std:
   }
   const ast::Item& name_item = bank.items[pos++];
   std::string pname(name_item.text);
+  c.note_declared(pname, name_item.range, false);  // a slider: "did you mean" hints list them all
   std::vector<const ast::Item*> vals;
   while (pos < bank.items.size() && bank.items[pos].kind != ItemKind::Word) vals.push_back(&bank.items[pos++]);
   double v[4] = {0, 0, 0, 1};
@@ -99,6 +100,7 @@ void handle_bank(Context& c, const ast::Ast& a, const ast::Stmt& s) {
   size_t pos = 0;
   auto name = c.read_name(s, pos, "bank b set n 8 3 10 1 endbank");
   if (!name) return;
+  c.note_declared(*name, s.items[0].range, true);
   c.param_text_memo.clear();  // a new bank may change how `bank_param` resolves
   if (auto [it, ok] = c.banks.emplace(*name, s.items[0].range); !ok) {
     c.diags()

@@ -37,6 +37,7 @@ void take_instance(Context& c, ir::NodeId id, const OptionValue& v) {
   const ir::NodeId inst = top == c.instance_scopes.end() || !top->second.contains(name) ? ir::NodeId::None()
                                                                                           : top->second.at(name);
   if (!inst.is_valid()) {
+    c.listed_all_instances = true;
     const std::vector<std::string_view> names =
         top != c.instance_scopes.end() ? sorted_names(top->second) : std::vector<std::string_view>{};
     const std::string hint = closest_match(name, names);

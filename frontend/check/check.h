@@ -41,6 +41,17 @@ struct CheckOptions {
   /// share the cores with that parse).
   std::function<void()> parsed;
   bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
+  /// May be empty; asked between statements: when it returns true the check stops early
+  /// and its result says `cancelled` (an editor's check of a version already replaced).
+  std::function<bool()> cancelled;
+};
+
+/// A name a definition makes (see CheckResult::declared_names).
+struct DeclaredName {
+  std::string name;
+  SourceRange range;  // where the name is written
+  bool top_scope = false;  // in the file's own scope, where a second one is a duplicate
+  bool while_checking = false;  // made while checking statements (`consolidate`), not declared before
 };
 
 /// A resolved name: the word at `use` refers to the IR node `def` (recorded for the index).
@@ -61,6 +72,23 @@ struct CheckResult {
   /// Milliseconds of the calling thread's CPU time spent parsing the main file (the rest of
   /// the call is checking); for the editor's benchmark.
   double parse_ms = 0;
+  /// CheckOptions::cancelled stopped the check: the rest of the result is incomplete.
+  bool cancelled = false;
+  // Only with CheckOptions::record_names, for the editor's incremental checks
+  // (frontend/check/incremental.h):
+  /// Every name a definition of the main file makes that another statement may look up:
+  /// top-level definitions, banks, and instances at any depth.
+  std::vector<DeclaredName> declared_names;
+  /// Where the diagnostics of checking the statements begin in the engine (before: the
+  /// parse's and those of dialect, banks and declarations, which read the whole file).
+  size_t first_statement_diagnostic = 0;
+  /// For each checked top-level item of the main file (`ast::Ast::top`), its index and the
+  /// number of diagnostics in the engine once it was checked.
+  std::vector<std::pair<int32_t, uint32_t>> item_marks;
+  /// Each diagnostic from there on lies within one top-level statement of the main file, and
+  /// the file has none of what an incremental check leaves to a full one (includes, Tcl, a
+  /// base scene, NOME2's scene merges): see incremental.h.
+  bool incremental_ok = false;
 };
 
 /// The calling thread's CPU time in milliseconds (for phase timings that a loaded machine

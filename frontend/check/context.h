@@ -207,6 +207,30 @@ class Context {
   std::vector<std::unique_ptr<ast::Ast>> owned_asts;  // included files
   std::vector<std::unique_ptr<ast::Ast>> fragments;   // function texts (`funcX [ … ]`)
 
+  // ---- for incremental checks (incremental.cpp) ----
+  FileId main_file;  // the file being checked (its top-level statements are "items")
+  /// When set: only the main file's top-level items whose flag is non-zero are processed
+  /// (the others are declared, not checked).
+  const std::vector<uint8_t>* only_items = nullptr;
+  /// When set: every name a definition makes that another statement may look up (top-level
+  /// definitions, banks, instances at any depth), with where its name is written.
+  std::vector<DeclaredName>* declared_names = nullptr;
+  /// When set: for each processed top-level item of the main file, its index and the number
+  /// of diagnostics once it was processed (the diagnostics it made come after the previous mark).
+  std::vector<std::pair<int32_t, uint32_t>>* item_marks = nullptr;
+  bool cancelled = false;  // CheckOptions::cancelled said so: the check stopped early
+  bool checking_statements = false;  // the statements are being checked (after every declaration)
+  /// Records a definition for incremental checks; `symbol`: a name of a namespace (Ns), which
+  /// every "did you mean" hint of that kind lists.
+  void note_declared(std::string_view name, SourceRange range, bool top_scope, bool symbol = false) {
+    if (declared_names != nullptr && range.file == main_file) {
+      declared_names->push_back({std::string(name), range, top_scope, symbol && checking_statements});
+    }
+  }
+  /// A hint listed every top-level instance (NOME2's `instance X` in a block): an incremental
+  /// check, which knows only the instances it checked, cannot repeat it.
+  bool listed_all_instances = false;
+
  private:
   // The node declared for each statement, by statement index, per syntax tree (the main
   // file, its base scene, its includes: each is declared before it is processed).

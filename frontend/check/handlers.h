@@ -14,6 +14,12 @@
 
 namespace nomec::check {
 
+// ---- check.cpp: the phases of a parsed main file ----
+/// Dialect, banks, declarations, then each statement (all, or `c.only_items`), then what
+/// resolves at the end; loads the base scene of saved work into `base_ast`.
+void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std::string& path,
+                  std::unique_ptr<ast::Ast>& base_ast);
+
 // ---- dialect.cpp: which dialect a file is written in, and the names its Tcl code makes ----
 std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& path);
 void collect_tcl(Context& c, const ast::Ast& a);

@@ -162,6 +162,7 @@ ir::NodeId handle_instance(Context& c, const ast::Ast& a, const ast::Stmt& s, co
   }
   // Instance names live in the scope of their parent (top level, group or block).
   if (!head.name.empty()) {
+    c.note_declared(head.name, s.items.empty() ? s.open_kw : s.items[0].range, ctx.top);
     auto& scope = c.instance_scopes[ctx.parent.index + 1];
     if (auto it = scope.find(head.name); it != scope.end()) {
       c.diags()

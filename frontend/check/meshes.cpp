@@ -149,6 +149,7 @@ ir::NodeId accumulate_consolidated(Context& c, const ast::Stmt& s, ir::NodeId id
     c.mesh_points[id.index].insert(copy.begin(), copy.end());
   }
   it->second = Symbol{id, s.items[0].range, c.order, s.keyword};
+  c.note_declared(it->first, s.items[0].range, true, true);  // later blocks add to this one
   return earlier;
 }
 

@@ -138,6 +138,7 @@ void declare(Context& c, const ast::Ast& a, int order_base) {
 // references bind to the new entity and earlier ones keep the old one (a warning); NOME 2016
 // keeps the first definition and ignores the second (a warning); NOME2 and SLIDE reject it.
 void define(Context& c, Ns ns, std::string_view name, Symbol sym) {
+  c.note_declared(name, sym.range, true, true);
   auto& table = c.scopes[static_cast<int>(ns)];
   auto [it, inserted] = table.emplace(name, sym);
   if (inserted) return;

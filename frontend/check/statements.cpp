@@ -115,10 +115,32 @@ void report_line_end(Context& c, const ast::Stmt& s) {
 void process(Context& c, const ast::Ast& a, int order_base) {
   int order = order_base;
   bool in_stray_run = false;
+  // The main file's own statements (not a base scene's, an include's or Tcl's): an
+  // incremental check may process only some of them, and marks what each one reported.
+  const bool main = order_base == 0 && a.file == c.main_file;
+  const std::function<bool()>& cancelled = c.options().cancelled;
   for (const ast::Item& it : a.top) {
     ++order;
     c.order = order;
-    if (it.kind != ItemKind::Block && it.kind != ItemKind::Tcl && it.kind != ItemKind::Include) {
+    const int32_t item = order - order_base - 1;
+    if (cancelled && item % 64 == 0 && cancelled()) {
+      c.cancelled = true;
+      return;
+    }
+    const bool stray = it.kind != ItemKind::Block && it.kind != ItemKind::Tcl && it.kind != ItemKind::Include;
+    if (main && c.only_items != nullptr && !(*c.only_items)[static_cast<size_t>(item)]) {
+      in_stray_run = stray;
+      continue;
+    }
+    struct Mark {  // after the item, however it ends
+      Context& c;
+      bool on;
+      int32_t item;
+      ~Mark() {
+        if (on) c.item_marks->push_back({item, static_cast<uint32_t>(c.diags().diagnostics().size())});
+      }
+    } mark{c, main && c.item_marks != nullptr, item};
+    if (stray) {
       if (!in_stray_run) report_stray(c, it);
       in_stray_run = true;
       continue;

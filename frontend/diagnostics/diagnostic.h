@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "frontend/source/source_manager.h"
@@ -78,6 +79,10 @@ class DiagnosticEngine {
   int warning_count() const;
   /// Moves every diagnostic of `other` into this engine.
   void append(DiagnosticEngine&& other);
+  /// Adds a diagnostic made elsewhere (e.g. kept from an earlier check).
+  void push(Diagnostic d) { diags_.push_back(std::move(d)); }
+  /// Moves every diagnostic out, in the order they came, leaving the engine empty.
+  std::vector<Diagnostic> take() { return std::exchange(diags_, {}); }
   /// Moves every diagnostic of `other` into this engine, both in position order (by start
   /// offset; this engine's first on ties), keeping that order.
   void merge_in_order(DiagnosticEngine&& other);

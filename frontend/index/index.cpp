@@ -464,6 +464,7 @@ Checked check_document(const std::string& path, std::string text, CheckOptions o
   c.check = std::move(check);
   c.options = std::move(options);
   c.options.parsed = nullptr;  // belongs to this check (it may hold what its caller owns)
+  c.options.cancelled = nullptr;
   c.path = path;
   c.error_count = diags.error_count() - errors_before;
   return c;
