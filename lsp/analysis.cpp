@@ -116,7 +116,8 @@ json diagnostic_json(const Analysis& a, const Diagnostic& d) {
 }
 
 std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t version, std::string text,
-                                              ParseCache* cache, std::function<void()> parsed) const {
+                                              ParseCache* cache, std::function<void()> parsed,
+                                              std::function<bool()> cancelled) const {
   const double start = thread_cpu_ms();
   auto a = std::make_shared<Analysis>();
   a->uri = uri;
@@ -133,12 +134,15 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     CheckOptions options;
     options.dialect = options_.dialect;
     options.parsed = std::move(parsed);
+    options.cancelled = std::move(cancelled);
     if (path) {
       options.read_file = read_file_bytes;
       options.list_folder = list_folder;
     }
     const size_t bytes = text.size();
     index::Checked checked = index::check_document(path.value_or(uri), std::move(text), std::move(options), diags, cache);
+    if (checked.check->cancelled) return nullptr;
+    if (options_.incremental) a->basis.emplace(checked.sources, checked.check, diags.diagnostics());
     if (cache != nullptr) {
       const ParseCache::Stats& s = cache->last_stats();
       a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};
@@ -159,6 +163,42 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   for (const Diagnostic& d : a->diagnostics) a->diagnostics_json.push_back(diagnostic_json(*a, d));
   a->times.diagnostics_ms = thread_cpu_ms() - checked_at;
   return a;
+}
+
+QuickDiagnostics ServerImpl::analyse_incrementally(const Analysis& from, const std::string& uri, std::string text,
+                                                   ParseCache* cache) const {
+  const double start = thread_cpu_ms();
+  QuickDiagnostics q;
+  const IncrementalBasis* basis = from.basis.get();
+  std::optional<std::string> path = uri_to_path(uri);
+  if (basis == nullptr || !path || text.size() > options_.max_document_bytes) return q;
+  CheckOptions options;
+  options.dialect = options_.dialect;
+  options.read_file = read_file_bytes;
+  options.list_folder = list_folder;
+  auto sources = std::make_shared<SourceManager>();
+  DiagnosticEngine diags;
+  const size_t bytes = text.size();
+  const IncrementalOutcome outcome = check_incrementally(*basis, *sources, *path, std::move(text), options, diags, cache);
+  if (cache != nullptr) {
+    const ParseCache::Stats& s = cache->last_stats();
+    q.parse = ParseStats{s.pieces, s.parsed, s.parsed_bytes};
+  } else {
+    q.parse = ParseStats{1, 1, bytes};
+  }
+  if (!outcome.done) return q;
+  q.done = true;
+  diags.sort_and_dedupe();
+  // The diagnostics in LSP form need the version's text and lines, as an Analysis has them.
+  Analysis shown;
+  shown.uri = uri;
+  shown.sources_ptr = sources;
+  shown.file = FileId{static_cast<int32_t>(sources->file_count() - 1)};
+  shown.lines = LineIndex(sources->text(shown.file), sources->line_starts(shown.file));
+  q.checked = outcome.checked;
+  for (const Diagnostic& d : diags.diagnostics()) q.diagnostics.push_back(diagnostic_json(shown, d));
+  q.ms = thread_cpu_ms() - start;
+  return q;
 }
 
 void ServerImpl::fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text) {

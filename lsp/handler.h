@@ -18,6 +18,7 @@
 #include "backend/session.h"
 #include "backend/summary.h"
 #include "frontend/check/check.h"
+#include "frontend/check/incremental.h"
 #include "frontend/diagnostics/diagnostic.h"
 #include "frontend/index/index.h"
 #include "frontend/source/source_manager.h"
@@ -74,6 +75,39 @@ class LazyIndex {
   mutable std::shared_ptr<const index::Index> index_;
 };
 
+/// What the next versions of a document are checked incrementally from (see
+/// frontend/check/incremental.h): made once, on first use or after publishing on the after
+/// thread, from a full analysis.
+class LazyBasis {
+ public:
+  LazyBasis() = default;
+  LazyBasis(const LazyBasis&) = delete;
+  LazyBasis& operator=(const LazyBasis&) = delete;
+  /// Sets what to make it from; only before the analysis is shared.
+  void emplace(std::shared_ptr<const SourceManager> sources, std::shared_ptr<const CheckResult> check,
+               std::vector<Diagnostic> made) {
+    sources_ = std::move(sources);
+    check_ = std::move(check);
+    made_ = std::move(made);
+  }
+  /// The basis, making it now if no one has yet; null when the document is checked in full.
+  const IncrementalBasis* get() const {
+    std::call_once(once_, [this] {
+      if (check_) basis_ = make_incremental_basis(*sources_, *check_, made_);
+      made_.clear();
+      made_.shrink_to_fit();
+    });
+    return basis_.get();
+  }
+
+ private:
+  std::shared_ptr<const SourceManager> sources_;
+  std::shared_ptr<const CheckResult> check_;
+  mutable std::vector<Diagnostic> made_;  // the check's diagnostics in the order they came
+  mutable std::once_flag once_;
+  mutable std::shared_ptr<const IncrementalBasis> basis_;
+};
+
 /// One checked version of an open document. Immutable once published.
 struct Analysis {
   std::string uri;
@@ -90,6 +124,7 @@ struct Analysis {
   ParseStats parse_stats;  // how the document's text was parsed (all of it without a cache)
   AnalysisTimes times;     // where its time went (publish_ms and index_ms are set later)
   LineIndex lines;         // over sources.text(file)
+  LazyBasis basis;         // for checking the next versions incrementally (empty when too large)
 
   const SourceManager& sources() const { return *sources_ptr; }
   const ir::Module& module() const { return check->module; }

@@ -497,14 +497,35 @@ void ServerImpl::analysis_loop() {
     int64_t version = next->version;
     uint64_t generation = next->generation;
     std::shared_ptr<DocumentParseCache> cache = next->parse_cache;
+    // The latest full analysis, to check this version incrementally from.
+    std::shared_ptr<const Analysis> from = options_.incremental ? next->analysis : nullptr;
+    if (from && from->version >= version) from.reset();
     analysing_ = true;
     lock.unlock();
     std::shared_ptr<Analysis> a;
+    std::optional<json> quick;  // the diagnostics published from an incremental check
     if (cache) {
       // Waits while the after thread fills the cache: then this change re-parses little.
       std::unique_lock cache_lock(cache->mu);
       if (cache->filled) {
-        a = analyse(uri, version, std::move(text), &cache->cache);
+        std::optional<ParseStats> first_parse;  // the incremental check's, which parsed the edit
+        if (from) {
+          QuickDiagnostics q = publish_incrementally(*from, uri, version, generation, text, cache->cache);
+          first_parse = q.parse;
+          if (q.done) quick = std::move(q.diagnostics);
+        }
+        if (quick && options_.full_check_delay_ms > 0) {
+          std::unique_lock wait_lock(docs_mu_);
+          docs_cv_.wait_for(wait_lock, std::chrono::milliseconds(options_.full_check_delay_ms), [&] {
+            auto it = docs_.find(uri);
+            return it == docs_.end() || it->second.version != version;
+          });
+        }
+        // The full check, for the IR, the index and hover; it stops early when the next edit
+        // has come (its version would not be published).
+        a = analyse(uri, version, std::move(text), &cache->cache, {},
+                    [this, uri, version] { return document_version(uri) != version; });
+        if (a && first_parse) a->parse_stats = *first_parse;
       } else {
         cache_lock.unlock();
         // The first version is parsed by `parse_file` (on both cores, for a large text) for
@@ -529,8 +550,10 @@ void ServerImpl::analysis_loop() {
       a = analyse(uri, version, std::move(text), nullptr);
     }
     cache.reset();  // a closed document's pieces go now
+    from.reset();
     lock.lock();
     analysing_ = false;
+    if (!a) continue;  // overtaken by an edit: the next version is analysed
     auto it = docs_.find(uri);
     if (it == docs_.end() || it->second.generation != generation) continue;  // closed or reopened
     Document& d = it->second;
@@ -544,7 +567,12 @@ void ServerImpl::analysis_loop() {
       hand_to_after_thread(std::move(previous), nullptr);
       continue;
     }
+    const AnalysisTimes quick_times = d.times;
     d.times = a->times;
+    if (quick) {
+      d.times.incremental_ms = quick_times.incremental_ms;
+      d.times.incremental_checked = quick_times.incremental_checked;
+    }
     json diagnostics = a->diagnostics_json;
     lock.unlock();
     if (a->too_large) {
@@ -558,7 +586,11 @@ void ServerImpl::analysis_loop() {
                           std::none_of(a->diagnostics.begin(), a->diagnostics.end(),
                                        [](const Diagnostic& x) { return x.severity == Severity::Error; });
     const double publish_start = thread_cpu_ms();
-    publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);
+    if (quick && *quick == diagnostics) {
+      mark_published(uri, version, /*complete=*/!evaluate);  // the editor has them already
+    } else {
+      publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);
+    }
     const double publish_ms = thread_cpu_ms() - publish_start;
     if (evaluate) {
       {
@@ -649,9 +681,33 @@ void ServerImpl::after_loop() {
   }
 }
 
-void ServerImpl::publish(const std::string& uri, int64_t version, json diagnostics, bool complete) {
+QuickDiagnostics ServerImpl::publish_incrementally(const Analysis& from, const std::string& uri, int64_t version,
+                                                   uint64_t generation, const std::string& text, ParseCache& cache) {
+  QuickDiagnostics q = analyse_incrementally(from, uri, text, &cache);
+  if (!q.done) return q;
+  {
+    std::lock_guard lock(docs_mu_);
+    auto it = docs_.find(uri);
+    if (it == docs_.end() || it->second.generation != generation || it->second.version != version) {
+      q.done = false;  // overtaken: the next version is published instead
+      return q;
+    }
+    AnalysisTimes t;
+    t.incremental_ms = q.ms;
+    t.incremental_checked = q.checked;
+    it->second.times = t;
+  }
+  publish(uri, version, q.diagnostics, /*complete=*/false, /*analysed=*/false);
+  return q;
+}
+
+void ServerImpl::publish(const std::string& uri, int64_t version, json diagnostics, bool complete, bool analysed) {
   send_notification("textDocument/publishDiagnostics",
                     {{"uri", uri}, {"version", version}, {"diagnostics", std::move(diagnostics)}});
+  mark_published(uri, version, complete, analysed);
+}
+
+void ServerImpl::mark_published(const std::string& uri, int64_t version, bool complete, bool analysed) {
   {
     std::lock_guard lock(docs_mu_);
     auto it = docs_.find(uri);
@@ -659,9 +715,18 @@ void ServerImpl::publish(const std::string& uri, int64_t version, json diagnosti
       Published& p = published_[uri];
       p.version = version;
       p.complete = complete;
+      if (analysed) p.analysed = std::max(p.analysed, version);
     }
   }
   published_cv_.notify_all();
+}
+
+bool ServerImpl::wait_for_first_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout) {
+  std::unique_lock lock(docs_mu_);
+  return published_cv_.wait_for(lock, timeout, [&] {
+    auto it = published_.find(std::string(uri));
+    return it != published_.end() && it->second.version >= version;
+  });
 }
 
 bool ServerImpl::wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
@@ -669,8 +734,9 @@ bool ServerImpl::wait_for_diagnostics(std::string_view uri, int64_t version, std
   std::unique_lock lock(docs_mu_);
   return published_cv_.wait_for(lock, timeout, [&] {
     auto it = published_.find(std::string(uri));
-    return it != published_.end() &&
-           (it->second.version > version || (it->second.version == version && (!with_geometry || it->second.complete)));
+    if (it == published_.end()) return false;
+    const Published& p = it->second;
+    return p.analysed > version || (p.analysed == version && (!with_geometry || (p.version == version && p.complete)));
   });
 }
 
@@ -735,6 +801,10 @@ Server::Server(Sink sink, ServerOptions options) : impl_(std::make_unique<Server
 Server::~Server() = default;
 void Server::handle(std::string_view message) { impl_->handle(message); }
 void Server::wait_idle() { impl_->wait_idle(); }
+bool Server::wait_for_first_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout) {
+  return impl_->wait_for_first_diagnostics(uri, version, timeout);
+}
+
 bool Server::wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
                                   bool with_geometry) {
   return impl_->wait_for_diagnostics(uri, version, timeout, with_geometry);

@@ -34,6 +34,15 @@ struct ServerOptions {
   /// release is returned to the system (jemalloc keeps freed pages for reuse while the
   /// user types; see tools/allocator.h). 0 never releases.
   int idle_release_ms = 2000;
+  /// After an edit, publish the diagnostics of an incremental check first (only the
+  /// statements the edit touched and those that read them are re-checked:
+  /// frontend/check/incremental.h), then check the version in full for everything else;
+  /// a full check overtaken by the next edit stops early.
+  bool incremental = true;
+  /// After publishing an incremental check's diagnostics, how long to wait for the next
+  /// edit before starting the version's full check: while the sculptor types faster than
+  /// this, no full check starts only to be stopped by the next keystroke.
+  int full_check_delay_ms = 25;
 };
 
 /// How much lower than the analysis thread the background threads run (a `nice` step:
@@ -60,6 +69,10 @@ struct AnalysisTimes {
   double diagnostics_ms = 0;  // sorting the diagnostics, the line table, their LSP JSON
   double publish_ms = 0;      // the notification's JSON text and the sink
   double index_ms = 0;        // building the symbol index, after publishing (0 until built)
+  /// When the version's diagnostics were first published from an incremental check: its
+  /// parse, its check and its diagnostics' JSON (the full check's steps above follow it).
+  double incremental_ms = 0;
+  size_t incremental_checked = 0;  // top-level statements that incremental check checked
 };
 
 class Server {
@@ -79,11 +92,16 @@ class Server {
 
   /// Blocks until every message handed to `handle` so far has been handled.
   void wait_idle();
-  /// Blocks until diagnostics for `uri` at `version` or later were published (including
-  /// the background geometry diagnostics when `with_geometry`), or the timeout expires.
+  /// Blocks until diagnostics for `uri` at `version` or later were published from their
+  /// full analysis, which later requests see (including the background geometry diagnostics
+  /// when `with_geometry`), or the timeout expires.
   bool wait_for_diagnostics(std::string_view uri, int64_t version,
                             std::chrono::milliseconds timeout = std::chrono::seconds(10),
                             bool with_geometry = false);
+  /// Blocks until the first diagnostics for `uri` at `version` or later were sent: what the
+  /// editor shows first (those of an incremental check, see ServerOptions::incremental).
+  bool wait_for_first_diagnostics(std::string_view uri, int64_t version,
+                                  std::chrono::milliseconds timeout = std::chrono::seconds(10));
 
   /// The current text of an open document (after the messages handled so far), for tests.
   std::optional<std::string> document_text(std::string_view uri) const;

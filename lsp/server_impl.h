@@ -29,6 +29,15 @@ namespace nomec::lsp {
 /// statement) and publishes; meanwhile, on the other core, the after thread fills the
 /// cache from the same text, so the next change re-parses only what it touched and seldom
 /// waits for the fill. The analysis thread and the after thread take `mu` to use the cache.
+/// A version's diagnostics from an incremental check, in LSP form.
+struct QuickDiagnostics {
+  bool done = false;              // the check could be made incrementally: `diagnostics` are its
+  std::optional<ParseStats> parse;  // how the version was parsed, when it was
+  json diagnostics = json::array();
+  size_t checked = 0;  // top-level statements checked
+  double ms = 0;       // thread CPU time, from the parse to the JSON
+};
+
 struct DocumentParseCache {
   std::mutex mu;
   ParseCache cache;
@@ -63,6 +72,7 @@ class ServerImpl {
 
   void handle(std::string_view text);
   void wait_idle();
+  bool wait_for_first_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout);
   bool wait_for_diagnostics(std::string_view uri, int64_t version, std::chrono::milliseconds timeout,
                             bool with_geometry);
   bool exit_requested() const {
@@ -91,7 +101,12 @@ class ServerImpl {
   /// document's ParseCache; may be null); calls `parsed` (may be empty) once its text is
   /// parsed, before the check.
   std::shared_ptr<Analysis> analyse(const std::string& uri, int64_t version, std::string text,
-                                    ParseCache* cache, std::function<void()> parsed = {}) const;
+                                    ParseCache* cache, std::function<void()> parsed = {},
+                                    std::function<bool()> cancelled = {}) const;
+  /// The diagnostics of a new version checked incrementally from the full analysis `from`
+  /// (analysis.cpp), unless `done` is false: then the version needs its full check.
+  QuickDiagnostics analyse_incrementally(const Analysis& from, const std::string& uri, std::string text,
+                                                        ParseCache* cache) const;
   /// Fills a document's ParseCache from the text of the version being analysed, named
   /// `path` (after thread).
   static void fill_parse_cache(DocumentParseCache& slot, const std::string& path, const std::string& text);
@@ -116,7 +131,15 @@ class ServerImpl {
   /// Queues `release` to be freed and `to_index` (either may be null) to be indexed on the
   /// after thread; `to_index` is skipped if its document has changed by then.
   void hand_to_after_thread(std::shared_ptr<const Analysis> release, std::shared_ptr<const Analysis> to_index);
-  void publish(const std::string& uri, int64_t version, json diagnostics, bool complete);
+  /// Sends a version's diagnostics; `analysed`: from its full analysis (not an incremental
+  /// check's, which the full one follows).
+  void publish(const std::string& uri, int64_t version, json diagnostics, bool complete, bool analysed = true);
+  /// Records a publication without sending (the editor has these diagnostics already).
+  void mark_published(const std::string& uri, int64_t version, bool complete, bool analysed = true);
+  /// Checks a version incrementally from `from` and publishes its diagnostics (under the
+  /// document's cache lock); `done` says whether it published.
+  QuickDiagnostics publish_incrementally(const Analysis& from, const std::string& uri, int64_t version,
+                                            uint64_t generation, const std::string& text, ParseCache& cache);
   int64_t document_version(const std::string& uri) const;
   bool stopped() const;
 
@@ -143,8 +166,9 @@ class ServerImpl {
 
   // Documents (docs_mu_).
   struct Published {
-    int64_t version = -1;
-    bool complete = false;
+    int64_t version = -1;   // the latest version whose diagnostics were sent
+    bool complete = false;  // and those were final (geometry included, or none to come)
+    int64_t analysed = -1;  // the latest version published from its full analysis
   };
   mutable std::mutex docs_mu_;
   std::condition_variable docs_cv_;

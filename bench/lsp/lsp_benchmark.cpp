@@ -2,9 +2,13 @@
 // language server (`nomec::lsp::Server`, debounce 0, background geometry off). Each
 // keystroke is one `textDocument/didChange` with a one-character incremental edit — digits
 // typed into a parameter value and deleted again, then characters typed into a name and
-// deleted again — and is timed from `handle()` until its `publishDiagnostics` was sent
-// (parse through the document's ParseCache, check, diagnostics to JSON, sink; the index is
-// built afterwards). Hover is timed from the request to its response on a checked document.
+// deleted again — and is timed from `handle()` until its first `publishDiagnostics` was
+// sent: those of an incremental check of the statements the edit touched (frontend/check/
+// incremental.h) when the server could make one, else those of the full check (parse
+// through the document's ParseCache, check, diagnostics to JSON, sink; the index is built
+// afterwards). key_incremental_share, key_incremental_p50_ms and key_incremental_checked_p50
+// say how many keystrokes were published incrementally, their CPU time and the statements
+// checked; NOMEC_BENCH_LSP_INCREMENTAL=0 turns incremental checks off for comparison. Hover is timed from the request to its response on a checked document.
 // Inputs: the generated scene of bench/common (64 KiB, 512 KiB, 1 MiB) and every corpus
 // file. Counters: diag_p50_ms, diag_p90_ms, diag_max_ms, diag_cpu_p50_ms (process CPU time
 // per keystroke, all threads), hover_p50_ms, and open_p50_ms (didOpen -> diagnostics, the
@@ -29,6 +33,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "base/file_io.h"
@@ -154,6 +159,9 @@ class Session {
           nomec::lsp::ServerOptions o;
           o.debounce_ms = 0;
           o.geometry = false;
+          // NOMEC_BENCH_LSP_INCREMENTAL=0: every keystroke checked in full, for comparison.
+          const char* incremental = std::getenv("NOMEC_BENCH_LSP_INCREMENTAL");
+          o.incremental = incremental == nullptr || std::string_view(incremental) != "0";
           return o;
         }()) {
     request("initialize", R"({"processId":null,"rootUri":null,"capabilities":{}})");
@@ -175,6 +183,10 @@ class Session {
   void handle(const std::string& message) { server_.handle(message); }
   bool wait_diagnostics(const std::string& uri, int64_t version) {
     return server_.wait_for_diagnostics(uri, version, std::chrono::seconds(60));
+  }
+  // What the editor shows first: an incremental check's diagnostics, when the server made one.
+  bool wait_first_diagnostics(const std::string& uri, int64_t version) {
+    return server_.wait_for_first_diagnostics(uri, version, std::chrono::seconds(60));
   }
   nomec::lsp::AnalysisTimes times(const std::string& uri) const {
     return server_.analysis_times(uri).value_or(nomec::lsp::AnalysisTimes{});
@@ -204,8 +216,13 @@ class Session {
 // Where the server says the time went (Server::analysis_times), per phase, for didOpen and
 // for the keystrokes.
 struct Phases {
-  std::vector<double> parse, check, diagnostics, publish, index;
+  std::vector<double> parse, check, diagnostics, publish, index, incremental, incremental_checked;
   void add(const nomec::lsp::AnalysisTimes& t) {
+    if (t.incremental_ms > 0) {  // published from an incremental check; its full check follows
+      incremental.push_back(t.incremental_ms);
+      incremental_checked.push_back(static_cast<double>(t.incremental_checked));
+      return;
+    }
     parse.push_back(t.parse_ms);
     check.push_back(t.check_ms);
     diagnostics.push_back(t.diagnostics_ms);
@@ -258,16 +275,18 @@ void run(const std::string& uri, const std::string& original, std::vector<double
     double cpu0 = process_cpu_ms();
     auto t0 = Clock::now();
     s.handle(msg);
-    if (!s.wait_diagnostics(uri, version)) throw std::runtime_error("no diagnostics after didChange");
+    if (!s.wait_first_diagnostics(uri, version)) throw std::runtime_error("no diagnostics after didChange");
     diag_ms.push_back(ms_since(t0));
     if (k >= first_round) later_ms.push_back(diag_ms.back());
     cpu_ms.push_back(process_cpu_ms() - cpu0);
     key_phases.add(s.times(uri));
     if (std::getenv("NOMEC_BENCH_LSP_VERBOSE") != nullptr) {
       const nomec::lsp::AnalysisTimes t = s.times(uri);
-      fmt::print(stderr, "keystroke {:>3} `{}` at {}: {:.1f} ms (cpu {:.1f}): parse {:.1f} check {:.1f} diagnostics {:.1f}\n",
-                 version, e.text.empty() ? "<del>" : e.text, e.offset, diag_ms.back(), cpu_ms.back(), t.parse_ms,
-                 t.check_ms, t.diagnostics_ms);
+      fmt::print(stderr,
+                 "keystroke {:>3} `{}` at {}: {:.1f} ms (cpu {:.1f}): incremental {:.1f} ({} statements) or parse {:.1f} "
+                 "check {:.1f} diagnostics {:.1f}\n",
+                 version, e.text.empty() ? "<del>" : e.text, e.offset, diag_ms.back(), cpu_ms.back(), t.incremental_ms,
+                 t.incremental_checked, t.parse_ms, t.check_ms, t.diagnostics_ms);
     }
   }
   for (size_t off : hover_offsets(text, 20)) {
@@ -289,6 +308,12 @@ void report(benchmark::State& state, const std::vector<double>& open_ms, const s
   state.counters["key_check_p50_ms"] = percentile(key_phases.check, 0.5);
   state.counters["key_diags_p50_ms"] = percentile(key_phases.diagnostics, 0.5);
   state.counters["key_index_p50_ms"] = percentile(key_phases.index, 0.5);
+  // Keystrokes published from an incremental check: their share, CPU time and statements checked.
+  const size_t keys = key_phases.incremental.size() + key_phases.check.size();
+  state.counters["key_incremental_share"] =
+      keys == 0 ? 0 : static_cast<double>(key_phases.incremental.size()) / static_cast<double>(keys);
+  state.counters["key_incremental_p50_ms"] = percentile(key_phases.incremental, 0.5);
+  state.counters["key_incremental_checked_p50"] = percentile(key_phases.incremental_checked, 0.5);
   state.counters["open_p50_ms"] = percentile(open_ms, 0.5);
   state.counters["diag_p50_ms"] = percentile(diag_ms, 0.5);
   state.counters["diag_p90_ms"] = percentile(diag_ms, 0.9);

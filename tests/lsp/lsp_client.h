@@ -36,6 +36,7 @@ class Client {
     nomec::lsp::ServerOptions o;
     o.debounce_ms = 0;
     o.geometry = false;
+    o.full_check_delay_ms = 0;  // tests wait for each version's full check: start it at once
     return o;
   }
 
@@ -107,6 +108,14 @@ class Client {
     auto it = last_diagnostics_.find(uri);
     return it == last_diagnostics_.end() ? json() : it->second;
   }
+  /// The first diagnostics published for `uri` at `version` (an incremental check's, when
+  /// the server made one before the full check); null when none were (call after
+  /// `diagnostics`, which waits).
+  json first_diagnostics(const std::string& uri, int version) {
+    std::lock_guard lock(mu_);
+    auto it = first_diagnostics_.find({uri, version});
+    return it == first_diagnostics_.end() ? json() : it->second;
+  }
   std::vector<json> messages() {
     std::lock_guard lock(mu_);
     return messages_;
@@ -132,6 +141,10 @@ class Client {
       std::lock_guard lock(mu_);
       if (j.value("method", "") == "textDocument/publishDiagnostics") {
         last_diagnostics_[j["params"]["uri"].get<std::string>()] = j["params"];
+        if (j["params"].contains("version") && j["params"]["version"].is_number_integer()) {
+          first_diagnostics_.emplace(std::pair{j["params"]["uri"].get<std::string>(), j["params"]["version"].get<int>()},
+                                     j["params"]);
+        }
       }
       messages_.push_back(std::move(j));
       // Long sessions: keep the recent history only.
@@ -143,7 +156,8 @@ class Client {
   std::mutex mu_;
   std::condition_variable cv_;
   std::vector<json> messages_;
-  std::map<std::string, json> last_diagnostics_;  // by URI: the latest publication
+  std::map<std::string, json> last_diagnostics_;
+  std::map<std::pair<std::string, int>, json> first_diagnostics_;  // by URI: the latest publication
   int next_id_ = 1;
   nomec::lsp::Server server_;  // last: destroyed first, while the members above still exist
 };
