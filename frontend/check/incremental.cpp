@@ -38,6 +38,41 @@ int32_t item_at(std::span<const Span> spans, uint32_t begin, uint32_t end) {
   return begin >= it->begin && end <= it->end ? static_cast<int32_t>(it - spans.begin()) : -1;
 }
 
+// How an item was read, relative to where it starts: its statements at any depth (kind, how
+// their end was found), their items and the values and list elements in them (kind and
+// place). Equal texts can be read differently after an edit elsewhere (an unclosed bracket
+// above changes how the parser recovers), so items the edit left alone must also have kept
+// their fingerprints.
+uint64_t fingerprint(const ast::Ast& a, const ast::Item& top, uint32_t base) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  auto mix = [&](uint64_t v) {
+    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  };
+  auto range = [&](SourceRange r) { mix((static_cast<uint64_t>(r.begin - base) << 32) | (r.end - base)); };
+  auto expr = [&](ast::ExprId e) {
+    const ast::Expr& x = a.expr(e);
+    mix(static_cast<uint64_t>(x.kind));
+    range(x.range);
+  };
+  std::vector<const ast::Item*> todo{&top};
+  while (!todo.empty()) {
+    const ast::Item& it = *todo.back();
+    todo.pop_back();
+    mix(static_cast<uint64_t>(it.kind));
+    range(it.range);
+    if (it.kind == ast::ItemKind::Value) expr(it.expr);
+    if (it.kind == ast::ItemKind::List) {
+      for (ast::ExprId e : a.list(it.list).elems) expr(e);
+    }
+    if (it.kind != ast::ItemKind::Block) continue;
+    const ast::Stmt& s = a.stmt(it.block);
+    mix(static_cast<uint64_t>(s.kind) << 8 | static_cast<uint64_t>(s.close_repair));
+    range(s.range);
+    for (const ast::Item& sub : s.items) todo.push_back(&sub);
+  }
+  return h;
+}
+
 bool word_char(char ch) {
   return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '_' || ch == '.';
 }
@@ -96,6 +131,7 @@ class IncrementalBasis {
   std::vector<ast::ItemKind> kinds;
   std::vector<ast::BlockKind> blocks;
   std::vector<std::string> keywords;
+  std::vector<uint64_t> prints;  // each item's fingerprint
   // The diagnostics each item made while it was checked, and those that resolved at the end
   // of the check within its text.
   std::vector<std::vector<Diagnostic>> during, after;
@@ -253,6 +289,7 @@ std::shared_ptr<const IncrementalBasis> make_incremental_basis(const SourceManag
     const bool block = it.kind == ast::ItemKind::Block;
     b->blocks.push_back(block ? a.stmt(it.block).kind : ast::BlockKind::Bank);
     b->keywords.emplace_back(block ? a.stmt(it.block).keyword : std::string_view());
+    b->prints.push_back(fingerprint(a, it, b->spans.back().begin));
   }
   for (size_t i = 1; i < n; ++i) {
     if (b->spans[i].begin < b->spans[i - 1].end) return nullptr;  // not in order: not ours to split
@@ -328,18 +365,41 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
   std::vector<Span> spans(n);
   std::vector<uint8_t> changed(n, 0);
   std::vector<int32_t> changed_list;
+  // The statements on either side of the edit count as changed too: how a statement's end
+  // is found can depend on the line after it (NOME 2016's statements that end at the end of
+  // their line).
+  size_t first_touched = n, last_touched = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!(b.spans[i].end < p) && !(b.spans[i].begin > old_tail)) {
+      first_touched = std::min(first_touched, i);
+      last_touched = i;
+    }
+  }
+  if (first_touched == n) {  // the edit lies between two statements
+    first_touched = static_cast<size_t>(std::upper_bound(b.spans.begin(), b.spans.end(), static_cast<uint32_t>(p),
+                                                         [](uint32_t x, const Span& sp) { return x < sp.begin; }) -
+                                        b.spans.begin());
+    last_touched = first_touched;
+    if (first_touched > 0) --first_touched;
+    else if (n > 0) last_touched = 0;
+  }
+  const size_t lo = first_touched > 0 ? first_touched - 1 : 0, hi = std::min(n == 0 ? 0 : n - 1, last_touched + 1);
   for (size_t i = 0; i < n; ++i) {
     const ast::Item& it = a.top[i];
     spans[i] = span_of(a, it);
     const Span old = b.spans[i];
-    if (old.end < p) {
+    const bool near = n > 0 && i >= lo && i <= hi;
+    const bool block = it.kind == ast::ItemKind::Block;
+    if (!near && (it.kind != b.kinds[i] || fingerprint(a, it, spans[i].begin) != b.prints[i])) {
+      return give_up("a statement the edit left alone was read differently");
+    }
+    if (!near && old.end < p) {
       if (spans[i] != old) return give_up("a statement before the edit moved");
-    } else if (old.begin > old_tail) {
+    } else if (!near && old.begin > old_tail) {
       if (spans[i] != Span{static_cast<uint32_t>(old.begin + delta), static_cast<uint32_t>(old.end + delta)}) {
         return give_up("a statement after the edit moved");
       }
     } else {
-      const bool block = it.kind == ast::ItemKind::Block;
       if (it.kind != b.kinds[i] || (block && (a.stmt(it.block).kind != b.blocks[i] || a.stmt(it.block).keyword != b.keywords[i]))) {
         return give_up("the edit changed what a statement is");
       }

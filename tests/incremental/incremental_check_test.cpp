@@ -109,8 +109,10 @@ void typing_edit(std::string& text, size_t near, std::mt19937& rng) {
       if (d != std::string::npos) text[d] = static_cast<char>('0' + rng() % 10);
       break;
     }
-    case 5: {  // a word pasted
-      static const char* kWords[] = {" v0", " m0", " b0_r", " $b0_n", " fb0_hc0", " box", " x", " (0 0 0)", " )", " endmesh"};
+    case 5: {  // a word or a line pasted
+      static const char* kWords[] = {" v0", " m0", " b0_r", " $b0_n", " fb0_hc0", " box", " x", " (0 0 0)", " )", " endmesh",
+                                     "\n  set k 1 0 2 0.1\n", "\n  point v9 (0 0 {expr $b0_r}) endpoint\n",
+                                     "\n  instance box m0 endinstance\n", "\n  face f9 (v0 v1 v9) endface\n"};
       text.insert(at, kWords[rng() % std::size(kWords)]);
       break;
     }
@@ -155,6 +157,10 @@ void differential(const std::string& path, const std::string& original, int edit
     if (inc.outcome.done) {
       ++tally.done;
       const Full want = full_check(path, text);
+      if (inc.dump != want.dump && std::getenv("NOMEC_DBG_DIR") != nullptr) {  // keep the case for debugging
+        std::ofstream(std::string(std::getenv("NOMEC_DBG_DIR")) + "/incremental_fail.txt", std::ios::binary) << text;
+        std::ofstream(std::string(std::getenv("NOMEC_DBG_DIR")) + "/incremental_basis.txt", std::ios::binary) << basis_text;
+      }
       ASSERT_EQ(inc.dump, want.dump) << path << " (seed " << seed << ", version " << k << ", " << inc.outcome.rechecked
                                      << " re-checked)\n--- text ---\n"
                                      << text;
