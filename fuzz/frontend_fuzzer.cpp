@@ -8,7 +8,9 @@
 // errors takes the tree-based path in both); the parse with the parser's remembered
 // predictions must be exactly the parse with ANTLR's simulator alone (prediction_seed.h);
 // and the text cut in two and parsed on two threads must give exactly its parse on one
-// (`ParseThreads`, forced below the automatic size).
+// (`ParseThreads`, forced below the automatic size). And the text edited by one character
+// (chosen by the input's last byte), when checked incrementally from the check of the text
+// (frontend/check/incremental.h), must give exactly the diagnostics of a full check.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +18,7 @@
 #include <string>
 
 #include "frontend/check/check.h"
+#include "frontend/check/incremental.h"
 #include "frontend/parse/parse.h"
 #include "frontend/parse/piece.h"
 #include "frontend/parse/prediction_seed.h"
@@ -79,6 +82,38 @@ bool parses_agree(const std::string& text) {
   return two == one || report("the parse on two threads", two, one);
 }
 
+std::string sorted_dump(nomec::DiagnosticEngine& diags) {
+  diags.sort_and_dedupe();
+  return nomec::testing_dump::dump_diags(diags);
+}
+
+// `text` edited by one character (an insertion or a deletion at a place chosen by `key`),
+// checked incrementally from `basis`, gives exactly a full check's diagnostics when the
+// incremental check says it is done.
+bool incremental_agrees(const nomec::IncrementalBasis& basis, const char* path, const std::string& text,
+                        const nomec::CheckOptions& options, uint8_t key) {
+  static const char kTyped[] = "0a_ .(){}$#\nxe";
+  std::string edited = text;
+  const size_t at = edited.empty() ? 0 : (static_cast<size_t>(key) * 2654435761u) % edited.size();
+  if ((key & 1) != 0 && !edited.empty()) {
+    edited.erase(at, 1);
+  } else {
+    edited.insert(at, 1, kTyped[key % (sizeof kTyped - 1)]);
+  }
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  const nomec::IncrementalOutcome o = nomec::check_incrementally(basis, sources, path, edited, options, diags, nullptr);
+  if (!o.done) return true;
+  nomec::SourceManager full_sources;
+  nomec::DiagnosticEngine full;
+  nomec::check_source(full_sources, path, edited, options, full);
+  const std::string got = sorted_dump(diags), want = sorted_dump(full);
+  if (got == want) return true;
+  std::fprintf(stderr, "frontend_fuzzer: the incremental check differs from the full check.\n--- incremental:\n%s\n--- full:\n%s\n",
+               got.c_str(), want.c_str());
+  return false;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -92,7 +127,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   nomec::CheckOptions options;
   options.read_file = [](const std::string&) -> std::optional<std::string> { return std::nullopt; };
   try {
-    nomec::check_source(sources, path, std::move(text), options, diags);
+    nomec::CheckOptions recording = options;
+    recording.record_names = true;  // what the editor's checks record, for the incremental one
+    const nomec::CheckResult r = nomec::check_source(sources, path, text, recording, diags);
+    if (auto basis = nomec::make_incremental_basis(sources, r, diags.diagnostics())) {
+      if (!incremental_agrees(*basis, path, text, options, size > 0 ? data[size - 1] : 0)) std::abort();
+    }
     diags.sort_and_dedupe();
   } catch (...) {
     std::abort();  // "No stage throws" (ARCHITECTURE.md)

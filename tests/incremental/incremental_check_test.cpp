@@ -192,7 +192,7 @@ TEST(IncrementalCheck, CorpusFilesAndExamplesUnderTyping) {
 TEST(IncrementalCheck, GeneratedScenesUnderTyping) {
   for (int modules : {40, 120}) {
     Tally tally;
-    differential("scene.nome", nomec::bench::generate_scene(static_cast<size_t>(modules) * 1500), 120, 100 + static_cast<uint32_t>(modules),
+    differential("scene.nome", nomec::bench::generate_scene(static_cast<size_t>(modules) * 1500), 80, 100 + static_cast<uint32_t>(modules),
                  tally);
     if (HasFatalFailure()) return;
     EXPECT_GT(tally.done, tally.versions / 3) << modules << " modules: " << tally.done << " of " << tally.versions;
