@@ -669,6 +669,7 @@ void ServerImpl::after_loop() {
       const double index_start = thread_cpu_ms();
       job->index.get();
       const double index_ms = thread_cpu_ms() - index_start;
+      job->basis.get();  // what the next keystroke is checked incrementally from
       std::lock_guard lock(docs_mu_);
       if (auto it = docs_.find(job->uri); it != docs_.end() && it->second.analysis == job) {
         it->second.times.index_ms = index_ms;

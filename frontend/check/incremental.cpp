@@ -43,7 +43,7 @@ int32_t item_at(std::span<const Span> spans, uint32_t begin, uint32_t end) {
 // place). Equal texts can be read differently after an edit elsewhere (an unclosed bracket
 // above changes how the parser recovers), so items the edit left alone must also have kept
 // their fingerprints.
-uint64_t fingerprint(const ast::Ast& a, const ast::Item& top, uint32_t base) {
+uint64_t fingerprint(const ast::Ast& a, const ast::Item& top, uint32_t base, std::vector<const ast::Item*>& todo) {
   uint64_t h = 0xcbf29ce484222325ull;
   auto mix = [&](uint64_t v) {
     h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
@@ -54,7 +54,7 @@ uint64_t fingerprint(const ast::Ast& a, const ast::Item& top, uint32_t base) {
     mix(static_cast<uint64_t>(x.kind));
     range(x.range);
   };
-  std::vector<const ast::Item*> todo{&top};
+  todo.assign(1, &top);
   while (!todo.empty()) {
     const ast::Item& it = *todo.back();
     todo.pop_back();
@@ -283,13 +283,14 @@ std::shared_ptr<const IncrementalBasis> make_incremental_basis(const SourceManag
   b->dialect = result.dialect;
   const size_t n = a.top.size();
   b->spans.reserve(n);
+  std::vector<const ast::Item*> todo;
   for (const ast::Item& it : a.top) {
     b->spans.push_back(span_of(a, it));
     b->kinds.push_back(it.kind);
     const bool block = it.kind == ast::ItemKind::Block;
     b->blocks.push_back(block ? a.stmt(it.block).kind : ast::BlockKind::Bank);
     b->keywords.emplace_back(block ? a.stmt(it.block).keyword : std::string_view());
-    b->prints.push_back(fingerprint(a, it, b->spans.back().begin));
+    b->prints.push_back(fingerprint(a, it, b->spans.back().begin, todo));
   }
   for (size_t i = 1; i < n; ++i) {
     if (b->spans[i].begin < b->spans[i - 1].end) return nullptr;  // not in order: not ours to split
@@ -365,6 +366,7 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
   std::vector<Span> spans(n);
   std::vector<uint8_t> changed(n, 0);
   std::vector<int32_t> changed_list;
+  std::vector<const ast::Item*> todo;
   // The statements on either side of the edit count as changed too: how a statement's end
   // is found can depend on the line after it (NOME 2016's statements that end at the end of
   // their line).
@@ -390,7 +392,10 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
     const Span old = b.spans[i];
     const bool near = n > 0 && i >= lo && i <= hi;
     const bool block = it.kind == ast::ItemKind::Block;
-    if (!near && (it.kind != b.kinds[i] || fingerprint(a, it, spans[i].begin) != b.prints[i])) {
+    // The parser reads forwards: what the edit can change beyond the statements beside it
+    // lies after it.
+    if (!near && (it.kind != b.kinds[i] ||
+                  (old.begin > old_tail && fingerprint(a, it, spans[i].begin, todo) != b.prints[i]))) {
       return give_up("a statement the edit left alone was read differently");
     }
     if (!near && old.end < p) {
