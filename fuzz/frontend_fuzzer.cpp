@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 
 #include "frontend/check/check.h"
@@ -122,7 +123,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);
   if (!lexers_agree(text)) std::abort();
   if (!parses_agree(text)) std::abort();
-  nomec::SourceManager sources;
+  auto shared_sources = std::make_shared<nomec::SourceManager>();  // an incremental basis keeps them
+  nomec::SourceManager& sources = *shared_sources;
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions options;
   options.read_file = [](const std::string&) -> std::optional<std::string> { return std::nullopt; };
@@ -130,7 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     nomec::CheckOptions recording = options;
     recording.record_names = true;  // what the editor's checks record, for the incremental one
     const nomec::CheckResult r = nomec::check_source(sources, path, text, recording, diags);
-    if (auto basis = nomec::make_incremental_basis(sources, r, diags.diagnostics())) {
+    if (auto basis = nomec::make_incremental_basis(shared_sources, r, diags.diagnostics())) {
       if (!incremental_agrees(*basis, path, text, options, size > 0 ? data[size - 1] : 0)) std::abort();
     }
     diags.sort_and_dedupe();

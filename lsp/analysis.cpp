@@ -30,6 +30,13 @@ int lsp_severity(Severity s) {
   return 3;
 }
 
+// How a text of `bytes` was just parsed: through `cache`, or in one piece without one.
+ParseStats parse_stats_of(const ParseCache* cache, size_t bytes) {
+  if (cache == nullptr) return {1, 1, bytes};
+  const ParseCache::Stats& s = cache->last_stats();
+  return {s.pieces, s.parsed, s.parsed_bytes};
+}
+
 }  // namespace
 
 std::string path_to_uri(std::string_view path) {
@@ -143,12 +150,7 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     index::Checked checked = index::check_document(path.value_or(uri), std::move(text), std::move(options), diags, cache);
     if (checked.check->cancelled) return nullptr;
     if (options_.incremental) a->basis.emplace(checked.sources, checked.check, diags.diagnostics());
-    if (cache != nullptr) {
-      const ParseCache::Stats& s = cache->last_stats();
-      a->parse_stats = {s.pieces, s.parsed, s.parsed_bytes};
-    } else {
-      a->parse_stats = {1, 1, bytes};
-    }
+    a->parse_stats = parse_stats_of(cache, bytes);
     a->times.parse_ms = checked.check->parse_ms;
     a->sources_ptr = checked.sources;
     a->file = checked.file;
@@ -180,12 +182,7 @@ QuickDiagnostics ServerImpl::analyse_incrementally(const Analysis& from, const s
   DiagnosticEngine diags;
   const size_t bytes = text.size();
   const IncrementalOutcome outcome = check_incrementally(*basis, *sources, *path, std::move(text), options, diags, cache);
-  if (cache != nullptr) {
-    const ParseCache::Stats& s = cache->last_stats();
-    q.parse = ParseStats{s.pieces, s.parsed, s.parsed_bytes};
-  } else {
-    q.parse = ParseStats{1, 1, bytes};
-  }
+  q.parse = parse_stats_of(cache, bytes);
   if (!outcome.done) return q;
   q.done = true;
   diags.sort_and_dedupe();

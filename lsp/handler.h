@@ -93,9 +93,7 @@ class LazyBasis {
   /// The basis, making it now if no one has yet; null when the document is checked in full.
   const IncrementalBasis* get() const {
     std::call_once(once_, [this] {
-      if (check_) basis_ = make_incremental_basis(*sources_, *check_, made_);
-      made_.clear();
-      made_.shrink_to_fit();
+      if (check_) basis_ = make_incremental_basis(sources_, *check_, std::move(made_));
     });
     return basis_.get();
   }
@@ -103,7 +101,7 @@ class LazyBasis {
  private:
   std::shared_ptr<const SourceManager> sources_;
   std::shared_ptr<const CheckResult> check_;
-  mutable std::vector<Diagnostic> made_;  // the check's diagnostics in the order they came
+  mutable std::vector<Diagnostic> made_;  // the check's diagnostics in the order they came (moved into the basis)
   mutable std::once_flag once_;
   mutable std::shared_ptr<const IncrementalBasis> basis_;
 };

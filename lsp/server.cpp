@@ -503,7 +503,7 @@ void ServerImpl::analysis_loop() {
     analysing_ = true;
     lock.unlock();
     std::shared_ptr<Analysis> a;
-    std::optional<json> quick;  // the diagnostics published from an incremental check
+    std::optional<QuickDiagnostics> quick;  // what an incremental check published
     if (cache) {
       // Waits while the after thread fills the cache: then this change re-parses little.
       std::unique_lock cache_lock(cache->mu);
@@ -512,7 +512,7 @@ void ServerImpl::analysis_loop() {
         if (from) {
           QuickDiagnostics q = publish_incrementally(*from, uri, version, generation, text, cache->cache);
           first_parse = q.parse;
-          if (q.done) quick = std::move(q.diagnostics);
+          if (q.done) quick = std::move(q);
         }
         if (quick && options_.full_check_delay_ms > 0) {
           std::unique_lock wait_lock(docs_mu_);
@@ -567,11 +567,10 @@ void ServerImpl::analysis_loop() {
       hand_to_after_thread(std::move(previous), nullptr);
       continue;
     }
-    const AnalysisTimes quick_times = d.times;
     d.times = a->times;
     if (quick) {
-      d.times.incremental_ms = quick_times.incremental_ms;
-      d.times.incremental_checked = quick_times.incremental_checked;
+      d.times.incremental_ms = quick->ms;
+      d.times.incremental_checked = quick->checked;
     }
     json diagnostics = a->diagnostics_json;
     lock.unlock();
@@ -586,7 +585,7 @@ void ServerImpl::analysis_loop() {
                           std::none_of(a->diagnostics.begin(), a->diagnostics.end(),
                                        [](const Diagnostic& x) { return x.severity == Severity::Error; });
     const double publish_start = thread_cpu_ms();
-    if (quick && *quick == diagnostics) {
+    if (quick && quick->diagnostics == diagnostics) {
       mark_published(uri, version, /*complete=*/!evaluate);  // the editor has them already
     } else {
       publish(uri, version, std::move(diagnostics), /*complete=*/!evaluate);

@@ -67,7 +67,7 @@ void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std
     check::resolve_pending_deletes(c);
     std::swap(scratch, diags);
   }
-  if (c.options().cancelled && c.options().cancelled()) {
+  if (c.options().is_cancelled()) {
     result.cancelled = true;
     return;
   }
@@ -128,7 +128,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     check::finish_dependencies(c);
     return result;
   }
-  if (options.cancelled && options.cancelled()) {  // overtaken before it began
+  if (options.is_cancelled()) {  // overtaken before it began
     result.cancelled = true;
     return result;
   }

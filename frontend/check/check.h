@@ -44,6 +44,7 @@ struct CheckOptions {
   /// May be empty; asked between statements: when it returns true the check stops early
   /// and its result says `cancelled` (an editor's check of a version already replaced).
   std::function<bool()> cancelled;
+  bool is_cancelled() const { return cancelled && cancelled(); }
 };
 
 /// A name a definition makes (see CheckResult::declared_names).

@@ -124,7 +124,8 @@ struct Decl {
 
 class IncrementalBasis {
  public:
-  std::string text;
+  std::shared_ptr<const SourceManager> sources;  // holds `text`
+  std::string_view text;
   FileId file;
   Dialect dialect = Dialect::Nome;
   std::vector<Span> spans;
@@ -273,13 +274,15 @@ bool decls_by_item(std::span<const DeclaredName> names, std::span<const Span> sp
 
 }  // namespace
 
-std::shared_ptr<const IncrementalBasis> make_incremental_basis(const SourceManager& sources, const CheckResult& result,
-                                                               std::span<const Diagnostic> diagnostics) {
+std::shared_ptr<const IncrementalBasis> make_incremental_basis(std::shared_ptr<const SourceManager> sources,
+                                                               const CheckResult& result,
+                                                               std::vector<Diagnostic> diagnostics) {
   if (!result.incremental_ok || result.cancelled || result.asts.empty()) return nullptr;
   const ast::Ast& a = *result.asts.front();
   auto b = std::make_shared<IncrementalBasis>();
   b->file = a.file;
-  b->text = std::string(sources.text(a.file));
+  b->text = sources->text(a.file);
+  b->sources = std::move(sources);
   b->dialect = result.dialect;
   const size_t n = a.top.size();
   b->spans.reserve(n);
@@ -295,8 +298,7 @@ std::shared_ptr<const IncrementalBasis> make_incremental_basis(const SourceManag
   for (size_t i = 1; i < n; ++i) {
     if (b->spans[i].begin < b->spans[i - 1].end) return nullptr;  // not in order: not ours to split
   }
-  std::vector<Diagnostic> copy(diagnostics.begin(), diagnostics.end());
-  if (!split_by_item(std::move(copy), result.first_statement_diagnostic, result.item_marks, b->spans, b->file, b->during,
+  if (!split_by_item(std::move(diagnostics), result.first_statement_diagnostic, result.item_marks, b->spans, b->file, b->during,
                      b->after)) {
     return nullptr;
   }
@@ -351,6 +353,12 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
   while (q < common - p && old_text[old_n - 1 - q] == text[new_n - 1 - q]) ++q;
   const int64_t delta = static_cast<int64_t>(new_n) - static_cast<int64_t>(old_n);
   const size_t old_tail = old_n - q;  // the old text from here on is unchanged, `delta` later
+  // Where a span of the old text lies against the edit, and where one after it moved to.
+  auto before_edit = [&](Span s) { return s.end < p; };
+  auto after_edit = [&](Span s) { return s.begin > old_tail; };
+  auto shifted = [&](Span s, int64_t by) {
+    return Span{static_cast<uint32_t>(s.begin + by), static_cast<uint32_t>(s.end + by)};
+  };
 
   const FileId file = sources.add_file(path, std::move(text));
   const std::string_view now_text = sources.text(file);
@@ -372,7 +380,7 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
   // their line).
   size_t first_touched = n, last_touched = 0;
   for (size_t i = 0; i < n; ++i) {
-    if (!(b.spans[i].end < p) && !(b.spans[i].begin > old_tail)) {
+    if (!before_edit(b.spans[i]) && !after_edit(b.spans[i])) {
       first_touched = std::min(first_touched, i);
       last_touched = i;
     }
@@ -391,21 +399,18 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
     spans[i] = span_of(a, it);
     const Span old = b.spans[i];
     const bool near = n > 0 && i >= lo && i <= hi;
-    const bool block = it.kind == ast::ItemKind::Block;
-    // The parser reads forwards: what the edit can change beyond the statements beside it
-    // lies after it.
-    if (!near && (it.kind != b.kinds[i] ||
-                  (old.begin > old_tail && fingerprint(a, it, spans[i].begin, todo) != b.prints[i]))) {
-      return give_up("a statement the edit left alone was read differently");
-    }
-    if (!near && old.end < p) {
+    if (it.kind != b.kinds[i]) return give_up("the edit changed what a statement is");
+    if (!near && before_edit(old)) {
       if (spans[i] != old) return give_up("a statement before the edit moved");
-    } else if (!near && old.begin > old_tail) {
-      if (spans[i] != Span{static_cast<uint32_t>(old.begin + delta), static_cast<uint32_t>(old.end + delta)}) {
-        return give_up("a statement after the edit moved");
+    } else if (!near && after_edit(old)) {
+      if (spans[i] != shifted(old, delta)) return give_up("a statement after the edit moved");
+      // The parser reads forwards: what the edit can change beyond the statements beside it
+      // lies after it.
+      if (fingerprint(a, it, spans[i].begin, todo) != b.prints[i]) {
+        return give_up("a statement the edit left alone was read differently");
       }
     } else {
-      if (it.kind != b.kinds[i] || (block && (a.stmt(it.block).kind != b.blocks[i] || a.stmt(it.block).keyword != b.keywords[i]))) {
+      if (it.kind == ast::ItemKind::Block && (a.stmt(it.block).kind != b.blocks[i] || a.stmt(it.block).keyword != b.keywords[i])) {
         return give_up("the edit changed what a statement is");
       }
       changed[i] = 1;
@@ -456,8 +461,7 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
         return !d.top_scope && d.span == Span{begin, end} && d.name == w;
       });
     }
-    const Span old = b.spans[i].end < p ? Span{begin, end}
-                                        : Span{static_cast<uint32_t>(begin - delta), static_cast<uint32_t>(end - delta)};
+    const Span old = before_edit(b.spans[i]) ? Span{begin, end} : shifted(Span{begin, end}, -delta);
     return std::any_of(b.decls[i].begin(), b.decls[i].end(),
                        [&](const Decl& d) { return !d.top_scope && d.span == old && d.name == w; });
   };
@@ -472,15 +476,17 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
       if (!b.during[i].empty() || !b.after[i].empty()) into[i] = 1;
     }
   };
+  bool renamed = false;
   for (int32_t k : changed_list) {
     const std::vector<Decl>& kept = assumed[static_cast<size_t>(k)];
     for (const Decl& d : b.decls[static_cast<size_t>(k)]) {
       const bool moved_intact = std::any_of(kept.begin(), kept.end(), [&](const Decl& x) { return x.name == d.name; });
       if (moved_intact) continue;
       mentions(now_text, spans, d.name, recheck, nested_definition);
-      with_problems(recheck);
+      renamed = true;
     }
   }
+  if (renamed) with_problems(recheck);
   close_over(recheck, [&](size_t i) { return b.readers.of(i); });
   std::vector<uint8_t> check_items = recheck;
   for (int32_t i : b.always) check_items[static_cast<size_t>(i)] = 1;

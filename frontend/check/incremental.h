@@ -17,6 +17,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "frontend/check/check.h"
 
@@ -29,11 +30,13 @@ class ParseCache;
 /// read. Immutable once made, so threads may share it.
 class IncrementalBasis;
 
-/// Made from a full check with `record_names`; `diagnostics` are the engine's as that check
-/// left them, in the order they came (before sorting). Null when the file is one that is
-/// always checked in full, or a statement reported a problem outside its own text.
-std::shared_ptr<const IncrementalBasis> make_incremental_basis(const SourceManager& sources, const CheckResult& result,
-                                                               std::span<const Diagnostic> diagnostics);
+/// Made from a full check with `record_names` of a file in `sources` (kept: the basis reads
+/// its text); `diagnostics` are the engine's as that check left them, in the order they came
+/// (before sorting). Null when the file is one that is always checked in full, or a
+/// statement reported a problem outside its own text.
+std::shared_ptr<const IncrementalBasis> make_incremental_basis(std::shared_ptr<const SourceManager> sources,
+                                                               const CheckResult& result,
+                                                               std::vector<Diagnostic> diagnostics);
 
 struct IncrementalOutcome {
   bool done = false;     // `diags` holds the new version's diagnostics

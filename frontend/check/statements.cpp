@@ -118,12 +118,11 @@ void process(Context& c, const ast::Ast& a, int order_base) {
   // The main file's own statements (not a base scene's, an include's or Tcl's): an
   // incremental check may process only some of them, and marks what each one reported.
   const bool main = order_base == 0 && a.file == c.main_file;
-  const std::function<bool()>& cancelled = c.options().cancelled;
   for (const ast::Item& it : a.top) {
     ++order;
     c.order = order;
     const int32_t item = order - order_base - 1;
-    if (cancelled && item % 64 == 0 && cancelled()) {
+    if (item % 64 == 0 && c.options().is_cancelled()) {
       c.cancelled = true;
       return;
     }

@@ -14,7 +14,6 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,13 +28,6 @@ namespace {
 
 using nomec::testing_dump::dump_diags;
 
-std::string read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 nomec::CheckOptions options_for() {
   nomec::CheckOptions o;
   o.read_file = nomec::testing_inputs::read_file;
@@ -49,11 +41,11 @@ struct Full {
 
 // A full check as the editor makes it (names recorded), and the basis it leaves.
 Full full_check(const std::string& path, const std::string& text) {
-  nomec::SourceManager sources;
+  auto sources = std::make_shared<nomec::SourceManager>();
   nomec::DiagnosticEngine diags;
   nomec::CheckOptions o = options_for();
   o.record_names = true;
-  nomec::CheckResult r = nomec::check_source(sources, path, text, o, diags);
+  nomec::CheckResult r = nomec::check_source(*sources, path, text, o, diags);
   Full f;
   f.basis = nomec::make_incremental_basis(sources, r, diags.diagnostics());
   diags.sort_and_dedupe();
@@ -181,7 +173,7 @@ TEST(IncrementalCheck, CorpusFilesAndExamplesUnderTyping) {
   uint32_t seed = std::getenv("NOMEC_INCREMENTAL_SEED") ? static_cast<uint32_t>(std::atoi(std::getenv("NOMEC_INCREMENTAL_SEED"))) : 1;
   const int edits = std::getenv("NOMEC_INCREMENTAL_EDITS") ? std::atoi(std::getenv("NOMEC_INCREMENTAL_EDITS")) : 24;
   for (const std::string& path : files) {
-    differential(path, read(path), edits, seed++, tally);
+    differential(path, nomec::testing_inputs::read_file(path).value(), edits, seed++, tally);
     if (HasFatalFailure()) return;
   }
   // Most corpus files can be checked incrementally; the sweep must exercise the path.
