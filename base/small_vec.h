@@ -29,7 +29,7 @@ class SmallVec {
   SmallVec() = default;
   SmallVec(std::initializer_list<T> init) { assign(init.begin(), init.size()); }
   SmallVec(const SmallVec& o) {
-    if (o.heap_ == nullptr) {
+    if (o.is_inline()) {
       copy_inline_room(o);
       size_ = o.size_;
     } else {
@@ -55,8 +55,8 @@ class SmallVec {
 
   uint32_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
-  T* data() { return heap_ != nullptr ? heap_ : inline_data(); }
-  const T* data() const { return heap_ != nullptr ? heap_ : inline_data(); }
+  T* data() { return is_inline() ? inline_data() : heap(); }
+  const T* data() const { return is_inline() ? inline_data() : heap(); }
   T& operator[](size_t i) { return data()[i]; }
   const T& operator[](size_t i) const { return data()[i]; }
   const T& at(size_t i) const {
@@ -105,7 +105,9 @@ class SmallVec {
   }
 
  private:
-  uint32_t capacity() const { return heap_ != nullptr ? cap_ : N; }
+  bool is_inline() const { return cap_ == 0; }
+  uint32_t capacity() const { return is_inline() ? N : cap_; }
+  T* heap() const { return room_.heap; }
   void assign(const T* from, uint32_t n) {
     reserve(n);
     if (n > 0) std::memcpy(static_cast<void*>(data()), from, sizeof(T) * n);
@@ -115,16 +117,16 @@ class SmallVec {
     T* fresh = static_cast<T*>(std::malloc(sizeof(T) * n));
     if (fresh == nullptr) throw std::bad_alloc();
     if (size_ > 0) std::memcpy(static_cast<void*>(fresh), data(), sizeof(T) * size_);
-    if (heap_ != nullptr) std::free(heap_);
-    heap_ = fresh;
+    if (!is_inline()) std::free(heap());
+    room_.heap = fresh;  // the inline elements, if any, were copied out above
     cap_ = n;
   }
   void take(SmallVec& o) {
     size_ = o.size_;
-    if (o.heap_ != nullptr) {
-      heap_ = o.heap_;
+    if (!o.is_inline()) {
+      room_.heap = o.heap();
       cap_ = o.cap_;
-      o.heap_ = nullptr;
+      o.cap_ = 0;
     } else {
       copy_inline_room(o);
     }
@@ -133,21 +135,26 @@ class SmallVec {
   void release() {
     // Most vectors never leave their inline room: skip the allocator's call for them (a
     // free of null still costs one, on every expression and list of a large file).
-    if (heap_ != nullptr) {
-      std::free(heap_);
-      heap_ = nullptr;
+    if (!is_inline()) {
+      std::free(heap());
+      cap_ = 0;
     }
     size_ = 0;
   }
 
-  T* heap_ = nullptr;  // null while the elements fit inline
   uint32_t size_ = 0;
-  uint32_t cap_ = 0;  // of heap_
+  uint32_t cap_ = 0;  // of the heap block; 0 while the elements are inline
+  // The elements while they fit, else the heap block's address: a vector on the heap does
+  // not use its inline room, so the pointer shares it (a statement's items, a list's
+  // elements: tens of thousands per large document, 8 bytes each saved).
   // Raw room rather than `T inline_[N]`: an element type with a default constructor (an
   // `Id` is -1 until set) would otherwise be constructed N times for every vector made,
   // though only the first `size_` elements are ever read. The elements are trivially
   // copyable, so they begin to exist where they are copied in.
-  alignas(T) unsigned char inline_[sizeof(T) * N];
+  union Room {
+    T* heap;
+    alignas(T) unsigned char bytes[sizeof(T) * N];
+  } room_;
   // The whole inline room, a fixed size the compiler copies in a few moves, rather than a
   // call to memcpy for `size_` elements (copying a syntax tree copies many of these). The
   // bytes past `size_` may never have been written: copying them as bytes is allowed, and
@@ -156,12 +163,12 @@ class SmallVec {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
-  void copy_inline_room(const SmallVec& o) { std::memcpy(inline_, o.inline_, sizeof inline_); }
+  void copy_inline_room(const SmallVec& o) { std::memcpy(&room_, &o.room_, sizeof room_); }
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
-  T* inline_data() { return std::launder(reinterpret_cast<T*>(inline_)); }
-  const T* inline_data() const { return std::launder(reinterpret_cast<const T*>(inline_)); }
+  T* inline_data() { return std::launder(reinterpret_cast<T*>(room_.bytes)); }
+  const T* inline_data() const { return std::launder(reinterpret_cast<const T*>(room_.bytes)); }
 };
 
 }  // namespace nomec

@@ -58,5 +58,32 @@ TEST(SmallVec, InitializerListAndPushOfOwnElement) {
   EXPECT_EQ(v[2].index, 1);
 }
 
+// The heap block's address shares the inline room: a vector is its size, its capacity and
+// the larger of the room and a pointer (a large document has tens of thousands of them).
+TEST(SmallVec, HeapPointerSharesTheInlineRoom) {
+  static_assert(sizeof(SmallVec<NodeId, 4>) == 8 + 16);
+  static_assert(sizeof(SmallVec<NodeId, 1>) == 8 + 8);
+  static_assert(sizeof(SmallVec<double, 16>) == 8 + 128);
+  // A vector emptied by a move, or spilled and then assigned from an inline one, keeps
+  // working in both states.
+  SmallVec<NodeId, 2> spilled;
+  for (int32_t i = 0; i < 5; ++i) spilled.push_back(NodeId(i));
+  SmallVec<NodeId, 2> taker(std::move(spilled));
+  ASSERT_EQ(taker.size(), 5u);
+  spilled.push_back(NodeId(40));
+  spilled.push_back(NodeId(41));
+  spilled.push_back(NodeId(42));  // spills again after the move took its block
+  ASSERT_EQ(spilled.size(), 3u);
+  EXPECT_EQ(spilled[2].index, 42);
+  SmallVec<NodeId, 2> small{NodeId(9)};
+  taker = small;  // a heap vector assigned an inline one's elements
+  ASSERT_EQ(taker.size(), 1u);
+  EXPECT_EQ(taker[0].index, 9);
+  taker = std::move(spilled);  // and then given a heap block
+  ASSERT_EQ(taker.size(), 3u);
+  EXPECT_EQ(taker[0].index, 40);
+  EXPECT_EQ(taker[2].index, 42);
+}
+
 }  // namespace
 }  // namespace nomec
