@@ -3,6 +3,7 @@
 // checker gives the items meaning per block kind. IDs index the arrays of `Ast`.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -114,7 +115,13 @@ struct Expr {
 struct ParenList {
   SourceRange range;
   SmallVec<ExprId, 4> elems;
-  SmallVec<SourceRange, 1> commas;  // tolerated, warned about
+};
+
+/// A comma in a list, tolerated and warned about (`Ast::commas_of`). Kept apart from the
+/// lists: few lists have one, and a large document has tens of thousands of lists.
+struct ListComma {
+  ListId list;
+  SourceRange range;
 };
 
 enum class ItemKind : uint8_t { Word, List, Value, Block, Tcl, Include };
@@ -158,12 +165,20 @@ struct Ast {
   std::vector<Expr> exprs;
   std::vector<ExprId> args;  // calls' arguments, each call's contiguous (Expr::args_first)
   std::vector<ParenList> lists;
+  std::vector<ListComma> commas;  // ordered by list, then by position
+
 
   const Stmt& stmt(StmtId id) const { return stmts[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
   const ParenList& list(ListId id) const { return lists[id.index]; }
   /// A call's arguments (empty for other kinds).
   std::span<const ExprId> args_of(const Expr& e) const { return {args.data() + e.args_first(), e.args_count()}; }
+  /// The commas written in a list (usually none).
+  std::span<const ListComma> commas_of(ListId id) const {
+    auto [lo, hi] = std::equal_range(commas.begin(), commas.end(), ListComma{id, {}},
+                                     [](const ListComma& a, const ListComma& b) { return a.list.index < b.list.index; });
+    return {commas.data() + (lo - commas.begin()), static_cast<size_t>(hi - lo)};
+  }
 };
 
 }  // namespace nomec::ast

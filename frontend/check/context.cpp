@@ -183,10 +183,10 @@ std::string Context::split_text(const ast::Ast& a, const ast::ParenList& list) c
 }
 
 void Context::check_commas(const ast::Ast& a, ast::ListId list) {
-  const ast::ParenList& l = a.list(list);
-  if (l.commas.empty()) return;
-  auto d = diags_.emit(DiagKind::CommaInList, l.commas.front(), "NOME lists are separated by spaces; commas are ignored");
-  for (SourceRange c : l.commas) d.fixit(c, "", "remove `,`");
+  const std::span<const ast::ListComma> commas = a.commas_of(list);
+  if (commas.empty()) return;
+  auto d = diags_.emit(DiagKind::CommaInList, commas.front().range, "NOME lists are separated by spaces; commas are ignored");
+  for (const ast::ListComma& c : commas) d.fixit(c.range, "", "remove `,`");
 }
 
 }  // namespace nomec::check

@@ -156,7 +156,7 @@ class Fingerprint {
         return;
       case ast::ItemKind::List: {
         const ast::ParenList& l = ast_.list(it.list);
-        out_ += fmt::format("({},{}:", l.elems.size(), l.commas.size());
+        out_ += fmt::format("({},{}:", l.elems.size(), ast_.commas_of(it.list).size());
         for (ast::ExprId e : l.elems) expr(e);
         out_ += ')';
         return;

@@ -557,16 +557,20 @@ class AstBuilder {
   ast::ListId convert_list(antlr4::ParserRuleContext* ctx) {
     ast::ParenList list;
     list.range = ctx_range(ctx);
+    std::vector<SourceRange> commas;
     for (antlr4::tree::ParseTree* t : ctx->children) {
       Child c = classify(t);
       if (c.rule_index() == NomeParser::RuleListExpr) {
         list.elems.push_back(convert_expr(c.rule));
       } else if (c.token_type() == NomeParser::COMMA) {
-        list.commas.push_back(token_range(c.terminal->getSymbol()));
+        commas.push_back(token_range(c.terminal->getSymbol()));
       }
     }
+    // Ids are given as lists end, so a nested list's commas come before its parent's.
     ast_.lists.push_back(std::move(list));
-    return ast::ListId{static_cast<int32_t>(ast_.lists.size() - 1)};
+    const ast::ListId id{static_cast<int32_t>(ast_.lists.size() - 1)};
+    for (SourceRange r : commas) ast_.commas.push_back({id, r});
+    return id;
   }
 
   ast::ExprId add(ast::Expr e) {
@@ -946,11 +950,12 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
         list.range = range_of(ctx);
         list.elems.reserve(static_cast<uint32_t>(operands_.size() - f.operands_at));
         for (size_t i = f.operands_at; i < operands_.size(); ++i) list.elems.push_back(operands_[i]);
-        for (size_t i = f.commas_at; i < commas_.size(); ++i) list.commas.push_back(commas_[i]);
         operands_.resize(f.operands_at);
-        commas_.resize(f.commas_at);
         ast_.lists.push_back(std::move(list));
-        deliver_list(static_cast<int32_t>(ast_.lists.size() - 1));
+        const ast::ListId id{static_cast<int32_t>(ast_.lists.size() - 1)};
+        for (size_t i = f.commas_at; i < commas_.size(); ++i) ast_.commas.push_back({id, commas_[i]});
+        commas_.resize(f.commas_at);
+        deliver_list(id.index);
         break;
       }
       case Kind::Expr: {

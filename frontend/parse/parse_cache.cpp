@@ -292,8 +292,8 @@ class Assembler {
       ast::ParenList& c = out_.lists.emplace_back(l);
       c.range = range(l.range);
       for (ast::ExprId& e : c.elems) e = expr(e);
-      for (SourceRange& r : c.commas) r = range(r);
     }
+    for (const ast::ListComma& k : piece.commas) out_.commas.push_back({ast::ListId{k.list.index + l0_}, range(k.range)});
     for (const ast::Stmt& s : piece.stmts) {
       ast::Stmt& c = out_.stmts.emplace_back(s);
       c.range = range(s.range);

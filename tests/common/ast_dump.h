@@ -46,7 +46,7 @@ inline std::string dump_ast(const nomec::ast::Ast& a) {
     const auto& l = a.lists[k];
     s += fmt::format("l{} {}", k, dump_range(l.range));
     for (auto e : l.elems) s += fmt::format(" e{}", e.index);
-    for (auto c : l.commas) s += " ," + dump_range(c);
+    for (const auto& c : a.commas_of(nomec::ast::ListId{static_cast<int32_t>(k)})) s += " ," + dump_range(c.range);
     s += "\n";
   }
   return s;
