@@ -167,7 +167,6 @@ struct Ast {
   std::vector<ParenList> lists;
   std::vector<ListComma> commas;  // ordered by list, then by position
 
-
   const Stmt& stmt(StmtId id) const { return stmts[id.index]; }
   const Expr& expr(ExprId id) const { return exprs[id.index]; }
   const ParenList& list(ListId id) const { return lists[id.index]; }
