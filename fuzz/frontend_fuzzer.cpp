@@ -56,9 +56,10 @@ std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads
 }
 
 // Prints both dumps of a disagreement (what a finding's reader needs first) and returns false.
-bool report(const char* what, const std::string& other, const std::string& one) {
-  std::fprintf(stderr, "frontend_fuzzer: %s differs from the parse on one thread.\n--- %s:\n%s\n--- one thread:\n%s\n",
-               what, what, other.c_str(), one.c_str());
+// Prints how `what` (`got`) differs from `reference` (`want`); false, for `a == b || report(…)`.
+bool report(const char* what, const std::string& got, const char* reference, const std::string& want) {
+  std::fprintf(stderr, "frontend_fuzzer: %s differs from %s.\n--- %s:\n%s\n--- %s:\n%s\n", what, reference, what,
+               got.c_str(), reference, want.c_str());
   return false;
 }
 
@@ -78,9 +79,9 @@ bool parses_agree(const std::string& text) {
   const std::string reference = parse_dump(text, &ignored);
   nomec::parse_detail::use_remembered_predictions(true);
   nomec::parse_detail::use_tree_builder(false);
-  if (reference != one) return report("the reference parse", reference, one);
+  if (reference != one) return report("the reference parse", reference, "the parse on one thread", one);
   const std::string two = parse_dump(text, &ignored, nomec::ParseThreads::Two);
-  return two == one || report("the parse on two threads", two, one);
+  return two == one || report("the parse on two threads", two, "the parse on one thread", one);
 }
 
 std::string sorted_dump(nomec::DiagnosticEngine& diags) {
@@ -109,10 +110,7 @@ bool incremental_agrees(const nomec::IncrementalBasis& basis, const char* path, 
   nomec::DiagnosticEngine full;
   nomec::check_source(full_sources, path, edited, options, full);
   const std::string got = sorted_dump(diags), want = sorted_dump(full);
-  if (got == want) return true;
-  std::fprintf(stderr, "frontend_fuzzer: the incremental check differs from the full check.\n--- incremental:\n%s\n--- full:\n%s\n",
-               got.c_str(), want.c_str());
-  return false;
+  return got == want || report("the incremental check", got, "the full check", want);
 }
 
 }  // namespace
