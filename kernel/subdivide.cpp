@@ -83,7 +83,8 @@ struct Part {
   // Found by the passes.
   bool are_quads = true;
   bool has_child_creases = false;
-  std::vector<EdgeUse> face_loop;  // the uses of the face being split, reused
+  std::vector<EdgeUse> face_loop;  // the uses of a face that is not a quad, reused
+  std::vector<int32_t> face_tails;  // and their tail vertices
   // Contributions to the sums of vertices that both parts touch, which are added after
   // both parts, in the order one pass would add them: (vertex, face) of face points, and
   // 2 * edge + end of edge ends.
@@ -319,59 +320,107 @@ class Refiner {
   // vertices' points (each slot starts as the sum of the face points around the vertex),
   // and its child quads with their interior edges (from the edge point to the face point),
   // whose wings are known arithmetically, so no hashing.
+  //
+  // The walk is a chain of dependent loads (each use's successor, then its tail vertex),
+  // which the processor cannot overlap with the next face's while the long work of a face
+  // stands in between. So the faces go in blocks: first the uses and tail vertices of every
+  // quad of the block, a short loop whose faces' chains the processor runs side by side
+  // (asking for the tails' positions and vertex-point slots on the way), then the work of
+  // each face from those. A face that is not a quad is walked on its own.
   void faces(Part& p) {
+    constexpr int32_t kBlock = 64;
+    std::array<EdgeUse, 4 * kBlock> uses;
+    std::array<int32_t, 4 * kBlock> tails;
+    std::array<bool, kBlock> is_quad;
+    std::vector<EdgeUse>& loop = p.face_loop;
+    int32_t o = p.first_child_face;
+    for (int32_t begin = p.face_begin; begin < p.face_end; begin += kBlock) {
+      const int32_t count = std::min(kBlock, p.face_end - begin);
+      for (int32_t i = 0; i < count; ++i) {
+        const EdgeUse u0 = pface_uses_[begin + i];
+        const EdgeUse u1 = pnext_[u0.index];
+        const EdgeUse u2 = pnext_[u1.index];
+        const EdgeUse u3 = pnext_[u2.index];
+        is_quad[i] = pnext_[u3.index] == u0 && u2 != u0 && u3 != u1;
+        uses[4 * i] = u0;
+        uses[4 * i + 1] = u1;
+        uses[4 * i + 2] = u2;
+        uses[4 * i + 3] = u3;
+      }
+      dvec3* vertex_points = cpos_.data() + F_ + E_;
+      for (int32_t i = 0; i < 4 * count; ++i) {
+        const int32_t v = tail_of(uses[i]);
+        tails[i] = v;
+        __builtin_prefetch(&pos_[v]);
+        __builtin_prefetch(&vertex_points[v], 1);
+      }
+      for (int32_t i = 0; i < count; ++i) {
+        const int32_t f = begin + i;
+        if (is_quad[i]) {
+          o += split_face<4>(p, f, o, std::span<const EdgeUse, 4>(&uses[4 * i], 4), std::span<const int32_t, 4>(&tails[4 * i], 4));
+          continue;
+        }
+        loop.clear();
+        std::vector<int32_t>& loop_tails = p.face_tails;
+        loop_tails.clear();
+        const EdgeUse start = pface_uses_[f];
+        EdgeUse u = start;
+        do {
+          loop.push_back(u);
+          loop_tails.push_back(tail_of(u));
+          u = pnext_[u.index];
+        } while (u != start);
+        p.are_quads = false;
+        o += split_face<std::dynamic_extent>(p, f, o, std::span<const EdgeUse>(loop), std::span<const int32_t>(loop_tails));
+      }
+    }
+  }
+
+  // Face `f` of the parent, whose uses are `loop` and their tail vertices `tails`: its face
+  // point, its terms in its vertices' slots, and its child faces from `o` with their
+  // interior edges; returns how many child faces it has.
+  // `N` is 4 for a quad (the loops are then unrolled), otherwise `std::dynamic_extent`.
+  template <size_t N>
+  int32_t split_face(Part& p, int32_t f, int32_t o, std::span<const EdgeUse, N> loop, std::span<const int32_t, N> tails) {
     Mesh& child = level_.mesh;
     VertexId* cev = MeshAccess::edge_vertices(child).data();
     uint8_t* cflags = MeshAccess::edge_flags(child).data();
-    EdgeId* cvertex_edges = MeshAccess::vertex_edges(child).data();
-    FaceSource* csources = stores_face_properties_ ? MeshAccess::face_sources(child).data() : nullptr;
-    glm::vec3* ccolors = stores_face_properties_ ? MeshAccess::face_colors(child).data() : nullptr;
     dvec3* vertex_points = cpos_.data() + F_ + E_;
-    std::vector<EdgeUse>& loop = p.face_loop;
-    int32_t o = p.first_child_face;
-    for (int32_t f = p.face_begin; f < p.face_end; ++f) {
-      loop.clear();
-      dvec3 sum(0.0);
-      const EdgeUse start = pface_uses_[f];
-      EdgeUse u = start;
-      do {
-        loop.push_back(u);
-        sum += pos_[tail_of(u)];
-        u = pnext_[u.index];
-      } while (u != start);
-      const int32_t n = static_cast<int32_t>(loop.size());
-      p.are_quads = p.are_quads && n == 4;
-      const dvec3 fp = sum / double(n);
-      cpos_[f] = fp;
-      for (const EdgeUse x : loop) {
-        const int32_t v = tail_of(x);
-        if (is_shared(v)) {
-          p.deferred_face_points.emplace_back(v, f);
-        } else {
-          vertex_points[v] += fp;
-        }
+    const int32_t n = static_cast<int32_t>(loop.size());
+    dvec3 sum(0.0);
+    for (const int32_t v : tails) sum += pos_[v];
+    const dvec3 fp = sum / double(n);
+    cpos_[f] = fp;
+    for (const int32_t v : tails) {
+      if (is_shared(v)) {
+        p.deferred_face_points.emplace_back(v, f);
+      } else {
+        vertex_points[v] += fp;
       }
-      cvertex_edges[f] = EdgeId(2 * E_ + o);
-      link_face_children(o, loop);
-      for (int32_t i = 0; i < n; ++i) {
-        const int32_t ce = 2 * E_ + o + i;
-        cev[2 * ce] = VertexId(F_ + (loop[i].index >> 1));
-        cev[2 * ce + 1] = VertexId(f);
-        cflags[ce] = 0;
-      }
-      if (csources != nullptr) {
-        const size_t from = static_cast<size_t>(f) >> inheritance_.shift;
-        std::fill_n(csources + o, n, inheritance_.sources[from]);
-        if (!inheritance_.colors.empty()) std::fill_n(ccolors + o, n, inheritance_.colors[from]);
-      }
-      o += n;
     }
+    MeshAccess::vertex_edges(child)[f] = EdgeId(2 * E_ + o);
+    link_face_children(o, loop);
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t ce = 2 * E_ + o + i;
+      cev[2 * ce] = VertexId(F_ + (loop[i].index >> 1));
+      cev[2 * ce + 1] = VertexId(f);
+      cflags[ce] = 0;
+    }
+    if (stores_face_properties_) {
+      const size_t from = static_cast<size_t>(f) >> inheritance_.shift;
+      std::fill_n(MeshAccess::face_sources(child).data() + o, n, inheritance_.sources[from]);
+      if (!inheritance_.colors.empty()) {
+        std::fill_n(MeshAccess::face_colors(child).data() + o, n, inheritance_.colors[from]);
+      }
+    }
+    return n;
   }
 
   // The wings of the child quads of the face whose uses are `loop`, numbered from `o`:
   // quad i runs tail half of use i, interior edge i (edge point to face point), interior
   // edge i-1 backwards, head half of use i-1.
-  void link_face_children(int32_t o, const std::vector<EdgeUse>& loop) {
+  template <size_t N>
+  void link_face_children(int32_t o, std::span<const EdgeUse, N> loop) {
     Mesh& child = level_.mesh;
     FaceId* cuf = MeshAccess::use_faces(child).data();
     EdgeUse* cnext = MeshAccess::next(child).data();
@@ -458,7 +507,21 @@ class Refiner {
   void edge_points(Part& p) {
     const bool is_split = parts_.size() > 1;
     dvec3* edge_points = cpos_.data() + F_;
+    const dvec3* vertex_points = cpos_.data() + F_ + E_;
+    // The positions an edge reads and the slots it adds to are scattered: they are asked
+    // for this many edges ahead, so that they arrive while the edges before are done.
+    constexpr int32_t kAhead = 16;
     for (int32_t e = 0; e < E_; ++e) {
+      if (const int32_t x = e + kAhead; x < E_ && (!is_split || part_of(puf_[2 * x]) == p.index)) {
+        const int32_t a = pev_[2 * x].index;
+        const int32_t b = pev_[2 * x + 1].index;
+        __builtin_prefetch(&pos_[a]);
+        __builtin_prefetch(&pos_[b]);
+        __builtin_prefetch(&cpos_[puf_[2 * x].index]);
+        if (puf_[2 * x + 1].is_valid()) __builtin_prefetch(&cpos_[puf_[2 * x + 1].index]);
+        __builtin_prefetch(&vertex_points[a], 1);
+        __builtin_prefetch(&vertex_points[b], 1);
+      }
       if (is_split && part_of(puf_[2 * e]) != p.index) continue;
       const int32_t a = pev_[2 * e].index;
       const int32_t b = pev_[2 * e + 1].index;
