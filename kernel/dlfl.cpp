@@ -19,7 +19,7 @@ glm::dvec3 unit_or(const glm::dvec3& v, const glm::dvec3& fallback) {
 
 LoopMesh LoopMesh::from_mesh(const Mesh& mesh) {
   LoopMesh m;
-  m.positions_ = mesh.positions();
+  m.positions_.assign(mesh.positions().begin(), mesh.positions().end());
   m.has_colors_ = mesh.has_face_colors();
   for (int32_t f = 0; f < mesh.face_count(); ++f) {
     std::vector<int32_t> loop;

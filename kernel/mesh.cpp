@@ -532,7 +532,9 @@ Result<Mesh> MeshAccess::build_paired(PolygonSoup soup, std::vector<int32_t> twi
     first[k] = first[k] >= 0 ? std::min(self, first[k]) : self;
   }
   Mesh m;
-  MeshAccess::positions(m) = std::move(soup.positions);
+  reserve_large(MeshAccess::positions(m), soup.positions.size());
+  MeshAccess::positions(m).assign(soup.positions.begin(), soup.positions.end());
+  std::vector<glm::dvec3>().swap(soup.positions);
   std::vector<EdgeUse> uses;
   if (auto e = make_edges(soup, m, first, uses)) return *e;
   link_wings(soup, m, uses);
@@ -560,7 +562,7 @@ bool has_same_topology(const Mesh& a, const Mesh& b) {
 
 PolygonSoup to_soup(const Mesh& mesh) {
   PolygonSoup soup;
-  soup.positions = mesh.positions();
+  soup.positions.assign(mesh.positions().begin(), mesh.positions().end());
   for (int32_t v = 0; v < mesh.vertex_count() && mesh.has_vertex_names(); ++v) {
     soup.names.emplace_back(mesh.vertex_name(VertexId(v)));
   }

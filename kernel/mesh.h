@@ -108,7 +108,7 @@ class Mesh {
   // ---- vertices ----
   const glm::dvec3& position(VertexId v) const { return positions_[v.index]; }
   void set_position(VertexId v, const glm::dvec3& p) { positions_[v.index] = p; }
-  const std::vector<glm::dvec3>& positions() const { return positions_; }
+  const OverwriteVector<glm::dvec3>& positions() const { return positions_; }
   /// One incident edge (a boundary edge if the vertex is on a border), or None for a
   /// vertex no face uses.
   EdgeId vertex_edge(VertexId v) const { return vertex_edges_[v.index]; }
@@ -227,7 +227,7 @@ class Mesh {
   static constexpr uint8_t kMobiusFlag = 1;
 
   // vertices
-  std::vector<glm::dvec3> positions_;
+  OverwriteVector<glm::dvec3> positions_;  // `resize(n)` leaves new positions unwritten
   OverwriteVector<EdgeId> vertex_edges_;
   std::vector<std::string> names_;
   std::vector<glm::dvec3> normals_;
@@ -272,7 +272,7 @@ PolygonSoup to_soup(const Mesh& mesh);
 /// Internal access to the storage for kernel algorithms (subdivision, offset); not part
 /// of the public API.
 struct MeshAccess {
-  static std::vector<glm::dvec3>& positions(Mesh& m) { return m.positions_; }
+  static OverwriteVector<glm::dvec3>& positions(Mesh& m) { return m.positions_; }
   static OverwriteVector<EdgeId>& vertex_edges(Mesh& m) { return m.vertex_edges_; }
   static OverwriteVector<VertexId>& edge_vertices(Mesh& m) { return m.edge_vertices_; }
   static OverwriteVector<FaceId>& use_faces(Mesh& m) { return m.use_faces_; }
@@ -284,7 +284,7 @@ struct MeshAccess {
   static OverwriteVector<EdgeUse>& face_uses(Mesh& m) { return m.face_uses_; }
   static std::vector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
   static std::vector<glm::vec3>& face_colors(Mesh& m) { return m.face_colors_; }
-  static const std::vector<glm::dvec3>& positions(const Mesh& m) { return m.positions_; }
+  static const OverwriteVector<glm::dvec3>& positions(const Mesh& m) { return m.positions_; }
   static const OverwriteVector<EdgeId>& vertex_edges(const Mesh& m) { return m.vertex_edges_; }
   static const OverwriteVector<VertexId>& edge_vertices(const Mesh& m) { return m.edge_vertices_; }
   static const OverwriteVector<FaceId>& use_faces(const Mesh& m) { return m.use_faces_; }

@@ -703,7 +703,7 @@ Result<OffsetResult> lattice(const Mesh& mesh, const LatticeOptions& options) {
   }
   // Frame soup: the input vertices, then one inner vertex per face corner.
   PolygonSoup frame;
-  frame.positions = mesh.positions();
+  frame.positions.assign(mesh.positions().begin(), mesh.positions().end());
   std::vector<FaceId> frame_origin;
   std::vector<int32_t> outer;
   std::vector<int32_t> inner;

@@ -162,6 +162,7 @@ class Refiner {
     p.face_end = F_;
     p.edge_end = E_;
     p.vertex_end = V_;
+    allocate_positions();
     scan_edges(p);
     allocate_child();
     child_edge_halves(p);
@@ -186,6 +187,7 @@ class Refiner {
     parts_[0].vertex_end = parts_[1].vertex_begin = V_ / 2;
     parts_[1].vertex_end = V_;
     touched_.assign(V_, {0, 0});
+    allocate_positions();
     run_two_parts([&](int k) { scan_edges(parts_[k]); });
     parts_[1].first_child_face = static_cast<int32_t>(parts_[0].first_part_uses + parts_[1].first_part_uses);
     allocate_child();
@@ -223,11 +225,13 @@ class Refiner {
   // Marks vertex `v` as touched by part `k` (both threads may mark the same vertex).
   void touch(int32_t v, int k) { std::atomic_ref<uint8_t>(touched_[v][k]).store(1, std::memory_order_relaxed); }
 
-  // (a) Every use of an edge belongs to a face except the second side of a border edge, so
-  // the parent has 2E minus its border edges corners (= child faces); whether some edge is
-  // sharp (then every vertex gets `SharpSums`). With two parts also which part's faces
-  // touch each vertex (both ends of each of their edges) and how many corners part 0 has.
+  // (a) Zeros in the slots of the part's vertex points. Every use of an edge belongs to a
+  // face except the second side of a border edge, so the parent has 2E minus its border
+  // edges corners (= child faces); whether some edge is sharp (then every vertex gets
+  // `SharpSums`). With two parts also which part's faces touch each vertex (both ends of
+  // each of their edges) and how many corners part 0 has.
   void scan_edges(Part& p) {
+    std::fill(cpos_.begin() + F_ + E_ + p.vertex_begin, cpos_.begin() + F_ + E_ + p.vertex_end, dvec3(0.0));
     const bool is_split = !touched_.empty();
     for (int32_t e = p.edge_begin; e < p.edge_end; ++e) {
       const FaceId fb = puf_[2 * e + 1];
@@ -247,9 +251,14 @@ class Refiner {
     }
   }
 
-  // Every child array at its exact size, before the passes write them by index: without a
-  // fill where every element is then written (`OverwriteVector`), zeroed where the passes
-  // accumulate (the vertex points' slots) or write only some elements (creases).
+  // The child's positions: face points, edge points, then vertex points. Only the vertex
+  // points' slots, which accumulate sums, need zeros: each part writes them for its
+  // vertices in `scan_edges` (the other positions are written once each by the passes).
+  void allocate_positions() { resize_for_overwrite(cpos_, static_cast<size_t>(F_) + E_ + V_); }
+
+  // Every other child array at its exact size, before the passes write them by index:
+  // without a fill where every element is then written (`OverwriteVector`), zeroed where
+  // the passes write only some elements (creases).
   void allocate_child() {
     int64_t border_edges = 0;
     bool has_sharp_edges = false;
@@ -272,7 +281,6 @@ class Refiner {
     resize_for_overwrite(MeshAccess::vertex_edges(child), static_cast<size_t>(F_) + E_ + V_);
     resize_for_overwrite(MeshAccess::face_uses(child), corner_total_);
     if (stores_face_properties_) allocate_face_properties();
-    resize_large(cpos_, static_cast<size_t>(F_) + E_ + V_);  // zero-initialised
     valence_.assign(V_, 0);
     if (has_sharp_edges) sharp_.resize(V_);
   }
@@ -671,7 +679,7 @@ class Refiner {
   const bool has_border_loops_;
   bool stores_face_properties_;
   const int32_t F_, E_, V_;
-  const std::vector<dvec3>& pos_;
+  const OverwriteVector<dvec3>& pos_;
   const OverwriteVector<VertexId>& pev_;
   const OverwriteVector<FaceId>& puf_;
   const OverwriteVector<EdgeUse>& pnext_;
@@ -684,7 +692,7 @@ class Refiner {
   const bool has_corners_;
   const bool is_derose_;
   SubdivisionLevel level_;
-  std::vector<dvec3>& cpos_;
+  OverwriteVector<dvec3>& cpos_;
   int32_t corner_total_ = 0;
   bool has_child_creases_ = false;
   std::vector<Part> parts_;

@@ -37,7 +37,7 @@ bool patch_entry(Context& c, ir::NodeId id, int32_t direct_curves, OutputMesh& o
   } else {
     out = *old.out;
   }
-  std::vector<glm::dvec3>& mesh_positions = kernel::MeshAccess::positions(out.mesh);
+  auto& mesh_positions = kernel::MeshAccess::positions(out.mesh);
   size_t at = 0;
   for (size_t i = 0; i < c.entry_parts.size(); ++i) {
     const std::vector<glm::dvec3>& p = c.entry_parts[i].part->soup.positions;

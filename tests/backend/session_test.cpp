@@ -485,7 +485,7 @@ TEST(Session, PatchLeavesHeldOutputsIntact) {
   s.build(d);
   const std::shared_ptr<const OutputMesh> held = s.outputs()[0];
   const std::vector<glm::dvec3> soup_before = held->soup.positions;
-  const std::vector<glm::dvec3> mesh_before = held->mesh.positions();
+  const auto mesh_before = held->mesh.positions();
   UpdateStats u = s.set_parameter("s.x", 0.7, d);
   EXPECT_EQ(u.outputs_patched, 1);
   EXPECT_NE(s.outputs()[0], held);
