@@ -83,7 +83,7 @@ struct Part {
   // Found by the passes.
   bool are_quads = true;
   bool has_child_creases = false;
-  std::vector<EdgeUse> face_loop;  // the uses of a face that is not a quad, reused
+  std::vector<EdgeUse> face_loop;   // the uses of a face that is not a quad, reused
   std::vector<int32_t> face_tails;  // and their tail vertices
   // Contributions to the sums of vertices that both parts touch, which are added after
   // both parts, in the order one pass would add them: (vertex, face) of face points, and
@@ -231,7 +231,8 @@ class Refiner {
   // `SharpSums`). With two parts also which part's faces touch each vertex (both ends of
   // each of their edges) and how many corners part 0 has.
   void scan_edges(Part& p) {
-    std::fill(cpos_.begin() + F_ + E_ + p.vertex_begin, cpos_.begin() + F_ + E_ + p.vertex_end, dvec3(0.0));
+    dvec3* vertex_points = cpos_.data() + F_ + E_;
+    std::fill(vertex_points + p.vertex_begin, vertex_points + p.vertex_end, dvec3(0.0));
     const bool is_split = !touched_.empty();
     for (int32_t e = p.edge_begin; e < p.edge_end; ++e) {
       const FaceId fb = puf_[2 * e + 1];
@@ -365,7 +366,8 @@ class Refiner {
       for (int32_t i = 0; i < count; ++i) {
         const int32_t f = begin + i;
         if (is_quad[i]) {
-          o += split_face<4>(p, f, o, std::span<const EdgeUse, 4>(&uses[4 * i], 4), std::span<const int32_t, 4>(&tails[4 * i], 4));
+          o += split_face<4>(p, f, o, std::span<const EdgeUse, 4>(&uses[4 * i], 4),
+                             std::span<const int32_t, 4>(&tails[4 * i], 4));
           continue;
         }
         loop.clear();
@@ -379,7 +381,8 @@ class Refiner {
           u = pnext_[u.index];
         } while (u != start);
         p.are_quads = false;
-        o += split_face<std::dynamic_extent>(p, f, o, std::span<const EdgeUse>(loop), std::span<const int32_t>(loop_tails));
+        o += split_face<std::dynamic_extent>(p, f, o, std::span<const EdgeUse>(loop),
+                                             std::span<const int32_t>(loop_tails));
       }
     }
   }
@@ -389,7 +392,8 @@ class Refiner {
   // interior edges; returns how many child faces it has.
   // `N` is 4 for a quad (the loops are then unrolled), otherwise `std::dynamic_extent`.
   template <size_t N>
-  int32_t split_face(Part& p, int32_t f, int32_t o, std::span<const EdgeUse, N> loop, std::span<const int32_t, N> tails) {
+  int32_t split_face(Part& p, int32_t f, int32_t o, std::span<const EdgeUse, N> loop,
+                     std::span<const int32_t, N> tails) {
     Mesh& child = level_.mesh;
     VertexId* cev = MeshAccess::edge_vertices(child).data();
     uint8_t* cflags = MeshAccess::edge_flags(child).data();

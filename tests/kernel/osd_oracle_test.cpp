@@ -209,7 +209,8 @@ TEST(OpenSubdivOracle, MixedTrianglesQuadsPentagons) {
 // 9 x 14 cells give 147 faces, so the blocks are not all full, and the triangles and
 // pentagons fall inside blocks of quads at level 0 (every face after it is a quad).
 TEST(OpenSubdivOracle, MixedTorusAcrossBlocksOfQuads) {
-  const PolygonSoup s = testing::mixed_torus_from(testing::grid_soup(9, 14, testing::Glue::Torus, 0.05), 9, 14);
+  const PolygonSoup s =
+      testing::mixed_torus_from(testing::grid_soup(9, 14, testing::Glue::Torus, 0.05), 9, 14);
   ASSERT_GT(s.face_count(), 128);
   ASSERT_NE(s.face_count() % 64, 0);
   expect_matches_opensubdiv(s, 3);
