@@ -119,7 +119,7 @@ Mesh append_disjoint(std::span<const Mesh* const> meshes) {
   A::prev(out).resize(2 * ne, EdgeUse::None());
   A::edge_flags(out).resize(ne);
   A::face_uses(out).resize(nf);
-  A::face_sources(out).resize(nf);
+  resize_large(A::face_sources(out), nf);
   if (has_names) A::names(out).resize(nv);
   if (has_vertex_sharpness) A::vertex_sharpness(out).assign(nv, 0.0f);
   if (has_sharpness) A::sharpness(out).assign(ne, 0.0f);

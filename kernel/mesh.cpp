@@ -466,7 +466,7 @@ std::optional<KernelError> copy_properties(const PolygonSoup& soup, Mesh& m, boo
     for (int32_t f = 0; f < soup.face_count(); ++f) face_sources[f].source_face = f;
     MeshAccess::face_colors(m) = soup.face_colors;
   } else {
-    face_sources = soup.face_sources;
+    face_sources.assign(soup.face_sources.begin(), soup.face_sources.end());
     MeshAccess::face_colors(m) = soup.face_colors;
   }
   if (!soup.names.empty()) MeshAccess::names(m) = soup.names;
@@ -541,7 +541,8 @@ Result<Mesh> MeshAccess::build_paired(PolygonSoup soup, std::vector<int32_t> twi
   anchor_vertices(m);
   const bool are_faces_set = !soup.face_sources.empty();
   if (are_faces_set) {
-    MeshAccess::face_sources(m) = std::move(soup.face_sources);
+    MeshAccess::face_sources(m).assign(soup.face_sources.begin(), soup.face_sources.end());
+    std::vector<FaceSource>().swap(soup.face_sources);
     MeshAccess::face_colors(m) = std::move(soup.face_colors);
   }
   if (auto e = copy_properties(soup, m, are_faces_set)) return *e;

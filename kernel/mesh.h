@@ -241,7 +241,7 @@ class Mesh {
   std::vector<float> sharpness_;
   // faces
   OverwriteVector<EdgeUse> face_uses_;
-  std::vector<FaceSource> face_sources_;
+  OverwriteVector<FaceSource> face_sources_;  // `resize(n)` leaves new sources unwritten
   std::vector<glm::vec3> face_colors_;
   // borders
   std::vector<EdgeId> border_loops_;
@@ -282,7 +282,7 @@ struct MeshAccess {
   static std::vector<float>& sharpness(Mesh& m) { return m.sharpness_; }
   static std::vector<float>& vertex_sharpness(Mesh& m) { return m.vertex_sharpness_; }
   static OverwriteVector<EdgeUse>& face_uses(Mesh& m) { return m.face_uses_; }
-  static std::vector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
+  static OverwriteVector<FaceSource>& face_sources(Mesh& m) { return m.face_sources_; }
   static std::vector<glm::vec3>& face_colors(Mesh& m) { return m.face_colors_; }
   static const OverwriteVector<glm::dvec3>& positions(const Mesh& m) { return m.positions_; }
   static const OverwriteVector<EdgeId>& vertex_edges(const Mesh& m) { return m.vertex_edges_; }
@@ -294,7 +294,7 @@ struct MeshAccess {
   static const std::vector<float>& sharpness(const Mesh& m) { return m.sharpness_; }
   static const std::vector<float>& vertex_sharpness(const Mesh& m) { return m.vertex_sharpness_; }
   static const OverwriteVector<EdgeUse>& face_uses(const Mesh& m) { return m.face_uses_; }
-  static const std::vector<FaceSource>& face_sources(const Mesh& m) { return m.face_sources_; }
+  static const OverwriteVector<FaceSource>& face_sources(const Mesh& m) { return m.face_sources_; }
   static const std::vector<glm::vec3>& face_colors(const Mesh& m) { return m.face_colors_; }
   static std::vector<std::string>& names(Mesh& m) { return m.names_; }
   static const std::vector<std::string>& names(const Mesh& m) { return m.names_; }

@@ -287,7 +287,7 @@ class Refiner {
   }
 
   void allocate_face_properties() {
-    resize_large(MeshAccess::face_sources(level_.mesh), corner_total_);
+    resize_for_overwrite(MeshAccess::face_sources(level_.mesh), corner_total_);  // all written
     if (!inheritance_.colors.empty()) resize_large(MeshAccess::face_colors(level_.mesh), corner_total_);
   }
 
@@ -754,7 +754,7 @@ Result<Mesh> subdivide_last_level(Mesh mesh, const SubdivisionOptions& options) 
   without_maps.has_parent_maps = false;
   const bool has_border_loops = !mesh.border_loops().empty();
   // The faces' sources and colours leave the meshes: every level reads them from here.
-  std::vector<FaceSource> sources = std::move(MeshAccess::face_sources(mesh));
+  OverwriteVector<FaceSource> sources = std::move(MeshAccess::face_sources(mesh));
   std::vector<glm::vec3> colors = std::move(MeshAccess::face_colors(mesh));
   FaceInheritance inheritance{sources, colors, 0};
   for (int32_t i = 0; i < options.levels; ++i) {

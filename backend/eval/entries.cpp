@@ -78,7 +78,7 @@ std::optional<kernel::Mesh> assemble(Context& c, const kernel::PolygonSoup& whol
   if (m.vertex_count() != whole.vertex_count() || m.face_count() != whole.face_count()) return std::nullopt;
   // Faces and vertices are in the soup's order, so the soup's attributes apply as they are.
   kernel::MeshAccess::face_colors(m) = whole.face_colors;
-  kernel::MeshAccess::face_sources(m) = whole.face_sources;
+  kernel::MeshAccess::face_sources(m).assign(whole.face_sources.begin(), whole.face_sources.end());
   if (whole.face_sources.empty()) kernel::MeshAccess::face_sources(m).assign(whole.face_count(), kernel::FaceSource{});
   kernel::MeshAccess::names(m) = whole.names;
   return m;
