@@ -55,8 +55,8 @@ std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
 
-// Prints both dumps of a disagreement (what a finding's reader needs first) and returns false.
-// Prints how `what` (`got`) differs from `reference` (`want`); false, for `a == b || report(…)`.
+// Prints both dumps of a disagreement, `what` (`got`) against `reference` (`want`): what a
+// finding's reader needs first. Returns false, for `a == b || report(…)`.
 bool report(const char* what, const std::string& got, const char* reference, const std::string& want) {
   std::fprintf(stderr, "frontend_fuzzer: %s differs from %s.\n--- %s:\n%s\n--- %s:\n%s\n", what, reference, what,
                got.c_str(), reference, want.c_str());
