@@ -64,19 +64,23 @@ bool report(const char* what, const std::string& got, const char* reference, con
 }
 
 // The text's parse on one thread (`one`: the event-driven AST builder, remembered
-// predictions) agrees, errors and all, with the reference parse (the tree-based builder
-// when the text has no errors, every prediction from the simulator) and with its parse cut
+// predictions, a recovering pass resumed at the failing statement) agrees, errors and all,
+// with the reference parse (the tree-based builder when the text has no errors, every
+// prediction from the simulator, recovery from the start of the text) and with its parse cut
 // in two and parsed on two threads (or, when its halves would not parse as inside it, in
 // one piece after all).
 bool parses_agree(const std::string& text) {
   bool clean = false;
   const std::string one = parse_dump(text, &clean);
   bool ignored = false;
-  // The reference parse: the tree-based builder (when the text has no errors), and every
-  // prediction asked of ANTLR's simulator, none of the remembered walks.
+  // The reference parse: the tree-based builder (when the text has no errors), every
+  // prediction asked of ANTLR's simulator, none of the remembered walks, and error recovery
+  // from the start of the text.
   nomec::parse_detail::use_tree_builder(clean);
   nomec::parse_detail::use_remembered_predictions(false);
+  nomec::parse_detail::resume_recovery(false);
   const std::string reference = parse_dump(text, &ignored);
+  nomec::parse_detail::resume_recovery(true);
   nomec::parse_detail::use_remembered_predictions(true);
   nomec::parse_detail::use_tree_builder(false);
   if (reference != one) return report("the reference parse", reference, "the parse on one thread", one);

@@ -9,6 +9,7 @@
 #include "frontend/parse/piece.h"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cctype>
 #include <cstring>
@@ -1316,6 +1317,9 @@ class BailOut final : public antlr4::BailErrorStrategy {
 
 thread_local bool tls_tree_builder = false;
 thread_local bool tls_remembered_predictions = true;
+thread_local bool tls_resume_recovery = true;
+std::atomic<size_t> g_resumed_recoveries{0};
+std::atomic<size_t> g_recoveries{0};
 
 // A parser as every parse makes one: the remembered walks known, and used unless a test
 // switched them off.
@@ -1331,6 +1335,12 @@ void use_tree_builder(bool on) { tls_tree_builder = on; }
 
 void use_remembered_predictions(bool on) { tls_remembered_predictions = on; }
 
+void resume_recovery(bool on) { tls_resume_recovery = on; }
+
+RecoveryCounts recovery_counts() {
+  return {g_recoveries.load(std::memory_order_relaxed), g_resumed_recoveries.load(std::memory_order_relaxed)};
+}
+
 void remember_seeded_predictions() {
   // Thread-safe once (a static's initialisation); the records are the build's own, so a
   // malformed one (never written) would only stop the remembering there.
@@ -1344,15 +1354,75 @@ bool remember_walks(std::span<const uint16_t> records) {
 }
 
 ParseSwitches ParseSwitches::current() {
-  return {reference_lexer_in_use(), tls_tree_builder, tls_remembered_predictions};
+  return {reference_lexer_in_use(), tls_tree_builder, tls_remembered_predictions, tls_resume_recovery};
 }
 
 void ParseSwitches::apply() const {
   use_reference_lexer(reference_lexer);
   use_tree_builder(tree_builder);
   use_remembered_predictions(remembered_predictions);
+  resume_recovery(resumed_recovery);
 }
 }  // namespace parse_detail
+
+namespace {
+
+// The state of a parse at the start of a top-level statement in stage 1: the statement's
+// first token, and how much the AST, its unplaced error expressions and the builder's
+// diagnostics held.
+struct StatementMark {
+  size_t token = 0;
+  size_t top = 0, stmts = 0, exprs = 0, args = 0, lists = 0, commas = 0, unanchored = 0, diags = 0;
+
+  /// Drops what was built after the mark.
+  void truncate(ast::Ast& a, std::vector<int32_t>& unplaced, DiagnosticEngine& diags) const {
+    a.top.resize(top);
+    a.stmts.resize(stmts);
+    a.exprs.resize(exprs);
+    a.args.resize(args);
+    a.lists.resize(lists);
+    a.commas.resize(commas);
+    unplaced.resize(unanchored);
+    std::vector<Diagnostic> kept = diags.take();
+    kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(this->diags), kept.end());
+    for (Diagnostic& d : kept) diags.push(std::move(d));
+  }
+};
+
+StatementMark mark_statement(size_t token, const ast::Ast& a, const std::vector<int32_t>& unplaced,
+                             const DiagnosticEngine& diags) {
+  return {token,       a.top.size(),   a.stmts.size(),    a.exprs.size(),
+          a.args.size(), a.lists.size(), a.commas.size(), unplaced.size(), diags.diagnostics().size()};
+}
+
+// Whether the recovering pass (stage 2) may start at the statement beginning with token
+// `first` instead of at the start of the text, when stage 1 failed in that statement: the
+// statements before it parsed without error, so a recovering parse from the start reads
+// them as stage 1 did and reaches that token in the `topStmt*` loop, in no error recovery,
+// with the same rules above it (`file`). A `file` rule started at the token behaves the
+// same when the token can start a statement (the loop's entry and its loop-back differ
+// only for one that cannot). tests/unit/recovery_resume_test.cpp compares both passes on
+// damaged texts.
+bool resumes_at(const NomeParser& parser, ArenaTokenStream& stream, size_t first) {
+  if (first == 0) return false;
+  const antlr4::Token* t = stream.get(first);
+  if (t->getType() == antlr4::Token::EOF) return false;
+  const antlr4::atn::ATN& atn = parser.getATN();
+  return atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(t->getType());
+}
+
+// Where stage 2 starts when stage 1 failed in the statement marked `failing`: at that
+// statement, or, when its first token cannot start a statement (a stray `)`), at the one
+// before (`previous`), which then reaches the token in the loop as a parse from the start
+// does. Null when neither can: stage 2 starts at the start of the text.
+const StatementMark* resume_point(const NomeParser& parser, ArenaTokenStream& stream, const StatementMark& failing,
+                                  const StatementMark& previous) {
+  if (resumes_at(parser, stream, failing.token)) return &failing;
+  if (failing.token > previous.token && resumes_at(parser, stream, previous.token)) return &previous;
+  return nullptr;
+}
+
+}  // namespace
 
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
                      PieceInfo* info) {
@@ -1407,6 +1477,11 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   std::vector<int32_t> unanchored;
   bool parsed = false;
   bool gave_up = false;
+  // Where the statement stage 1 was reading when it failed, and what the statements before
+  // it built: stage 2 resumes there (see resumes_at).
+  StatementMark failed_at, before_failed, resume_from;
+  DiagnosticEngine kept_diags;  // stage 1's builder diagnostics of the statements before it
+  bool resumed = false;
   {
     DiagnosticEngine builder_diags;
     if (!tls_tree_builder) {
@@ -1417,8 +1492,11 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       parser.set_events(&builder);
       try {
         while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+          before_failed = failed_at;
+          failed_at = mark_statement(stream.index(), result, unanchored, builder_diags);
           parser.topStmt();
           parser.reset_contexts();
+          if (builder.dead()) break;
         }
         parsed = !builder.dead();
       } catch (const antlr4::ParseCancellationException&) {
@@ -1432,6 +1510,8 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       parser.setErrorHandler(std::make_shared<BailOut>(nullptr));
       try {
         while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
+          before_failed = failed_at;
+          failed_at = mark_statement(stream.index(), result, unanchored, builder_diags);
           builder.build_top(parser.topStmt());
           parser.getTreeTracker().reset();
           parser.reset_contexts();
@@ -1443,6 +1523,15 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     }
     if (parsed) {
       sinks.syntax.append(std::move(builder_diags));
+    } else if (const StatementMark* from = tls_resume_recovery ? resume_point(parser, stream, failed_at, before_failed) : nullptr) {
+      // The statements before the failing one parsed without error, so the recovering pass
+      // would build them again exactly as stage 1 did: keep them, drop what the failing
+      // statement had begun, and let stage 2 start at that statement.
+      resumed = true;
+      g_resumed_recoveries.fetch_add(1, std::memory_order_relaxed);
+      resume_from = *from;
+      resume_from.truncate(result, unanchored, builder_diags);
+      kept_diags = std::move(builder_diags);
     } else {
       result = ast::Ast{};
       result.file = file;
@@ -1458,8 +1547,9 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     // Stage 2: error reporting and recovery. Still SLL prediction: the grammar needs no
     // more (stage 1 would fail on a valid file that did), and full LL costs four times as
     // much on the files that reach this stage, those with syntax errors.
-    stream.seek(0);
-    parser.reset();
+    g_recoveries.fetch_add(1, std::memory_order_relaxed);
+    parser.reset();  // which also rewinds the stream to its first token
+    stream.seek(resumed ? resume_from.token : 0);
     parser.addErrorListener(&listener);
     parser.setErrorHandler(std::make_shared<QuietErrorStrategy>());
     parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
@@ -1470,6 +1560,17 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       tree = nullptr;  // recovery gave up; diagnostics were emitted
       stream.eof_seen_early_ = true;
       gave_up = true;
+    }
+    if (resumed && gave_up) {
+      // A parse that gives up keeps no AST (PieceInfo::gave_up), nor the builder's
+      // diagnostics of the statements before the error, as a parse from the start would not.
+      result = ast::Ast{};
+      result.file = file;
+      unanchored.clear();
+    } else if (resumed) {
+      // Between the parser's errors and the builder's diagnostics of the statements after
+      // them, as the builder of a parse from the start would have emitted them.
+      recovery_diags.append(std::move(kept_diags));
     }
   }
   if (info != nullptr) {
