@@ -13,12 +13,15 @@
 // Memory comes in transparent huge pages (`thp:always`; the system's setting is usually
 // `madvise`, which lets a program ask): a cold `nomec --check` of a 1 MiB scene spent most of
 // its time faulting in 4 KiB pages, and with 2 MiB pages it takes about a quarter of the CPU
-// time (bench/frontend/README.md). Large allocations get an arena of their own
-// (`oversize_threshold:0`), which keeps huge pages from being held half used by small ones:
-// with it the peak is 65 MiB instead of 76 (61 MiB with neither option). Every thread
-// allocates from one arena (`narenas:1`): with freed pages kept, pages a thread freed in an
-// arena of its own were never reused by the others, so a large file parsed on two threads
-// (frontend/parse) peaked 4–6 MiB higher (57.6 MiB instead of 51.8 for the 1 MiB scene).
+// time (bench/frontend/README.md). Large allocations share the one arena
+// (`oversize_threshold:0`: jemalloc 5.3 reads 0 as "no threshold" and keeps no separate
+// arena for allocations above it, 8 MiB by default; `arenas.lookup` puts an 8 MiB block in
+// arena 0), so the pages a large array frees are reused by the next ones: when it was set,
+// the peak of the 1 MiB scene's check went from 76 MiB to 65 (61 MiB with neither option).
+// Every thread allocates from one arena (`narenas:1`): with freed pages kept, pages a thread
+// freed in an arena of its own were never reused by the others, so a large file parsed on
+// two threads (frontend/parse) peaked 4–6 MiB higher (57.6 MiB instead of 51.8 for the
+// 1 MiB scene).
 #pragma once
 
 #include <dlfcn.h>
