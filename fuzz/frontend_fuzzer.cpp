@@ -64,9 +64,9 @@ bool report(const char* what, const std::string& got, const char* reference, con
 }
 
 // The text's parse on one thread (`one`: the event-driven AST builder, remembered
-// predictions, a recovering pass resumed at the failing statement) agrees, errors and all,
-// with the reference parse (the tree-based builder when the text has no errors, every
-// prediction from the simulator, recovery from the start of the text) and with its parse cut
+// predictions, recovery only around the errors) agrees, errors and all, with the reference
+// parse (the tree-based builder when the text has no errors, every prediction from the
+// simulator, one recovering parse of the whole text) and with its parse cut
 // in two and parsed on two threads (or, when its halves would not parse as inside it, in
 // one piece after all).
 bool parses_agree(const std::string& text) {
@@ -74,8 +74,8 @@ bool parses_agree(const std::string& text) {
   const std::string one = parse_dump(text, &clean);
   bool ignored = false;
   // The reference parse: the tree-based builder (when the text has no errors), every
-  // prediction asked of ANTLR's simulator, none of the remembered walks, and error recovery
-  // from the start of the text.
+  // prediction asked of ANTLR's simulator, none of the remembered walks, and one recovering
+  // parse of the whole text.
   nomec::parse_detail::use_tree_builder(clean);
   nomec::parse_detail::use_remembered_predictions(false);
   nomec::parse_detail::resume_recovery(false);

@@ -279,6 +279,59 @@ class QuietErrorStrategy : public antlr4::DefaultErrorStrategy {
 };
 
 
+// Stage 2's strategy: QuietErrorStrategy's recovery, which (when `stops`) stops the parse
+// at the first statement boundary after an error where a recovering parse of the whole text
+// would read on exactly as a fresh parse from there: at the `topStmt*` loop of `file`,
+// facing a token that starts a statement (so the loop's `sync` has nothing to do and the
+// loop goes on into `topStmt`, with `file` the only rule above it, as in a parse started
+// there), and out of error recovery (which also clears the strategy's record of where the
+// last error was, its guard against looping; the grammar matches every statement's first
+// token before it can report an error, so no parse reaches this loop in error recovery
+// with a difference to show, but a grammar change could). It throws `Stop` from the loop's
+// `sync`, before which nothing was built for that statement, and stage 1 reads on.
+class RecoveringStrategy final : public QuietErrorStrategy {
+ public:
+  struct Stop {
+    NomeParser::FileContext* file;
+    size_t token;  // the next statement's first token
+  };
+  /// Stops only after `after`, the token the parse starts at (so each stop makes progress).
+  RecoveringStrategy(bool stops, size_t after) : stops_(stops), after_(after) {}
+
+  void reportError(antlr4::Parser* parser, const antlr4::RecognitionException& e) override {
+    had_error_ = true;
+    QuietErrorStrategy::reportError(parser, e);
+  }
+  void sync(antlr4::Parser* parser) override {
+    if (stops_ && had_error_ && !inErrorRecoveryMode(parser) && parser->getContext() != nullptr &&
+        parser->getContext()->getRuleIndex() == NomeParser::RuleFile) {
+      const size_t at = parser->getTokenStream()->index();
+      const size_t type = parser->getTokenStream()->LA(1);
+      const antlr4::atn::ATN& atn = parser->getATN();
+      if (at > after_ && type != antlr4::Token::EOF &&
+          atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(type)) {
+        throw Stop{static_cast<NomeParser::FileContext*>(parser->getContext()), at};
+      }
+    }
+    QuietErrorStrategy::sync(parser);
+  }
+
+ protected:
+  void reportUnwantedToken(antlr4::Parser* parser) override {
+    had_error_ = true;
+    QuietErrorStrategy::reportUnwantedToken(parser);
+  }
+  void reportMissingToken(antlr4::Parser* parser) override {
+    had_error_ = true;
+    QuietErrorStrategy::reportMissingToken(parser);
+  }
+
+ private:
+  bool stops_;
+  size_t after_;
+  bool had_error_ = false;
+};
+
 // One child of a parse-tree node: a rule context or a token (an error node is a token the
 // parser conjured or skipped). Told apart with one virtual call instead of dynamic_cast:
 // a failed dynamic_cast compares type names, which dominated the builder's time.
@@ -1475,15 +1528,17 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
       antlr4::atn::PredictionMode::SLL);
   std::vector<int32_t> unanchored;
+  DiagnosticEngine builder_diags;  // the AST builders' diagnostics, in statement order
   bool parsed = false;
   bool gave_up = false;
-  // Where the statement stage 1 was reading when it failed, and what the statements before
-  // it built: stage 2 resumes there (see resumes_at).
-  StatementMark failed_at, before_failed, resume_from;
-  DiagnosticEngine kept_diags;  // stage 1's builder diagnostics of the statements before it
-  bool resumed = false;
-  {
-    DiagnosticEngine builder_diags;
+  // Where the statement the fast pass was reading when it failed starts, and the one
+  // before it (token 0 when none): the recovering pass resumes there (see resume_point).
+  StatementMark failing, previous;
+  // Stage 1 from token `from` (a statement's first token) to the end; false when it fails.
+  auto fast_pass = [&](size_t from) {
+    stream.seek(from);
+    failing = previous = StatementMark{};
+    bool clean = false;
     if (!tls_tree_builder) {
       // The AST is built from the parser's events; no parse tree is made.
       StreamBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
@@ -1492,15 +1547,15 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       parser.set_events(&builder);
       try {
         while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
-          before_failed = failed_at;
-          failed_at = mark_statement(stream.index(), result, unanchored, builder_diags);
+          previous = failing;
+          failing = mark_statement(stream.index(), result, unanchored, builder_diags);
           parser.topStmt();
           parser.reset_contexts();
           if (builder.dead()) break;
         }
-        parsed = !builder.dead();
+        clean = !builder.dead();
       } catch (const antlr4::ParseCancellationException&) {
-        parsed = false;
+        clean = false;
       }
       parser.set_events(nullptr);
     } else {
@@ -1510,68 +1565,97 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       parser.setErrorHandler(std::make_shared<BailOut>(nullptr));
       try {
         while (stream.get(stream.index())->getType() != antlr4::Token::EOF) {
-          before_failed = failed_at;
-          failed_at = mark_statement(stream.index(), result, unanchored, builder_diags);
+          previous = failing;
+          failing = mark_statement(stream.index(), result, unanchored, builder_diags);
           builder.build_top(parser.topStmt());
           parser.getTreeTracker().reset();
           parser.reset_contexts();
         }
-        parsed = true;
+        clean = true;
       } catch (const antlr4::ParseCancellationException&) {
-        parsed = false;
+        clean = false;
       }
     }
-    if (parsed) {
-      sinks.syntax.append(std::move(builder_diags));
-    } else if (const StatementMark* from = tls_resume_recovery ? resume_point(parser, stream, failed_at, before_failed) : nullptr) {
-      // The statements before the failing one parsed without error, so the recovering pass
-      // would build them again exactly as stage 1 did: keep them, drop what the failing
-      // statement had begun, and let stage 2 start at that statement.
-      resumed = true;
-      g_resumed_recoveries.fetch_add(1, std::memory_order_relaxed);
-      resume_from = *from;
-      resume_from.truncate(result, unanchored, builder_diags);
-      kept_diags = std::move(builder_diags);
-    } else {
-      result = ast::Ast{};
-      result.file = file;
-      unanchored.clear();
-    }
-  }
-  NomeParser::FileContext* tree = nullptr;
-  // Stage 2's diagnostics (the parser's, then the AST builder's) are reported in position
-  // order, so that a file cut into pieces reports them as the whole file does.
+    return clean;
+  };
+  // Stage 2's syntax errors, reported with the builders' diagnostics in position order, so
+  // that a file cut into pieces reports them as the whole file does.
   DiagnosticEngine recovery_diags;
   SyntaxErrorListener listener(file, offsets, recovery_diags);
+  parsed = fast_pass(0);
   if (!parsed) {
     // Stage 2: error reporting and recovery. Still SLL prediction: the grammar needs no
     // more (stage 1 would fail on a valid file that did), and full LL costs four times as
     // much on the files that reach this stage, those with syntax errors.
+    //
+    // The statements before the failing one parsed without error, so a recovering pass from
+    // the start would build them again exactly as stage 1 did: they are kept, what the
+    // failing statement had begun is dropped, and the recovering pass starts at that
+    // statement (resume_point). It stops again at the first statement after its errors
+    // where a pass from the start would be back to a clean state (RecoveringStrategy), and
+    // stage 1 takes over from there; and so on to the end. Without a resume point the
+    // recovering pass reads the whole text.
     g_recoveries.fetch_add(1, std::memory_order_relaxed);
-    parser.reset();  // which also rewinds the stream to its first token
-    stream.seek(resumed ? resume_from.token : 0);
-    parser.addErrorListener(&listener);
-    parser.setErrorHandler(std::make_shared<QuietErrorStrategy>());
     parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
         antlr4::atn::PredictionMode::SLL);
-    try {
-      tree = parser.file();
-    } catch (const std::exception&) {
-      tree = nullptr;  // recovery gave up; diagnostics were emitted
-      stream.eof_seen_early_ = true;
-      gave_up = true;
+    bool partial = false;  // some recovering pass did not read the whole text
+    for (bool first = true;; first = false) {
+      const StatementMark* from = tls_resume_recovery ? resume_point(parser, stream, failing, previous) : nullptr;
+      if (from != nullptr) {
+        partial = true;
+        from->truncate(result, unanchored, builder_diags);
+      } else {
+        result = ast::Ast{};
+        result.file = file;
+        unanchored.clear();
+        builder_diags = DiagnosticEngine{};
+        recovery_diags = DiagnosticEngine{};  // the listener's, which reports into it again
+      }
+      const size_t start = from != nullptr ? from->token : 0;
+      parser.reset();  // which also rewinds the stream to its first token
+      stream.seek(start);
+      // A pass from the start after a stop (never expected: a stop faces a statement's first
+      // token, where the next failure can resume) reads to the end, so the loop ends.
+      const bool stops = tls_resume_recovery && (from != nullptr || first);
+      parser.setErrorHandler(std::make_shared<RecoveringStrategy>(stops, start));
+      parser.addErrorListener(&listener);
+      NomeParser::FileContext* tree = nullptr;
+      size_t stopped_at = 0;
+      try {
+        tree = parser.file();
+      } catch (const RecoveringStrategy::Stop& stop) {
+        tree = stop.file;
+        stopped_at = stop.token;
+      } catch (const std::exception&) {
+        tree = nullptr;  // recovery gave up; diagnostics were emitted
+        stream.eof_seen_early_ = true;
+        gave_up = true;
+      }
+      if (tree != nullptr) {
+        AstBuilder builder(file, text, offsets, result, &unanchored, &builder_diags);
+        builder.repairs_ = &repairs;
+        builder.build_file(tree);
+      }
+      parser.removeErrorListener(&listener);
+      partial = partial || stopped_at != 0;
+      if (stopped_at == 0 || gave_up) break;
+      parser.reset();
+      if (fast_pass(stopped_at)) break;
     }
-    if (resumed && gave_up) {
-      // A parse that gives up keeps no AST (PieceInfo::gave_up), nor the builder's
-      // diagnostics of the statements before the error, as a parse from the start would not.
+    if (partial) g_resumed_recoveries.fetch_add(1, std::memory_order_relaxed);
+    if (gave_up) {
+      // A parse that gives up keeps no AST (PieceInfo::gave_up), nor any builder
+      // diagnostic: a pass from the start converts no tree.
       result = ast::Ast{};
       result.file = file;
       unanchored.clear();
-    } else if (resumed) {
-      // Between the parser's errors and the builder's diagnostics of the statements after
-      // them, as the builder of a parse from the start would have emitted them.
-      recovery_diags.append(std::move(kept_diags));
+      builder_diags = DiagnosticEngine{};
     }
+    // After the parser's errors, as a pass from the start emits the builder's diagnostics
+    // when it converts the parse tree.
+    recovery_diags.append(std::move(builder_diags));
+  } else {
+    sinks.syntax.append(std::move(builder_diags));
   }
   if (info != nullptr) {
     // At the start of a file the parser enters `topStmt*`; inside a file it loops back to
@@ -1583,11 +1667,6 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
         atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(first_type);
     info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
     info->gave_up = gave_up;
-  }
-  if (tree != nullptr) {
-    AstBuilder builder(file, text, offsets, result, &unanchored, &recovery_diags);
-    builder.repairs_ = &repairs;
-    builder.build_file(tree);
   }
   recovery_diags.sort_by_position();
   sinks.syntax.append(std::move(recovery_diags));

@@ -65,13 +65,14 @@ namespace parse_detail {
 void use_tree_builder(bool on);
 
 /// For the differential tests: while cleared (on this thread), a text whose fast parse
-/// fails is parsed again with error recovery from its start, instead of from the top-level
-/// statement where the fast parse failed (the statements before it kept as that parse built
-/// them). Both give the same AST and diagnostics.
+/// fails is parsed again with error recovery from its start to its end, instead of only
+/// from the top-level statement where the fast parse failed (the statements before it kept
+/// as that parse built them) to the first statement after the errors where a recovering
+/// parse of the whole text would be clean again. Both give the same AST and diagnostics.
 void resume_recovery(bool on);
-/// How many parses in this process ran the recovering pass, and how many of them resumed it
-/// after their first statement (for the tests, which check that their damaged texts reach
-/// that path).
+/// How many parses in this process ran the recovering pass, and how many of them recovered
+/// only part of their text (for the tests, which check that their damaged texts reach that
+/// path).
 struct RecoveryCounts {
   size_t recovering = 0;
   size_t resumed = 0;
@@ -79,9 +80,9 @@ struct RecoveryCounts {
 RecoveryCounts recovery_counts();
 
 /// The parse switches of the tests (`use_reference_lexer`, `use_tree_builder`,
-/// `use_remembered_predictions`, `resume_recovery`) that are set on the calling thread; a thread that parses
-/// pieces for it sets the same (`apply`), so a parse split over two threads takes the same
-/// paths as one on a single thread.
+/// `use_remembered_predictions`, `resume_recovery`) that are set on the calling thread; a
+/// thread that parses pieces for it sets the same (`apply`), so a parse split over two
+/// threads takes the same paths as one on a single thread.
 struct ParseSwitches {
   bool reference_lexer = false;
   bool tree_builder = false;
