@@ -252,6 +252,11 @@ class SyntaxErrorListener : public antlr4::BaseErrorListener {
   }
 };
 
+// Whether a token of type `type` can start a top-level statement (`topStmt`).
+bool starts_statement(const antlr4::atn::ATN& atn, size_t type) {
+  return atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(type);
+}
+
 // ANTLR's recovery with the same decisions, but without composing its English error
 // messages (nomec's listener words its own): each report goes to the listeners with an
 // empty message. Building those strings was most of the cost of a file with errors.
@@ -307,9 +312,7 @@ class RecoveringStrategy final : public QuietErrorStrategy {
         parser->getContext()->getRuleIndex() == NomeParser::RuleFile) {
       const size_t at = parser->getTokenStream()->index();
       const size_t type = parser->getTokenStream()->LA(1);
-      const antlr4::atn::ATN& atn = parser->getATN();
-      if (at > after_ && type != antlr4::Token::EOF &&
-          atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(type)) {
+      if (at > after_ && type != antlr4::Token::EOF && starts_statement(parser->getATN(), type)) {
         throw Stop{static_cast<NomeParser::FileContext*>(parser->getContext()), at};
       }
     }
@@ -1459,9 +1462,7 @@ StatementMark mark_statement(size_t token, const ast::Ast& a, const std::vector<
 bool resumes_at(const NomeParser& parser, ArenaTokenStream& stream, size_t first) {
   if (first == 0) return false;
   const antlr4::Token* t = stream.get(first);
-  if (t->getType() == antlr4::Token::EOF) return false;
-  const antlr4::atn::ATN& atn = parser.getATN();
-  return atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(t->getType());
+  return t->getType() != antlr4::Token::EOF && starts_statement(parser.getATN(), t->getType());
 }
 
 // Where stage 2 starts when stage 1 failed in the statement marked `failing`: at that
@@ -1578,6 +1579,14 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     }
     return clean;
   };
+  // Drops the AST and the builders' diagnostics (a recovering pass from the start, or one
+  // that gave up, which keeps neither).
+  auto discard_ast = [&] {
+    result = ast::Ast{};
+    result.file = file;
+    unanchored.clear();
+    builder_diags = DiagnosticEngine{};
+  };
   // Stage 2's syntax errors, reported with the builders' diagnostics in position order, so
   // that a file cut into pieces reports them as the whole file does.
   DiagnosticEngine recovery_diags;
@@ -1605,10 +1614,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
         partial = true;
         from->truncate(result, unanchored, builder_diags);
       } else {
-        result = ast::Ast{};
-        result.file = file;
-        unanchored.clear();
-        builder_diags = DiagnosticEngine{};
+        discard_ast();
         recovery_diags = DiagnosticEngine{};  // the listener's, which reports into it again
       }
       const size_t start = from != nullptr ? from->token : 0;
@@ -1643,14 +1649,9 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
       if (fast_pass(stopped_at)) break;
     }
     if (partial) g_resumed_recoveries.fetch_add(1, std::memory_order_relaxed);
-    if (gave_up) {
-      // A parse that gives up keeps no AST (PieceInfo::gave_up), nor any builder
-      // diagnostic: a pass from the start converts no tree.
-      result = ast::Ast{};
-      result.file = file;
-      unanchored.clear();
-      builder_diags = DiagnosticEngine{};
-    }
+    // A parse that gives up keeps no AST (PieceInfo::gave_up), nor any builder diagnostic:
+    // a pass from the start converts no tree.
+    if (gave_up) discard_ast();
     // After the parser's errors, as a pass from the start emits the builder's diagnostics
     // when it converts the parse tree.
     recovery_diags.append(std::move(builder_diags));
@@ -1660,11 +1661,8 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   if (info != nullptr) {
     // At the start of a file the parser enters `topStmt*`; inside a file it loops back to
     // it. The two recover differently from a token that cannot start a statement.
-    const antlr4::atn::ATN& atn = parser.getATN();
     const size_t first_type = stream.first_type();
-    info->starts_cleanly =
-        first_type == antlr4::Token::EOF ||
-        atn.nextTokens(atn.ruleToStartState[NomeParser::RuleTopStmt]).contains(first_type);
+    info->starts_cleanly = first_type == antlr4::Token::EOF || starts_statement(parser.getATN(), first_type);
     info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
     info->gave_up = gave_up;
   }
