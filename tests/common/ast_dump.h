@@ -1,6 +1,6 @@
 // Text dumps of an AST (every node, id, range and text) and of diagnostics (in emission
-// order, with notes and fix-its), for the differential tests that compare two parses
-// (tests/incremental, tests/unit/lexer_diff_test.cpp).
+// order, with notes and fix-its), and of a whole parse with both, for the differential tests
+// that compare two parses (tests/incremental, tests/unit/*_diff_test.cpp and others).
 #pragma once
 
 #include <fmt/format.h>
@@ -9,6 +9,7 @@
 
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
+#include "frontend/parse/parse.h"
 
 namespace nomec::testing_dump {
 
@@ -62,6 +63,18 @@ inline std::string dump_diags(const nomec::DiagnosticEngine& diags) {
     }
   }
   return s;
+}
+
+/// `text` parsed as a whole file (`parse_file` with `threads`): its AST's dump, `--`, its
+/// diagnostics' dump. `clean`, when given, says whether the parse reported no error.
+inline std::string parse_dump(const std::string& text, nomec::ParseThreads threads = nomec::ParseThreads::Automatic,
+                              bool* clean = nullptr) {
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  const nomec::FileId f = sources.add_file("doc.nome", text);
+  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags, threads);
+  if (clean != nullptr) *clean = diags.error_count() == 0;
+  return dump_ast(a) + "--\n" + dump_diags(diags);
 }
 
 }  // namespace nomec::testing_dump

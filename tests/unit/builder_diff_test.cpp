@@ -34,23 +34,14 @@ struct Counts {
   size_t clean = 0;  // texts whose parse reported no error: the event-driven builder built them
 };
 
-std::string parse_dump(const std::string& text, bool* clean = nullptr) {
-  nomec::SourceManager sources;
-  nomec::DiagnosticEngine diags;
-  const nomec::FileId f = sources.add_file("doc.nome", text);
-  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags);
-  if (clean != nullptr) *clean = diags.error_count() == 0;
-  return nomec::testing_dump::dump_ast(a) + "--\n" + nomec::testing_dump::dump_diags(diags);
-}
-
 void compare(const std::string& name, const std::string& text, Counts& counts) {
   ++counts.texts;
   bool clean = false;
-  const std::string from_events = parse_dump(text, &clean);
+  const std::string from_events = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::Automatic, &clean);
   std::string from_tree;
   {
     TreeBuilder tree;
-    from_tree = parse_dump(text);
+    from_tree = nomec::testing_dump::parse_dump(text);
   }
   if (clean) ++counts.clean;
   ASSERT_EQ(from_events, from_tree) << name;

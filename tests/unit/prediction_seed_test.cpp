@@ -30,19 +30,11 @@ std::set<Record> records_of(std::span<const uint16_t> walks) {
   return out;
 }
 
-std::string parse_dump(const std::string& text) {
-  nomec::SourceManager sources;
-  nomec::DiagnosticEngine diags;
-  const nomec::FileId f = sources.add_file("doc.nome", text);
-  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags, nomec::ParseThreads::One);
-  return nomec::testing_dump::dump_ast(a) + "--\n" + nomec::testing_dump::dump_diags(diags);
-}
-
 // Parses `text` with the remembered walks and with the simulator alone.
 void compare(const std::string& name, const std::string& text) {
-  const std::string remembered = parse_dump(text);
+  const std::string remembered = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::One);
   nomec::parse_detail::use_remembered_predictions(false);
-  const std::string simulated = parse_dump(text);
+  const std::string simulated = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::One);
   nomec::parse_detail::use_remembered_predictions(true);
   ASSERT_EQ(remembered, simulated) << name;
 }
@@ -51,7 +43,7 @@ TEST(PredictionSeed, TheBuildsWalksAreRememberedBeforeTheFirstParse) {
   const std::span<const uint16_t> seed = nomec::parse_detail::prediction_seed();
   const std::set<Record> seeded = records_of(seed);
   EXPECT_GT(seeded.size(), 100u) << "the build step saw the training texts' walks";
-  parse_dump("point p (0 0 0) endpoint\n");
+  nomec::testing_dump::parse_dump("point p (0 0 0) endpoint\n", nomec::ParseThreads::One);
   const std::vector<uint16_t> now = nomec::parse_detail::remembered_walks();
   const std::set<Record> remembered = records_of(now);
   for (const Record& r : seeded) EXPECT_TRUE(remembered.contains(r));

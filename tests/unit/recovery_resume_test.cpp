@@ -30,14 +30,6 @@ struct FromStart {
   ~FromStart() { nomec::parse_detail::resume_recovery(true); }
 };
 
-std::string parse_dump(const std::string& text, nomec::ParseThreads threads) {
-  nomec::SourceManager sources;
-  nomec::DiagnosticEngine diags;
-  const nomec::FileId f = sources.add_file("doc.nome", text);
-  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags, threads);
-  return nomec::testing_dump::dump_ast(a) + "--\n" + nomec::testing_dump::dump_diags(diags);
-}
-
 struct Counts {
   size_t texts = 0;
   size_t recovering = 0;  // texts whose fast parse failed
@@ -48,14 +40,14 @@ void compare(const std::string& name, const std::string& text, Counts& counts,
              nomec::ParseThreads threads = nomec::ParseThreads::One) {
   ++counts.texts;
   const nomec::parse_detail::RecoveryCounts before = nomec::parse_detail::recovery_counts();
-  const std::string resumed = parse_dump(text, threads);
+  const std::string resumed = nomec::testing_dump::parse_dump(text, threads);
   const nomec::parse_detail::RecoveryCounts after = nomec::parse_detail::recovery_counts();
   counts.recovering += after.recovering > before.recovering ? 1 : 0;
   counts.resumed += after.resumed > before.resumed ? 1 : 0;
   std::string from_start;
   {
     FromStart reference;
-    from_start = parse_dump(text, threads);
+    from_start = nomec::testing_dump::parse_dump(text, threads);
   }
   ASSERT_EQ(resumed, from_start) << name << "\n--- text ---\n" << text;
 }
