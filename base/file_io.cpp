@@ -9,8 +9,6 @@
 #include <cstring>
 #include <dirent.h>
 #include <fcntl.h>
-#include <fstream>
-#include <sstream>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -19,11 +17,40 @@
 namespace nomec {
 
 std::optional<std::string> read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  // One string of the file's size, read into directly: a front end's peak memory is a few
+  // dozen bytes per source byte, and a stream's growing buffer and its copy would add two
+  // or three of them. A file whose size is unknown (a pipe) or changes while it is read is
+  // read to its end all the same.
+  struct stat st{};
+  std::string out;
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) out.resize(static_cast<size_t>(st.st_size));
+  size_t done = 0;
+  char extra[16 * 1024];
+  while (true) {
+    // Into the string while it has room, then into `extra` (the end of a file of the size
+    // announced is found without growing the string).
+    const bool has_room = done < out.size();
+    const ssize_t n = has_room ? ::read(fd, out.data() + done, out.size() - done) : ::read(fd, extra, sizeof extra);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {  // e.g. a folder (EISDIR): not a file to read
+      const int reason = errno;
+      ::close(fd);
+      errno = reason;
+      return std::nullopt;
+    }
+    if (n == 0) break;
+    if (!has_room) {
+      out.resize(done);
+      out.append(extra, static_cast<size_t>(n));
+      out.resize(std::max(out.size(), 2 * done));
+    }
+    done += static_cast<size_t>(n);
+  }
+  ::close(fd);
+  out.resize(done);
+  return out;
 }
 
 namespace {

@@ -14,7 +14,8 @@
 
 namespace nomec {
 
-/// Reads a whole file as bytes (no newline conversion); nullopt when it cannot be opened.
+/// Reads a whole file as bytes (no newline conversion); nullopt when it cannot be opened or
+/// read (e.g. a folder), with `errno` saying why.
 std::optional<std::string> read_file_bytes(const std::string& path);
 
 /// Writes `content` to `path` through `path.tmp.XXXXXX` and a rename, so readers never see

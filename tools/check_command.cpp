@@ -1,6 +1,8 @@
 // `nomec FILE…`: checks each file and shows its diagnostics, then does what `--emit` or
 // `--what-if` asks for on a file without errors (see cli.h). Exit codes: 0 clean, 1 errors,
 // 2 usage or unreadable input.
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <fmt/format.h>
 #include <iostream>
@@ -53,7 +55,7 @@ int run_check_command(const Cli& cli) {
   for (const std::string& path : cli.files) {
     std::optional<std::string> text = read_file_bytes(path);
     if (!text) {
-      std::cerr << fmt::format("nomec: cannot read `{}`\n", path);
+      std::cerr << fmt::format("nomec: cannot read `{}`: {}\n", path, std::strerror(errno));
       return 2;
     }
     SourceManager sources;

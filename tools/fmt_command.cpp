@@ -3,6 +3,8 @@
 #include "base/file_io.h"
 #include "tools/fmt_command.h"
 
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fmt/format.h>
@@ -52,7 +54,7 @@ int run_fmt(const FmtCommand& command) {
   for (const std::string& path : command.files) {
     std::optional<std::string> text = read_input(path);
     if (!text) {
-      std::cerr << fmt::format("nomec fmt: cannot read `{}`\n", path);
+      std::cerr << fmt::format("nomec fmt: cannot read `{}`: {}\n", path, std::strerror(errno));
       return 2;
     }
     FormatResult result = format_source(*text, options);

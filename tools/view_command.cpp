@@ -10,6 +10,8 @@
 // cleanly (exit 0).
 #include "tools/view_command.h"
 
+#include <cerrno>
+#include <cstring>
 #include <iostream>
 
 #ifdef NOMEC_HAVE_VIEW
@@ -438,7 +440,7 @@ int run_view(const ViewCommand& command) {
   std::error_code ec;
   site.path = fs::absolute(command.file, ec).lexically_normal().string();
   if (ec || !read_file_bytes(site.path)) {
-    std::cerr << fmt::format("nomec view: cannot read `{}`\n", command.file);
+    std::cerr << fmt::format("nomec view: cannot read `{}`: {}\n", command.file, std::strerror(ec ? ec.value() : errno));
     return 1;
   }
   site.uri = lsp::path_to_uri(site.path);

@@ -1479,7 +1479,7 @@ const StatementMark* resume_point(const NomeParser& parser, ArenaTokenStream& st
 }  // namespace
 
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
-                     PieceInfo* info) {
+                     PieceInfo* info, double reserve_scale) {
   ast::Ast result;
   result.file = file;
 
@@ -1513,8 +1513,10 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   sinks.tokens.append(std::move(token_diags));
 
   ArenaTokenStream stream(tokens, lexed_text);
-  reserve_ast(tokens, result);
+  AstSizes sizes = ast_sizes(tokens);
+  for (size_t* n : {&sizes.stmts, &sizes.lists, &sizes.exprs}) *n = static_cast<size_t>(double(*n) * reserve_scale);
   std::vector<Tok>().swap(tokens);
+  reserve_ast(sizes, result);  // where the tokens were, if it fits
   NomeParser parser(&stream);
   prepare_parser(parser);
   stream.parser_ = &parser;

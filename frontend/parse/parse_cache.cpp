@@ -679,10 +679,14 @@ std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, 
   Half halves[2];
   const std::string_view texts[2] = {text.substr(0, cut), text.substr(cut)};
   // The first half is parsed as the file itself: its ranges, views and ids are then those of
-  // the assembled AST already, and only the second half is copied after it.
+  // the assembled AST already, and only the second half is copied after it, into arrays
+  // the first half reserved for the whole text (estimated from its share of the bytes, with
+  // a little to spare), so that they are not copied as they grow.
+  const double whole_over_first = 1.05 * double(text.size()) / double(cut);
   run_parse_parts([&](int k) {
     Half& h = halves[k];
-    h.ast = parse_piece(texts[k], k == 0 ? file : FileId{0}, PieceSinks{h.comments, h.tokens, h.syntax}, &h.info);
+    h.ast = parse_piece(texts[k], k == 0 ? file : FileId{0}, PieceSinks{h.comments, h.tokens, h.syntax}, &h.info,
+                        k == 0 ? whole_over_first : 1.0);
   });
   if (!halves[0].info.self_contained || !halves[1].info.starts_cleanly) return std::nullopt;
   ast::Ast out;

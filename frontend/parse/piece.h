@@ -46,8 +46,11 @@ struct PieceInfo {
 /// stopped the reading, the lexer looked past the end only for trailing whitespace, and the
 /// parser saw the end only at the top level with every token consumed and no error
 /// recovery under way (in both the SLL and the LL pass, whichever ran).
+/// `reserve_scale`: the AST's arrays are reserved for that many times what the piece
+/// needs, for a piece that the rest of a longer text will be appended to (the first of
+/// `parse_in_two_pieces`), so that appending does not move them.
 ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks,
-                     PieceInfo* info);
+                     PieceInfo* info, double reserve_scale = 1.0);
 
 /// NOME2 (2018) names a top-level instance inside `subdivision`, `offset` and `merge`
 /// blocks with `instance X` and no `endinstance`: the word after `X` then continues the

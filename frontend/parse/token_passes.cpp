@@ -259,7 +259,7 @@ std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, 
   return tokens;
 }
 
-void reserve_ast(const std::vector<Tok>& tokens, ast::Ast& out) {
+AstSizes ast_sizes(const std::vector<Tok>& tokens) {
   size_t stmts = 0, lists = 0, exprs = 0;
   for (const Tok& t : tokens) {
     const size_t type = t.type;
@@ -273,9 +273,13 @@ void reserve_ast(const std::vector<Tok>& tokens, ast::Ast& out) {
       ++stmts;
     }
   }
-  out.stmts.reserve(stmts);
-  out.lists.reserve(lists);
-  out.exprs.reserve(exprs - std::min(exprs, stmts));  // most statements' names are words, not expressions
+  return AstSizes{stmts, lists, exprs - std::min(exprs, stmts)};  // most statements' names are words, not expressions
+}
+
+void reserve_ast(const AstSizes& sizes, ast::Ast& out) {
+  out.stmts.reserve(sizes.stmts);
+  out.lists.reserve(sizes.lists);
+  out.exprs.reserve(sizes.exprs);
 }
 
 namespace {

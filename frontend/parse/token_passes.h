@@ -33,11 +33,17 @@ bool is_operator(size_t type);
 std::vector<Tok> prepare_tokens(std::vector<Tok> tokens, std::string_view text, uint32_t base, FileId file,
                                 DiagnosticEngine& diags, bool& stopped, std::string_view what = "file");
 
-/// Reserves the arrays of `out` for the syntax tree of `tokens` (the parser's tokens, after
-/// prepare_tokens): a statement per opening keyword, a list per `(`, at most an expression
-/// per value, name or operator token. Grown by doubling instead, a 1 MiB scene's arrays
-/// leave behind copies as large as themselves, which the allocator keeps.
-void reserve_ast(const std::vector<Tok>& tokens, ast::Ast& out);
+/// How many statements, lists and expressions the syntax tree of `tokens` (the parser's
+/// tokens, after prepare_tokens) has at most: a statement per opening keyword, a list per
+/// `(`, at most an expression per value, name or operator token.
+struct AstSizes {
+  size_t stmts = 0, lists = 0, exprs = 0;
+};
+AstSizes ast_sizes(const std::vector<Tok>& tokens);
+/// Reserves the arrays of `out` for `sizes`. Grown by doubling instead, a 1 MiB scene's
+/// arrays leave behind copies as large as themselves, which the allocator keeps. The
+/// parse reserves them once its tokens are freed, so that they can take their place.
+void reserve_ast(const AstSizes& sizes, ast::Ast& out);
 
 /// exprtk's implicit products in function texts (`5x`, `(u+1)v`): a `*` between the pairs
 /// that are never valid otherwise.

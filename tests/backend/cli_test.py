@@ -149,6 +149,24 @@ def case_outputs(nomec, _admesh, _corpus):
     code, _, _ = run(nomec, ["--emit", "stl", "--subdivide", "13", cube])
     check(code == 2, "--subdivide 13 is a usage error")
 
+    # An input that cannot be read exits 2 and says why (a folder was once read as an empty
+    # scene and passed); a pipe is read to its end.
+    with tempfile.TemporaryDirectory() as tmp:
+        for args, reason in ((["--check", tmp], "Is a directory"),
+                             (["--check", os.path.join(tmp, "missing.nome")], "No such file or directory"),
+                             (["--emit", "stl", "-o", os.path.join(tmp, "x.stl"), tmp], "Is a directory")):
+            code, _, err = run(nomec, args)
+            check(code == 2 and f"cannot read `{args[-1]}`: {reason}" in err,
+                  f"{args} exits 2 and says `{reason}` (exit {code}: {err})")
+        fmt = subprocess.run([nomec, "fmt", tmp], capture_output=True, text=True)
+        check(fmt.returncode == 2 and f"nomec fmt: cannot read `{tmp}`: Is a directory" in fmt.stderr,
+              f"fmt of a folder exits 2 and says why (exit {fmt.returncode}: {fmt.stderr})")
+        with open(cube, "rb") as f:
+            piped = subprocess.run([nomec, "--color", "never", "--emit", "summary", "-o", "-", "/dev/stdin"],
+                                   stdin=f, capture_output=True)
+        check(piped.returncode == 0 and json.loads(piped.stdout)["meshes"] == summary(nomec, [cube]),
+              f"a scene read from a pipe is the scene (exit {piped.returncode}: {piped.stderr[-300:]})")
+
 
 # The flags that make each example a closed solid; every file in examples/ must be listed.
 EXAMPLE_OFFSET = {
