@@ -18,16 +18,11 @@
 #include "frontend/parse/piece.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
+#include "tests/common/parse_switches.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// Sets the tree-based builder for the lifetime of the object.
-struct TreeBuilder {
-  TreeBuilder() { nomec::parse_detail::use_tree_builder(true); }
-  ~TreeBuilder() { nomec::parse_detail::use_tree_builder(false); }
-};
 
 struct Counts {
   size_t texts = 0;
@@ -40,7 +35,8 @@ void compare(const std::string& name, const std::string& text, Counts& counts) {
   const std::string from_events = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::Automatic, &clean);
   std::string from_tree;
   {
-    TreeBuilder tree;
+    nomec::testing_switches::ScopedParseSwitch tree(
+        &nomec::parse_detail::ParseSwitches::tree_builder, true);
     from_tree = nomec::testing_dump::parse_dump(text);
   }
   if (clean) ++counts.clean;

@@ -20,6 +20,7 @@
 #include "ir/ir.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
+#include "tests/common/parse_switches.h"
 
 namespace fs = std::filesystem;
 using nomec::parse_detail::Lexed;
@@ -32,11 +33,6 @@ struct Counts {
 };
 
 // Sets the reference lexer for the lifetime of the object.
-struct ReferenceLexer {
-  ReferenceLexer() { nomec::parse_detail::use_reference_lexer(true); }
-  ~ReferenceLexer() { nomec::parse_detail::use_reference_lexer(false); }
-};
-
 std::string dump_tokens(const Lexed& l) {
   std::string s;
   for (const auto& t : l.tokens) s += fmt::format("{} {}-{} L{}{}\n", t.type, t.begin, t.end, t.line, t.hidden ? " h" : "");
@@ -80,13 +76,15 @@ void compare(const std::string& name, const std::string& text, Counts& counts, b
   const std::string with_fast = parse_dump(text);
   std::string with_reference;
   {
-    ReferenceLexer ref;
+    nomec::testing_switches::ScopedParseSwitch ref(
+        &nomec::parse_detail::ParseSwitches::reference_lexer, true);
     with_reference = parse_dump(text);
   }
   ASSERT_EQ(with_fast, with_reference) << name;
   if (check) {
     const std::string checked_fast = check_dump(name, text);
-    ReferenceLexer ref;
+    nomec::testing_switches::ScopedParseSwitch ref(
+        &nomec::parse_detail::ParseSwitches::reference_lexer, true);
     ASSERT_EQ(checked_fast, check_dump(name, text)) << name;
   }
 }

@@ -15,6 +15,7 @@
 #include "frontend/parse/prediction_seed.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
+#include "tests/common/parse_switches.h"
 
 namespace {
 
@@ -33,9 +34,12 @@ std::set<Record> records_of(std::span<const uint16_t> walks) {
 // Parses `text` with the remembered walks and with the simulator alone.
 void compare(const std::string& name, const std::string& text) {
   const std::string remembered = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::One);
-  nomec::parse_detail::use_remembered_predictions(false);
-  const std::string simulated = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::One);
-  nomec::parse_detail::use_remembered_predictions(true);
+  std::string simulated;
+  {
+    nomec::testing_switches::ScopedParseSwitch simulator(
+        &nomec::parse_detail::ParseSwitches::remembered_predictions, false);
+    simulated = nomec::testing_dump::parse_dump(text, nomec::ParseThreads::One);
+  }
   ASSERT_EQ(remembered, simulated) << name;
 }
 

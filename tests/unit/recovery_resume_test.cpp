@@ -22,13 +22,9 @@
 #include "frontend/parse/piece.h"
 #include "tests/common/ast_dump.h"
 #include "tests/common/corpus_inputs.h"
+#include "tests/common/parse_switches.h"
 
 namespace {
-
-struct FromStart {
-  FromStart() { nomec::parse_detail::resume_recovery(false); }
-  ~FromStart() { nomec::parse_detail::resume_recovery(true); }
-};
 
 struct Counts {
   size_t texts = 0;
@@ -46,7 +42,8 @@ void compare(const std::string& name, const std::string& text, Counts& counts,
   counts.resumed += after.resumed > before.resumed ? 1 : 0;
   std::string from_start;
   {
-    FromStart reference;
+    nomec::testing_switches::ScopedParseSwitch reference(
+        &nomec::parse_detail::ParseSwitches::resumed_recovery, false);
     from_start = nomec::testing_dump::parse_dump(text, threads);
   }
   ASSERT_EQ(resumed, from_start) << name << "\n--- text ---\n" << text;
