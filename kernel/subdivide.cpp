@@ -334,8 +334,10 @@ class Refiner {
   // which the processor cannot overlap with the next face's while the long work of a face
   // stands in between. So the faces go in blocks: first the uses and tail vertices of every
   // quad of the block, a short loop whose faces' chains the processor runs side by side
-  // (asking for the tails' positions and vertex-point slots on the way), then the work of
-  // each face from those. A face that is not a quad is walked on its own.
+  // (asking on the way for the edges' vertices and flags, then for the tails' positions
+  // and vertex-point slots and for the child's wings at the edges' halves, which the work
+  // writes in scattered places), then the work of each face from those. A face that is not
+  // a quad is walked on its own.
   void faces(Part& p) {
     constexpr int32_t kBlock = 64;
     std::array<EdgeUse, 4 * kBlock> uses;
@@ -343,6 +345,10 @@ class Refiner {
     std::array<bool, kBlock> is_quad;
     std::vector<EdgeUse>& loop = p.face_loop;
     int32_t o = p.first_child_face;
+    const Mesh& child = level_.mesh;
+    const FaceId* cuf = MeshAccess::use_faces(child).data();
+    const EdgeUse* cnext = MeshAccess::next(child).data();
+    const EdgeUse* cprev = is_intermediate_ ? nullptr : MeshAccess::prev(child).data();
     for (int32_t begin = p.face_begin; begin < p.face_end; begin += kBlock) {
       const int32_t count = std::min(kBlock, p.face_end - begin);
       for (int32_t i = 0; i < count; ++i) {
@@ -355,6 +361,12 @@ class Refiner {
         uses[4 * i + 1] = u1;
         uses[4 * i + 2] = u2;
         uses[4 * i + 3] = u3;
+        for (const EdgeUse u : {u0, u1, u2, u3}) {
+          __builtin_prefetch(&pev_[2 * (u.index >> 1)]);
+          __builtin_prefetch(&pflags_[u.index >> 1]);
+        }
+        // The next block's first successors, so that its chains start from the cache.
+        if (const int32_t x = begin + kBlock + i; x < p.face_end) __builtin_prefetch(&pnext_[pface_uses_[x].index]);
       }
       dvec3* vertex_points = cpos_.data() + F_ + E_;
       for (int32_t i = 0; i < 4 * count; ++i) {
@@ -362,6 +374,11 @@ class Refiner {
         tails[i] = v;
         __builtin_prefetch(&pos_[v]);
         __builtin_prefetch(&vertex_points[v], 1);
+        // The child's wings at the halves of the use's parent edge, written by `split_face`.
+        const int32_t halves = 4 * (uses[i].index >> 1);
+        __builtin_prefetch(&cuf[halves], 1);
+        __builtin_prefetch(&cnext[halves], 1);
+        if (cprev != nullptr) __builtin_prefetch(&cprev[halves], 1);
       }
       for (int32_t i = 0; i < count; ++i) {
         const int32_t f = begin + i;
@@ -533,6 +550,8 @@ class Refiner {
         if (puf_[2 * x + 1].is_valid()) __builtin_prefetch(&cpos_[puf_[2 * x + 1].index]);
         __builtin_prefetch(&vertex_points[a], 1);
         __builtin_prefetch(&vertex_points[b], 1);
+        __builtin_prefetch(&valence_[a], 1);
+        __builtin_prefetch(&valence_[b], 1);
       }
       if (is_split && part_of(puf_[2 * e]) != p.index) continue;
       const int32_t a = pev_[2 * e].index;
