@@ -360,7 +360,9 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   }
   const int32_t out_vertices = 2 * used;
   auto& positions = MeshAccess::positions(m);
-  resize_large(positions, static_cast<size_t>(out_vertices));
+  // Every position is written by the walk below (on two threads, which then share the
+  // cost of faulting in the fresh pages; a fill here would pay it on one).
+  resize_for_overwrite(positions, static_cast<size_t>(out_vertices));
   // One walk around every vertex (§5.1, as `vertex_normals`): its normal, straight into
   // its two offset positions, and P(u) for every use u starting at it: v+ where the
   // Möbius counter agrees with the ring's first face, else v-. Corners at Möbius vertices
@@ -412,14 +414,16 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   auto& osources = MeshAccess::face_sources(m);
   auto& ocolors = MeshAccess::face_colors(m);
   // The arrays are written by index (the two copies may be made on two threads). Every use
-  // of every output edge lies in one face loop, and every edge gets its second use, so the
-  // wings and the uses' faces are not filled first; the anchors start as None (all bits set).
-  resize_large(oev, 2 * static_cast<size_t>(out_edges));
+  // of every output edge lies in one face loop, every edge is made once (its vertices and
+  // flags written then) and gets its second use, and every face is linked, so none of them
+  // is filled first (the copies' threads fault their pages in as they write them); the
+  // anchors start as None (all bits set).
+  resize_for_overwrite(oev, 2 * static_cast<size_t>(out_edges));
   resize_for_overwrite(ouf, 2 * static_cast<size_t>(out_edges));
-  resize_large(oflags, static_cast<size_t>(out_edges));
+  resize_for_overwrite(oflags, static_cast<size_t>(out_edges));
   resize_for_overwrite(onext, 2 * static_cast<size_t>(out_edges));
   resize_for_overwrite(oprev, 2 * static_cast<size_t>(out_edges));
-  resize_large(oface_uses, static_cast<size_t>(out_faces));
+  resize_for_overwrite(oface_uses, static_cast<size_t>(out_faces));
   resize_for_overwrite(overtex_edges, static_cast<size_t>(out_vertices));
   static_assert(EdgeId::None().index == -1);
   std::memset(static_cast<void*>(overtex_edges.data()), 0xff, overtex_edges.size() * sizeof(EdgeId));
@@ -460,6 +464,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     const int32_t e = run.next_edge++;
     oev[2 * e] = VertexId(a);
     oev[2 * e + 1] = VertexId(b);
+    oflags[e] = 0;
     ouf[2 * e] = FaceId(face);
     if (!anchors[a].is_valid()) anchors[a] = EdgeId(e);
     if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
