@@ -32,7 +32,6 @@ struct Counts {
   size_t fast = 0;  // texts the hand-written lexer lexed (the rest it leaves to NomeLexer)
 };
 
-// Sets the reference lexer for the lifetime of the object.
 std::string dump_tokens(const Lexed& l) {
   std::string s;
   for (const auto& t : l.tokens) s += fmt::format("{} {}-{} L{}{}\n", t.type, t.begin, t.end, t.line, t.hidden ? " h" : "");
