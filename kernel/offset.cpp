@@ -359,15 +359,24 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     }
   }
   const int32_t out_vertices = 2 * used;
+  // P(u), the output vertex a corner of use u starts at. Without Möbius edges no corner is
+  // flipped, and when every vertex is used the k-th used vertex is vertex k: P(u) is then
+  // twice the tail of u, which the input's edge vertices give (a use's tail is its edge's
+  // vertex of the same side), so no array of it is made (a scattered write per corner and
+  // 4 bytes per use of fresh memory saved).
+  const bool p_from_tails = !has_mobius && used == V;
+  const VertexId* itail = MeshAccess::edge_vertices(mesh).data();
   auto& positions = MeshAccess::positions(m);
   // Every position is written by the walk below (on two threads, which then share the
   // cost of faulting in the fresh pages; a fill here would pay it on one).
   resize_for_overwrite(positions, static_cast<size_t>(out_vertices));
   // One walk around every vertex (§5.1, as `vertex_normals`): its normal, straight into
-  // its two offset positions, and P(u) for every use u starting at it: v+ where the
-  // Möbius counter agrees with the ring's first face, else v-. Corners at Möbius vertices
-  // are then checked against the face normals (the seed's dot-product test).
-  const std::unique_ptr<int32_t[]> pvert = scratch(static_cast<int32_t*>(nullptr), use_count);
+  // its two offset positions, and (unless it comes from the tails) P(u) for every use u
+  // starting at it: v+ where the Möbius counter agrees with the ring's first face, else
+  // v-. Corners at Möbius vertices are then checked against the face normals (the seed's dot-product test).
+  const std::unique_ptr<int32_t[]> pvert =
+      p_from_tails ? nullptr : scratch(static_cast<int32_t*>(nullptr), use_count);
+  auto P = [&](int32_t u) { return p_from_tails ? 2 * itail[u].index : pvert[u]; };
   int32_t inconsistent[2] = {0, 0};
   for_halves(V, [&](int32_t begin, int32_t end) {
     int32_t count = 0;
@@ -378,7 +387,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       dvec3 first(0.0);
       bool is_first = true;
       mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
-        pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
+        if (!p_from_tails) pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
         sum += double(c.is_flipped ? -1 : 1) * fnormals[c.face.index];
         if (is_first) {
           first = fnormals[c.face.index];
@@ -441,7 +450,10 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // A slot holds -1 until its first corner is made (corners are made face by face, in loop
   // order), so a corner finds by its slot whether it comes second.
   const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
-  std::memset(oedge.get(), 0xff, use_count * sizeof(int32_t));
+  for_halves(E, [&](int32_t begin, int32_t end) {
+    const size_t from = 2 * static_cast<size_t>(begin), count = 2 * static_cast<size_t>(end - begin);
+    std::memset(oedge.get() + from, 0xff, count * sizeof(int32_t));
+  });
   auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
   auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
@@ -493,7 +505,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // twin's positive corner joins the same two vertices), 2 positive with negative, 0 neither.
   auto pairing = [&](int32_t u, int32_t a0, int32_t a1) {
     const int32_t t = u ^ 1;
-    const int32_t b0 = pvert[t], b1 = pvert[inext[t].index];
+    const int32_t b0 = P(t), b1 = P(inext[t].index);
     if (same(a0, a1, b0, b1)) return 1;
     return same(a0, a1, b0 ^ 1, b1 ^ 1) ? 2 : 0;
   };
@@ -518,7 +530,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       const EdgeUse* loop = run.loop.data();
       for (int32_t i = 0; i < n; ++i) {
         const int32_t u = loop[i].index;
-        const int32_t a0 = pvert[u], a1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int32_t a0 = P(u), a1 = P(loop[i + 1 == n ? 0 : i + 1].index);
         const int kind = kind_of(u, a0, a1);
         if (kind == 0) return false;
         // Under pairing 1 the corner that comes second finds the edge kept in the slot.
@@ -547,7 +559,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       for (int32_t j = 0; j < n; ++j) {
         const int32_t i = j <= n - 2 ? n - 2 - j : n - 1;
         const int32_t w = loop[i].index;
-        const int32_t p0 = pvert[w], p1 = pvert[loop[i + 1 == n ? 0 : i + 1].index];
+        const int32_t p0 = P(w), p1 = P(loop[i + 1 == n ? 0 : i + 1].index);
         const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
         const int kind = kind_of(w, p0, p1);
         if (kind == 0) return false;
@@ -615,7 +627,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   for (int32_t e = 0; e < E; ++e) {
     if (iuf[2 * e + 1].is_valid()) continue;
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
-    const int32_t x0 = pvert[at_b], x1 = pvert[at_a], x2 = x1 ^ 1, x3 = x0 ^ 1;
+    const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
     if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
     EdgeUse ribbon[4];
     ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);

@@ -245,7 +245,9 @@ TEST(Offset, PairedBuildEqualsTheBuilder) {
 // array), parents and normal count, on borders, Möbius edges (positive corners pairing
 // with negative ones), mixed polygons, colours, isolated vertices, and faces listed in a
 // shuffled order from shuffled starting corners (so the twin of a corner comes before or
-// after it in every combination).
+// after it in every combination). The plain inputs without Möbius edges read each corner's
+// output vertex from the input's edge vertices; the shuffled ones, which have an isolated
+// vertex, and the Möbius and Klein ones keep it in an array (`offset_direct`'s P).
 TEST(Offset, DirectSlabEqualsTheReferenceConstruction) {
   std::vector<PolygonSoup> inputs = {testing::cube_soup(), testing::tetra_soup(), testing::mixed_disk_soup(),
                                      grid_soup(4, 3, Glue::None), grid_soup(6, 3, Glue::Cylinder),
