@@ -303,8 +303,11 @@ Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, cons
 // input edge (`oedge`) for the corner that meets it later. Returns nothing
 // where the soup path's pairing would fail (a corner whose twin joins other vertices, a
 // ribbon side met other than twice), so that path runs and reports what is wrong.
-std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
-                                          bool has_parent_maps) {
+// `kPFromTails`: whether P(u), the output vertex a corner of use u starts at, is read from
+// the input's edge vertices (see `offset_direct` below), else kept in an array.
+template <bool kPFromTails>
+std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
+                                               bool has_parent_maps) {
   const int32_t V = mesh.vertex_count();
   const int32_t F = mesh.face_count();
   const int32_t E = mesh.edge_count();
@@ -359,12 +362,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     }
   }
   const int32_t out_vertices = 2 * used;
-  // P(u), the output vertex a corner of use u starts at. Without Möbius edges no corner is
-  // flipped, and when every vertex is used the k-th used vertex is vertex k: P(u) is then
-  // twice the tail of u, which the input's edge vertices give (a use's tail is its edge's
-  // vertex of the same side), so no array of it is made (a scattered write per corner and
-  // 4 bytes per use of fresh memory saved).
-  const bool p_from_tails = !has_mobius && used == V;
+  if (kPFromTails && (has_mobius || used != V)) return std::nullopt;  // `offset_direct` chose wrong
   const VertexId* itail = MeshAccess::edge_vertices(mesh).data();
   auto& positions = MeshAccess::positions(m);
   // Every position is written by the walk below (on two threads, which then share the
@@ -375,8 +373,14 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
   // starting at it: v+ where the Möbius counter agrees with the ring's first face, else
   // v-. Corners at Möbius vertices are then checked against the face normals (the seed's dot-product test).
   const std::unique_ptr<int32_t[]> pvert =
-      p_from_tails ? nullptr : scratch(static_cast<int32_t*>(nullptr), use_count);
-  auto P = [&](int32_t u) { return p_from_tails ? 2 * itail[u].index : pvert[u]; };
+      kPFromTails ? nullptr : scratch(static_cast<int32_t*>(nullptr), use_count);
+  auto P = [&](int32_t u) {
+    if constexpr (kPFromTails) {
+      return 2 * itail[u].index;
+    } else {
+      return pvert[u];
+    }
+  };
   int32_t inconsistent[2] = {0, 0};
   for_halves(V, [&](int32_t begin, int32_t end) {
     int32_t count = 0;
@@ -387,7 +391,7 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
       dvec3 first(0.0);
       bool is_first = true;
       mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
-        if (!p_from_tails) pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
+        if constexpr (!kPFromTails) pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
         sum += double(c.is_flipped ? -1 : 1) * fnormals[c.face.index];
         if (is_first) {
           first = fnormals[c.face.index];
@@ -667,6 +671,22 @@ std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, con
     if (has_parent_maps) result.face_parents.push_back({OffsetParent::Kind::Ribbon, origin(f.index), EdgeId(e)});
   }
   return result;
+}
+
+// Without Möbius edges no corner is flipped, and when every vertex is used the k-th used
+// vertex is vertex k: P(u) is then twice the tail of u, which the input's edge vertices give
+// (a use's tail is its edge's vertex of the same side), so no array of it is made (a
+// scattered write per corner, and 4 bytes per use of fresh memory). The two ways are two
+// instantiations, so that neither pays for the other's test in its loops.
+std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
+                                          bool has_parent_maps) {
+  const auto& anchors = MeshAccess::vertex_edges(mesh);
+  const bool every_vertex_used =
+      std::all_of(anchors.begin(), anchors.end(), [](EdgeId e) { return e.is_valid(); });
+  if (every_vertex_used && !mesh.has_mobius_edges()) {
+    return offset_direct_with<true>(mesh, distance, face_origin, has_parent_maps);
+  }
+  return offset_direct_with<false>(mesh, distance, face_origin, has_parent_maps);
 }
 
 Result<OffsetResult> offset_impl(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
