@@ -334,35 +334,40 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   for_halves(F, [&](int32_t begin, int32_t end) {
     for (int32_t f = begin; f < end; ++f) fnormals[f] = unit_face_normal(mesh, f);
   });
-  std::vector<uint8_t> is_mobius_vertex(V, 0);
+  // With P from the tails, `offset_direct` has found no Möbius edge and no unused vertex.
+  std::vector<uint8_t> is_mobius_vertex;
   bool has_mobius = false;
-  for (int32_t e = 0; e < E; ++e) {
-    if (mesh.is_mobius(EdgeId(e))) {
-      has_mobius = true;
-      is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
-      is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
+  if constexpr (!kPFromTails) {
+    is_mobius_vertex.assign(V, 0);
+    for (int32_t e = 0; e < E; ++e) {
+      if (mesh.is_mobius(EdgeId(e))) {
+        has_mobius = true;
+        is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 0).index] = 1;
+        is_mobius_vertex[mesh.edge_vertex(EdgeId(e), 1).index] = 1;
+      }
     }
   }
 
   OffsetResult result;
   Mesh& m = result.mesh;
-  // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex.
-  std::unique_ptr<int32_t[]> compact = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(V));
-  int32_t used = 0;
+  // Output vertices 2k (v+) and 2k+1 (v-) for the k-th used input vertex (k = v when every
+  // vertex is used).
+  std::unique_ptr<int32_t[]> compact;
+  int32_t used = V;
   if (has_parent_maps) reserve_large(result.vertex_parents, 2 * static_cast<size_t>(V));
-  for (int32_t v = 0; v < V; ++v) {
-    if (!mesh.vertex_edge(VertexId(v)).is_valid()) {
-      compact[v] = -1;
-      continue;
-    }
-    compact[v] = used++;
-    if (has_parent_maps) {
+  if constexpr (!kPFromTails) {
+    compact = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(V));
+    used = 0;
+    for (int32_t v = 0; v < V; ++v) compact[v] = mesh.vertex_edge(VertexId(v)).is_valid() ? used++ : -1;
+  }
+  if (has_parent_maps) {
+    for (int32_t v = 0; v < V; ++v) {
+      if (!mesh.vertex_edge(VertexId(v)).is_valid()) continue;
       result.vertex_parents.push_back(VertexId(v));
       result.vertex_parents.push_back(VertexId(v));
     }
   }
   const int32_t out_vertices = 2 * used;
-  if (kPFromTails && (has_mobius || used != V)) return std::nullopt;  // `offset_direct` chose wrong
   const VertexId* itail = MeshAccess::edge_vertices(mesh).data();
   auto& positions = MeshAccess::positions(m);
   // Every position is written by the walk below (on two threads, which then share the
@@ -385,7 +390,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   for_halves(V, [&](int32_t begin, int32_t end) {
     int32_t count = 0;
     for (int32_t v = begin; v < end; ++v) {
-      const int32_t k = compact[v];
+      const int32_t k = kPFromTails ? v : compact[v];
       if (k < 0) continue;
       dvec3 sum(0.0);
       dvec3 first(0.0);
@@ -403,7 +408,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
       const dvec3& p = mesh.position(VertexId(v));
       positions[2 * k] = p + distance * n;
       positions[2 * k + 1] = p - distance * n;
-      if (is_mobius_vertex[v]) {
+      if (!kPFromTails && is_mobius_vertex[v]) {
         mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
           if (double(c.is_flipped ? -1 : 1) * glm::dot(n, fnormals[c.face.index]) <= 0.0) ++count;
         });
