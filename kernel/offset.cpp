@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <glm/geometric.hpp>
@@ -45,14 +44,6 @@ void for_halves(int32_t n, Fn&& fn) {
   }
   const int32_t mid = n / 2;
   run_two_parts([&](int part) { part == 0 ? fn(0, mid) : fn(mid, n); });
-}
-
-// Sets the 2n values at `data` to -1, each half of the pairs on its own thread for large n.
-void fill_pairs_with_none(int32_t* data, int32_t n) {
-  for_halves(n, [&](int32_t begin, int32_t end) {
-    const size_t from = 2 * static_cast<size_t>(begin), count = 2 * static_cast<size_t>(end - begin);
-    std::memset(data + from, 0xff, count * sizeof(int32_t));
-  });
 }
 
 }  // namespace
@@ -323,13 +314,8 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   const FaceId* iuf = MeshAccess::use_faces(mesh).data();
   const EdgeUse* inext = MeshAccess::next(mesh).data();
   const uint8_t mobius = MeshAccess::mobius_flag();
-  // Border edges, and how many of them lie in the first half of the edges (where the
-  // ribbons on two threads split them).
-  int64_t border_edges = 0, first_half_border_edges = 0;
-  for (int32_t e = 0; e < E; ++e) {
-    if (e == E / 2) first_half_border_edges = border_edges;
-    border_edges += iuf[2 * e + 1].is_valid() ? 0 : 1;
-  }
+  int64_t border_edges = 0;
+  for (int32_t e = 0; e < E; ++e) border_edges += iuf[2 * e + 1].is_valid() ? 0 : 1;
   const int64_t in_corners = 2 * int64_t{E} - border_edges;
   const int64_t out_faces = 2 * int64_t{F} + border_edges;
   const int64_t out_edges = in_corners + 2 * border_edges;  // 2C + 4B corners, two per edge
@@ -473,7 +459,10 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // A slot holds -1 until its first corner is made (corners are made face by face, in loop
   // order), so a corner finds by its slot whether it comes second.
   const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
-  fill_pairs_with_none(oedge.get(), E);
+  for_halves(E, [&](int32_t begin, int32_t end) {
+    const size_t from = 2 * static_cast<size_t>(begin), count = 2 * static_cast<size_t>(end - begin);
+    std::memset(oedge.get() + from, 0xff, count * sizeof(int32_t));
+  });
   auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
   auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
   EdgeId* anchors = overtex_edges.data();
@@ -605,8 +594,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // input edge, so the negative copies' edges are numbered from E on: the two copies are
   // made on two threads for large meshes, the same arrays as one after the other.
   Run positive, negative;
-  const bool is_threaded = !has_mobius && F >= kThreadedFrom && has_two_hardware_threads();
-  if (is_threaded) {
+  if (!has_mobius && F >= kThreadedFrom && has_two_hardware_threads()) {
     positive.end = E;
     negative.next_edge = E;
     negative.end = static_cast<int32_t>(out_edges);
@@ -621,157 +609,46 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     if (!make_negative(negative)) return std::nullopt;
   }
   // Ribbons: border edge a->b gives [P(b), P(a), N(a), N(b)]; its sides (corners 1 and 3)
-  // pair with the neighbouring ribbons' sides at the same vertex. Face 2F + r is the ribbon
-  // of the r-th border edge; a side's edge is made by the first of its two corners in that
-  // order (corner 1 before corner 3 in one ribbon), numbered from the negative copies' end.
+  // pair with the neighbouring ribbons' sides at the same vertex (`side_use`: None, the
+  // first side's use, or `kPaired`).
+  constexpr int32_t kPaired = -2;
+  std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
+  bool sides_ok = true;
   Run ribbons;
   ribbons.next_edge = negative.next_edge;
   ribbons.end = static_cast<int32_t>(out_edges);
-  bool ribbons_made = false;
-  if constexpr (kPFromTails) {
-    // Without Möbius edges, with every vertex used, and on a manifold border, each border
-    // vertex v is left by one border edge (whose ribbon's corner 1 lies at v) and entered by
-    // one (corner 3). Knowing both for every v, each ribbon finds alone which of its sides
-    // comes first, and with a count of first sides before it, every side's number: the
-    // ribbons are then made on two threads (`ribbons_on_two_threads`, true when made). It
-    // reports false before writing anything when the border is not such (a vertex met other
-    // than once each way, a copy that made no edge, an output vertex without an edge), and
-    // the ribbons are then made in order below, as on one thread.
-    auto ribbons_on_two_threads = [&]() {
-      const int32_t B = static_cast<int32_t>(border_edges);
-      const int32_t B0 = static_cast<int32_t>(first_half_border_edges);
-      std::unique_ptr<int32_t[]> border = scratch(static_cast<int32_t*>(nullptr), static_cast<size_t>(B));
-      // Per input vertex v: [2v] the rank of the border edge leaving it, [2v + 1] of the one
-      // entering it, -1 for none.
-      std::unique_ptr<int32_t[]> ends = scratch(static_cast<int32_t*>(nullptr), 2 * static_cast<size_t>(V));
-      fill_pairs_with_none(ends.get(), V);
-      auto leaving = [&](int32_t v) -> int32_t& { return ends[2 * static_cast<size_t>(v)]; };
-      auto entering = [&](int32_t v) -> int32_t& { return ends[2 * static_cast<size_t>(v) + 1]; };
-      // Both threads may write one vertex's entry (only where a vertex has two border edges
-      // leaving or entering it, which the check below then finds).
-      run_two_parts([&](int part) {
-        int32_t r = part == 0 ? 0 : B0;
-        for (int32_t e = part == 0 ? 0 : E / 2, end = part == 0 ? E / 2 : E; e < end; ++e) {
-          if (iuf[2 * e + 1].is_valid()) continue;
-          border[r] = e;
-          std::atomic_ref<int32_t>(leaving(itail[2 * e].index)).store(r, std::memory_order_relaxed);
-          std::atomic_ref<int32_t>(entering(itail[2 * e + 1].index)).store(r, std::memory_order_relaxed);
-          ++r;
-        }
-      });
-      // Per ribbon: the first sides before it in its half (times 4), whether its corner 1
-      // comes first (bit 0) and whether its corner 3 does (bit 1). The count is at most twice
-      // the border edges, below 2^30 (`out_edges` is), so the word holds it.
-      std::unique_ptr<uint32_t[]> info = scratch(static_cast<uint32_t*>(nullptr), static_cast<size_t>(B));
-      uint32_t firsts[2] = {0, 0};
-      bool fine[2] = {true, true};
-      run_two_parts([&](int part) {
-        uint32_t count = 0;
-        for (int32_t r = part == 0 ? 0 : B0, end = part == 0 ? B0 : B; r < end; ++r) {
-          const int32_t e = border[r];
-          const int32_t a = itail[2 * e].index, b = itail[2 * e + 1].index;
-          // The ribbons entering a and leaving b, which pair with this one's corners 1 and 3.
-          const int32_t at_a = entering(a), at_b = leaving(b);
-          const bool is_own = leaving(a) == r && entering(b) == r;
-          const bool has_partners = at_a >= 0 && at_a != r && at_b >= 0 && at_b != r;
-          const bool has_copies = oedge[2 * e] >= 0 && oedge[2 * e + 1] >= 0;
-          const bool has_anchors = anchors[2 * a].is_valid() && anchors[2 * a + 1].is_valid() &&
-                                   anchors[2 * b].is_valid() && anchors[2 * b + 1].is_valid();
-          if (!is_own || !has_partners || !has_copies || !has_anchors) {
-            fine[part] = false;
-            return;
-          }
-          const uint32_t first1 = r < at_a ? 1 : 0, first3 = r < at_b ? 1 : 0;
-          info[r] = (count << 2) | first1 | (first3 << 1);
-          count += first1 + first3;
-        }
-        firsts[part] = count;
-      });
-      if (!fine[0] || !fine[1] || int64_t{ribbons.next_edge} + firsts[0] + firsts[1] != out_edges) return false;
-      // (Then every number below lies between the negative copies' end and `out_edges`.)
-      const int32_t base = ribbons.next_edge;
-      // The number of the side edge that ribbon r's corner 1 (`corner3` 0) or corner 3 makes.
-      auto side_edge = [&](int32_t r, int32_t corner3) {
-        const uint32_t before = (info[r] >> 2) + (r >= B0 ? firsts[0] : 0);
-        return base + static_cast<int32_t>(before + (corner3 != 0 ? (info[r] & 1) : 0));
-      };
-      // A second use, of the copies' edge `c` or of a side edge; a side's two corners run
-      // opposite ways (v+ to v- and v- to v+), so only a copy's edge is tested for Möbius.
-      auto second = [&](int32_t c, int32_t from, int32_t face, bool is_copy) {
-        ouf[2 * c + 1] = FaceId(face);
-        if (is_copy && oev[2 * c].index == from) oflags[c] |= mobius;
-        return EdgeUse(EdgeId(c), 1);
-      };
-      auto first = [&](int32_t c, int32_t from, int32_t to, int32_t face) {
-        oev[2 * c] = VertexId(from);
-        oev[2 * c + 1] = VertexId(to);
-        oflags[c] = 0;
-        ouf[2 * c] = FaceId(face);
-        return EdgeUse(EdgeId(c), 0);
-      };
-      run_two_parts([&](int part) {
-        for (int32_t r = part == 0 ? 0 : B0, end = part == 0 ? B0 : B; r < end; ++r) {
-          const int32_t e = border[r];
-          const int32_t a = itail[2 * e].index, b = itail[2 * e + 1].index;
-          const int32_t x0 = 2 * b, x1 = 2 * a, x2 = x1 + 1, x3 = x0 + 1;
-          const int32_t face = 2 * F + r;
-          EdgeUse ribbon[4];
-          ribbon[0] = second(oedge[2 * e], x0, face, true);
-          // Corner 1 at a: made here, or by corner 3 of the ribbon entering a.
-          ribbon[1] = (info[r] & 1) != 0 ? first(side_edge(r, 0), x1, x2, face)
-                                         : second(side_edge(entering(a), 1), x1, face, false);
-          ribbon[2] = second(oedge[2 * e + 1], x2, face, true);
-          // Corner 3 at b: made here, or by corner 1 of the ribbon leaving b.
-          ribbon[3] = (info[r] & 2) != 0 ? first(side_edge(r, 1), x3, x0, face)
-                                         : second(side_edge(leaving(b), 0), x3, face, false);
-          link(ribbon, 4, face);
-        }
-      });
-      ribbons.next_edge = static_cast<int32_t>(out_edges);
-      ribbons.second_uses = 2 * border_edges + (2 * border_edges - (int64_t{firsts[0]} + firsts[1]));
-      return true;
-    };
-    if (is_threaded && border_edges > 0) ribbons_made = ribbons_on_two_threads();
+  auto side = [&](int32_t a, int32_t b, int32_t face) {
+    EdgeUse& s = side_use[a >> 1];
+    if (s.index == kPaired) {
+      sides_ok = false;
+      return EdgeUse::None();
+    }
+    if (!s.is_valid()) {
+      s = new_edge(ribbons, a, b, face);
+      if (!s.is_valid()) sides_ok = false;
+      return s;
+    }
+    const EdgeUse x = second_use(ribbons, s, a, face);
+    s = EdgeUse(kPaired);
+    return x;
+  };
+  int32_t face = 2 * F;
+  for (int32_t e = 0; e < E; ++e) {
+    if (iuf[2 * e + 1].is_valid()) continue;
+    const int32_t at_a = 2 * e, at_b = inext[at_a].index;
+    const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
+    if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
+    EdgeUse ribbon[4];
+    ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
+    ribbon[1] = side(x1, x2, face);
+    ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
+    ribbon[3] = side(x3, x0, face);
+    if (!sides_ok) return std::nullopt;
+    link(ribbon, 4, face);
+    ++face;
   }
-  if (!ribbons_made) {
-    // In order, each side's corners paired by `side_use`: None, the first side's use, or
-    // `kPaired`.
-    constexpr int32_t kPaired = -2;
-    std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
-    bool sides_ok = true;
-    auto side = [&](int32_t a, int32_t b, int32_t face) {
-      EdgeUse& s = side_use[a >> 1];
-      if (s.index == kPaired) {
-        sides_ok = false;
-        return EdgeUse::None();
-      }
-      if (!s.is_valid()) {
-        s = new_edge(ribbons, a, b, face);
-        if (!s.is_valid()) sides_ok = false;
-        return s;
-      }
-      const EdgeUse x = second_use(ribbons, s, a, face);
-      s = EdgeUse(kPaired);
-      return x;
-    };
-    int32_t face = 2 * F;
-    for (int32_t e = 0; e < E; ++e) {
-      if (iuf[2 * e + 1].is_valid()) continue;
-      const int32_t at_a = 2 * e, at_b = inext[at_a].index;
-      const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
-      if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
-      EdgeUse ribbon[4];
-      ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
-      ribbon[1] = side(x1, x2, face);
-      ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
-      ribbon[3] = side(x3, x0, face);
-      if (!sides_ok) return std::nullopt;
-      link(ribbon, 4, face);
-      ++face;
-    }
-    for (const EdgeUse s : side_use) {
-      if (s.is_valid()) return std::nullopt;  // a side without a partner
-    }
+  for (const EdgeUse s : side_use) {
+    if (s.is_valid()) return std::nullopt;  // a side without a partner
   }
   // Every edge made and met twice: then every use is in a loop and every wing was written.
   if (ribbons.next_edge != out_edges ||
