@@ -1,4 +1,5 @@
-// Offset scaling: offsets of quad tori and of Möbius bands of growing size, with
+// Offset scaling: offsets of quad tori, of Möbius bands and of rows of open tubes (many
+// border edges, so many ribbons) of growing size, with
 // Google Benchmark's complexity fit to check the construction is linear in the size.
 #include <benchmark/benchmark.h>
 
@@ -32,6 +33,29 @@ PolygonSoup mobius_soup(int n) {
   return s;
 }
 
+// `count` open tubes of 16 x 4 quads side by side: a border edge for every two faces (the
+// pipeline scene, bench/pipeline, has one for every 2.3 after subdivision), so the ribbons
+// are a large part of the slab.
+PolygonSoup tubes_soup(int count) {
+  const int ring = 16, rows = 4;
+  PolygonSoup s;
+  const double pi = std::numbers::pi;
+  for (int k = 0; k < count; ++k) {
+    const int first = s.vertex_count();
+    for (int j = 0; j <= rows; ++j) {
+      for (int i = 0; i < ring; ++i) {
+        const double u = 2 * pi * i / ring;
+        s.add_vertex({3.0 * k + std::cos(u), std::sin(u), 0.5 * j});
+      }
+    }
+    auto id = [&](int i, int j) { return first + j * ring + i % ring; };
+    for (int j = 0; j < rows; ++j) {
+      for (int i = 0; i < ring; ++i) s.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return s;
+}
+
 void run_offset(benchmark::State& state, const PolygonSoup& soup, bool is_reference = false) {
   auto mesh = build_mesh(soup);
   int64_t faces = 0;
@@ -54,6 +78,8 @@ void BM_Offset_Mobius(benchmark::State& state) {
   run_offset(state, mobius_soup(int(state.range(0))));
 }
 
+void BM_Offset_Tubes(benchmark::State& state) { run_offset(state, tubes_soup(int(state.range(0)))); }
+
 // The reference construction (the slab's soup rebuilt by the builder), which `offset`
 // replaced by writing the arrays directly: the before/after of one run.
 void BM_OffsetThroughBuilder_Torus(benchmark::State& state) {
@@ -73,6 +99,13 @@ BENCHMARK(BM_Offset_Torus)
 BENCHMARK(BM_Offset_Mobius)
     ->RangeMultiplier(4)
     ->Range(64, 16384)
+    ->Complexity(benchmark::oN)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Offset_Tubes)
+    ->RangeMultiplier(8)
+    ->Range(64, 4096)
     ->Complexity(benchmark::oN)
     ->MeasureProcessCPUTime()
     ->UseRealTime()
