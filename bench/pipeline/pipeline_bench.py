@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Whole-pipeline benchmark: a generated real-like scene of at least 50,000 input faces
 (funnel cubes and funnel pairs in NOME 2016 syntax, whose shared rings --merge must weld) through `nomec --emit stl --merge --subdivide 2 --offset 0.05`, repeated;
-prints each stage's median time and its output faces per second (stage outputs counted by
-`--emit summary` of the same pipeline cut after that stage), and the end-to-end figure.
+prints each stage's median and fastest time and its output faces per second (stage outputs
+counted by `--emit summary` of the same pipeline cut after that stage), the end-to-end
+figure, and the offset's and subdivision's time per output face with their ratio.
 
 With --baseline, another nomec binary runs alternately with the first and each stage's
 speedup (baseline time / time) is printed too, so before/after figures come from one run.
@@ -104,7 +105,8 @@ def main():
                 size = os.path.getsize(stl)
     print(f"scene: {counts['evaluate']} input faces; STL {size / 1e6:.1f} MB; median of {a.runs} runs")
     med = {b: {k: statistics.median(v) for k, v in t.items()} for b, t in times.items()}
-    head = f"{'stage':12} {'ms':>10} {'output faces':>13} {'faces/s':>12}"
+    fastest = {b: {k: min(v) for k, v in t.items()} for b, t in times.items()}
+    head = f"{'stage':12} {'ms':>10} {'fastest':>8} {'output faces':>13} {'faces/s':>12}"
     if a.baseline:
         head += f" {'baseline ms':>12} {'speedup':>8}"
     print(head)
@@ -112,12 +114,20 @@ def main():
         ms = med["nomec"][st]
         n = counts.get(st) or (counts["offset"] if st in ("total", "wall", "cpu") else None)
         rate = f"{n / (ms / 1000):12.3g}" if n and ms > 0 else f"{'':>12}"
-        line = f"{st:12} {ms:10.1f} {n if n else '':>13} {rate}"
+        line = f"{st:12} {ms:10.1f} {fastest['nomec'][st]:8.1f} {n if n else '':>13} {rate}"
         if a.baseline:
             base = med["baseline"][st]
             line += f" {base:12.1f} {base / ms if ms > 0 else 0:8.2f}"
         print(line)
-    print("total = sum of the stages (--time-report); wall = the whole process; cpu = its user + system time")
+    print("total = sum of the stages (--time-report); wall = the whole process; cpu = its user + system time;")
+    print("fastest = the fastest run (on a virtual machine whose first touch of fresh memory is slow at times,")
+    print("a stage's runs can fall into a fast and a slow group, and the median then depends on their mix)")
+    # Issue 18's goal: the offset at least as fast per output face as the subdivision.
+    def per_face(table, st):
+        return 1e6 * table["nomec"][st] / counts[st]
+    for what, table in (("median", med), ("fastest", fastest)):
+        sub, off = per_face(table, "subdivide"), per_face(table, "offset")
+        print(f"per output face ({what}): subdivide {sub:.1f} ns, offset {off:.1f} ns, offset/subdivide {off / sub:.2f}")
 
 
 if __name__ == "__main__":
