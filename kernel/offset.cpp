@@ -376,7 +376,8 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // One walk around every vertex (§5.1, as `vertex_normals`): its normal, straight into
   // its two offset positions, and (unless it comes from the tails) P(u) for every use u
   // starting at it: v+ where the Möbius counter agrees with the ring's first face, else
-  // v-. Corners at Möbius vertices are then checked against the face normals (the seed's dot-product test).
+  // v-. Corners at Möbius vertices are then checked against the face normals (the seed's
+  // dot-product test).
   const std::unique_ptr<int32_t[]> pvert =
       kPFromTails ? nullptr : scratch(static_cast<int32_t*>(nullptr), use_count);
   auto P = [&](int32_t u) {
