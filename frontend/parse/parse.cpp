@@ -1667,6 +1667,7 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     info->starts_cleanly = first_type == antlr4::Token::EOF || starts_statement(parser.getATN(), first_type);
     info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
     info->gave_up = gave_up;
+    info->stopped = stopped;
   }
   recovery_diags.sort_by_position();
   sinks.syntax.append(std::move(recovery_diags));

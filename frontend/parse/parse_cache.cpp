@@ -545,6 +545,9 @@ struct ParseCache::Steps {
 
   // 3. The file's AST and diagnostics from the runs' pieces, in order.
   static ast::Ast assemble(const std::vector<Use>& uses, std::string_view text, FileId file, DiagnosticEngine& diags) {
+    if (uses.size() > 1 && uses.back().piece->info.stopped) {  // see PieceInfo::stopped
+      return parse_piece(text, file, PieceSinks{diags, diags, diags}, nullptr);
+    }
     ast::Ast out;
     out.file = file;
     size_t exprs = 0, args = 0, lists = 0, stmts = 0, top = 0;
@@ -688,7 +691,9 @@ std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, 
     h.ast = parse_piece(texts[k], k == 0 ? file : FileId{0}, PieceSinks{h.comments, h.tokens, h.syntax}, &h.info,
                         k == 0 ? whole_over_first : 1.0);
   });
-  if (!halves[0].info.self_contained || !halves[1].info.starts_cleanly) return std::nullopt;
+  if (!halves[0].info.self_contained || !halves[1].info.starts_cleanly || halves[1].info.stopped) {
+    return std::nullopt;  // see PieceInfo::stopped
+  }
   ast::Ast out;
   out.file = file;
   if (!halves[1].info.gave_up) out = std::move(halves[0].ast);  // see PieceInfo::gave_up

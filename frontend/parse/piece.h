@@ -37,6 +37,13 @@ struct PieceInfo {
   /// parse then gives up at the same place and keeps no AST either, so the assembled AST
   /// must be empty too (its diagnostics are still every piece's).
   bool gave_up = false;
+  /// A limit stopped the token pass (brackets nested too deep, an unclosed `tclinit` or
+  /// `tclupdate`: prepare_tokens). The parse of a text whose token pass stopped makes no
+  /// repairs anywhere in it (a missing `(`, a single-line statement's end), so the pieces
+  /// before a stopped piece, parsed with their repairs, may differ from the same text inside
+  /// the whole: a text whose last piece stopped is parsed in one piece. (A stopped piece is
+  /// never self-contained, so it can only be the last.)
+  bool stopped = false;
 };
 
 /// Parses `text` as if it were the whole of `file`: ranges are byte offsets into `text` and

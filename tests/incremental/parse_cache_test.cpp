@@ -565,7 +565,10 @@ TEST(ParseTwoThreads, SecondHalfThatCannotStartAStatementIsNotUsed) {
 // first statement parsed alone was kept (the cache did the same: PieceInfo::gave_up). The
 // next two: the error recovery's diagnostics and the AST builder's came in another order
 // when the text was cut in two (a recovery error after the cut, a wrong `end` word before
-// it); the parse now reports them in position order.
+// it); the parse now reports them in position order. The fourth: an unclosed `tclupdate`
+// in the second half stops the whole text's token pass, which then makes no repairs
+// anywhere, while the first half parsed alone put a missing `(` before `0 2 1)`; a text
+// whose last piece stopped is now parsed in one piece.
 TEST(ParseTwoThreads, FuzzFindings) {
   const std::vector<std::string> texts = {
       std::string("point pnt p1 (0 2 1) endpoint\npoint ") + std::string(39, '\xff') +
@@ -573,6 +576,7 @@ TEST(ParseTwoThreads, FuzzFindings) {
       std::string("q\0n bspline  1  endtorus\ninst    0.1sav ) endtorus\ninstanc\ne c   ", 65),
       "point p1 (0- 1) endp\xff\xffot\xffn\xf2i\nciircle (20 1) endcircle\ntorus - 1) endp\xff\xffot\xffn"
       "\xf2i\nciircle (20 1) endcircle\ntorutor0s0 (",
+      std::string("point W\0\0\0" "0 2 1)", 16) + std::string(38, '\xc7') + " endpoint\npoi) 1tclupdate) endpuo",
   };
   for (const std::string& text : texts) {
     EXPECT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), full_parse(text)), "") << text;
