@@ -55,6 +55,18 @@ std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
 
+// `parse_dump` through a new `ParseCache` (one thread), which cuts the text after every
+// top-level block and parses the pieces alone where that is provably the same (the
+// editor's parse of every version of a document).
+std::string cache_dump(const std::string& text) {
+  nomec::SourceManager sources;
+  nomec::DiagnosticEngine diags;
+  const nomec::FileId f = sources.add_file("fuzz.nome", text);
+  nomec::ParseCache cache(nomec::ParseThreads::One);
+  const nomec::ast::Ast a = cache.parse(sources, f, diags);
+  return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
+}
+
 // Prints both dumps of a disagreement, `what` (`got`) against `reference` (`want`): what a
 // finding's reader needs first. Returns false, for `a == b || report(…)`.
 bool report(const char* what, const std::string& got, const char* reference, const std::string& want) {
@@ -68,7 +80,7 @@ bool report(const char* what, const std::string& got, const char* reference, con
 // parse (the tree-based builder when the text has no errors, every prediction from the
 // simulator, one recovering parse of the whole text) and with its parse cut
 // in two and parsed on two threads (or, when its halves would not parse as inside it, in
-// one piece after all).
+// one piece after all), and with its parse through a new parse cache.
 bool parses_agree(const std::string& text) {
   bool clean = false;
   const std::string one = parse_dump(text, &clean);
@@ -85,7 +97,9 @@ bool parses_agree(const std::string& text) {
   nomec::parse_detail::use_tree_builder(false);
   if (reference != one) return report("the reference parse", reference, "the parse on one thread", one);
   const std::string two = parse_dump(text, &ignored, nomec::ParseThreads::Two);
-  return two == one || report("the parse on two threads", two, "the parse on one thread", one);
+  if (two != one) return report("the parse on two threads", two, "the parse on one thread", one);
+  const std::string cached = cache_dump(text);
+  return cached == one || report("the parse through a new parse cache", cached, "the parse on one thread", one);
 }
 
 std::string sorted_dump(nomec::DiagnosticEngine& diags) {
