@@ -46,24 +46,17 @@ bool lexers_agree(std::string_view text) {
   return fast.tokens == reference.tokens && fast.eof_touch_start == reference.eof_touch_start;
 }
 
-std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads threads = nomec::ParseThreads::One) {
+// The text's AST and diagnostics, parsed by `parse_file` on `threads`, or through `cache`
+// when one is given (the editor's parse, which cuts the text after every top-level block and
+// parses the pieces alone where that is provably the same).
+std::string parse_dump(const std::string& text, bool* clean, nomec::ParseThreads threads = nomec::ParseThreads::One,
+                       nomec::ParseCache* cache = nullptr) {
   nomec::SourceManager sources;
   nomec::DiagnosticEngine diags;
   const nomec::FileId f = sources.add_file("fuzz.nome", text);
-  const nomec::ast::Ast a = nomec::parse_file(sources, f, diags, threads);
+  const nomec::ast::Ast a =
+      cache != nullptr ? cache->parse(sources, f, diags) : nomec::parse_file(sources, f, diags, threads);
   *clean = diags.error_count() == 0;
-  return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
-}
-
-// `parse_dump` through a new `ParseCache` (one thread), which cuts the text after every
-// top-level block and parses the pieces alone where that is provably the same (the
-// editor's parse of every version of a document).
-std::string cache_dump(const std::string& text) {
-  nomec::SourceManager sources;
-  nomec::DiagnosticEngine diags;
-  const nomec::FileId f = sources.add_file("fuzz.nome", text);
-  nomec::ParseCache cache(nomec::ParseThreads::One);
-  const nomec::ast::Ast a = cache.parse(sources, f, diags);
   return nomec::testing_dump::dump_ast(a) + nomec::testing_dump::dump_diags(diags);
 }
 
@@ -98,7 +91,8 @@ bool parses_agree(const std::string& text) {
   if (reference != one) return report("the reference parse", reference, "the parse on one thread", one);
   const std::string two = parse_dump(text, &ignored, nomec::ParseThreads::Two);
   if (two != one) return report("the parse on two threads", two, "the parse on one thread", one);
-  const std::string cached = cache_dump(text);
+  nomec::ParseCache cache(nomec::ParseThreads::One);
+  const std::string cached = parse_dump(text, &ignored, nomec::ParseThreads::One, &cache);
   return cached == one || report("the parse through a new parse cache", cached, "the parse on one thread", one);
 }
 
