@@ -23,19 +23,68 @@
 #include <string_view>
 
 namespace nomec::backend {
-namespace {
+namespace write_detail {
+
+// The next corner of a face of n corners (no division: this runs for every face written).
+inline int32_t next_corner(int32_t i, int32_t n) { return i + 1 == n ? 0 : i + 1; }
 
 glm::dvec3 newell(const kernel::PolygonSoup& s, const int32_t* v, int32_t n) {
   glm::dvec3 nrm(0.0);
+  if (n == 0) return nrm;
+  const glm::dvec3* b = &s.positions[v[0]];
   for (int32_t i = 0; i < n; ++i) {
-    const glm::dvec3& a = s.positions[v[i]];
-    const glm::dvec3& b = s.positions[v[(i + 1) % n]];
+    const glm::dvec3& a = *b;
+    b = &s.positions[v[next_corner(i, n)]];
+    nrm.x += (a.y - b->y) * (a.z + b->z);
+    nrm.y += (a.z - b->z) * (a.x + b->x);
+    nrm.z += (a.x - b->x) * (a.y + b->y);
+  }
+  return nrm;
+}
+
+bool is_convex(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm) {
+  if (n == 0) return true;
+  // Corners i, i + 1, i + 2 (around the face), each position loaded once.
+  glm::dvec3 a = s.positions[v[0]], b = s.positions[v[next_corner(0, n)]];
+  for (int32_t i = 0, k = next_corner(next_corner(0, n), n); i < n; ++i, k = next_corner(k, n)) {
+    const glm::dvec3 c = s.positions[v[k]];
+    if (glm::dot(glm::cross(b - a, c - b), nrm) < 0) return false;
+    a = b;
+    b = c;
+  }
+  return true;
+}
+
+// The same arithmetic as is_convex(s, v, 4, newell(s, v, 4)), in the same order, without
+// the loops' early exits: the four corners' tests are independent, so the processor
+// overlaps them (most faces written are quads, and this test was about half of the binary
+// STL writer's time).
+bool is_convex_quad(const kernel::PolygonSoup& s, const int32_t* v) {
+  const glm::dvec3 p[4] = {s.positions[v[0]], s.positions[v[1]], s.positions[v[2]], s.positions[v[3]]};
+  glm::dvec3 nrm(0.0);
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3& a = p[i];
+    const glm::dvec3& b = p[(i + 1) & 3];
     nrm.x += (a.y - b.y) * (a.z + b.z);
     nrm.y += (a.z - b.z) * (a.x + b.x);
     nrm.z += (a.x - b.x) * (a.y + b.y);
   }
-  return nrm;
+  bool convex = true;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 &a = p[i], &b = p[(i + 1) & 3], &c = p[(i + 2) & 3];
+    convex &= !(glm::dot(glm::cross(b - a, c - b), nrm) < 0);
+  }
+  return convex;
 }
+
+}  // namespace write_detail
+
+namespace {
+
+using write_detail::is_convex;
+using write_detail::is_convex_quad;
+using write_detail::newell;
+
 
 // Ear clipping of one polygon projected onto the plane orthogonal to `nrm`.
 bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm,
@@ -79,14 +128,6 @@ bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dv
   return true;
 }
 
-bool is_convex(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm) {
-  for (int32_t i = 0; i < n; ++i) {
-    glm::dvec3 a = s.positions[v[i]], b = s.positions[v[(i + 1) % n]], c = s.positions[v[(i + 2) % n]];
-    if (glm::dot(glm::cross(b - a, c - b), nrm) < 0) return false;
-  }
-  return true;
-}
-
 std::string color_name(const glm::vec3& c) {
   auto q = [](float x) { return static_cast<int>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255)); };
   return fmt::format("c{:02x}{:02x}{:02x}", q(c.r), q(c.g), q(c.b));
@@ -118,8 +159,9 @@ glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_
 // succeeds) appends its triangles to `out` and returns true; other faces append nothing.
 bool clip_face(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, std::vector<int32_t>& out) {
   if (n == 3) return false;
+  if (n == 4 && is_convex_quad(s, v)) return false;
   const glm::dvec3 nrm = newell(s, v, n);
-  if (is_convex(s, v, n, nrm)) return false;
+  if (n != 4 && is_convex(s, v, n, nrm)) return false;
   const size_t before = out.size();
   if (ear_clip(s, v, n, nrm, out)) return true;
   out.resize(before);  // a failed clip falls back to the fan

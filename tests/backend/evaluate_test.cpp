@@ -9,7 +9,10 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <random>
 #include <span>
 #include <string>
 #include <vector>
@@ -220,6 +223,77 @@ TEST(Write, TriangulatesNonConvexPolygonsByEarClipping) {
     area += n.z / 2;
   }
   EXPECT_NEAR(area, 3.0, 1e-12);
+}
+
+// The writers decide whether to fan or ear-clip a face with `is_convex` of its Newell
+// normal, and a quad with `is_convex_quad`. Both are held to the definition (the loops over
+// corners i, i + 1, i + 2 modulo n, written out here) to the bit, on quads of every shape:
+// random ones, darts and bow ties, repeated and collinear corners (where a corner's test is
+// exactly 0), planar ones on a lattice, tiny and huge coordinates, infinities and NaNs.
+TEST(Write, QuadConvexityIsTheGeneralTestToTheBit) {
+  auto newell_definition = [](const std::vector<glm::dvec3>& p) {
+    glm::dvec3 nrm(0.0);
+    const size_t n = p.size();
+    for (size_t i = 0; i < n; ++i) {
+      const glm::dvec3 &a = p[i], &b = p[(i + 1) % n];
+      nrm.x += (a.y - b.y) * (a.z + b.z);
+      nrm.y += (a.z - b.z) * (a.x + b.x);
+      nrm.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return nrm;
+  };
+  auto convex_definition = [](const std::vector<glm::dvec3>& p, glm::dvec3 nrm) {
+    const size_t n = p.size();
+    for (size_t i = 0; i < n; ++i) {
+      const glm::dvec3 &a = p[i], &b = p[(i + 1) % n], &c = p[(i + 2) % n];
+      if (glm::dot(glm::cross(b - a, c - b), nrm) < 0) return false;
+    }
+    return true;
+  };
+  // To the bit, except that a NaN is any NaN (which of two NaN operands an addition passes
+  // on depends on the order the compiler writes them in; the writers only compare with it).
+  auto same_bits = [](glm::dvec3 a, glm::dvec3 b) {
+    for (int i = 0; i < 3; ++i) {
+      if (std::isnan(a[i]) && std::isnan(b[i])) continue;
+      if (std::memcmp(&a[i], &b[i], sizeof a[i]) != 0) return false;
+    }
+    return true;
+  };
+  std::mt19937_64 rng(18);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> lattice(-2, 2);
+  const double specials[] = {0.0, -0.0, 1e-300, -1e-300, 1e300, -1e300,
+                             std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()};
+  int convex = 0, clipped = 0;
+  for (int round = 0; round < 200000; ++round) {
+    std::vector<glm::dvec3> p(static_cast<size_t>(round % 7 == 6 ? 3 + round / 7 % 4 : 4));
+    for (glm::dvec3& q : p) {
+      switch (round % 6) {
+        case 0: q = {unit(rng), unit(rng), unit(rng)}; break;                                      // any quad
+        case 1: q = {unit(rng), unit(rng), 0.0}; break;                                            // planar
+        case 2: q = {double(lattice(rng)), double(lattice(rng)), double(lattice(rng) & 1)}; break;  // exact zeros
+        case 3: q = {unit(rng) * 1e-160, unit(rng) * 1e-160, unit(rng) * 1e-160}; break;           // underflow
+        case 4: q = {unit(rng) * 1e150, unit(rng) * 1e150, unit(rng) * 1e150}; break;              // overflow
+        default: q = {specials[rng() % 8], unit(rng), specials[rng() % 8]}; break;
+      }
+    }
+    if (round % 11 == 0) p[rng() % p.size()] = p[rng() % p.size()];  // a repeated corner
+    kernel::PolygonSoup s;
+    std::vector<int32_t> v;
+    for (const glm::dvec3& q : p) v.push_back(s.add_vertex(q));
+    const int32_t n = static_cast<int32_t>(v.size());
+    const glm::dvec3 nrm = newell_definition(p);
+    ASSERT_TRUE(same_bits(write_detail::newell(s, v.data(), n), nrm)) << "round " << round;
+    const bool expected = convex_definition(p, nrm);
+    ASSERT_EQ(write_detail::is_convex(s, v.data(), n, nrm), expected) << "round " << round;
+    if (n == 4) {
+      ASSERT_EQ(write_detail::is_convex_quad(s, v.data()), expected) << "round " << round;
+      ++(expected ? convex : clipped);
+    }
+  }
+  // Both outcomes are exercised, many times.
+  EXPECT_GT(convex, 10000);
+  EXPECT_GT(clipped, 10000);
 }
 
 // The streamed binary STL: pieces of about a megabyte whose concatenation is the header,
