@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+#include <numeric>
+#include <random>
+#include <set>
+
 #include "kernel/topology.h"
 #include "tests/kernel/build.h"
 #include "tests/kernel/shapes.h"
@@ -156,6 +161,95 @@ TEST(Merge, ToleranceAndAveraging) {
   auto bad = merge(m, {.tolerance = -1});
   ASSERT_FALSE(bad.has_value());
   EXPECT_EQ(bad.error().kind, KernelError::Kind::InvalidArgument);
+}
+
+// The spatial search against every pair: triangles in pairs whose shared edge is copied
+// with a jitter from well inside to just beyond the tolerance, scattered over a large box at
+// several scales of tolerance (so that vertices fall near the sides of the search's cells
+// and across them), give exactly the joins and merged vertices of a brute-force matching of
+// all boundary edges (`merge` joins a boundary edge with the one other boundary edge, of
+// another face, whose ends both lie within the tolerance of its ends).
+TEST(Merge, SpatialSearchFindsExactlyTheCoincidingEdges) {
+  std::mt19937_64 rng(18);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const double tol : {1e-9, 1e-4, 0.013, 0.5}) {
+    PolygonSoup s;
+    auto jittered = [&](glm::dvec3 p) {
+      // Within the tolerance, at it, or up to 30 % beyond it, in a random direction.
+      const double len = tol * (unit(rng) < 0.2 ? 1.0 : 1.3 * unit(rng));
+      glm::dvec3 d(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
+      return p + len * d / std::max(glm::length(d), 1e-300);
+    };
+    for (int k = 0; k < 300; ++k) {
+      // A corner on a cell side of the search (a multiple of twelve tolerances) now and then.
+      glm::dvec3 p(unit(rng), unit(rng), unit(rng));
+      p *= 2000 * tol;
+      if (k % 5 == 0) p.x = 12 * tol * std::round(p.x / (12 * tol)) + (unit(rng) - 0.5) * 3 * tol;
+      const glm::dvec3 q = p + glm::dvec3(0, 0, 40 * tol);
+      const int32_t a = s.add_vertex(p), b = s.add_vertex(q), c = s.add_vertex(p + glm::dvec3(40 * tol, 0, 0));
+      s.add_face({a, b, c});
+      const int32_t a2 = s.add_vertex(jittered(p)), b2 = s.add_vertex(jittered(q));
+      const int32_t c2 = s.add_vertex(p + glm::dvec3(-40 * tol, 0, 20 * tol));
+      s.add_face({b2, a2, c2});
+    }
+    const Mesh m = build(s);
+    // Brute force over every pair of boundary edges.
+    auto coincide = [&](VertexId x, VertexId y) {
+      const glm::dvec3 d = m.position(x) - m.position(y);
+      return glm::dot(d, d) <= tol * tol;
+    };
+    std::vector<int32_t> parent(static_cast<size_t>(m.vertex_count()));
+    std::iota(parent.begin(), parent.end(), 0);
+    auto root = [&](int32_t x) {
+      while (parent[x] != x) x = parent[x];
+      return x;
+    };
+    auto unite = [&](int32_t x, int32_t y) {
+      x = root(x);
+      y = root(y);
+      if (x != y) parent[std::max(x, y)] = std::min(x, y);
+    };
+    int32_t joined = 0, conflicts = 0;
+    for (int32_t e = 0; e < m.edge_count(); ++e) {
+      if (!m.is_boundary(EdgeId(e))) continue;
+      const VertexId a = m.edge_vertex(EdgeId(e), 0), b = m.edge_vertex(EdgeId(e), 1);
+      int32_t found = 0, partner = -1;
+      VertexId pa, pb;
+      for (int32_t e2 = 0; e2 < m.edge_count(); ++e2) {
+        if (e2 == e || !m.is_boundary(EdgeId(e2)) || m.edge_face(EdgeId(e2), 0) == m.edge_face(EdgeId(e), 0)) continue;
+        for (int end = 0; end < 2; ++end) {
+          const VertexId x = m.edge_vertex(EdgeId(e2), end), y = m.edge_vertex(EdgeId(e2), 1 - end);
+          if (coincide(x, a) && coincide(y, b)) {
+            ++found;
+            partner = e2;
+            pa = x;
+            pb = y;
+          }
+        }
+      }
+      if (found > 1) ++conflicts;
+      if (found != 1) continue;
+      if (e < partner) ++joined;
+      unite(a.index, pa.index);
+      unite(b.index, pb.index);
+    }
+    ASSERT_EQ(conflicts, 0) << "tolerance " << tol;  // the pairs are far apart
+    std::set<int32_t> classes;
+    for (int32_t v = 0; v < m.vertex_count(); ++v) classes.insert(root(v));
+    auto merged = merge(m, {.tolerance = tol});
+    ASSERT_TRUE(merged.has_value()) << merged.error().message;
+    EXPECT_EQ(merged->joined_edge_count, joined) << "tolerance " << tol;
+    EXPECT_EQ(merged->mesh.vertex_count(), static_cast<int32_t>(classes.size())) << "tolerance " << tol;
+    for (int32_t v = 0; v < m.vertex_count(); ++v) {
+      for (int32_t w : {v + 1, v - 1}) {
+        if (w < 0 || w >= m.vertex_count()) continue;
+        EXPECT_EQ(merged->vertex_map[v] == merged->vertex_map[w], root(v) == root(w)) << v << " " << w;
+      }
+    }
+    // Both outcomes, many times: joined pairs and pairs left apart.
+    EXPECT_GT(joined, 60) << "tolerance " << tol;
+    EXPECT_LT(joined, 290) << "tolerance " << tol;
+  }
 }
 
 TEST(Merge, TouchingAtOneVertexIsNotMerged) {
