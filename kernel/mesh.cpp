@@ -569,6 +569,10 @@ PolygonSoup to_soup(const Mesh& mesh) {
   }
   soup.face_sizes.reserve(mesh.face_count());
   soup.face_sources.reserve(mesh.face_count());
+  // Every face corner is an edge use, so two per edge bound them (the untouched room a
+  // border leaves costs no memory); growing by doubling copied a large mesh's corners
+  // about twice over and held both copies at once.
+  soup.face_vertices.reserve(2 * static_cast<size_t>(mesh.edge_count()));
   for (int32_t f = 0; f < mesh.face_count(); ++f) {
     int32_t n = 0;
     mesh.for_each_face_use(FaceId(f), [&](EdgeUse u) {
