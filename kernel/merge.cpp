@@ -212,6 +212,7 @@ class BoundaryGrid {
     while (cap < 2 * verts.size()) cap *= 2;
     mask_ = cap - 1;
     slots_.assign(cap, Slot{});
+    keys_.reserve(verts.size());
     std::vector<int32_t> cell_of(verts.size());
     std::vector<int32_t> counts;
     for (size_t i = 0; i < verts.size(); ++i) {
