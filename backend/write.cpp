@@ -85,7 +85,6 @@ using write_detail::is_convex;
 using write_detail::is_convex_quad;
 using write_detail::newell;
 
-
 // Ear clipping of one polygon projected onto the plane orthogonal to `nrm`.
 bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm,
               std::vector<int32_t>& out) {
