@@ -182,7 +182,7 @@ std::vector<OutputMesh> pipeline_impl(const std::vector<const OutputMesh*>& mesh
   }
   OutputMesh out;
   out.name = std::string(name);
-  out.soup = kernel::to_soup(mesh);
+  if (o.polygon_lists) out.soup = kernel::to_soup(mesh);
   out.mesh = std::move(mesh);
   out.curve_count = curves;
   out.curves = std::move(curve_points);

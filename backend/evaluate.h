@@ -37,6 +37,9 @@ struct Curve {
 struct OutputMesh {
   std::string name;  // name of the scene entry, e.g. "kb"
   ir::NodeId scene_node;
+  /// The polygons, which the writers read. Empty for the output of a whole-scene pipeline
+  /// run with `PipelineOptions::polygon_lists` off, whose faces are only in `mesh`
+  /// (`write_stl_binary` reads them there).
   kernel::PolygonSoup soup;
   kernel::Mesh mesh;
   int32_t curve_count = 0;  // polylines and curves under this entry (no faces)
@@ -61,6 +64,10 @@ struct PipelineOptions {
   int32_t subdivide_after_levels = 0;
   /// Not a pipeline step: the limit on what the evaluation (and the pipeline) may build.
   int64_t max_vertices = kDefaultMaxVertices;
+  /// Not a pipeline step: make the output's polygon list (`OutputMesh::soup`). `nomec
+  /// --emit stl` (binary) turns it off and writes from the mesh: the list of a large output
+  /// is a copy of all of it (about 50 bytes a face) that only the other writers need.
+  bool polygon_lists = true;
   bool any() const {
     return is_merge || subdivide_levels > 0 || offset_height > 0 || subdivide_after_levels > 0;
   }

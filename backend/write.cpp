@@ -28,13 +28,13 @@ namespace write_detail {
 // The next corner of a face of n corners (no division: this runs for every face written).
 inline int32_t next_corner(int32_t i, int32_t n) { return i + 1 == n ? 0 : i + 1; }
 
-glm::dvec3 newell(const kernel::PolygonSoup& s, const int32_t* v, int32_t n) {
+glm::dvec3 newell(const glm::dvec3* pos, const int32_t* v, int32_t n) {
   glm::dvec3 nrm(0.0);
   if (n == 0) return nrm;
-  const glm::dvec3* b = &s.positions[v[0]];
+  const glm::dvec3* b = &pos[v[0]];
   for (int32_t i = 0; i < n; ++i) {
     const glm::dvec3& a = *b;
-    b = &s.positions[v[next_corner(i, n)]];
+    b = &pos[v[next_corner(i, n)]];
     nrm.x += (a.y - b->y) * (a.z + b->z);
     nrm.y += (a.z - b->z) * (a.x + b->x);
     nrm.z += (a.x - b->x) * (a.y + b->y);
@@ -42,12 +42,12 @@ glm::dvec3 newell(const kernel::PolygonSoup& s, const int32_t* v, int32_t n) {
   return nrm;
 }
 
-bool is_convex(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm) {
+bool is_convex(const glm::dvec3* pos, const int32_t* v, int32_t n, glm::dvec3 nrm) {
   if (n == 0) return true;
   // Corners i, i + 1, i + 2 (around the face), each position loaded once.
-  glm::dvec3 a = s.positions[v[0]], b = s.positions[v[next_corner(0, n)]];
+  glm::dvec3 a = pos[v[0]], b = pos[v[next_corner(0, n)]];
   for (int32_t i = 0, k = next_corner(next_corner(0, n), n); i < n; ++i, k = next_corner(k, n)) {
-    const glm::dvec3 c = s.positions[v[k]];
+    const glm::dvec3 c = pos[v[k]];
     if (glm::dot(glm::cross(b - a, c - b), nrm) < 0) return false;
     a = b;
     b = c;
@@ -55,12 +55,12 @@ bool is_convex(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::d
   return true;
 }
 
-// The same arithmetic as is_convex(s, v, 4, newell(s, v, 4)), in the same order, without
+// The same arithmetic as is_convex(pos, v, 4, newell(pos, v, 4)), in the same order, without
 // the loops' early exits: the four corners' tests are independent, so the processor
 // overlaps them (most faces written are quads, and this test was about half of the binary
 // STL writer's time).
-bool is_convex_quad(const kernel::PolygonSoup& s, const int32_t* v) {
-  const glm::dvec3 p[4] = {s.positions[v[0]], s.positions[v[1]], s.positions[v[2]], s.positions[v[3]]};
+bool is_convex_quad(const glm::dvec3* pos, const int32_t* v) {
+  const glm::dvec3 p[4] = {pos[v[0]], pos[v[1]], pos[v[2]], pos[v[3]]};
   glm::dvec3 nrm(0.0);
   for (int i = 0; i < 4; ++i) {
     const glm::dvec3& a = p[i];
@@ -86,7 +86,7 @@ using write_detail::is_convex_quad;
 using write_detail::newell;
 
 // Ear clipping of one polygon projected onto the plane orthogonal to `nrm`.
-bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dvec3 nrm,
+bool ear_clip(const glm::dvec3* pos, const int32_t* v, int32_t n, glm::dvec3 nrm,
               std::vector<int32_t>& out) {
   // Project to 2D: drop the dominant axis of the normal, keep the orientation.
   int axis = std::fabs(nrm.x) > std::fabs(nrm.y) ? (std::fabs(nrm.x) > std::fabs(nrm.z) ? 0 : 2)
@@ -94,7 +94,7 @@ bool ear_clip(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, glm::dv
   int u = (axis + 1) % 3, w = (axis + 2) % 3;
   double sign = nrm[axis] >= 0 ? 1.0 : -1.0;
   std::vector<glm::dvec2> p(n);
-  for (int32_t i = 0; i < n; ++i) p[i] = {s.positions[v[i]][u], s.positions[v[i]][w]};
+  for (int32_t i = 0; i < n; ++i) p[i] = {pos[v[i]][u], pos[v[i]][w]};
   std::vector<int32_t> idx(n);
   for (int32_t i = 0; i < n; ++i) idx[i] = i;
   auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
@@ -148,21 +148,21 @@ void put_f32s(char* at, const float (&f)[12]) {
   }
 }
 
-glm::dvec3 tri_normal(const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
-  glm::dvec3 n = glm::cross(s.positions[b] - s.positions[a], s.positions[c] - s.positions[a]);
+glm::dvec3 tri_normal(const glm::dvec3* pos, int32_t a, int32_t b, int32_t c) {
+  glm::dvec3 n = glm::cross(pos[b] - pos[a], pos[c] - pos[a]);
   double l = glm::length(n);
   return l > 0 ? n / l : glm::dvec3(0.0);
 }
 
 // A face that is not fanned from its first vertex (a non-convex one whose ear clipping
 // succeeds) appends its triangles to `out` and returns true; other faces append nothing.
-bool clip_face(const kernel::PolygonSoup& s, const int32_t* v, int32_t n, std::vector<int32_t>& out) {
+bool clip_face(const glm::dvec3* pos, const int32_t* v, int32_t n, std::vector<int32_t>& out) {
   if (n == 3) return false;
-  if (n == 4 && is_convex_quad(s, v)) return false;
-  const glm::dvec3 nrm = newell(s, v, n);
-  if (n != 4 && is_convex(s, v, n, nrm)) return false;
+  if (n == 4 && is_convex_quad(pos, v)) return false;
+  const glm::dvec3 nrm = newell(pos, v, n);
+  if (n != 4 && is_convex(pos, v, n, nrm)) return false;
   const size_t before = out.size();
-  if (ear_clip(s, v, n, nrm, out)) return true;
+  if (ear_clip(pos, v, n, nrm, out)) return true;
   out.resize(before);  // a failed clip falls back to the fan
   return false;
 }
@@ -178,7 +178,7 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
     const int32_t n = s.face_sizes[f];
     const int32_t* v = s.face_vertices.data() + at;
     at += n;
-    if (clip_face(s, v, n, out)) continue;
+    if (clip_face(s.positions.data(), v, n, out)) continue;
     for (int32_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {v[0], v[i], v[i + 1]});
   }
   return out;
@@ -186,37 +186,57 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
 
 namespace {
 
+// Calls `fn(positions, v, n)` for each face of `out` in order, `v` its `n` corners: from the
+// polygon list, or (a pipeline output made without one, `PipelineOptions::polygon_lists`)
+// walked in the mesh exactly as `kernel::to_soup` lists it, so both give the same faces.
+template <typename Fn>
+bool for_each_face(const OutputMesh& out, std::vector<int32_t>& corners, Fn&& fn) {
+  const kernel::PolygonSoup& s = out.soup;
+  if (s.face_count() > 0 || out.mesh.face_count() == 0) {
+    size_t at = 0;
+    for (int32_t f = 0; f < s.face_count(); ++f) {
+      if (!fn(s.positions.data(), s.face_vertices.data() + at, s.face_sizes[f])) return false;
+      at += static_cast<size_t>(s.face_sizes[f]);
+    }
+    return true;
+  }
+  const kernel::Mesh& mesh = out.mesh;
+  for (int32_t f = 0; f < mesh.face_count(); ++f) {
+    corners.clear();
+    mesh.for_each_face_use(kernel::FaceId(f), [&](kernel::EdgeUse u) { corners.push_back(mesh.use_tail(u).index); });
+    if (!fn(mesh.positions().data(), corners.data(), static_cast<int32_t>(corners.size()))) return false;
+  }
+  return true;
+}
+
 // Binary STL in pieces: `buffers` (1 or 2) of the caller's buffers `bufs`, of about a
 // megabyte, filled in turn, each handed to `sink` when full. With two, a piece stays
 // untouched until the sink has been called with the next one and has returned (what
 // `OverlappedSink` relies on); the caller keeps `bufs` until the sink is done with the last.
 bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bufs)[2], int buffers,
                       const std::function<bool(std::string_view)>& sink) {
-  // Pass 1: the triangle count for the header, keeping the few ear-clipped faces' triangles
-  // (the rest are fans from their first vertex, made again in pass 2).
-  std::vector<std::vector<uint8_t>> clipped(meshes.size());
-  std::vector<int32_t> clipped_tris;
-  std::vector<size_t> clipped_end;  // per clipped face, the end of its triangles
+  // The triangle count for the header: a face of n corners makes n - 2 triangles, whether it
+  // is fanned or ear clipped (each ear is one triangle, the last three corners another, and
+  // a failed clipping falls back to the fan), so the faces need not be visited twice.
   uint32_t count = 0;
-  for (size_t m = 0; m < meshes.size(); ++m) {
-    const kernel::PolygonSoup& s = meshes[m].soup;
-    clipped[m].assign(static_cast<size_t>(s.face_count()), 0);
-    size_t at = 0;
-    for (int32_t f = 0; f < s.face_count(); ++f) {
-      const int32_t n = s.face_sizes[f];
-      const size_t before = clipped_tris.size();
-      if (clip_face(s, s.face_vertices.data() + at, n, clipped_tris)) {
-        clipped[m][f] = 1;
-        clipped_end.push_back(clipped_tris.size());
-        count += static_cast<uint32_t>((clipped_tris.size() - before) / 3);
-      } else {
-        count += static_cast<uint32_t>(n - 2);
-      }
-      at += n;
+  for (const OutputMesh& out : meshes) {
+    const kernel::PolygonSoup& s = out.soup;
+    if (s.face_count() > 0 || out.mesh.face_count() == 0) {
+      for (int32_t n : s.face_sizes) count += static_cast<uint32_t>(n - 2);
+      continue;
     }
+    // A mesh's corners are its edge uses that have a face.
+    const kernel::Mesh& mesh = out.mesh;
+    uint32_t corners = 0;
+    for (int32_t e = 0; e < mesh.edge_count(); ++e) {
+      for (int side = 0; side < 2; ++side) corners += mesh.edge_face(kernel::EdgeId(e), side).is_valid() ? 1 : 0;
+    }
+    count += corners - 2 * static_cast<uint32_t>(mesh.face_count());
   }
-  // Pass 2: 50-byte records (12 little-endian floats and a zero attribute word) into a
-  // buffer of about a megabyte that goes to `sink` whenever it is full.
+  std::vector<int32_t> corners;    // a mesh face's corners (for_each_face)
+  std::vector<int32_t> clipped;    // an ear-clipped face's triangles
+  // 50-byte records (12 little-endian floats and a zero attribute word) into a buffer of
+  // about a megabyte that goes to `sink` whenever it is full.
   constexpr size_t kChunk = 50 * 20000;
   bufs[0].resize(kChunk + 84);
   std::vector<char>* buf = &bufs[0];
@@ -225,7 +245,7 @@ bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bu
   put_u32(buf->data() + 80, count);
   size_t used = 84;
   int current = 0;
-  auto emit = [&](const kernel::PolygonSoup& s, int32_t a, int32_t b, int32_t c) {
+  auto emit = [&](const glm::dvec3* pos, int32_t a, int32_t b, int32_t c) {
     if (used + 50 > buf->size()) {
       if (!sink(std::string_view(buf->data(), used))) return false;
       used = 0;
@@ -235,10 +255,10 @@ bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bu
         if (buf->empty()) buf->resize(kChunk + 84);
       }
     }
-    const glm::dvec3 n = tri_normal(s, a, b, c);
-    const glm::dvec3& pa = s.positions[a];
-    const glm::dvec3& pb = s.positions[b];
-    const glm::dvec3& pc = s.positions[c];
+    const glm::dvec3 n = tri_normal(pos, a, b, c);
+    const glm::dvec3& pa = pos[a];
+    const glm::dvec3& pb = pos[b];
+    const glm::dvec3& pc = pos[c];
     const float f[12] = {static_cast<float>(n.x),  static_cast<float>(n.y),  static_cast<float>(n.z),
                          static_cast<float>(pa.x), static_cast<float>(pa.y), static_cast<float>(pa.z),
                          static_cast<float>(pb.x), static_cast<float>(pb.y), static_cast<float>(pb.z),
@@ -249,26 +269,21 @@ bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bu
     used += 50;
     return true;
   };
-  size_t next_clipped = 0, clipped_face = 0;
-  for (size_t m = 0; m < meshes.size(); ++m) {
-    const kernel::PolygonSoup& s = meshes[m].soup;
-    size_t at = 0;
-    for (int32_t f = 0; f < s.face_count(); ++f) {
-      const int32_t n = s.face_sizes[f];
-      const int32_t* v = s.face_vertices.data() + at;
-      at += n;
-      if (!clipped[m][f]) {
+  for (const OutputMesh& out : meshes) {
+    const bool written = for_each_face(out, corners, [&](const glm::dvec3* pos, const int32_t* v, int32_t n) {
+      clipped.clear();
+      if (!clip_face(pos, v, n, clipped)) {
         for (int32_t i = 1; i + 1 < n; ++i) {
-          if (!emit(s, v[0], v[i], v[i + 1])) return false;
+          if (!emit(pos, v[0], v[i], v[i + 1])) return false;
         }
-        continue;
+        return true;
       }
-      for (const size_t end = clipped_end[clipped_face++]; next_clipped < end; next_clipped += 3) {
-        if (!emit(s, clipped_tris[next_clipped], clipped_tris[next_clipped + 1], clipped_tris[next_clipped + 2])) {
-          return false;
-        }
+      for (size_t k = 0; k < clipped.size(); k += 3) {
+        if (!emit(pos, clipped[k], clipped[k + 1], clipped[k + 2])) return false;
       }
-    }
+      return true;
+    });
+    if (!written) return false;
   }
   return sink(std::string_view(buf->data(), used));
 }
@@ -466,7 +481,7 @@ bool write_stl_ascii(std::span<const OutputMesh> meshes, const std::function<boo
     for (size_t k = 0; k + 2 < t.size(); k += 3) {
       char* p = out.room(3 * kNumberTextMax + 3 * (3 * kNumberTextMax + 16) + 80);
       p = put_text(p, "  facet normal ");
-      p = put_xyz<put_e6>(p, tri_normal(s, t[k], t[k + 1], t[k + 2]));
+      p = put_xyz<put_e6>(p, tri_normal(s.positions.data(), t[k], t[k + 1], t[k + 2]));
       p = put_text(p, "\n    outer loop\n");
       for (int j = 0; j < 3; ++j) {
         const int32_t v = t[k + j];

@@ -23,13 +23,13 @@ namespace nomec::backend {
 std::vector<int32_t> triangulate(const kernel::PolygonSoup& soup);
 
 namespace write_detail {
-/// The Newell normal (unnormalised) of the face `v[0..n)` of `soup`.
-glm::dvec3 newell(const kernel::PolygonSoup& soup, const int32_t* v, int32_t n);
+/// The Newell normal (unnormalised) of the face whose corners are `positions[v[0..n)]`.
+glm::dvec3 newell(const glm::dvec3* positions, const int32_t* v, int32_t n);
 /// Whether the face turns the same way as `nrm` at every corner (`triangulate` fans it).
-bool is_convex(const kernel::PolygonSoup& soup, const int32_t* v, int32_t n, glm::dvec3 nrm);
-/// `is_convex(soup, v, 4, newell(soup, v, 4))` for a quad, to the bit (the writers' test for
-/// the faces most meshes are made of; tests/backend compares the two).
-bool is_convex_quad(const kernel::PolygonSoup& soup, const int32_t* v);
+bool is_convex(const glm::dvec3* positions, const int32_t* v, int32_t n, glm::dvec3 nrm);
+/// `is_convex(positions, v, 4, newell(positions, v, 4))` for a quad, to the bit (the
+/// writers' test for the faces most meshes are made of; tests/backend compares the two).
+bool is_convex_quad(const glm::dvec3* positions, const int32_t* v);
 }  // namespace write_detail
 
 /// Binary STL: 80-byte header, triangle count, 50 bytes per triangle (little endian).

@@ -1,15 +1,18 @@
 // libFuzzer target for the whole pipeline: bytes → check → evaluate → merge → subdivide one
 // level → offset, the way `nomec --emit stl --merge --subdivide 1 --offset 0.05` runs a
 // scene. Fails on a crash, a sanitizer report, an exception, a diagnostic range outside its
-// file, or an output mesh that breaks a winged-edge invariant (kernel::mesh_problem). Size
+// file, an output mesh that breaks a winged-edge invariant (kernel::mesh_problem), or binary
+// STL from the output meshes alone that differs from the STL from their polygon lists. Size
 // limits keep every input fast: at most 2 KiB of text and a budget of 20 000 vertices for
 // the evaluation and each subdivision (beyond it the backend reports SceneTooLarge).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "backend/evaluate.h"
+#include "backend/write.h"
 #include "frontend/check/check.h"
 #include "kernel/topology.h"
 
@@ -58,6 +61,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         nomec::backend::evaluate_scene(checked.module, geo, nullptr, kMaxVertices);
     if (geo.error_count() == 0 && !meshes.empty()) {
       meshes = nomec::backend::run_pipeline(std::move(meshes), pipeline, "fuzz", nomec::SourceRange{}, geo);
+      if (geo.error_count() == 0) {
+        // `nomec --emit stl` writes a pipeline's outputs from their meshes, without the
+        // polygon lists: the same bytes as from the lists.
+        const std::string listed = nomec::backend::to_stl_binary(meshes);
+        std::vector<nomec::backend::OutputMesh> bare = meshes;
+        for (nomec::backend::OutputMesh& m : bare) m.soup = {};
+        if (nomec::backend::to_stl_binary(bare) != listed) std::abort();
+      }
     }
     check_ranges(sources, geo);
     for (const nomec::backend::OutputMesh& m : meshes) {

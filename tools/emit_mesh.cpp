@@ -106,7 +106,11 @@ int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& so
   if (geo.error_count() == 0 && cli.pipeline.any()) {
     const std::string stem = std::filesystem::path(path).stem().string();
     const SourceRange where = module.scene.empty() ? SourceRange{} : module.node(module.scene.front()).range;
-    meshes = be::run_pipeline(std::move(meshes), cli.pipeline, stem, where, geo, &timings, say);
+    be::PipelineOptions pipeline = cli.pipeline;
+    // Binary STL is written from the meshes (write_stl_binary), so their polygon lists,
+    // copies of every output face, are not made.
+    pipeline.polygon_lists = !(cli.emit == "stl" && !cli.stl_ascii);
+    meshes = be::run_pipeline(std::move(meshes), pipeline, stem, where, geo, &timings, say);
   }
   if (progress) std::cerr << "\r\033[K" << std::flush;
   geo.sort_and_dedupe();

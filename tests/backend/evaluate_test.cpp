@@ -283,17 +283,83 @@ TEST(Write, QuadConvexityIsTheGeneralTestToTheBit) {
     for (const glm::dvec3& q : p) v.push_back(s.add_vertex(q));
     const int32_t n = static_cast<int32_t>(v.size());
     const glm::dvec3 nrm = newell_definition(p);
-    ASSERT_TRUE(same_bits(write_detail::newell(s, v.data(), n), nrm)) << "round " << round;
+    ASSERT_TRUE(same_bits(write_detail::newell(s.positions.data(), v.data(), n), nrm)) << "round " << round;
     const bool expected = convex_definition(p, nrm);
-    ASSERT_EQ(write_detail::is_convex(s, v.data(), n, nrm), expected) << "round " << round;
+    ASSERT_EQ(write_detail::is_convex(s.positions.data(), v.data(), n, nrm), expected) << "round " << round;
     if (n == 4) {
-      ASSERT_EQ(write_detail::is_convex_quad(s, v.data()), expected) << "round " << round;
+      ASSERT_EQ(write_detail::is_convex_quad(s.positions.data(), v.data()), expected) << "round " << round;
       ++(expected ? convex : clipped);
     }
   }
   // Both outcomes are exercised, many times.
   EXPECT_GT(convex, 10000);
   EXPECT_GT(clipped, 10000);
+}
+
+// `nomec --emit stl` runs the pipeline without polygon lists (PipelineOptions::polygon_lists)
+// and writes binary STL from the meshes: the same bytes as from the lists, for a scene with
+// an ear-clipped face (an L-shaped hexagon), triangles, borders and a Möbius band, merged
+// only (the hexagon stays one face) and merged, subdivided and offset.
+TEST(Write, BinaryStlFromTheMeshesEqualsTheListedPolygons) {
+  const std::string scene =
+      "mesh ell\n"
+      "  point a (0 0 0) endpoint point b (2 0 0) endpoint point c (2 1 0) endpoint\n"
+      "  point d (1 1 0) endpoint point e (1 2 0) endpoint point f (0 2 0) endpoint\n"
+      "  point g (3 0 0) endpoint point h (3 1 0) endpoint point k (1 3 0) endpoint\n"
+      "  face l (a b c d e f) endface face q (b g h c) endface face t (f e k) endface\n"
+      "endmesh\n"
+      "mesh band\n"
+      "  point a0 (1 0 0.2) endpoint point b0 (1 0 -0.2) endpoint\n"
+      "  point a1 (0 1 0.2) endpoint point b1 (0 1 -0.2) endpoint\n"
+      "  point a2 (-1 0 0.2) endpoint point b2 (-1 0 -0.2) endpoint\n"
+      "  point a3 (0 -1 0.2) endpoint point b3 (0 -1 -0.2) endpoint\n"
+      "  face f0 (a0 b0 b1 a1) endface face f1 (a1 b1 b2 a2) endface\n"
+      "  face f2 (a2 b2 b3 a3) endface face f3 (a3 b3 a0 b0) endface\n"
+      "endmesh\n"
+      "instance i ell endinstance\n"
+      "instance j band translate (6 0 0) endinstance\n";
+  PipelineOptions merge_only;
+  merge_only.is_merge = true;
+  PipelineOptions all = merge_only;
+  all.subdivide_levels = 1;
+  all.offset_height = 0.03;
+  for (const PipelineOptions& base : {merge_only, all}) {
+    std::string listed, from_meshes;
+    for (const bool lists : {true, false}) {
+      auto e = eval(scene);
+      ASSERT_EQ(e->diags.error_count(), 0);
+      PipelineOptions o = base;
+      o.polygon_lists = lists;
+      const std::vector<OutputMesh> out = run_pipeline(std::move(e->meshes), o, "x", {}, e->diags);
+      ASSERT_EQ(e->diags.error_count(), 0);
+      ASSERT_EQ(out.size(), 1u);
+      ASSERT_GT(out[0].mesh.face_count(), 0);
+      EXPECT_EQ(out[0].soup.face_count(), lists ? out[0].mesh.face_count() : 0);
+      if (lists && base.subdivide_levels == 0) {
+        // The hexagon is ear clipped, not fanned: the clipping path is exercised.
+        const kernel::PolygonSoup& s = out[0].soup;
+        std::vector<int32_t> fan;
+        size_t at = 0;
+        for (int32_t f = 0; f < s.face_count(); ++f) {
+          for (int32_t i = 1; i + 1 < s.face_sizes[f]; ++i) {
+            fan.insert(fan.end(), {s.face_vertices[at], s.face_vertices[at + i], s.face_vertices[at + i + 1]});
+          }
+          at += static_cast<size_t>(s.face_sizes[f]);
+        }
+        EXPECT_NE(triangulate(s), fan);
+      }
+      // The band is one-sided (so the offset takes its path for Möbius edges); its offset
+      // is the boundary of a solid, two-sided.
+      EXPECT_EQ(out[0].mesh.has_mobius_edges(), base.offset_height == 0);
+      std::string& bytes = lists ? listed : from_meshes;
+      ASSERT_TRUE(write_stl_binary(out, [&](std::string_view piece) {
+        bytes.append(piece);
+        return true;
+      }));
+    }
+    EXPECT_GT(listed.size(), 84u + 50u * 10u);
+    EXPECT_EQ(listed, from_meshes) << (base.offset_height > 0 ? "merged, subdivided, offset" : "merged");
+  }
 }
 
 // The streamed binary STL: pieces of about a megabyte whose concatenation is the header,
