@@ -2,6 +2,7 @@
 #include "backend/write.h"
 
 #include "backend/number_text.h"
+#include "kernel/offset.h"
 
 #include <cmath>
 #include <cstdio>
@@ -35,9 +36,7 @@ glm::dvec3 newell(const glm::dvec3* pos, const int32_t* v, int32_t n) {
   for (int32_t i = 0; i < n; ++i) {
     const glm::dvec3& a = *b;
     b = &pos[v[next_corner(i, n)]];
-    nrm.x += (a.y - b->y) * (a.z + b->z);
-    nrm.y += (a.z - b->z) * (a.x + b->x);
-    nrm.z += (a.x - b->x) * (a.y + b->y);
+    nrm += kernel::newell_term(a, *b);
   }
   return nrm;
 }
@@ -62,13 +61,7 @@ bool is_convex(const glm::dvec3* pos, const int32_t* v, int32_t n, glm::dvec3 nr
 bool is_convex_quad(const glm::dvec3* pos, const int32_t* v) {
   const glm::dvec3 p[4] = {pos[v[0]], pos[v[1]], pos[v[2]], pos[v[3]]};
   glm::dvec3 nrm(0.0);
-  for (int i = 0; i < 4; ++i) {
-    const glm::dvec3& a = p[i];
-    const glm::dvec3& b = p[(i + 1) & 3];
-    nrm.x += (a.y - b.y) * (a.z + b.z);
-    nrm.y += (a.z - b.z) * (a.x + b.x);
-    nrm.z += (a.x - b.x) * (a.y + b.y);
-  }
+  for (int i = 0; i < 4; ++i) nrm += kernel::newell_term(p[i], p[(i + 1) & 3]);
   bool convex = true;
   for (int i = 0; i < 4; ++i) {
     const glm::dvec3 &a = p[i], &b = p[(i + 1) & 3], &c = p[(i + 2) & 3];
@@ -186,13 +179,17 @@ std::vector<int32_t> triangulate(const kernel::PolygonSoup& s) {
 
 namespace {
 
+// Whether `out` is a pipeline output made without its polygon list
+// (`PipelineOptions::polygon_lists`), whose faces are read from its mesh.
+bool faces_in_mesh_only(const OutputMesh& out) { return out.soup.face_count() == 0 && out.mesh.face_count() > 0; }
+
 // Calls `fn(positions, v, n)` for each face of `out` in order, `v` its `n` corners: from the
-// polygon list, or (a pipeline output made without one, `PipelineOptions::polygon_lists`)
-// walked in the mesh exactly as `kernel::to_soup` lists it, so both give the same faces.
+// polygon list, or (faces_in_mesh_only) walked in the mesh exactly as `kernel::to_soup` lists
+// it, so both give the same faces.
 template <typename Fn>
 bool for_each_face(const OutputMesh& out, std::vector<int32_t>& corners, Fn&& fn) {
   const kernel::PolygonSoup& s = out.soup;
-  if (s.face_count() > 0 || out.mesh.face_count() == 0) {
+  if (!faces_in_mesh_only(out)) {
     size_t at = 0;
     for (int32_t f = 0; f < s.face_count(); ++f) {
       if (!fn(s.positions.data(), s.face_vertices.data() + at, s.face_sizes[f])) return false;
@@ -220,9 +217,8 @@ bool write_stl_pieces(std::span<const OutputMesh> meshes, std::vector<char> (&bu
   // a failed clipping falls back to the fan), so the faces need not be visited twice.
   uint32_t count = 0;
   for (const OutputMesh& out : meshes) {
-    const kernel::PolygonSoup& s = out.soup;
-    if (s.face_count() > 0 || out.mesh.face_count() == 0) {
-      for (int32_t n : s.face_sizes) count += static_cast<uint32_t>(n - 2);
+    if (!faces_in_mesh_only(out)) {
+      for (int32_t n : out.soup.face_sizes) count += static_cast<uint32_t>(n - 2);
       continue;
     }
     // A mesh's corners are its edge uses that have a face.
