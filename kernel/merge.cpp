@@ -213,7 +213,6 @@ class BoundaryGrid {
     mask_ = cap - 1;
     slots_.assign(cap, Slot{});
     keys_.reserve(verts.size());
-    std::vector<int32_t> cell_of(verts.size());
     std::vector<int32_t> counts;
     for (size_t i = 0; i < verts.size(); ++i) {
       const CellKey k = key_of(mesh.position(VertexId(verts[i])));
@@ -225,7 +224,6 @@ class BoundaryGrid {
         keys_.push_back(k);
         counts.push_back(0);
       }
-      cell_of[i] = slots_[at].cell;
       cell_at_[static_cast<size_t>(verts[i])] = slots_[at].cell;
       ++counts[static_cast<size_t>(slots_[at].cell)];
     }
@@ -233,7 +231,7 @@ class BoundaryGrid {
     for (size_t c = 0; c < counts.size(); ++c) start_[c + 1] = start_[c] + counts[c];
     cell_verts_.resize(verts.size());
     std::vector<int32_t> fill(start_.begin(), start_.end() - 1);
-    for (size_t i = 0; i < verts.size(); ++i) cell_verts_[static_cast<size_t>(fill[static_cast<size_t>(cell_of[i])]++)] = verts[i];
+    for (const int32_t v : verts) cell_verts_[static_cast<size_t>(fill[static_cast<size_t>(cell_at_[static_cast<size_t>(v)])]++)] = v;
   }
 
   /// Boundary edge `k` (0 or 1) at vertex `v`, or None.
