@@ -458,24 +458,36 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // input edge's two slots for the second: slot 0 holds the positive copy of side 0, and
   // the positive copy of side 1 where it pairs with side 0's (`pos_slot`).
   // A slot holds -1 until its first corner is made (corners are made face by face, in loop
-  // order), so a corner finds by its slot whether it comes second.
+  // order), so a corner finds by its slot whether it comes second. Slot 0 of every edge
+  // comes first, then slot 1 of every edge (`slot_at`): without Möbius edges the positive
+  // copies use only slots 0 and the negative only slots 1, and the two threads that make
+  // them walk the faces in the same order, so slots side by side would put both threads'
+  // writes in the same cache lines at the same time.
   const std::unique_ptr<int32_t[]> oedge = scratch(static_cast<int32_t*>(nullptr), use_count);
+  auto slot_at = [&](int32_t e, int32_t slot) -> int32_t& { return oedge[static_cast<size_t>(slot) * E + e]; };
   for_halves(E, [&](int32_t begin, int32_t end) {
     const size_t from = 2 * static_cast<size_t>(begin), count = 2 * static_cast<size_t>(end - begin);
     std::memset(oedge.get() + from, 0xff, count * sizeof(int32_t));
   });
   auto pos_slot = [](int32_t u, int kind) { return (u & 1) == 0 || kind == 1 ? 0 : 1; };
-  auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(oedge[2 * (u >> 1) + slot]), 0); };
+  auto slot_edge = [&](int32_t u, int32_t slot) { return EdgeUse(EdgeId(slot_at(u >> 1, slot)), 0); };
   EdgeId* anchors = overtex_edges.data();
 
   // One sequence of corners (the positive copies, the negative copies, the ribbons): the
   // number its next new edge gets, the end of its numbers, and how many second uses it made.
-  struct Run {
+  // Its anchors (the first edge at each vertex) are `anchors`, or, for the negative copies
+  // made on their own thread, an array of their own by v- >> 1 (`is_halved`), copied in
+  // once both threads are done: each copy's anchors then lie in cache lines the other
+  // thread never writes, as do the runs themselves and their loops.
+  struct alignas(64) Run {
     int32_t next_edge = 0;
     int32_t end = 0;
     int64_t second_uses = 0;
+    EdgeId* anchors = nullptr;
+    bool is_halved = false;
     std::vector<EdgeUse> loop;
     std::vector<EdgeUse> uses;
+    EdgeId& anchor(int32_t v) { return anchors[is_halved ? v >> 1 : v]; }
   };
   // The first use of a new edge from a to b (in face `face`), or the second use of the
   // edge whose first use is `first` by the corner starting at `a`.
@@ -488,8 +500,8 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     oev[2 * e + 1] = VertexId(b);
     oflags[e] = 0;
     ouf[2 * e] = FaceId(face);
-    if (!anchors[a].is_valid()) anchors[a] = EdgeId(e);
-    if (!anchors[b].is_valid()) anchors[b] = EdgeId(e);
+    if (!run.anchor(a).is_valid()) run.anchor(a) = EdgeId(e);
+    if (!run.anchor(b).is_valid()) run.anchor(b) = EdgeId(e);
     return EdgeUse(EdgeId(e), 0);
   };
   auto second_use = [&](Run& run, EdgeUse first, int32_t a, int32_t face) {
@@ -544,7 +556,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
         const int kind = kind_of(u, a0, a1);
         if (kind == 0) return false;
         // Under pairing 1 the corner that comes second finds the edge kept in the slot.
-        int32_t& kept = oedge[2 * (u >> 1) + pos_slot(u, kind)];
+        int32_t& kept = slot_at(u >> 1, pos_slot(u, kind));
         EdgeUse x;
         if (kind == 1 && kept >= 0) {
           x = second_use(run, EdgeUse(EdgeId(kept), 0), a0, f);
@@ -573,7 +585,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
         const int32_t a0 = p1 ^ 1, a1 = p0 ^ 1;
         const int kind = kind_of(w, p0, p1);
         if (kind == 0) return false;
-        int32_t& kept = oedge[2 * (w >> 1) + 1 - pos_slot(w, kind)];
+        int32_t& kept = slot_at(w >> 1, 1 - pos_slot(w, kind));
         EdgeUse x;
         if (kept >= 0) {
           // Pairing 2: every positive corner came first; pairing 1: the twin's negative
@@ -595,13 +607,32 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // input edge, so the negative copies' edges are numbered from E on: the two copies are
   // made on two threads for large meshes, the same arrays as one after the other.
   Run positive, negative;
+  positive.anchors = negative.anchors = anchors;
   if (!has_mobius && F >= kThreadedFrom && has_two_hardware_threads()) {
     positive.end = E;
     negative.next_edge = E;
     negative.end = static_cast<int32_t>(out_edges);
+    // Without Möbius edges no corner is flipped: the negative copies meet only the odd
+    // vertices (v- = v+ + 1), whose anchors are still None.
+    const size_t halved_count = static_cast<size_t>(out_vertices) / 2;
+    const std::unique_ptr<EdgeId[]> negative_anchors = scratch(static_cast<EdgeId*>(nullptr), halved_count);
+    std::memset(static_cast<void*>(negative_anchors.get()), 0xff, halved_count * sizeof(EdgeId));
+    negative.anchors = negative_anchors.get();
+    negative.is_halved = true;
+    // Loops of their own, allocated in whole cache lines: a face's few corners would
+    // otherwise take a small block that may share a line with the other thread's.
+    for (Run* r : {&positive, &negative}) {
+      r->loop.reserve(64);
+      r->uses.reserve(64);
+    }
     bool made[2] = {false, false};  // positive, negative
     run_two_parts([&](int part) { made[part] = part == 0 ? make_positive(positive) : make_negative(negative); });
     if (!made[0] || !made[1] || positive.next_edge != E) return std::nullopt;
+    for_halves(static_cast<int32_t>(halved_count), [&](int32_t begin, int32_t end) {
+      for (int32_t k = begin; k < end; ++k) anchors[2 * k + 1] = negative_anchors[k];
+    });
+    negative.anchors = anchors;
+    negative.is_halved = false;
   } else {
     positive.end = static_cast<int32_t>(out_edges);
     if (!make_positive(positive)) return std::nullopt;
@@ -616,6 +647,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
   bool sides_ok = true;
   Run ribbons;
+  ribbons.anchors = anchors;
   ribbons.next_edge = negative.next_edge;
   ribbons.end = static_cast<int32_t>(out_edges);
   auto side = [&](int32_t a, int32_t b, int32_t face) {
@@ -638,7 +670,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     if (iuf[2 * e + 1].is_valid()) continue;
     const int32_t at_a = 2 * e, at_b = inext[at_a].index;
     const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
-    if (oedge[2 * e] < 0 || oedge[2 * e + 1] < 0) return std::nullopt;  // a copy made no edge here
+    if (slot_at(e, 0) < 0 || slot_at(e, 1) < 0) return std::nullopt;  // a copy made no edge here
     EdgeUse ribbon[4];
     ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
     ribbon[1] = side(x1, x2, face);
