@@ -11,6 +11,7 @@
 #include <exception>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 #include <utility>
 
 namespace nomec {
@@ -46,7 +47,7 @@ template <typename Part>
 void run_two_parts(Part&& part) {
   std::exception_ptr second_error;
   struct Second {
-    Part* part;
+    std::remove_reference_t<Part>* part;
     std::exception_ptr* error;
     static void run(void* self) {
       const Second& s = *static_cast<const Second*>(self);

@@ -12,6 +12,7 @@
 #include <set>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace nomec {
@@ -21,11 +22,16 @@ TEST(TwoThreads, BothPartsRunAndTheirWritesAreSeenAfterwards) {
   std::vector<int> data(1 << 16);
   for (int round = 0; round < 200; ++round) {
     const size_t mid = data.size() / 2;
-    run_two_parts([&](int k) {
+    auto fill = [&](int k) {
       const size_t b = k == 0 ? 0 : mid;
       const size_t e = k == 0 ? mid : data.size();
       for (size_t i = b; i < e; ++i) data[i] = static_cast<int>(i) + round;
-    });
+    };
+    if (round % 2 == 0) {
+      run_two_parts(fill);  // a named part, passed by reference
+    } else {
+      run_two_parts(std::move(fill));
+    }
     for (size_t i = 0; i < data.size(); ++i) ASSERT_EQ(data[i], static_cast<int>(i) + round) << i;
   }
 }
