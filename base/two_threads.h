@@ -59,36 +59,36 @@ void run_two_parts(Part&& part) {
     }
   } second_part{&part, &second_error};
 
-  if (two_threads_detail::Helper* helper = two_threads_detail::acquire_helper()) {
-    two_threads_detail::start_on_helper(*helper, &Second::run, &second_part);
-    try {
-      part(0);
-    } catch (...) {
-      two_threads_detail::wait_for_helper(*helper);
-      two_threads_detail::release_helper(*helper);
-      throw;
-    }
-    two_threads_detail::wait_for_helper(*helper);
-    two_threads_detail::release_helper(*helper);
-    if (second_error) std::rethrow_exception(second_error);
-    return;
-  }
-
+  namespace detail = two_threads_detail;
+  detail::Helper* helper = detail::acquire_helper();
   std::thread second;
-  try {
-    second = std::thread(&Second::run, &second_part);
-  } catch (const std::system_error&) {
-    part(0);
-    part(1);
-    return;
+  if (helper != nullptr) {
+    detail::start_on_helper(*helper, &Second::run, &second_part);
+  } else {
+    try {
+      second = std::thread(&Second::run, &second_part);
+    } catch (const std::system_error&) {
+      part(0);
+      part(1);
+      return;
+    }
   }
+  // Waits for the second part, wherever it runs.
+  auto join = [&] {
+    if (helper != nullptr) {
+      detail::wait_for_helper(*helper);
+      detail::release_helper(*helper);
+    } else {
+      second.join();
+    }
+  };
   try {
     part(0);
   } catch (...) {
-    second.join();
+    join();
     throw;
   }
-  second.join();
+  join();
   if (second_error) std::rethrow_exception(second_error);
 }
 
