@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <optional>
 #include <vector>
 
 #include "kernel/mesh.h"
@@ -93,6 +94,11 @@ Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options);
 /// builder. `offset` writes the same mesh's arrays directly and falls back to this when the
 /// input's corners do not pair up. Ignores `has_parent_maps` (the maps are filled).
 Result<OffsetResult> offset_through_builder(const Mesh& mesh, const OffsetOptions& options);
+
+/// `offset`'s direct construction alone, for tests that must see it run: nothing where
+/// `offset` falls back to `offset_through_builder` (input whose corners do not pair up), so
+/// a mistake that only sent valid input down the fallback is not hidden by it.
+std::optional<OffsetResult> offset_direct_only(const Mesh& mesh, const OffsetOptions& options);
 
 /// Options for `lattice`, e.g. from NOME's `offset o offset_type NOME_OFFSET_GRID
 /// height 0.05 width 0.1 … endoffset`.

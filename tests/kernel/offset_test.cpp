@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numbers>
 #include <glm/geometric.hpp>
 
 #include "kernel/subdivide.h"
@@ -68,6 +69,11 @@ void expect_direct_equals_reference(const Mesh& mesh, double distance, const std
   EXPECT_TRUE(has_same_topology(without_maps->mesh, reference->mesh)) << what;
   EXPECT_EQ(without_maps->mesh.positions(), reference->mesh.positions()) << what;
   EXPECT_TRUE(without_maps->face_parents.empty() && without_maps->vertex_parents.empty()) << what;
+  // The slab above came from the direct construction, not from its fallback (which is the
+  // reference construction itself).
+  auto direct_only = offset_direct_only(mesh, {.distance = distance});
+  ASSERT_TRUE(direct_only.has_value()) << what;
+  EXPECT_TRUE(has_same_topology(direct_only->mesh, reference->mesh)) << what;
 }
 
 // Closed, orientable, no Möbius edges, one component per expected entry.
@@ -265,6 +271,62 @@ TEST(Offset, DirectSlabEqualsTheReferenceConstruction) {
   meshes.push_back(subdivide_once(build(grid_soup(5, 3, Glue::Mobius))).mesh);
   meshes.push_back(subdivide_once(build(testing::mixed_disk_soup())).mesh);
   for (size_t i = 0; i < meshes.size(); ++i) expect_direct_equals_reference(meshes[i], 0.1, std::to_string(i));
+}
+
+// `count` closed n-gon prisms side by side (n quads and two n-gon caps each), every face
+// with a source of its own. With n > 4 such a mesh has more edges than its slab has faces,
+// so the offset keeps its per-edge slots in an array of their own instead of in the slab's
+// unwritten face sources.
+PolygonSoup prisms_soup(int count, int n) {
+  PolygonSoup s;
+  const double pi = std::numbers::pi;
+  for (int k = 0; k < count; ++k) {
+    const int first = s.vertex_count();
+    for (int level = 0; level < 2; ++level) {
+      for (int i = 0; i < n; ++i) {
+        const double u = 2 * pi * i / n;
+        s.add_vertex({3.0 * k + std::cos(u), std::sin(u), double(level)});
+      }
+    }
+    std::vector<int32_t> bottom, top;
+    for (int i = 0; i < n; ++i) {
+      s.add_face({first + i, first + (i + 1) % n, first + n + (i + 1) % n, first + n + i});
+      bottom.push_back(first + n - 1 - i);
+      top.push_back(first + n + i);
+    }
+    s.add_face(bottom);
+    s.add_face(top);
+  }
+  for (int32_t f = 0; f < s.face_count(); ++f) s.face_sources.push_back({f, 3});
+  return s;
+}
+
+// The slots live in the slab's face sources while those are unwritten, when they have room
+// (closed quad and triangle meshes, meshes with borders); closed meshes of larger polygons
+// keep them in an array of their own. Both ways, on one thread and on two, and the
+// sources written over the slots, must give the reference construction.
+TEST(Offset, SlotsWithAndWithoutRoomInTheSourcesEqualTheReference) {
+  struct Input {
+    std::string what;
+    PolygonSoup soup;
+    bool has_own_slots;  // more edges than slab faces
+  };
+  const std::vector<Input> inputs = {
+      {"one octagonal prism", prisms_soup(1, 8), true},      // 24 edges, 20 slab faces
+      {"one square prism", prisms_soup(1, 4), false},        // 12 edges, 12 slab faces
+      {"dodecagonal prisms", prisms_soup(2400, 12), true},   // 33,600 faces: two threads
+      {"square prisms", prisms_soup(5500, 4), false}};       // 33,000 faces: two threads
+  for (const auto& [what, soup, has_own_slots] : inputs) {
+    const Mesh mesh = build(soup);
+    const int64_t slab_faces = 2 * int64_t{mesh.face_count()};  // closed: no ribbons
+    EXPECT_EQ(mesh.edge_count() > slab_faces, has_own_slots) << what;
+    expect_direct_equals_reference(mesh, 0.05, what);
+    auto slab = offset(mesh, {.distance = 0.05});
+    ASSERT_TRUE(slab.has_value()) << what;
+    for (int32_t f = 0; f < slab->mesh.face_count(); ++f) {
+      ASSERT_EQ(slab->mesh.face_source(FaceId(f)).source_face, f % mesh.face_count()) << what << " face " << f;
+    }
+  }
 }
 
 // Without Möbius edges the positive and negative copies of a large mesh are made on two
