@@ -296,6 +296,13 @@ Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, cons
 }
 
 
+// The input of `offset_consuming`, whose arrays the direct construction frees once it has
+// read them (`is_done` then).
+struct InputRelease {
+  Mesh* mesh = nullptr;
+  bool is_done = false;
+};
+
 // The slab's winged-edge arrays written directly, in the order the builder would number
 // them for the soup `offset_through_soup` makes (positive copies, negative copies, ribbons;
 // an edge is numbered at the first corner, in soup order, that uses it), without the soup,
@@ -307,7 +314,7 @@ Result<OffsetResult> offset_through_soup(const Mesh& mesh, double distance, cons
 // the input's edge vertices (see `offset_direct` below), else kept in an array.
 template <bool kPFromTails>
 std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
-                                               bool has_parent_maps) {
+                                               bool has_parent_maps, InputRelease* release) {
   const int32_t V = mesh.vertex_count();
   const int32_t F = mesh.face_count();
   const int32_t E = mesh.edge_count();
@@ -388,8 +395,10 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     }
   };
   int32_t inconsistent[2] = {0, 0};
+  int64_t walked_corners[2] = {0, 0};
   for_halves(V, [&](int32_t begin, int32_t end) {
     int32_t count = 0;
+    int64_t corners = 0;
     for (int32_t v = begin; v < end; ++v) {
       const int32_t k = kPFromTails ? v : compact[v];
       if (k < 0) continue;
@@ -398,6 +407,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
       bool is_first = true;
       mesh.for_each_vertex_corner(VertexId(v), [&](const VertexCorner& c) {
         if constexpr (!kPFromTails) pvert[c.use.index] = 2 * k + (c.is_flipped ? 1 : 0);
+        ++corners;
         sum += double(c.is_flipped ? -1 : 1) * fnormals[c.face.index];
         if (is_first) {
           first = fnormals[c.face.index];
@@ -416,12 +426,26 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
       }
     }
     inconsistent[begin == 0 ? 0 : 1] += count;
+    walked_corners[begin == 0 ? 0 : 1] += corners;
   });
   result.inconsistent_normal_count = inconsistent[0] + inconsistent[1];
   // Freed before the output's arrays are made, which can then reuse their pages.
   fnormals.reset();
   compact.reset();
   std::vector<uint8_t>().swap(is_mobius_vertex);
+  // A caller done with the input (`offset_consuming`) has its positions, `prev` wings and
+  // vertex anchors freed here too: nothing below reads them. Only where nothing below can
+  // fail (so the fallback, which reads the whole input, cannot be needed): no Möbius edge
+  // (every corner pairs positive with positive) and the walks met every corner, so every
+  // vertex has one fan and a border vertex two border edges (each ribbon side is met
+  // twice).
+  if (kPFromTails && release != nullptr && walked_corners[0] + walked_corners[1] == in_corners) {
+    Mesh& input = *release->mesh;
+    OverwriteVector<dvec3>().swap(MeshAccess::positions(input));
+    OverwriteVector<EdgeUse>().swap(MeshAccess::prev(input));
+    OverwriteVector<EdgeId>().swap(MeshAccess::vertex_edges(input));
+    release->is_done = true;
+  }
 
   auto& oev = MeshAccess::edge_vertices(m);
   auto& ouf = MeshAccess::use_faces(m);
@@ -735,20 +759,29 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
 // scattered write per corner, and 4 bytes per use of fresh memory). The two ways are two
 // instantiations, so that neither pays for the other's test in its loops.
 std::optional<OffsetResult> offset_direct(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
-                                          bool has_parent_maps) {
+                                          bool has_parent_maps, InputRelease* release = nullptr) {
   const auto& anchors = MeshAccess::vertex_edges(mesh);
   const bool every_vertex_used =
       std::all_of(anchors.begin(), anchors.end(), [](EdgeId e) { return e.is_valid(); });
   if (every_vertex_used && !mesh.has_mobius_edges()) {
-    return offset_direct_with<true>(mesh, distance, face_origin, has_parent_maps);
+    return offset_direct_with<true>(mesh, distance, face_origin, has_parent_maps, release);
   }
-  return offset_direct_with<false>(mesh, distance, face_origin, has_parent_maps);
+  return offset_direct_with<false>(mesh, distance, face_origin, has_parent_maps, release);
 }
 
 Result<OffsetResult> offset_impl(const Mesh& mesh, double distance, const std::vector<FaceId>* face_origin,
-                                 bool has_parent_maps) {
-  if (auto direct = offset_direct(mesh, distance, face_origin, has_parent_maps)) {
+                                 bool has_parent_maps, InputRelease* release = nullptr) {
+  if (auto direct = offset_direct(mesh, distance, face_origin, has_parent_maps, release)) {
     return std::move(*direct);
+  }
+  if (release != nullptr && release->is_done) {
+    // Cannot happen (the input was released only where nothing after could fail); said
+    // rather than read the freed input.
+    return KernelError{KernelError::Kind::InvalidArgument,
+                       "offset: the slab could not be built from a mesh whose arrays break the kernel's invariants",
+                       {},
+                       {},
+                       {}};
   }
   const std::vector<dvec3> fnormals = face_normals(mesh);
   const VertexNormals vn = vertex_normals(mesh, fnormals);
@@ -776,6 +809,12 @@ std::optional<KernelError> check_distance(double distance) {
 Result<OffsetResult> offset(const Mesh& mesh, const OffsetOptions& options) {
   if (auto error = check_distance(options.distance)) return *error;
   return offset_impl(mesh, options.distance, nullptr, options.has_parent_maps);
+}
+
+Result<OffsetResult> offset_consuming(Mesh&& mesh, const OffsetOptions& options) {
+  if (auto error = check_distance(options.distance)) return *error;
+  InputRelease release{&mesh};
+  return offset_impl(mesh, options.distance, nullptr, options.has_parent_maps, &release);
 }
 
 std::optional<OffsetResult> offset_direct_only(const Mesh& mesh, const OffsetOptions& options) {

@@ -99,7 +99,8 @@ std::variant<kernel::Mesh, StepFailure> run_steps(kernel::Mesh mesh, const std::
       ++kernel_ops;
       auto r = s.kind == Step::Kind::Lattice
                    ? kernel::lattice(mesh, kernel::LatticeOptions{s.width, s.height})
-                   : kernel::offset(mesh, kernel::OffsetOptions{.distance = s.height, .has_parent_maps = false});
+                   : kernel::offset_consuming(std::move(mesh),
+                                              kernel::OffsetOptions{.distance = s.height, .has_parent_maps = false});
       if (!r) return StepFailure{r.error(), i};
       mesh = std::move(r->mesh);
     }

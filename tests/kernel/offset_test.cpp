@@ -74,6 +74,21 @@ void expect_direct_equals_reference(const Mesh& mesh, double distance, const std
   auto direct_only = offset_direct_only(mesh, {.distance = distance});
   ASSERT_TRUE(direct_only.has_value()) << what;
   EXPECT_TRUE(has_same_topology(direct_only->mesh, reference->mesh)) << what;
+  // The same slab from a copy the offset may free as it goes: without Möbius edges and with
+  // every vertex used, the input's positions, wings and anchors are freed before the slab's
+  // arrays are made (so nothing may read them after); otherwise the input is left whole.
+  Mesh consumed = mesh;
+  auto from_consumed = offset_consuming(std::move(consumed), {.distance = distance});
+  ASSERT_TRUE(from_consumed.has_value()) << what;
+  EXPECT_TRUE(has_same_topology(from_consumed->mesh, reference->mesh)) << what;
+  EXPECT_EQ(from_consumed->mesh.positions(), reference->mesh.positions()) << what;
+  EXPECT_EQ(from_consumed->vertex_parents, reference->vertex_parents) << what;
+  EXPECT_EQ(from_consumed->face_parents.size(), reference->face_parents.size()) << what;
+  EXPECT_EQ(from_consumed->inconsistent_normal_count, reference->inconsistent_normal_count) << what;
+  bool every_vertex_used = true;
+  for (int32_t v = 0; v < mesh.vertex_count(); ++v) every_vertex_used &= mesh.vertex_edge(VertexId(v)).is_valid();
+  const bool is_released = every_vertex_used && !mesh.has_mobius_edges();
+  EXPECT_EQ(consumed.positions().empty(), is_released) << what;  // NOLINT(bugprone-use-after-move)
 }
 
 // Closed, orientable, no Möbius edges, one component per expected entry.
