@@ -489,9 +489,9 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // writes in the same cache lines at the same time.
   // The slots are kept two to a `FaceSource` (its two numbers), in the output's sources
   // while they are unwritten (they are written last, after the ribbons have read the
-  // slots) when they have room, as they have for closed quad and triangle meshes: the
-  // output then takes no more fresh memory than its own (about 4 % of the offset's time
-  // was faulting in this array's pages, bench/kernel/README.md).
+  // slots) when they have room, as they have for closed quad and triangle meshes and for
+  // meshes with borders: the slots then take no fresh memory of their own (13 MB for the
+  // pipeline benchmark's input, bench/kernel/README.md).
   std::unique_ptr<FaceSource[]> slot_scratch;
   FaceSource* slot_store = osources.data();
   if (static_cast<size_t>(E) > osources.size()) {
@@ -777,11 +777,7 @@ Result<OffsetResult> offset_impl(const Mesh& mesh, double distance, const std::v
   if (release != nullptr && release->is_done) {
     // Cannot happen (the input was released only where nothing after could fail); said
     // rather than read the freed input.
-    return KernelError{KernelError::Kind::InvalidArgument,
-                       "offset: the slab could not be built from a mesh whose arrays break the kernel's invariants",
-                       {},
-                       {},
-                       {}};
+    return invalid_argument("the offset's input breaks the mesh's invariants: its corners do not pair up");
   }
   const std::vector<dvec3> fnormals = face_normals(mesh);
   const VertexNormals vn = vertex_normals(mesh, fnormals);
