@@ -8,7 +8,8 @@
 // errors takes the tree-based path in both); the parse with the parser's remembered
 // predictions must be exactly the parse with ANTLR's simulator alone (prediction_seed.h);
 // and the text cut in two and parsed on two threads must give exactly its parse on one
-// (`ParseThreads`, forced below the automatic size). And the text edited by one character
+// (`ParseThreads`, forced below the automatic size), and the check in pieces, each tree
+// freed once checked, must give exactly the check of the whole tree. And the text edited by one character
 // (chosen by the input's last byte), when checked incrementally from the check of the text
 // (frontend/check/incremental.h), must give exactly the diagnostics of a full check.
 #include <cstddef>
@@ -125,6 +126,22 @@ bool incremental_agrees(const nomec::IncrementalBasis& basis, const char* path, 
   return got == want || report("the incremental check", got, "the full check", want);
 }
 
+// The check in pieces of a few bytes, each piece's tree freed once checked (what the
+// command line does to a large file, CheckOptions::piece_bytes), gives exactly the
+// diagnostics, in emission order, and the IR of the check of the whole tree.
+bool pieces_agree(const char* path, const std::string& text, const nomec::CheckOptions& options) {
+  std::string dumps[2];
+  for (int k = 0; k < 2; ++k) {
+    nomec::CheckOptions o = options;
+    o.piece_bytes = k == 0 ? 0 : 8;
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    const nomec::CheckResult r = nomec::check_source(sources, path, text, o, diags);
+    dumps[k] = nomec::testing_dump::dump_diags(diags) + nomec::ir::dump_ir(r.module, sources);
+  }
+  return dumps[1] == dumps[0] || report("the check in pieces", dumps[1], "the check of the whole tree", dumps[0]);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -146,6 +163,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (!incremental_agrees(*basis, path, text, options, size > 0 ? data[size - 1] : 0)) std::abort();
     }
     diags.sort_and_dedupe();
+    if (!pieces_agree(path, text, options)) std::abort();
   } catch (...) {
     std::abort();  // "No stage throws" (ARCHITECTURE.md)
   }

@@ -4,11 +4,10 @@
 // thread whose results are merged into them. Features are in handle_*.cpp.
 #include "lsp/server_impl.h"
 
+#include "base/free_memory.h"
 #include "frontend/check/check.h"
 #include "lsp/json_text.h"
 
-#include <dlfcn.h>
-#include <malloc.h>
 #include <pthread.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -616,21 +615,6 @@ void ServerImpl::hand_to_after_thread(std::shared_ptr<const Analysis> release,
   after_cv_.notify_all();
 }
 
-namespace {
-
-// Returns the allocator's free pages to the system: jemalloc keeps them (tools/allocator.h),
-// the C library's malloc keeps some in its arenas.
-void release_free_memory() {
-  using Mallctl = int (*)(const char*, void*, size_t*, void*, size_t);
-  if (auto mallctl = reinterpret_cast<Mallctl>(dlsym(RTLD_DEFAULT, "mallctl"))) {
-    mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);  // 4096: MALLCTL_ARENAS_ALL
-  } else {
-    malloc_trim(0);
-  }
-}
-
-}  // namespace
-
 void ServerImpl::after_loop() {
   for (;;) {
     std::shared_ptr<const Analysis> job;
@@ -646,7 +630,7 @@ void ServerImpl::after_loop() {
         if (!after_cv_.wait_for(lock, std::chrono::milliseconds(options_.idle_release_ms), has_work)) {
           after_freed_ = false;
           lock.unlock();
-          release_free_memory();
+          give_back_free_memory();
           ++memory_releases_;
           continue;
         }

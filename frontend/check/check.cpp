@@ -6,7 +6,9 @@
 //   4. declare every named top-level definition (names.cpp), so uses above a definition
 //      get a precise "used before its definition" in NOME and are legal in SLIDE;
 //   5. check each statement in order with the handler of its kind, lowering into the IR
-//      (statements.cpp and the files it dispatches to);
+//      (statements.cpp and the files it dispatches to); the command line parses a large
+//      file in pieces and frees each piece's tree once its statements are checked
+//      (CheckOptions::piece_bytes), the passes of 2–4 reading the pieces in order;
 //   6. resolve `delete` entries and `render` paths, then finish the dependency graph
 //      (dependencies.cpp).
 #include "frontend/check/check.h"
@@ -16,6 +18,7 @@
 
 #include <algorithm>
 
+#include "base/free_memory.h"
 #include "frontend/check/handlers.h"
 #include "frontend/flat/flat.h"
 #include "frontend/parse/parse.h"
@@ -36,13 +39,15 @@ std::optional<ir::GenKind> statement_generator(const ast::Stmt& s) {
 
 namespace check {
 
-void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std::string& path,
-                  std::unique_ptr<ast::Ast>& base_ast) {
+void check_parsed(Context& c, CheckResult& result, std::span<ast::Ast> main, const std::string& path,
+                  std::unique_ptr<ast::Ast>& base_ast, bool free_checked) {
   DiagnosticEngine& diags = c.diags();
-  // Saved work (`.anom`) is checked on top of its base scene.
-  if (is_saved_work_path(path)) base_ast = check::load_base(c, path, main_ast, result);
+  const std::span<const ast::Ast> trees(main.data(), main.size());
+  // Saved work (`.anom`) is checked on top of its base scene (and is never in pieces).
+  if (is_saved_work_path(path) && main.size() == 1) base_ast = check::load_base(c, path, main[0], result);
 
-  result.dialect_reason = check::choose_dialect(c, base_ast ? *base_ast : main_ast, base_ast ? result.base_file : path);
+  result.dialect_reason = check::choose_dialect(c, base_ast ? std::span<const ast::Ast>(base_ast.get(), 1) : trees,
+                                                base_ast ? result.base_file : path);
   result.dialect = c.dialect();
   result.module.dialect = c.dialect();
 
@@ -51,12 +56,13 @@ void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std
     check::collect_banks(c, *base_ast);
     check::apply_saved(c, *base_ast);
   }
-  check::collect_tcl(c, main_ast);
-  check::run_tcl(c, main_ast, path);
-  check::collect_banks(c, main_ast);
-  check::apply_saved(c, main_ast);
+  // The whole-file passes read the pieces in order, as they would read the one tree.
+  for (const ast::Ast& a : trees) check::collect_tcl(c, a);
+  check::run_tcl(c, trees, path);
+  for (const ast::Ast& a : trees) check::collect_banks(c, a);
+  for (const ast::Ast& a : trees) check::apply_saved(c, a);
   check::apply_overrides(c);
-  check::normalize_dollar_names(c, main_ast);
+  for (ast::Ast& a : main) check::normalize_dollar_names(c, a);
   if (base_ast) {
     // The base scene is checked with a scratch engine: its problems belong to its own check,
     // and only the saved work is reported here.
@@ -71,14 +77,31 @@ void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std
     result.cancelled = true;
     return;
   }
-  check::declare(c, main_ast, 0);
+  check::declare(c, trees, 0);
   if (c.tcl_ast != nullptr) check::declare(c, *c.tcl_ast, 1 << 20);  // what `slide create` made
   result.first_statement_diagnostic = diags.diagnostics().size();
   c.checking_statements = true;
-  check::process(c, main_ast, 0);
-  if (c.cancelled) {
-    result.cancelled = true;
-    return;
+  // What an incremental check (incremental.cpp) leaves to a full one: statements that read
+  // other files or Tcl (noted before a piece is freed).
+  bool reads_beyond = false;
+  int order_base = 0;
+  for (ast::Ast& a : main) {
+    reads_beyond = reads_beyond || std::any_of(a.top.begin(), a.top.end(), [](const ast::Item& it) {
+                     return it.kind == ast::ItemKind::Include || it.kind == ast::ItemKind::Tcl;
+                   });
+    check::process(c, a, order_base);
+    if (c.cancelled) {
+      result.cancelled = true;
+      return;
+    }
+    order_base += static_cast<int>(a.top.size());
+    if (free_checked) {
+      // Nothing reads a piece's tree once its statements are checked: the IR holds what
+      // they made, and its texts view the file's text, not the tree.
+      c.forget(a);
+      a = ast::Ast{};
+      give_back_free_memory();
+    }
   }
   if (c.tcl_ast != nullptr) check::process(c, *c.tcl_ast, 1 << 20);
   check::report_unplaced_tcl_instances(c);
@@ -86,11 +109,7 @@ void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std
   check::resolve_pending_deletes(c);
   check::resolve_render_paths(c);
   check::finish_dependencies(c);
-  // What an incremental check (incremental.cpp) leaves to a full one: statements that read
-  // other files or Tcl, or that depend on the whole scene (NOME2's scene merges).
-  const bool reads_beyond = std::any_of(main_ast.top.begin(), main_ast.top.end(), [](const ast::Item& it) {
-    return it.kind == ast::ItemKind::Include || it.kind == ast::ItemKind::Tcl;
-  });
+  // Nor does it repeat statements that depend on the whole scene (NOME2's scene merges).
   result.incremental_ok = c.options().record_names && !is_saved_work_path(path) && !base_ast && c.tcl_ast == nullptr &&
                           !c.has_tcl && c.tcl_blocks.empty() && c.dialect() != Dialect::Slide && c.scene_merges.empty() &&
                           !c.reported_deep_expr && !c.listed_all_instances && c.owned_asts.empty() && !reads_beyond;
@@ -133,15 +152,25 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
     return result;
   }
   const double parse_start = thread_cpu_ms();
-  ast::Ast main_ast = cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags);
+  // In pieces, each freed once checked (CheckOptions::piece_bytes), where nothing reads the
+  // tree afterwards or reads it whole: not for the editor, saved work or SLIDE's Tcl.
+  const std::string_view ext = path_extension(path);
+  const bool in_pieces = options.piece_bytes > 0 && cache == nullptr && !options.record_names &&
+                         !is_saved_work_path(path) && ext != ".slf" && options.dialect.value_or(Dialect::Nome) != Dialect::Slide;
+  std::vector<ast::Ast> main;
+  if (in_pieces) {
+    main = parse_file_in_pieces(sources, file, diags, options.piece_bytes);
+  } else {
+    main.push_back(cache != nullptr ? cache->parse(sources, file, diags) : parse_file(sources, file, diags));
+  }
   result.parse_ms = thread_cpu_ms() - parse_start;
   if (options.parsed) options.parsed();
 
   std::unique_ptr<ast::Ast> base_ast;
-  check::check_parsed(c, result, main_ast, path, base_ast);
+  check::check_parsed(c, result, main, path, base_ast, in_pieces);
   if (result.cancelled) return result;
   if (options.record_names) {
-    result.asts.push_back(std::make_shared<ast::Ast>(std::move(main_ast)));
+    result.asts.push_back(std::make_shared<ast::Ast>(std::move(main.front())));
     if (base_ast) result.asts.push_back(std::move(base_ast));
     for (auto& inc : c.owned_asts) result.asts.push_back(std::move(inc));
   }

@@ -41,6 +41,13 @@ struct CheckOptions {
   /// share the cores with that parse).
   std::function<void()> parsed;
   bool record_names = false;  // fill CheckResult::name_uses and ::asts (for frontend/index)
+  /// When non-zero (the command line's `--check` and `--emit`): the main file is parsed in
+  /// pieces of about this many bytes (`parse_file_in_pieces`), and each piece's syntax tree
+  /// is freed, and the free memory given back to the system, once its statements are
+  /// checked, so the trees and the IR are not both whole at once. Ignored where the tree is
+  /// kept or read whole: with `record_names` or a parse cache, for saved work and SLIDE.
+  /// The result and diagnostics are the same as without.
+  size_t piece_bytes = 0;
   /// May be empty; asked between statements: when it returns true the check stops early
   /// and its result says `cancelled` (an editor's check of a version already replaced).
   std::function<bool()> cancelled;

@@ -62,28 +62,50 @@ ir::NodeKind node_kind_for(BlockKind kind) {
   return ir::NodeKind::Value;
 }
 
-void Context::reserve_for(const ast::Ast& a) {
+void Context::reserve_for(std::span<const ast::Ast> trees) {
   // At most about one IR expression per syntax expression (a generated 1 MiB scene has 0.83)
-  // and two nodes (the statement and a value node) per statement: reserving once avoids
-  // moving the arrays while they grow, and reserving no more than that keeps huge pages
-  // from backing a large unused tail.
-  m_.exprs.reserve(m_.exprs.size() + a.exprs.size());
-  m_.nodes.reserve(m_.nodes.size() + 2 * a.stmts.size());
-  m_.operands.reserve(m_.operands.size() + a.stmts.size());
-  m_.deps.reserve(m_.nodes.capacity());
-  // Vertex references are names in lists (a face's `(v0 v1 v3 v2)`): at most one per name.
-  size_t names = 0;
-  for (const ast::ParenList& l : a.lists) {
-    for (ast::ExprId e : l.elems) names += a.expr(e).kind == ast::ExprKind::Name ? 1 : 0;
+  // and two nodes (the statement and a value node) per statement: reserving once for all
+  // the trees avoids moving the arrays while they grow, and reserving no more than that
+  // keeps huge pages from backing a large unused tail.
+  size_t exprs = 0, stmts = 0, names = 0;
+  for (const ast::Ast& a : trees) {
+    exprs += a.exprs.size();
+    stmts += a.stmts.size();
+    // Vertex references are names in lists (a face's `(v0 v1 v3 v2)`): at most one per name.
+    for (const ast::ParenList& l : a.lists) {
+      for (ast::ExprId e : l.elems) names += a.expr(e).kind == ast::ExprKind::Name ? 1 : 0;
+    }
   }
+  m_.exprs.reserve(m_.exprs.size() + exprs);
+  m_.nodes.reserve(m_.nodes.size() + 2 * stmts);
+  m_.operands.reserve(m_.operands.size() + stmts);
+  m_.deps.reserve(m_.nodes.capacity());
   m_.vertex_refs.reserve(m_.vertex_refs.size() + names);
-  declared_.push_back({&a, std::vector<ir::NodeId>(a.stmts.size(), ir::NodeId::None())});
+  for (const ast::Ast& a : trees) {
+    declared_.push_back({&a, std::vector<ir::NodeId>(a.stmts.size(), ir::NodeId::None())});
+  }
+}
+
+void Context::forget(const ast::Ast& a) {
+  std::erase_if(declared_, [&](const Declared& d) { return d.ast == &a; });
+  last_declared_ = 0;
 }
 
 ir::NodeId* Context::declared_slot(const ast::Stmt& s) {
-  for (Declared& d : declared_) {
+  // Statements are mostly looked up in the tree of the one before: try that tree first.
+  auto slot = [&](Declared& d) -> ir::NodeId* {
     const std::vector<ast::Stmt>& v = d.ast->stmts;
     if (!v.empty() && &s >= v.data() && &s < v.data() + v.size()) return &d.ids[static_cast<size_t>(&s - v.data())];
+    return nullptr;
+  };
+  if (last_declared_ < declared_.size()) {
+    if (ir::NodeId* id = slot(declared_[last_declared_])) return id;
+  }
+  for (size_t k = 0; k < declared_.size(); ++k) {
+    if (ir::NodeId* id = slot(declared_[k])) {
+      last_declared_ = k;
+      return id;
+    }
   }
   return nullptr;
 }

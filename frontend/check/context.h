@@ -122,9 +122,12 @@ class Context {
   void set_dialect(Dialect d) { dialect_ = d; }
 
   // ---- nodes ----
-  /// Reserves room for the statements of a syntax tree and remembers its statements, so
-  /// each can be given its node before it is checked.
-  void reserve_for(const ast::Ast& a);
+  /// Reserves room for the statements of syntax trees (a file's, or its pieces) and
+  /// remembers their statements, so each can be given its node before it is checked.
+  void reserve_for(std::span<const ast::Ast> trees);
+  /// Forgets the statements of a tree about to be freed (a checked piece of the main file):
+  /// a later tree may be allocated at its statements' addresses.
+  void forget(const ast::Ast& a);
   /// The node declared for `s` (see `declare`), or null for a statement of no declared tree.
   ir::NodeId* declared_slot(const ast::Stmt& s);
   /// Creates (or reuses the declared) node for a statement.
@@ -245,6 +248,7 @@ class Context {
   ir::Module& m_;
   Dialect dialect_ = Dialect::Nome;
   std::vector<Declared> declared_;
+  size_t last_declared_ = 0;  // where declared_slot last found a statement
   std::vector<int32_t> params_scratch_;  // add_operand: the parameters an operand reads
 };
 

@@ -190,71 +190,80 @@ void word_signals(const ast::Stmt& s, std::optional<ir::GenKind> gen, Signals& s
   }
 }
 
-// Statements and words that only some dialects have.
-void statement_signals(const ast::Ast& a, Signals& sig) {
-  for (const ast::Stmt& s : a.stmts) {
-    std::optional<ir::GenKind> gen = generator_of(s);
-    switch (s.kind) {
-      case BlockKind::Consolidate:
-      case BlockKind::Savedparameter:
-      case BlockKind::Savedworkingmesh:
-        sig.add(Sig::Nome2016, s.open_kw, fmt::format("`{}`", s.keyword));
-        break;
-      case BlockKind::Sweep:
-      case BlockKind::Sharp:
-        sig.add(Sig::Nome3, s.open_kw, fmt::format("NOME3 command `{}`", s.keyword));
-        break;
-      case BlockKind::Object:
-        sig.add(Sig::WeakFamily, s.open_kw, "`object`");
-        break;
-      default:
-        if (is_2018_block_word(s.keyword)) sig.add(Sig::Nome2, s.open_kw, fmt::format("NOME2 statement `{}`", s.keyword));
-        if (is_jipcad_word(s.keyword)) sig.add(Sig::Jipcad, s.open_kw, fmt::format("JIPCAD's `{}`", s.keyword));
-        if (gen) {
-          const ir::GeneratorInfo& g = ir::generator(*gen);
-          if ((g.signals & kNome3) != 0 && s.keyword == g.keyword) {
-            sig.add(Sig::Nome3, s.open_kw, fmt::format("NOME3 command `{}`", g.keyword));
+// Statements and words that only some dialects have: every statement of the trees, then
+// every top-level word (only the first signal of each kind is kept, so the order counts).
+void statement_signals(std::span<const ast::Ast> trees, Signals& sig) {
+  for (const ast::Ast& a : trees) {
+    for (const ast::Stmt& s : a.stmts) {
+      std::optional<ir::GenKind> gen = generator_of(s);
+      switch (s.kind) {
+        case BlockKind::Consolidate:
+        case BlockKind::Savedparameter:
+        case BlockKind::Savedworkingmesh:
+          sig.add(Sig::Nome2016, s.open_kw, fmt::format("`{}`", s.keyword));
+          break;
+        case BlockKind::Sweep:
+        case BlockKind::Sharp:
+          sig.add(Sig::Nome3, s.open_kw, fmt::format("NOME3 command `{}`", s.keyword));
+          break;
+        case BlockKind::Object:
+          sig.add(Sig::WeakFamily, s.open_kw, "`object`");
+          break;
+        default:
+          if (is_2018_block_word(s.keyword)) sig.add(Sig::Nome2, s.open_kw, fmt::format("NOME2 statement `{}`", s.keyword));
+          if (is_jipcad_word(s.keyword)) sig.add(Sig::Jipcad, s.open_kw, fmt::format("JIPCAD's `{}`", s.keyword));
+          if (gen) {
+            const ir::GeneratorInfo& g = ir::generator(*gen);
+            if ((g.signals & kNome3) != 0 && s.keyword == g.keyword) {
+              sig.add(Sig::Nome3, s.open_kw, fmt::format("NOME3 command `{}`", g.keyword));
+            }
+            if (g.keyword_digits(s.keyword)) sig.add(Sig::Nome2, s.open_kw, fmt::format("NOME2's `{}`", s.keyword));
+            if (s.close_text != ast::end_keyword(s.keyword) && g.closes_with(s.keyword, s.close_text)) {
+              sig.add(Sig::Nome2016, s.close_kw, fmt::format("`{} … {}`", s.keyword, s.close_text));
+            }
+            ring_signals(a, s, *gen, sig);
           }
-          if (g.keyword_digits(s.keyword)) sig.add(Sig::Nome2, s.open_kw, fmt::format("NOME2's `{}`", s.keyword));
-          if (s.close_text != ast::end_keyword(s.keyword) && g.closes_with(s.keyword, s.close_text)) {
-            sig.add(Sig::Nome2016, s.close_kw, fmt::format("`{} … {}`", s.keyword, s.close_text));
-          }
-          ring_signals(a, s, *gen, sig);
-        }
-        break;
+          break;
+      }
+      word_signals(s, gen, sig);
     }
-    word_signals(s, gen, sig);
   }
   // Statements nomec does not know are words at the top level (`frontcolor (1 0 0) …`).
-  for (const ast::Item& it : a.top) {
-    if (it.kind == ItemKind::Word && is_jipcad_word(it.text)) sig.add(Sig::Jipcad, it.range, fmt::format("JIPCAD's `{}`", it.text));
-    if (it.kind == ItemKind::Word && is_2018_block_word(it.text)) {
-      sig.add(Sig::Nome2, it.range, fmt::format("NOME2 statement `{}`", it.text));
+  for (const ast::Ast& a : trees) {
+    for (const ast::Item& it : a.top) {
+      if (it.kind == ItemKind::Word && is_jipcad_word(it.text)) sig.add(Sig::Jipcad, it.range, fmt::format("JIPCAD's `{}`", it.text));
+      if (it.kind == ItemKind::Word && is_2018_block_word(it.text)) {
+        sig.add(Sig::Nome2, it.range, fmt::format("NOME2 statement `{}`", it.text));
+      }
     }
   }
 }
 
 // `$bank_param` (2016) and `$bank.param` (NOME2, NOME3) references to banks of the file.
-void reference_signals(const ast::Ast& a, Signals& sig) {
-  std::unordered_set<std::string_view> banks;  // views of the syntax tree's text
-  for (const ast::Item& it : a.top) {
-    if (it.kind == ItemKind::Block && a.stmt(it.block).kind == BlockKind::Bank) {
-      const ast::Stmt& s = a.stmt(it.block);
-      if (!s.items.empty() && s.items[0].kind == ItemKind::Word) banks.insert(s.items[0].text);
+void reference_signals(std::span<const ast::Ast> trees, Signals& sig) {
+  std::unordered_set<std::string_view> banks;  // views of the syntax trees' text
+  for (const ast::Ast& a : trees) {
+    for (const ast::Item& it : a.top) {
+      if (it.kind == ItemKind::Block && a.stmt(it.block).kind == BlockKind::Bank) {
+        const ast::Stmt& s = a.stmt(it.block);
+        if (!s.items.empty() && s.items[0].kind == ItemKind::Word) banks.insert(s.items[0].text);
+      }
     }
   }
   // Only the first signal of each kind is kept, so the scan stops once both are known.
-  for (const ast::Expr& e : a.exprs) {
-    if (sig.has(Sig::DotRef) && sig.has(Sig::Nome2016)) break;
-    if (e.kind != ast::ExprKind::DollarRef) continue;
-    std::string_view t = e.text.substr(1);
-    if (auto dot = t.find('.'); dot != std::string_view::npos) {
-      if (banks.contains(t.substr(0, dot))) sig.add(Sig::DotRef, e.range, "`$bank.param`");
-    } else if (!sig.has(Sig::Nome2016)) {
-      for (size_t u = t.find('_'); u != std::string_view::npos; u = t.find('_', u + 1)) {
-        if (banks.contains(t.substr(0, u))) {
-          sig.add(Sig::Nome2016, e.range, "`$bank_param`");
-          break;
+  for (const ast::Ast& a : trees) {
+    for (const ast::Expr& e : a.exprs) {
+      if (sig.has(Sig::DotRef) && sig.has(Sig::Nome2016)) break;
+      if (e.kind != ast::ExprKind::DollarRef) continue;
+      std::string_view t = e.text.substr(1);
+      if (auto dot = t.find('.'); dot != std::string_view::npos) {
+        if (banks.contains(t.substr(0, dot))) sig.add(Sig::DotRef, e.range, "`$bank.param`");
+      } else if (!sig.has(Sig::Nome2016)) {
+        for (size_t u = t.find('_'); u != std::string_view::npos; u = t.find('_', u + 1)) {
+          if (banks.contains(t.substr(0, u))) {
+            sig.add(Sig::Nome2016, e.range, "`$bank_param`");
+            break;
+          }
         }
       }
     }
@@ -309,7 +318,7 @@ std::optional<Choice> family_side(Context& c, const Signals& sig, bool& conflict
 
 }  // namespace
 
-std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& path) {
+std::string choose_dialect(Context& c, std::span<const ast::Ast> trees, const std::string& path) {
   std::string ext(path_extension(path));
   if (c.options().dialect) {
     c.set_dialect(*c.options().dialect);
@@ -320,8 +329,8 @@ std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& pat
     return "`.slf` extension";
   }
   Signals sig;
-  statement_signals(a, sig);
-  reference_signals(a, sig);
+  statement_signals(trees, sig);
+  reference_signals(trees, sig);
   c.is_jipcad = sig.has(Sig::Jipcad);
   auto decided = [&](Choice ch, std::string_view how) {
     c.set_dialect(ch.dialect);

@@ -16,18 +16,22 @@ namespace nomec::check {
 
 // ---- check.cpp: the phases of a parsed main file ----
 /// Dialect, banks, declarations, then each statement (all, or `c.only_items`), then what
-/// resolves at the end; loads the base scene of saved work into `base_ast`.
-void check_parsed(Context& c, CheckResult& result, ast::Ast& main_ast, const std::string& path,
-                  std::unique_ptr<ast::Ast>& base_ast);
+/// resolves at the end; loads the base scene of saved work into `base_ast`. `main` is the
+/// main file's syntax tree: one, or the pieces of `parse_file_in_pieces` in order (then not
+/// saved work, and not SLIDE). With `free_checked`, each piece's tree is freed, and the
+/// allocator's free pages given back, as soon as its statements are checked.
+void check_parsed(Context& c, CheckResult& result, std::span<ast::Ast> main, const std::string& path,
+                  std::unique_ptr<ast::Ast>& base_ast, bool free_checked);
 
 // ---- dialect.cpp: which dialect a file is written in, and the names its Tcl code makes ----
-std::string choose_dialect(Context& c, const ast::Ast& a, const std::string& path);
+/// `trees`: the file's syntax tree, or its pieces in order.
+std::string choose_dialect(Context& c, std::span<const ast::Ast> trees, const std::string& path);
 void collect_tcl(Context& c, const ast::Ast& a);
 
 // ---- tcl.cpp: SLIDE's Tcl: `tclinit`/`tclupdate` blocks, sliders, `{expr …}` values ----
 /// Runs the file's Tcl blocks in the scene's interpreter and makes its sliders parameters
 /// (SLIDE files only; before the banks, so `-D` reaches the sliders).
-void run_tcl(Context& c, const ast::Ast& a, const std::string& path);
+void run_tcl(Context& c, std::span<const ast::Ast> trees, const std::string& path);
 /// The scene's interpreter, made on first use (a SLIDE file without Tcl blocks makes one
 /// only when a value needs Tcl); nullptr outside SLIDE files.
 tcl::Interp* scene_tcl(Context& c);
@@ -71,7 +75,10 @@ ir::NodeId lookup_param_text(Context& c, std::string_view text);
 /// reads no slider becomes the name `x`, as an item (`torusknot $k (…)`, `instance i $k`)
 /// and as a list element (`face f ($a $b $c)`). Runs after the banks are collected.
 void normalize_dollar_names(Context& c, ast::Ast& a);
-void declare(Context& c, const ast::Ast& a, int order_base);
+/// Declares the named top-level definitions of a syntax tree, or of a file's pieces in
+/// order, numbering its top-level items from `order_base` + 1.
+void declare(Context& c, std::span<const ast::Ast> trees, int order_base);
+inline void declare(Context& c, const ast::Ast& a, int order_base) { declare(c, std::span<const ast::Ast>(&a, 1), order_base); }
 /// `mesh consolidatedmesh … endmesh` in a `nome`/`nome2` file: blocks that accumulate
 /// (compat.md §E5).
 bool is_consolidated_mesh(const Context& c, const ast::Stmt& s);
@@ -121,6 +128,9 @@ ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::s
                           FunctionOrigin origin = {});
 
 // ---- statements.cpp: top-level statements, dispatch by kind, includes ----
+/// Checks the top-level items of a syntax tree (or of one piece of the main file: then
+/// `order_base` counts the items of the pieces before it), numbering them from
+/// `order_base` + 1.
 void process(Context& c, const ast::Ast& a, int order_base);
 ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 

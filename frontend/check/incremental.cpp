@@ -513,7 +513,7 @@ IncrementalOutcome check_incrementally(const IncrementalBasis& b, SourceManager&
     c.main_file = file;
     c.only_items = &check_items;
     std::unique_ptr<ast::Ast> base;
-    check::check_parsed(c, r, a, path, base);
+    check::check_parsed(c, r, std::span<ast::Ast>(&a, 1), path, base, false);
   }
   if (r.cancelled) return give_up("cancelled");
   if (!r.incremental_ok) return give_up("the new version is one that is checked in full");

@@ -115,22 +115,26 @@ bool is_consolidated_mesh(const Context& c, const ast::Stmt& s) {
          s.items[0].kind == ItemKind::Word && s.items[0].text == "consolidatedmesh";
 }
 
-void declare(Context& c, const ast::Ast& a, int order_base) {
-  c.reserve_for(a);
-  // Each namespace's table is sized once for the names this tree declares, rather than
+void declare(Context& c, std::span<const ast::Ast> trees, int order_base) {
+  c.reserve_for(trees);
+  // Each namespace's table is sized once for the names the trees declare, rather than
   // rehashed as it grows.
   size_t per_ns[static_cast<int>(Ns::Count)] = {};
-  for (const ast::Item& it : a.top) {
-    if (it.kind != ItemKind::Block) continue;
-    if (std::optional<Ns> ns = namespace_of(a.stmt(it.block).kind)) ++per_ns[static_cast<int>(*ns)];
+  for (const ast::Ast& a : trees) {
+    for (const ast::Item& it : a.top) {
+      if (it.kind != ItemKind::Block) continue;
+      if (std::optional<Ns> ns = namespace_of(a.stmt(it.block).kind)) ++per_ns[static_cast<int>(*ns)];
+    }
   }
   for (int ns = 0; ns < static_cast<int>(Ns::Count); ++ns) {
     if (per_ns[ns] > 0) c.scopes[ns].reserve(c.scopes[ns].size() + per_ns[ns]);
   }
   int order = order_base;
-  for (const ast::Item& it : a.top) {
-    ++order;
-    if (it.kind == ItemKind::Block) declare_stmt(c, a.stmt(it.block), order);
+  for (const ast::Ast& a : trees) {
+    for (const ast::Item& it : a.top) {
+      ++order;
+      if (it.kind == ItemKind::Block) declare_stmt(c, a.stmt(it.block), order);
+    }
   }
 }
 

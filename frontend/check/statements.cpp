@@ -115,13 +115,14 @@ void report_line_end(Context& c, const ast::Stmt& s) {
 void process(Context& c, const ast::Ast& a, int order_base) {
   int order = order_base;
   bool in_stray_run = false;
-  // The main file's own statements (not a base scene's, an include's or Tcl's): an
-  // incremental check may process only some of them, and marks what each one reported.
-  const bool main = order_base == 0 && a.file == c.main_file;
+  // The main file's own statements (not a base scene's, an include's or Tcl's, numbered
+  // below 0 or from 1 << 20): an incremental check may process only some of them, and
+  // marks what each one reported.
+  const bool main = a.file == c.main_file && order_base >= 0 && order_base < (1 << 20);
   for (const ast::Item& it : a.top) {
     ++order;
     c.order = order;
-    const int32_t item = order - order_base - 1;
+    const int32_t item = order - 1;  // of the main file, whichever of its pieces `a` is
     if (item % 64 == 0 && c.options().is_cancelled()) {
       c.cancelled = true;
       return;

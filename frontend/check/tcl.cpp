@@ -468,17 +468,19 @@ tcl::Interp* scene_tcl(Context& c) {
   return c.tcl.get();
 }
 
-void run_tcl(Context& c, const ast::Ast& a, const std::string& path) {
+void run_tcl(Context& c, std::span<const ast::Ast> trees, const std::string& path) {
   if (c.dialect() != Dialect::Slide || c.tcl_available) return;
   const size_t slash = path.rfind('/');
   c.tcl_dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
   c.tcl_available = true;
   std::vector<TclBody> bodies;
-  for (const ast::Item& it : a.top) {
-    if (it.kind != ItemKind::Tcl) continue;
-    bodies.push_back(body_of(it));
-    const TclBody& b = bodies.back();
-    c.tcl_blocks.push_back(SourceRange{b.keyword.file, b.begin, static_cast<uint32_t>(b.begin + b.text.size())});
+  for (const ast::Ast& a : trees) {
+    for (const ast::Item& it : a.top) {
+      if (it.kind != ItemKind::Tcl) continue;
+      bodies.push_back(body_of(it));
+      const TclBody& b = bodies.back();
+      c.tcl_blocks.push_back(SourceRange{b.keyword.file, b.begin, static_cast<uint32_t>(b.begin + b.text.size())});
+    }
   }
   if (bodies.empty()) return;  // the interpreter is made when a value needs it
   scene_tcl(c);

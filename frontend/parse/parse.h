@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
@@ -23,6 +24,23 @@ inline constexpr size_t kTwoThreadParseBytes = 128 * 1024;
 /// Parses one file. Always returns an AST (possibly partial); problems go to `diags`.
 ast::Ast parse_file(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
                     ParseThreads threads = ParseThreads::Automatic);
+
+/// Parses one file in pieces of about `piece_bytes` each, for a check that lowers each
+/// piece and then frees its syntax tree (the command line's `--check` and `--emit`,
+/// `CheckOptions::piece_bytes`). Each piece is a run of whole top-level statements with ids
+/// of its own; its ranges are the file's and its texts view the file's text. Taken in order,
+/// the pieces hold exactly the top-level items, statements, expressions and lists of
+/// `parse_file`'s AST (each piece's ids counted from the previous pieces' totals give its
+/// ids), and the diagnostics are `parse_file`'s in the same order. The pieces are cut where
+/// `ParseCache` cuts and used only when each parses as it does inside the whole text
+/// (piece.h); otherwise, and for a text shorter than two pieces, the result is one piece,
+/// `parse_file`'s AST. On two threads, each parses every other piece.
+/// The pieces' size for the command line's check: large enough that a piece's set-up is a
+/// small part of its parse, small enough that two pieces' parser memory is a small part of
+/// the peak (bench/frontend/README.md).
+inline constexpr size_t kCheckPieceBytes = 64 * 1024;
+std::vector<ast::Ast> parse_file_in_pieces(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
+                                           size_t piece_bytes, ParseThreads threads = ParseThreads::Automatic);
 
 /// Parses the expression inside a raw `[ … ]` item of `file` (a function surface's
 /// `funcX [cos(u)*v]`; `raw` is the item's range in the file) with the grammar's `expr`

@@ -718,3 +718,103 @@ std::optional<ast::Ast> parse_in_two_pieces(std::string_view text, FileId file, 
 }  // namespace parse_detail
 
 }  // namespace nomec
+
+namespace nomec {
+
+namespace {
+
+// Moves the ranges of `piece` (parsed alone as `file`, offsets relative to its own text)
+// by `at`, to where the piece starts in the file. Its texts already view the file's text,
+// and its ids stay its own.
+void place_piece(ast::Ast& piece, const PieceInfo& info, uint32_t at) {
+  auto move = [at](SourceRange& r) {
+    if (r.is_valid()) {
+      r.begin += at;
+      r.end += at;
+    }
+  };
+  for (ast::Expr& e : piece.exprs) move(e.range);
+  for (int32_t k : info.unanchored_exprs) {  // these stay at offset 0 (PieceInfo)
+    SourceRange& r = piece.exprs[static_cast<size_t>(k)].range;
+    r.begin = 0;
+    r.end = 0;
+  }
+  for (ast::ParenList& l : piece.lists) move(l.range);
+  for (ast::ListComma& k : piece.commas) move(k.range);
+  for (ast::Stmt& s : piece.stmts) {
+    move(s.range);
+    move(s.open_kw);
+    move(s.close_kw);
+    for (ast::Item& i : s.items) move(i.range);
+  }
+  for (ast::Item& i : piece.top) move(i.range);
+}
+
+}  // namespace
+
+std::vector<ast::Ast> parse_file_in_pieces(const SourceManager& sources, FileId file, DiagnosticEngine& diags,
+                                           size_t piece_bytes, ParseThreads threads) {
+  const std::string_view text = sources.text(file);
+  std::vector<ast::Ast> out;
+  auto whole = [&] {
+    out.clear();
+    out.push_back(parse_file(sources, file, diags, threads));
+    return std::move(out);
+  };
+  if (piece_bytes == 0 || text.size() < 2 * piece_bytes || text.size() > UINT32_MAX) return whole();
+  // Each piece ends at the first cut at least `piece_bytes` after its start.
+  std::vector<uint32_t> starts{0}, cuts;
+  for (;;) {
+    const size_t from = starts.back();
+    cuts.clear();
+    if (!scan_cuts(text, from, cuts, [&](uint32_t cut) { return cut >= from + piece_bytes; })) break;
+    if (cuts.back() >= text.size()) break;
+    starts.push_back(cuts.back());
+  }
+  const size_t n = starts.size();
+  if (n < 2) return whole();
+  struct Piece {
+    DiagnosticEngine comments, tokens, syntax;
+    PieceInfo info;
+  };
+  std::vector<Piece> pieces(n);
+  out.resize(n);
+  auto parse_one = [&](size_t k) {
+    const uint32_t end = k + 1 < n ? starts[k + 1] : static_cast<uint32_t>(text.size());
+    Piece& p = pieces[k];
+    out[k] = parse_piece(text.substr(starts[k], end - starts[k]), file, PieceSinks{p.comments, p.tokens, p.syntax},
+                         &p.info);
+  };
+  // On two threads, each parses every other piece: the pieces are about the same size, so
+  // neither waits long for the other, and only two pieces' parser memory is live at once.
+  if (parse_detail::uses_two_threads(threads, text.size())) {
+    run_parse_parts([&](int t) {
+      for (size_t k = static_cast<size_t>(t); k < n; k += 2) parse_one(k);
+    });
+  } else {
+    for (size_t k = 0; k < n; ++k) parse_one(k);
+  }
+  // Each piece must parse as it does inside the whole text (piece.h): every piece but the
+  // last self-contained, every piece but the first starting cleanly, and none stopped or
+  // given up. Otherwise the text is parsed whole (rare: syntax errors across a cut).
+  for (size_t k = 0; k < n; ++k) {
+    const PieceInfo& info = pieces[k].info;
+    if ((k + 1 < n && !info.self_contained) || (k > 0 && !info.starts_cleanly) || info.stopped || info.gave_up) {
+      return whole();
+    }
+  }
+  std::vector<PieceRef> refs(n);
+  for (size_t k = 0; k < n; ++k) {
+    place_piece(out[k], pieces[k].info, starts[k]);
+    const Piece& p = pieces[k];
+    const uint32_t end = k + 1 < n ? starts[k + 1] : static_cast<uint32_t>(text.size());
+    refs[k] = {&out[k], &p.info, &p.comments, &p.tokens, &p.syntax, text.substr(starts[k], end - starts[k]), starts[k],
+               reports_something(p.comments, p.tokens, p.syntax)};
+  }
+  ast::Ast unused;
+  Assembler assembler(unused, text, file);
+  append_piece_diags(refs, assembler, diags);
+  return out;
+}
+
+}  // namespace nomec
