@@ -10,10 +10,15 @@
 // faulted back in by the next check (about a tenth of its time). The language server
 // returns free memory itself once the editor is idle (`release_free_memory` in
 // lsp/server.cpp), so memory still goes back to the system, just not mid-typing.
-// Memory comes in transparent huge pages (`thp:always`; the system's setting is usually
-// `madvise`, which lets a program ask): a cold `nomec --check` of a 1 MiB scene spent most of
-// its time faulting in 4 KiB pages, and with 2 MiB pages it takes about a quarter of the CPU
-// time (bench/frontend/README.md). Large allocations share the one arena
+// Memory comes in 4 KiB pages (`thp:never`): a cold `nomec --check` checks a large file in
+// pieces and gives each piece's memory back once it is lowered (frontend/check), and pages
+// given back from inside a 2 MiB huge page do not leave the process; with huge pages the
+// 1 MiB scene's check peaked at 38 MiB instead of 27, and start-up alone took 14 MiB
+// instead of 9 (bench/frontend/README.md). It once spent most of its time faulting in
+// 4 KiB pages, when it touched 200 MiB; at 27 MiB the two page sizes take about the same
+// time, and so do the editor's checks, whose memory is reused from one check to the next.
+// The kernel still asks for huge pages for its own large arrays (kernel/large_arrays.h),
+// which a subdivision or an offset fills in hundreds of megabytes. Large allocations share the one arena
 // (`oversize_threshold:0`: jemalloc 5.3 reads 0 as "no threshold" and keeps no separate
 // arena for allocations above it, 8 MiB by default; `arenas.lookup` puts an 8 MiB block in
 // arena 0), so the pages a large array frees are reused by the next ones: when it was set,
@@ -41,4 +46,4 @@ inline std::string_view allocator_name() {
 // the symbol is unused.
 #define NOMEC_JEMALLOC_CONFIG()        \
   extern "C" const char* malloc_conf; \
-  const char* malloc_conf = "dirty_decay_ms:-1,muzzy_decay_ms:-1,thp:always,oversize_threshold:0,narenas:1"
+  const char* malloc_conf = "dirty_decay_ms:-1,muzzy_decay_ms:-1,thp:never,oversize_threshold:0,narenas:1"
