@@ -17,8 +17,9 @@
 // instead of 9 (bench/frontend/README.md). It once spent most of its time faulting in
 // 4 KiB pages, when it touched 200 MiB; at 27 MiB the two page sizes take about the same
 // time, and so do the editor's checks, whose memory is reused from one check to the next.
-// The kernel still asks for huge pages for its own large arrays (kernel/large_arrays.h),
-// which a subdivision or an offset fills in hundreds of megabytes. Large allocations share the one arena
+// The commands that build meshes ask for huge pages once their check is done
+// (`use_huge_pages_from_now`), and the kernel asks for them for its own large arrays
+// (kernel/large_arrays.h). Large allocations share the one arena
 // (`oversize_threshold:0`: jemalloc 5.3 reads 0 as "no threshold" and keeps no separate
 // arena for allocations above it, 8 MiB by default; `arenas.lookup` puts an 8 MiB block in
 // arena 0), so the pages a large array frees are reused by the next ones: when it was set,
@@ -34,6 +35,14 @@
 #include <string_view>
 
 namespace nomec {
+
+/// From now on, the memory jemalloc maps for the process may be backed by 2 MiB huge pages
+/// (it asks with `madvise` for each new mapping; pages mapped before stay 4 KiB). For the
+/// commands that build meshes (`--emit stl`/`obj`, `--what-if`, `view`): their
+/// evaluation, merge and subdivision fill many arrays of a few megabytes, which took 1.3–1.6
+/// times as long on 4 KiB pages (bench/pipeline/README.md).
+/// The check itself stays on 4 KiB pages. Returns false where it cannot (not jemalloc).
+bool use_huge_pages_from_now();
 
 inline std::string_view allocator_name() {
   // jemalloc exports `mallctl`; the C library does not.

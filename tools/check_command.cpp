@@ -10,6 +10,7 @@
 
 #include "base/file_io.h"
 #include "frontend/parse/parse.h"
+#include "tools/allocator.h"
 #include "tools/cli.h"
 #include "tools/emit.h"
 #include "tools/what_if.h"
@@ -67,6 +68,8 @@ int run_check_command(const Cli& cli) {
     const auto start = std::chrono::steady_clock::now();
     CheckResult result = check_source(sources, path, std::move(*text), options, diags);
     const double check_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    // The meshes built after the check want huge pages (tools/allocator.h).
+    if (cli.emits_mesh() || !cli.what_if.empty()) use_huge_pages_from_now();
     diags.sort_and_dedupe();
     out.begin_file(path, dialect_name(result.dialect));
     out.show(sources, diags);

@@ -10,6 +10,8 @@
 // cleanly (exit 0).
 #include "tools/view_command.h"
 
+#include "tools/allocator.h"
+
 #include <cerrno>
 #include <cstring>
 #include <iostream>
@@ -436,6 +438,7 @@ void open_browser(const std::string& url) {
 }  // namespace
 
 int run_view(const ViewCommand& command) {
+  use_huge_pages_from_now();  // the preview builds meshes (tools/allocator.h)
   Site site;
   std::error_code ec;
   site.path = fs::absolute(command.file, ec).lexically_normal().string();
