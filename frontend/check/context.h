@@ -208,7 +208,6 @@ class Context {
   int dropped_saved_vertices = 0;  // saved-work vertices the scene lacks (meshes.cpp)  // the instance of a flat file's scene (see flat_meshes.cpp)
   std::vector<NameUse>* name_uses = nullptr;  // CheckOptions::record_names
   std::vector<std::unique_ptr<ast::Ast>> owned_asts;  // included files
-  std::vector<std::unique_ptr<ast::Ast>> fragments;   // function texts (`funcX [ … ]`)
 
   // ---- for incremental checks (incremental.cpp) ----
   FileId main_file;  // the file being checked (its top-level statements are "items")

@@ -553,9 +553,9 @@ ir::ExprId scalar_of_item(Context& c, const ast::Ast& a, const ast::Item& it, bo
 ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::span<const std::string_view> vars,
                           FunctionOrigin origin) {
   const ast::Expr& x = a.expr(raw);
-  // The function's own syntax tree lives as long as the check.
-  c.fragments.push_back(std::make_unique<ast::Ast>());
-  ast::Ast& fn = *c.fragments.back();
+  // The function's own syntax tree is needed only while it is lowered: the IR's
+  // expressions keep nothing of it (their texts view the file's text).
+  ast::Ast fn;
   fn.file = x.range.file;
   ast::ExprId root = parse_function_text(c.sources().text(x.range.file), x.range.file, x.range, fn, c.diags());
   return lower_checked(c, fn, root, Scope{false, vars, origin});
