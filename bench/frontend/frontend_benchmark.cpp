@@ -71,6 +71,26 @@ void BM_ParseCheck(benchmark::State& state) {
   state.counters["ir_nodes"] = static_cast<double>(nodes);
 }
 
+// The command line's check (CheckOptions::piece_bytes): the file parsed in pieces, each
+// piece's tree freed, and the free memory given back, once its statements are checked.
+// Against BM_ParseCheck in the same run: what the lower peak memory costs in time.
+void BM_ParseCheckInPieces(benchmark::State& state) {
+  const std::string& text = scene(static_cast<size_t>(state.range(0)));
+  nomec::CheckOptions options;
+  options.piece_bytes = nomec::kCheckPieceBytes;
+  size_t nodes = 0;
+  for (auto _ : state) {
+    nomec::SourceManager sources;
+    nomec::DiagnosticEngine diags;
+    nomec::CheckResult r = nomec::check_source(sources, "bench.nome", text, options, diags);
+    nodes = r.module.nodes.size();
+    benchmark::DoNotOptimize(nodes);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(text.size()));
+  state.counters["file_bytes"] = static_cast<double>(text.size());
+  state.counters["ir_nodes"] = static_cast<double>(nodes);
+}
+
 // The fixed cost of one check (what each fuzzer input pays before its size matters): a
 // one-statement file, a kilobyte of typical statements with a few mistakes, and that
 // kilobyte with syntax errors.
@@ -457,6 +477,8 @@ BENCHMARK(BM_FirstCacheParse)->Args({1 << 20, 1})->Args({1 << 20, 2})->Unit(benc
 // parsed on two threads.
 BENCHMARK(BM_ParseCheck)->Arg(64 << 10)->Arg(512 << 10)->Arg(256 << 10)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond)
     ->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(BM_ParseCheckInPieces)->Arg(1 << 20)->Arg(4 << 20)->Unit(benchmark::kMillisecond)->UseRealTime()
+    ->MeasureProcessCPUTime();
 BENCHMARK(BM_ParseOnly)
     ->ArgsProduct({{64 << 10, 256 << 10, 512 << 10, 1 << 20, 4 << 20}, {0}})
     ->Args({1 << 20, 1})
