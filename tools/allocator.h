@@ -30,9 +30,9 @@
 // 1 MiB scene).
 #pragma once
 
-#include <dlfcn.h>
-
 #include <string_view>
+
+#include "base/free_memory.h"
 
 namespace nomec {
 
@@ -44,10 +44,7 @@ namespace nomec {
 /// The check itself stays on 4 KiB pages. Returns false where it cannot (not jemalloc).
 bool use_huge_pages_from_now();
 
-inline std::string_view allocator_name() {
-  // jemalloc exports `mallctl`; the C library does not.
-  return dlsym(RTLD_DEFAULT, "mallctl") != nullptr ? "jemalloc" : "malloc";
-}
+inline std::string_view allocator_name() { return jemalloc_mallctl() != nullptr ? "jemalloc" : "malloc"; }
 
 }  // namespace nomec
 

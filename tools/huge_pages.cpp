@@ -1,6 +1,4 @@
 // See allocator.h (`use_huge_pages_from_now`).
-#include <dlfcn.h>
-
 #include "tools/allocator.h"
 
 #if __has_include(<jemalloc/jemalloc.h>) && __has_include(<sys/mman.h>)
@@ -30,8 +28,7 @@ void* alloc_huge(extent_hooks_t*, void* new_addr, size_t size, size_t alignment,
 
 bool use_huge_pages_from_now() {
 #if defined(NOMEC_EXTENT_HOOKS)
-  using Mallctl = int (*)(const char*, void*, size_t*, void*, size_t);
-  static const auto ctl = reinterpret_cast<Mallctl>(dlsym(RTLD_DEFAULT, "mallctl"));
+  const Mallctl ctl = jemalloc_mallctl();
   if (ctl == nullptr) return false;  // not jemalloc
   if (default_hooks != nullptr) return true;
   // Every thread allocates from arena 0 (`narenas:1`, and no arena for large sizes).
