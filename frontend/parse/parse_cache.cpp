@@ -779,11 +779,12 @@ std::vector<ast::Ast> parse_file_in_pieces(const SourceManager& sources, FileId 
   };
   std::vector<Piece> pieces(n);
   out.resize(n);
+  auto piece_text = [&](size_t k) {
+    return k + 1 < n ? text.substr(starts[k], starts[k + 1] - starts[k]) : text.substr(starts[k]);
+  };
   auto parse_one = [&](size_t k) {
-    const uint32_t end = k + 1 < n ? starts[k + 1] : static_cast<uint32_t>(text.size());
     Piece& p = pieces[k];
-    out[k] = parse_piece(text.substr(starts[k], end - starts[k]), file, PieceSinks{p.comments, p.tokens, p.syntax},
-                         &p.info);
+    out[k] = parse_piece(piece_text(k), file, PieceSinks{p.comments, p.tokens, p.syntax}, &p.info);
   };
   // On two threads, each parses every other piece: the pieces are about the same size, so
   // neither waits long for the other, and only two pieces' parser memory is live at once.
@@ -807,8 +808,7 @@ std::vector<ast::Ast> parse_file_in_pieces(const SourceManager& sources, FileId 
   for (size_t k = 0; k < n; ++k) {
     place_piece(out[k], pieces[k].info, starts[k]);
     const Piece& p = pieces[k];
-    const uint32_t end = k + 1 < n ? starts[k + 1] : static_cast<uint32_t>(text.size());
-    refs[k] = {&out[k], &p.info, &p.comments, &p.tokens, &p.syntax, text.substr(starts[k], end - starts[k]), starts[k],
+    refs[k] = {&out[k], &p.info, &p.comments, &p.tokens, &p.syntax, piece_text(k), starts[k],
                reports_something(p.comments, p.tokens, p.syntax)};
   }
   ast::Ast unused;
