@@ -193,6 +193,24 @@ void differential(const std::string& name, std::string text, int edits, uint32_t
   }
 }
 
+// Every corpus file and example in `versions` versions: as it is, then after each of
+// `versions - 1` random edits (seeded per file from `seed` on). `check(doc, text, k)` runs on
+// version k; the walk stops at the first fatal failure.
+template <typename Check>
+void for_each_edited_corpus_version(uint32_t seed, int versions, Check&& check) {
+  const std::vector<Doc> docs = corpus_docs();
+  ASSERT_FALSE(docs.empty()) << "no corpus files under " << NOMEC_CORPUS_DIR;
+  for (const Doc& d : docs) {
+    std::mt19937 rng(seed++);
+    std::string text = d.text;
+    for (int k = 0; k < versions; ++k) {
+      if (k > 0) random_edit(text, rng);
+      check(d, text, k);
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+  }
+}
+
 TEST(ParseCache, CorpusFilesUnderRandomEdits) {
   std::vector<Doc> docs = corpus_docs();
   ASSERT_FALSE(docs.empty()) << "no corpus files under " << NOMEC_CORPUS_DIR;
@@ -476,27 +494,19 @@ TEST(ParseCache, CheckThroughCacheEqualsCheck) {
 // below the automatic size), also after random edits, which often leave a half that does
 // not parse as it does inside the whole text: then the text is parsed in one piece.
 TEST(ParseTwoThreads, EqualsOneThreadOnCorpusFilesUnderRandomEdits) {
-  std::vector<Doc> docs = corpus_docs();
-  ASSERT_FALSE(docs.empty());
   int versions = 0, halved = 0;
-  uint32_t seed = 500;
-  for (const Doc& d : docs) {
-    std::mt19937 rng(seed++);
-    std::string text = d.text;
-    for (int k = 0; k < 6; ++k) {
-      if (k > 0) random_edit(text, rng);
-      const std::string want = full_parse(text);
-      ASSERT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), want), "")
-          << d.name << " after " << k << " edits, parse_file on two threads";
-      nomec::ParseCache cache(nomec::ParseThreads::Two);
-      ASSERT_EQ(first_difference(cached_parse(cache, text), want), "")
-          << d.name << " after " << k << " edits, a new cache on two threads";
-      EXPECT_EQ(cache.last_stats().threads, 2);
-      nomec::DiagnosticEngine scratch;
-      halved += nomec::parse_detail::parse_in_two_pieces(text, nomec::FileId{1}, scratch).has_value() ? 1 : 0;
-      ++versions;
-    }
-  }
+  ASSERT_NO_FATAL_FAILURE(for_each_edited_corpus_version(500, 6, [&](const Doc& d, const std::string& text, int k) {
+    const std::string want = full_parse(text);
+    ASSERT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), want), "")
+        << d.name << " after " << k << " edits, parse_file on two threads";
+    nomec::ParseCache cache(nomec::ParseThreads::Two);
+    ASSERT_EQ(first_difference(cached_parse(cache, text), want), "")
+        << d.name << " after " << k << " edits, a new cache on two threads";
+    EXPECT_EQ(cache.last_stats().threads, 2);
+    nomec::DiagnosticEngine scratch;
+    halved += nomec::parse_detail::parse_in_two_pieces(text, nomec::FileId{1}, scratch).has_value() ? 1 : 0;
+    ++versions;
+  }));
   // Most versions were really parsed as two halves, not in one piece after all.
   EXPECT_GT(halved, versions / 2) << halved << " of " << versions;
 }
@@ -665,28 +675,20 @@ std::string check_dump_named(const std::string& path, const std::string& text, s
 // of one byte (a piece per top-level statement), of 97 bytes and of 1 KiB, on one and two
 // threads: joined, exactly `parse_file`'s AST and diagnostics.
 TEST(ParseInPieces, EqualsParseFileOnCorpusFilesUnderRandomEdits) {
-  std::vector<Doc> docs = corpus_docs();
-  ASSERT_FALSE(docs.empty());
   int versions = 0, pieced = 0;
-  uint32_t seed = 900;
-  for (const Doc& d : docs) {
-    std::mt19937 rng(seed++);
-    std::string text = d.text;
-    for (int k = 0; k < 4; ++k) {
-      if (k > 0) random_edit(text, rng);
-      const std::string want = full_parse(text);
-      for (size_t bytes : {size_t{1}, size_t{97}, size_t{1024}}) {
-        const auto threads = bytes == 97 ? nomec::ParseThreads::Two : nomec::ParseThreads::One;
-        size_t count = 0;
-        ASSERT_EQ(first_difference(pieces_parse(text, bytes, threads, &count), want), "")
-            << d.name << " after " << k << " edits, pieces of " << bytes << " bytes";
-        if (bytes == 1) {
-          ++versions;
-          pieced += count > 1 ? 1 : 0;
-        }
+  ASSERT_NO_FATAL_FAILURE(for_each_edited_corpus_version(900, 4, [&](const Doc& d, const std::string& text, int k) {
+    const std::string want = full_parse(text);
+    for (size_t bytes : {size_t{1}, size_t{97}, size_t{1024}}) {
+      const auto threads = bytes == 97 ? nomec::ParseThreads::Two : nomec::ParseThreads::One;
+      size_t count = 0;
+      ASSERT_EQ(first_difference(pieces_parse(text, bytes, threads, &count), want), "")
+          << d.name << " after " << k << " edits, pieces of " << bytes << " bytes";
+      if (bytes == 1) {
+        ++versions;
+        pieced += count > 1 ? 1 : 0;
       }
     }
-  }
+  }));
   // Most versions really were parsed in pieces, not as one piece after all.
   EXPECT_GT(pieced, versions / 2) << pieced << " of " << versions;
 }
@@ -742,22 +744,14 @@ TEST(ParseInPieces, PiecesThatCannotStandAlone) {
 // pieces), also after random edits, and the generated scene. Under the address sanitizer
 // this also shows that nothing reads a freed piece.
 TEST(CheckInPieces, EqualsCheckOfTheWholeTree) {
-  std::vector<Doc> docs = corpus_docs();
-  ASSERT_FALSE(docs.empty());
-  uint32_t seed = 1300;
-  for (const Doc& d : docs) {
-    std::mt19937 rng(seed++);
-    std::string text = d.text;
+  ASSERT_NO_FATAL_FAILURE(for_each_edited_corpus_version(1300, 3, [&](const Doc& d, const std::string& text, int k) {
     const std::string name = fs::path(d.name).filename().string();
-    for (int k = 0; k < 3; ++k) {
-      if (k > 0) random_edit(text, rng);
-      const std::string want = check_dump_named(name, text, 0);
-      for (size_t bytes : {size_t{1}, size_t{200}}) {
-        ASSERT_EQ(first_difference(check_dump_named(name, text, bytes), want), "")
-            << d.name << " after " << k << " edits, pieces of " << bytes << " bytes";
-      }
+    const std::string want = check_dump_named(name, text, 0);
+    for (size_t bytes : {size_t{1}, size_t{200}}) {
+      ASSERT_EQ(first_difference(check_dump_named(name, text, bytes), want), "")
+          << d.name << " after " << k << " edits, pieces of " << bytes << " bytes";
     }
-  }
+  }));
   std::string scene = generated_scene(300);
   std::mt19937 rng(77);
   for (int k = 0; k < 4; ++k) {
