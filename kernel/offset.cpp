@@ -46,6 +46,16 @@ void for_halves(int32_t n, Fn&& fn) {
   run_two_parts([&](int part) { part == 0 ? fn(0, mid) : fn(mid, n); });
 }
 
+// A border edge and its ribbon (the offset's two-thread ribbons): the edge, its tail and
+// head, and which side edges the ribbon makes (bit 0 at the tail, bit 1 at the head) above
+// the number its half of the ribbons made before it (`made >> 2`).
+struct BorderRibbon {
+  int32_t edge;
+  int32_t tail;
+  int32_t head;
+  uint32_t made;
+};
+
 }  // namespace
 
 namespace {
@@ -321,8 +331,14 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   const FaceId* iuf = MeshAccess::use_faces(mesh).data();
   const EdgeUse* inext = MeshAccess::next(mesh).data();
   const uint8_t mobius = MeshAccess::mobius_flag();
-  int64_t border_edges = 0;
-  for (int32_t e = 0; e < E; ++e) border_edges += iuf[2 * e + 1].is_valid() ? 0 : 1;
+  // Border edges, by halves of the edges (as `for_halves(E, …)` splits them).
+  int32_t borders_in[2] = {0, 0};
+  for_halves(E, [&](int32_t begin, int32_t end) {
+    int32_t count = 0;
+    for (int32_t e = begin; e < end; ++e) count += iuf[2 * e + 1].is_valid() ? 0 : 1;
+    borders_in[begin == 0 ? 0 : 1] = count;
+  });
+  const int64_t border_edges = int64_t{borders_in[0]} + borders_in[1];
   const int64_t in_corners = 2 * int64_t{E} - border_edges;
   const int64_t out_faces = 2 * int64_t{F} + border_edges;
   const int64_t out_edges = in_corners + 2 * border_edges;  // 2C + 4B corners, two per edge
@@ -429,6 +445,9 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     walked_corners[begin == 0 ? 0 : 1] += corners;
   });
   result.inconsistent_normal_count = inconsistent[0] + inconsistent[1];
+  // The walks met every corner: every vertex has one fan, so a border vertex has two
+  // border edges, one ending and (without Möbius edges) one starting there.
+  const bool one_fan_each = walked_corners[0] + walked_corners[1] == in_corners;
   // Freed before the output's arrays are made, which can then reuse their pages.
   fnormals.reset();
   compact.reset();
@@ -439,7 +458,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
   // (every corner pairs positive with positive) and the walks met every corner, so every
   // vertex has one fan and a border vertex two border edges (each ribbon side is met
   // twice).
-  if (kPFromTails && release != nullptr && walked_corners[0] + walked_corners[1] == in_corners) {
+  if (kPFromTails && release != nullptr && one_fan_each) {
     Mesh& input = *release->mesh;
     OverwriteVector<dvec3>().swap(MeshAccess::positions(input));
     OverwriteVector<EdgeUse>().swap(MeshAccess::prev(input));
@@ -680,75 +699,192 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
     if (!make_negative(negative)) return std::nullopt;
   }
   // Ribbons: border edge a->b gives [P(b), P(a), N(a), N(b)]; its sides (corners 1 and 3)
-  // pair with the neighbouring ribbons' sides at the same vertex (`side_use`: None, the
-  // first side's use, or `kPaired`).
-  constexpr int32_t kPaired = -2;
-  std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
-  bool sides_ok = true;
-  Run ribbons;
-  ribbons.anchors = anchors;
-  ribbons.next_edge = negative.next_edge;
-  ribbons.end = static_cast<int32_t>(out_edges);
-  auto side = [&](int32_t a, int32_t b, int32_t face) {
-    EdgeUse& s = side_use[a >> 1];
-    if (s.index == kPaired) {
-      sides_ok = false;
-      return EdgeUse::None();
+  // pair with the neighbouring ribbons' sides at the same vertex. The r-th border edge's
+  // ribbon is face 2F + r; a side's edge is made by the first of its two corners (ribbons
+  // in order, corner 1 before corner 3), so the side edges are numbered from
+  // `negative.next_edge` on in the order of their first corners.
+  int64_t ribbon_second_uses = 0;
+  // The border edges in order, when the ribbons were made on two threads.
+  std::unique_ptr<BorderRibbon[]> border_ribbons;
+  if constexpr (kPFromTails) {
+    if (one_fan_each && border_edges >= kThreadedFrom && has_two_hardware_threads()) {
+      // Two threads, each making the ribbons of half the border edges, number the sides as
+      // one thread would: they first find, for every border vertex k, the ribbon of the
+      // border edge starting at k (its corner 1 meets side k) and of the one ending at k
+      // (its corner 3 does; `meets`, 2k and 2k + 1), then count the side edges each ribbon
+      // makes, and then make them. A side corner that comes second takes the number its
+      // partner made. Its edge's Möbius flag stays clear: the two corners of a side are a
+      // corner 1 and a corner 3, which run the side in opposite directions.
+      const int32_t R = static_cast<int32_t>(border_edges);
+      const int32_t mid = R / 2;
+      border_ribbons = scratch(static_cast<BorderRibbon*>(nullptr), static_cast<size_t>(R));
+      BorderRibbon* rib = border_ribbons.get();
+      const std::unique_ptr<int32_t[]> meets = scratch(static_cast<int32_t*>(nullptr), 2 * static_cast<size_t>(V));
+      for_halves(V, [&](int32_t begin, int32_t end) {
+        std::memset(static_cast<void*>(meets.get() + 2 * static_cast<size_t>(begin)), 0xff,
+                    2 * static_cast<size_t>(end - begin) * sizeof(int32_t));
+      });
+      // One fan at every vertex: each meet is written once (no two threads write one).
+      for_halves(E, [&](int32_t begin, int32_t end) {
+        int32_t r = begin == 0 ? 0 : borders_in[0];
+        for (int32_t e = begin; e < end; ++e) {
+          if (iuf[2 * e + 1].is_valid()) continue;
+          const int32_t tail = itail[2 * e].index, head = itail[inext[2 * e].index].index;
+          rib[r] = {e, tail, head, 0};
+          meets[2 * static_cast<size_t>(tail)] = r;
+          meets[2 * static_cast<size_t>(head) + 1] = r;
+          ++r;
+        }
+      });
+      // Which sides each ribbon makes, and how many its half made before it.
+      int32_t made_in[2] = {0, 0};
+      bool paired[2] = {true, true};
+      run_two_parts([&](int part) {
+        const int32_t begin = part == 0 ? 0 : mid, end = part == 0 ? mid : R;
+        uint32_t made = 0;
+        bool ok = true;
+        for (int32_t r = begin; r < end; ++r) {
+          BorderRibbon& x = rib[r];
+          const int32_t ends_at_tail = meets[2 * static_cast<size_t>(x.tail) + 1];
+          const int32_t starts_at_head = meets[2 * static_cast<size_t>(x.head)];
+          ok &= meets[2 * static_cast<size_t>(x.tail)] == r && meets[2 * static_cast<size_t>(x.head) + 1] == r &&
+                ends_at_tail >= 0 && starts_at_head >= 0;
+          const uint32_t sides = (r <= ends_at_tail ? 1u : 0u) | (r < starts_at_head ? 2u : 0u);
+          x.made = made << 2 | sides;
+          made += (sides & 1) + (sides >> 1);
+        }
+        made_in[part] = static_cast<int32_t>(made);
+        paired[part] = ok;
+      });
+      // One fan at every vertex and no Möbius edge make one border edge start and one end
+      // at every border vertex; else the input breaks the mesh's invariants.
+      if (!paired[0] || !paired[1]) return std::nullopt;
+      const int32_t side_base = negative.next_edge;
+      // The edge made by ribbon r's side corner 1, or 3.
+      auto side_edge = [&](int32_t r, int corner) {
+        const uint32_t made = rib[r].made;
+        return side_base + (r < mid ? 0 : made_in[0]) + static_cast<int32_t>(made >> 2) +
+               (corner == 3 && (made & 1) != 0 ? 1 : 0);
+      };
+      auto second_side = [&](Run& run, int32_t e, int32_t face) {
+        ++run.second_uses;
+        ouf[2 * e + 1] = FaceId(face);
+        return EdgeUse(EdgeId(e), 1);
+      };
+      Run halves[2];
+      bool made[2] = {false, false};
+      run_two_parts([&](int part) {
+        Run& run = halves[part];
+        run.anchors = anchors;
+        run.next_edge = side_base + (part == 0 ? 0 : made_in[0]);
+        run.end = run.next_edge + made_in[part];
+        const int32_t begin = part == 0 ? 0 : mid, end = part == 0 ? mid : R;
+        for (int32_t r = begin; r < end; ++r) {
+          const BorderRibbon x = rib[r];
+          const int32_t face = 2 * F + r;
+          const int32_t c0 = slot_at(x.edge, 0), c1 = slot_at(x.edge, 1);
+          if (c0 < 0 || c1 < 0) return;  // a copy made no edge here
+          const int32_t x1 = 2 * x.tail, x2 = x1 + 1, x0 = 2 * x.head, x3 = x0 + 1;
+          EdgeUse ribbon[4];
+          ribbon[0] = second_use(run, EdgeUse(EdgeId(c0), 0), x0, face);
+          ribbon[1] = (x.made & 1) != 0 ? new_edge(run, x1, x2, face)
+                                        : second_side(run, side_edge(meets[2 * static_cast<size_t>(x.tail) + 1], 3), face);
+          ribbon[2] = second_use(run, EdgeUse(EdgeId(c1), 0), x2, face);
+          ribbon[3] = (x.made & 2) != 0 ? new_edge(run, x3, x0, face)
+                                        : second_side(run, side_edge(meets[2 * static_cast<size_t>(x.head)], 1), face);
+          if (!ribbon[1].is_valid() || !ribbon[3].is_valid()) return;
+          link(ribbon, 4, face);
+        }
+        made[part] = run.next_edge == run.end;
+      });
+      if (!made[0] || !made[1] || halves[1].end != out_edges) return std::nullopt;
+      ribbon_second_uses = halves[0].second_uses + halves[1].second_uses;
     }
-    if (!s.is_valid()) {
-      s = new_edge(ribbons, a, b, face);
-      if (!s.is_valid()) sides_ok = false;
-      return s;
-    }
-    const EdgeUse x = second_use(ribbons, s, a, face);
-    s = EdgeUse(kPaired);
-    return x;
-  };
-  int32_t face = 2 * F;
-  for (int32_t e = 0; e < E; ++e) {
-    if (iuf[2 * e + 1].is_valid()) continue;
-    const int32_t at_a = 2 * e, at_b = inext[at_a].index;
-    const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
-    if (slot_at(e, 0) < 0 || slot_at(e, 1) < 0) return std::nullopt;  // a copy made no edge here
-    EdgeUse ribbon[4];
-    ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
-    ribbon[1] = side(x1, x2, face);
-    ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
-    ribbon[3] = side(x3, x0, face);
-    if (!sides_ok) return std::nullopt;
-    link(ribbon, 4, face);
-    ++face;
   }
-  for (const EdgeUse s : side_use) {
-    if (s.is_valid()) return std::nullopt;  // a side without a partner
+  if (border_ribbons == nullptr) {
+    // One thread: `side_use` per border vertex is None, the first side's use, or `kPaired`.
+    constexpr int32_t kPaired = -2;
+    std::vector<EdgeUse> side_use(static_cast<size_t>(out_vertices) / 2, EdgeUse::None());
+    bool sides_ok = true;
+    Run ribbons;
+    ribbons.anchors = anchors;
+    ribbons.next_edge = negative.next_edge;
+    ribbons.end = static_cast<int32_t>(out_edges);
+    auto side = [&](int32_t a, int32_t b, int32_t face) {
+      EdgeUse& s = side_use[a >> 1];
+      if (s.index == kPaired) {
+        sides_ok = false;
+        return EdgeUse::None();
+      }
+      if (!s.is_valid()) {
+        s = new_edge(ribbons, a, b, face);
+        if (!s.is_valid()) sides_ok = false;
+        return s;
+      }
+      const EdgeUse x = second_use(ribbons, s, a, face);
+      s = EdgeUse(kPaired);
+      return x;
+    };
+    int32_t face = 2 * F;
+    for (int32_t e = 0; e < E; ++e) {
+      if (iuf[2 * e + 1].is_valid()) continue;
+      const int32_t at_a = 2 * e, at_b = inext[at_a].index;
+      const int32_t x0 = P(at_b), x1 = P(at_a), x2 = x1 ^ 1, x3 = x0 ^ 1;
+      if (slot_at(e, 0) < 0 || slot_at(e, 1) < 0) return std::nullopt;  // a copy made no edge here
+      EdgeUse ribbon[4];
+      ribbon[0] = second_use(ribbons, slot_edge(at_a, 0), x0, face);
+      ribbon[1] = side(x1, x2, face);
+      ribbon[2] = second_use(ribbons, slot_edge(at_a, 1), x2, face);
+      ribbon[3] = side(x3, x0, face);
+      if (!sides_ok) return std::nullopt;
+      link(ribbon, 4, face);
+      ++face;
+    }
+    for (const EdgeUse s : side_use) {
+      if (s.is_valid()) return std::nullopt;  // a side without a partner
+    }
+    if (ribbons.next_edge != out_edges) return std::nullopt;
+    ribbon_second_uses = ribbons.second_uses;
   }
   // Every edge made and met twice: then every use is in a loop and every wing was written.
-  if (ribbons.next_edge != out_edges ||
-      positive.second_uses + negative.second_uses + ribbons.second_uses != out_edges) {
-    return std::nullopt;
-  }
+  if (positive.second_uses + negative.second_uses + ribbon_second_uses != out_edges) return std::nullopt;
   // Sources, colours and parents follow the input faces.
   const auto& isources = MeshAccess::face_sources(mesh);
   const auto& icolors = MeshAccess::face_colors(mesh);
   // The sources overwrite the slots (above), which nothing reads any more.
   slot_scratch.reset();
-  for (int32_t copy = 0; copy < 2; ++copy) {
-    std::copy(isources.begin(), isources.begin() + F, osources.begin() + static_cast<size_t>(copy) * F);
-    if (has_colors) ocolors.insert(ocolors.end(), icolors.begin(), icolors.begin() + F);
-    if (has_parent_maps) {
-      for (int32_t f = 0; f < F; ++f) {
-        result.face_parents.push_back(
-            {copy == 0 ? OffsetParent::Kind::PositiveFace : OffsetParent::Kind::NegativeFace, origin(f), {}});
-      }
+  for_halves(F, [&](int32_t begin, int32_t end) {
+    for (int32_t copy = 0; copy < 2; ++copy) {
+      std::copy(isources.begin() + begin, isources.begin() + end, osources.begin() + static_cast<size_t>(copy) * F + begin);
+    }
+  });
+  if (border_ribbons != nullptr) {
+    const BorderRibbon* rib = border_ribbons.get();
+    for_halves(static_cast<int32_t>(border_edges), [&](int32_t begin, int32_t end) {
+      for (int32_t r = begin; r < end; ++r) osources[2 * static_cast<size_t>(F) + r] = isources[iuf[2 * rib[r].edge].index];
+    });
+  } else {
+    size_t ribbon_face = 2 * static_cast<size_t>(F);
+    for (int32_t e = 0; e < E; ++e) {
+      if (!iuf[2 * e + 1].is_valid()) osources[ribbon_face++] = isources[iuf[2 * e].index];
     }
   }
-  size_t ribbon_face = 2 * static_cast<size_t>(F);
-  for (int32_t e = 0; e < E; ++e) {
-    if (iuf[2 * e + 1].is_valid()) continue;
-    const FaceId f = iuf[2 * e];
-    osources[ribbon_face++] = mesh.face_source(f);
-    if (has_colors) ocolors.push_back(mesh.face_color(f));
-    if (has_parent_maps) result.face_parents.push_back({OffsetParent::Kind::Ribbon, origin(f.index), EdgeId(e)});
+  if (has_colors || has_parent_maps) {
+    for (int32_t copy = 0; copy < 2; ++copy) {
+      if (has_colors) ocolors.insert(ocolors.end(), icolors.begin(), icolors.begin() + F);
+      if (has_parent_maps) {
+        for (int32_t f = 0; f < F; ++f) {
+          result.face_parents.push_back(
+              {copy == 0 ? OffsetParent::Kind::PositiveFace : OffsetParent::Kind::NegativeFace, origin(f), {}});
+        }
+      }
+    }
+    for (int32_t e = 0; e < E; ++e) {
+      if (iuf[2 * e + 1].is_valid()) continue;
+      const FaceId f = iuf[2 * e];
+      if (has_colors) ocolors.push_back(mesh.face_color(f));
+      if (has_parent_maps) result.face_parents.push_back({OffsetParent::Kind::Ribbon, origin(f.index), EdgeId(e)});
+    }
   }
   return result;
 }

@@ -364,6 +364,64 @@ TEST(Offset, ThreadedCopiesEqualTheReference) {
   }
 }
 
+// A flat n x m grid with a hole at every cell (i, j) with i and j odd, inside the border:
+// (n / 2)² border loops of four edges, no two of them sharing a vertex.
+PolygonSoup holed_grid_soup(int n, int m) {
+  PolygonSoup s;
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= m; ++j) s.add_vertex({double(i), double(j), 0.0});
+  }
+  auto id = [&](int i, int j) { return i * (m + 1) + j; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      if (i % 2 == 1 && j % 2 == 1 && i + 1 < n && j + 1 < m) continue;
+      s.add_face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return s;
+}
+
+// `count` separate quads, each its own component with one border loop.
+PolygonSoup separate_quads_soup(int count) {
+  PolygonSoup s;
+  for (int k = 0; k < count; ++k) {
+    const double x = 2.0 * (k % 128), y = 2.0 * (k / 128);
+    const int a = s.add_vertex({x, y, 0.0});
+    const int b = s.add_vertex({x + 1, y, 0.0});
+    const int c = s.add_vertex({x + 1, y + 1, 0.1});
+    const int d = s.add_vertex({x, y + 1, 0.0});
+    s.add_face({a, b, c, d});
+  }
+  return s;
+}
+
+// Without Möbius edges, a mesh with many border edges (from 32,768) makes its ribbons on two
+// threads, each half of the border edges on its own; the side edges a ribbon shares with its
+// neighbours are numbered as one thread would number them, also when the neighbour lies in
+// the other half. On many holes and many components, in the builder's face order, shuffled
+// (so a side's first corner is a corner 1 or a corner 3, before or after the middle), and in
+// the layout of Catmull-Clark levels, the slab must equal the reference construction.
+TEST(Offset, ThreadedRibbonsEqualTheReference) {
+  uint32_t seed = 4242;
+  std::vector<std::pair<std::string, Mesh>> meshes;
+  meshes.emplace_back("holed grid", build(holed_grid_soup(184, 184)));
+  meshes.emplace_back("shuffled holed grid", build(shuffled_soup(holed_grid_soup(184, 184), seed)));
+  meshes.emplace_back("shuffled separate quads", build(shuffled_soup(separate_quads_soup(8200), seed)));
+  meshes.emplace_back("subdivided holed grid", subdivide_last_level(build(holed_grid_soup(100, 100)), {.levels = 2}).value());
+  for (const auto& [what, mesh] : meshes) {
+    int32_t border_edges = 0;
+    for (int32_t e = 0; e < mesh.edge_count(); ++e) border_edges += mesh.is_boundary(EdgeId(e)) ? 1 : 0;
+    ASSERT_GE(border_edges, 1 << 15) << what;
+    ASSERT_FALSE(mesh.has_mobius_edges()) << what;
+    expect_direct_equals_reference(mesh, 0.05, what);
+    // A slab whose loops are wrong could send the walk below round a loop for ever.
+    ASSERT_FALSE(HasFailure()) << what;
+    TopologyReport r = topology(offset(mesh, {.distance = 0.05})->mesh);
+    EXPECT_TRUE(r.is_closed) << what;
+    EXPECT_TRUE(r.is_orientable) << what;
+  }
+}
+
 // The direct slab computes its normals, offset positions and corner vertices in one walk
 // per vertex, on two threads for large meshes (and counts inconsistent Möbius corners per
 // thread): on meshes above the threading threshold, with borders, Möbius and Klein seams
