@@ -3,17 +3,21 @@
 # project into build/ with CMake + Ninja. Safe to re-run: the apt step is skipped when every
 # package is already installed, and the build is incremental. Works from any directory.
 #
-# Usage (as root on a fresh Debian 12 machine):   scripts/bootstrap.sh [--sanitize]
+# Usage (as root on a fresh Debian 12 machine):   scripts/bootstrap.sh [--sanitize | --threads]
 # Afterwards: build/tools/nomec --check FILE...   and   ctest --test-dir build
 # With --sanitize it builds build-sanitize/ instead: the `sanitize` preset (clang with
-# AddressSanitizer + UndefinedBehaviorSanitizer, and the libFuzzer targets).
+# AddressSanitizer + UndefinedBehaviorSanitizer, and the libFuzzer targets). With --threads it
+# builds build-threads/: the `threads` preset (clang with ThreadSanitizer, the kernel and its
+# tests only, whose passes run on two threads).
 set -euo pipefail
 
 sanitize=0
+threads=0
 for arg in "$@"; do
   case "$arg" in
     --sanitize) sanitize=1 ;;
-    *) echo "bootstrap: unknown argument $arg (usage: scripts/bootstrap.sh [--sanitize])" >&2; exit 2 ;;
+    --threads) threads=1 ;;
+    *) echo "bootstrap: unknown argument $arg (usage: scripts/bootstrap.sh [--sanitize | --threads])" >&2; exit 2 ;;
   esac
 done
 
@@ -82,6 +86,9 @@ fi
 if ((sanitize)); then
   cmake --preset sanitize
   cmake --build build-sanitize -j"$(nproc)"
+elif ((threads)); then
+  cmake --preset threads
+  cmake --build build-threads -j"$(nproc)"
 else
   cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
   cmake --build build -j"$(nproc)"
