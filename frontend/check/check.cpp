@@ -85,11 +85,12 @@ void check_parsed(Context& c, CheckResult& result, std::span<ast::Ast> main, con
   // other files or Tcl (noted before a piece is freed).
   bool reads_beyond = false;
   int order_base = 0;
+  bool in_stray_run = false;  // across the pieces
   for (ast::Ast& a : main) {
     reads_beyond = reads_beyond || std::any_of(a.top.begin(), a.top.end(), [](const ast::Item& it) {
                      return it.kind == ast::ItemKind::Include || it.kind == ast::ItemKind::Tcl;
                    });
-    check::process(c, a, order_base);
+    check::process(c, a, order_base, &in_stray_run);
     if (c.cancelled) {
       result.cancelled = true;
       return;

@@ -130,8 +130,10 @@ ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::s
 // ---- statements.cpp: top-level statements, dispatch by kind, includes ----
 /// Checks the top-level items of a syntax tree (or of one piece of the main file: then
 /// `order_base` counts the items of the pieces before it), numbering them from
-/// `order_base` + 1.
-void process(Context& c, const ast::Ast& a, int order_base);
+/// `order_base` + 1. A run of stray items is reported at its first item; `in_stray_run`,
+/// when given, carries whether the items before `a` ended in such a run (the pieces of one
+/// file share it, so a run across a cut is reported once, as in the whole tree).
+void process(Context& c, const ast::Ast& a, int order_base, bool* in_stray_run = nullptr);
 ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
 
 // ---- meshes.cpp: points, faces, polylines, objects, meshes, sharps, deletes, saved work ----

@@ -112,9 +112,10 @@ void report_line_end(Context& c, const ast::Stmt& s) {
 
 }  // namespace
 
-void process(Context& c, const ast::Ast& a, int order_base) {
+void process(Context& c, const ast::Ast& a, int order_base, bool* stray_run) {
   int order = order_base;
-  bool in_stray_run = false;
+  bool own_stray_run = false;
+  bool& in_stray_run = stray_run != nullptr ? *stray_run : own_stray_run;
   // The main file's own statements (not a base scene's, an include's or Tcl's, numbered
   // below 0 or from 1 << 20): an incremental check may process only some of them, and
   // marks what each one reported.
