@@ -56,28 +56,10 @@ int check_errors(const std::string& text, std::string* first) {
   return diags.error_count() + diags.warning_count();
 }
 
-void BM_ParseCheck(benchmark::State& state) {
+// Parse + check of the generated scene of `state.range(0)` bytes with `options`: MB/s, the
+// file's size and the IR's nodes.
+void run_parse_check(benchmark::State& state, const nomec::CheckOptions& options) {
   const std::string& text = scene(static_cast<size_t>(state.range(0)));
-  size_t nodes = 0;
-  for (auto _ : state) {
-    nomec::SourceManager sources;
-    nomec::DiagnosticEngine diags;
-    nomec::CheckResult r = nomec::check_source(sources, "bench.nome", text, nomec::CheckOptions{}, diags);
-    nodes = r.module.nodes.size();
-    benchmark::DoNotOptimize(nodes);
-  }
-  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(text.size()));
-  state.counters["file_bytes"] = static_cast<double>(text.size());
-  state.counters["ir_nodes"] = static_cast<double>(nodes);
-}
-
-// The command line's check (CheckOptions::piece_bytes): the file parsed in pieces, each
-// piece's tree freed, and the free memory given back, once its statements are checked.
-// Against BM_ParseCheck in the same run: what the lower peak memory costs in time.
-void BM_ParseCheckInPieces(benchmark::State& state) {
-  const std::string& text = scene(static_cast<size_t>(state.range(0)));
-  nomec::CheckOptions options;
-  options.piece_bytes = nomec::kCheckPieceBytes;
   size_t nodes = 0;
   for (auto _ : state) {
     nomec::SourceManager sources;
@@ -89,6 +71,17 @@ void BM_ParseCheckInPieces(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(text.size()));
   state.counters["file_bytes"] = static_cast<double>(text.size());
   state.counters["ir_nodes"] = static_cast<double>(nodes);
+}
+
+void BM_ParseCheck(benchmark::State& state) { run_parse_check(state, nomec::CheckOptions{}); }
+
+// The command line's check (CheckOptions::piece_bytes): the file parsed in pieces, each
+// piece's tree freed, and the free memory given back, once its statements are checked.
+// Against BM_ParseCheck in the same run: what the lower peak memory costs in time.
+void BM_ParseCheckInPieces(benchmark::State& state) {
+  nomec::CheckOptions options;
+  options.piece_bytes = nomec::kCheckPieceBytes;
+  run_parse_check(state, options);
 }
 
 // The fixed cost of one check (what each fuzzer input pays before its size matters): a
