@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "kernel/large_arrays.h"
 #include "base/two_threads.h"
@@ -717,6 +718,8 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
       // corner 1 and a corner 3, which run the side in opposite directions.
       const int32_t R = static_cast<int32_t>(border_edges);
       const int32_t mid = R / 2;
+      // The ribbons of half `part`: [begin, end).
+      auto half = [&](int part) { return part == 0 ? std::pair{0, mid} : std::pair{mid, R}; };
       border_ribbons = scratch(static_cast<BorderRibbon*>(nullptr), static_cast<size_t>(R));
       BorderRibbon* rib = border_ribbons.get();
       const std::unique_ptr<int32_t[]> meets = scratch(static_cast<int32_t*>(nullptr), 2 * static_cast<size_t>(V));
@@ -740,7 +743,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
       int32_t made_in[2] = {0, 0};
       bool paired[2] = {true, true};
       run_two_parts([&](int part) {
-        const int32_t begin = part == 0 ? 0 : mid, end = part == 0 ? mid : R;
+        const auto [begin, end] = half(part);
         uint32_t made = 0;
         bool ok = true;
         for (int32_t r = begin; r < end; ++r) {
@@ -778,7 +781,7 @@ std::optional<OffsetResult> offset_direct_with(const Mesh& mesh, double distance
         run.anchors = anchors;
         run.next_edge = side_base + (part == 0 ? 0 : made_in[0]);
         run.end = run.next_edge + made_in[part];
-        const int32_t begin = part == 0 ? 0 : mid, end = part == 0 ? mid : R;
+        const auto [begin, end] = half(part);
         for (int32_t r = begin; r < end; ++r) {
           const BorderRibbon x = rib[r];
           const int32_t face = 2 * F + r;
