@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "base/file_io.h"
+#include "base/read_beneath.h"
 #include "backend/evaluate.h"
 #include "backend/summary.h"
 #include "lsp/server_impl.h"
@@ -144,6 +145,9 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     options.cancelled = std::move(cancelled);
     if (path) {
       options.read_file = read_file_bytes;
+      options.read_beneath = [](const std::string& folder, const std::string& name) {
+        return read_file_beneath(folder, name);
+      };
       options.list_folder = list_folder;
     }
     const size_t bytes = text.size();
@@ -177,6 +181,7 @@ QuickDiagnostics ServerImpl::analyse_incrementally(const Analysis& from, const s
   CheckOptions options;
   options.dialect = options_.dialect;
   options.read_file = read_file_bytes;
+  options.read_beneath = [](const std::string& folder, const std::string& name) { return read_file_beneath(folder, name); };
   options.list_folder = list_folder;
   auto sources = std::make_shared<SourceManager>();
   DiagnosticEngine diags;

@@ -80,14 +80,12 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
 #define NOMEC_LSP_HANDLER(name) register_##name(registry_);
 #include "lsp/handlers.def"
 #undef NOMEC_LSP_HANDLER
-  // Each worker frees what checking SLIDE files left for its thread (Tcl's per-thread data).
   // The background threads yield the processor to the analysis thread (see above).
   auto start = [this](const char* name, void (ServerImpl::*loop)(), bool background) {
     return std::thread([this, name, loop, background] {
       name_thread(name);
       if (background) yield_to_analysis();
       (this->*loop)();
-      release_thread_resources();
     });
   };
   request_thread_ = start("nomec-request", &ServerImpl::request_loop, false);

@@ -37,6 +37,7 @@ packages=(
   libbenchmark-dev               # bench/
   libjemalloc-dev                # allocator of nomec (language server speed on large files)
   tcl8.6-dev                     # frontend/tcl: the Tcl 8.6 interpreter SLIDE scenes run in
+  libseccomp-dev                 # frontend/tcl: the system-call filter of the Tcl worker process
   admesh                         # STL sanity checks in tests
   cmake ninja-build g++ clang
   libclang-rt-14-dev             # clang's sanitizer and libFuzzer runtimes (build-sanitize/)

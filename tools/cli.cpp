@@ -2,12 +2,14 @@
 // between options, and the check options they amount to.
 #include "tools/cli.h"
 
+#include <cmath>
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <fmt/format.h>
 #include <iostream>
 
 #include "base/file_io.h"
+#include "base/read_beneath.h"
 #include "tools/allocator.h"
 
 namespace nomec::tools {
@@ -82,6 +84,9 @@ void add_check_options(CLI::App& app, Cli& cli) {
       ->check(CLI::IsMember({"auto", "always", "never"}));
   app.add_option("--time", cli.time, "Value of `$time` in expressions (default 0)");
   app.add_option("--frame", cli.frame, "Value of `$frame` in expressions (default 0)");
+  app.add_option("--tcl-seconds", cli.tcl_seconds,
+                 "Wall time in seconds a SLIDE file's Tcl may take in all (default 10)")
+      ->check(CLI::Range(0.001, 86400.0));
   app.add_flag("-v,--verbose", cli.verbose, "Report the dialect used and summary counts");
 }
 
@@ -135,8 +140,10 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   options.sif_quads = cli.sif_quads;
   options.time = cli.time;
   options.frame = cli.frame;
+  options.tcl_milliseconds = static_cast<int>(std::lround(cli.tcl_seconds * 1000));
   if (!cli.base.empty()) options.base_file = cli.base;
   options.read_file = read_file_bytes;
+  options.read_beneath = [](const std::string& folder, const std::string& name) { return read_file_beneath(folder, name); };
   options.list_folder = list_folder;
   for (const std::string& d : cli.defines) {
     const auto eq = d.find('=');

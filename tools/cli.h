@@ -28,6 +28,7 @@ struct Cli {
   std::string color = "auto";
   double time = 0;
   double frame = 0;
+  double tcl_seconds = 10;  // --tcl-seconds: wall time of a SLIDE file's Tcl in all
   std::string output;  // -o
   bool stl_ascii = false;
   bool time_report = false;

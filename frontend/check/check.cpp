@@ -110,6 +110,7 @@ void check_parsed(Context& c, CheckResult& result, std::span<ast::Ast> main, con
   check::resolve_pending_deletes(c);
   check::resolve_render_paths(c);
   check::finish_dependencies(c);
+  if (c.tcl_live) c.tcl_live->end_check();  // slider moves now have budgets of their own
   // Nor does it repeat statements that depend on the whole scene (NOME2's scene merges).
   result.incremental_ok = c.options().record_names && !is_saved_work_path(path) && !base_ast && c.tcl_ast == nullptr &&
                           !c.has_tcl && c.tcl_blocks.empty() && c.dialect() != Dialect::Slide && c.scene_merges.empty() &&
@@ -177,7 +178,5 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   }
   return result;
 }
-
-void release_thread_resources() { tcl::finish_thread(); }
 
 }  // namespace nomec

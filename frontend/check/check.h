@@ -34,7 +34,12 @@ struct CheckOptions {
   bool sif_quads = false;  // --sif-quads: `.sif` triangle pairs read as quads (frontend/flat)
   double time = 0;                                         // --time: value of `$time`
   double frame = 0;                                        // --frame: value of `$frame`
+  int tcl_milliseconds = 10000;  // --tcl-seconds: wall time of a SLIDE file's Tcl in all (its blocks and values)
   FileReader read_file;                                    // may be empty: no includes
+  /// Reads a file by its name relative to a folder without leaving the folder (no `..`, no
+  /// link out of it): what SLIDE's Tcl `source`s and imports next to the scene. May be
+  /// empty: then `read_file(folder + name)` (tests and fuzzers that read from memory).
+  std::function<std::optional<std::string>(const std::string& folder, const std::string& name)> read_beneath;
   FolderLister list_folder;                                // may be empty: no base search
   /// May be empty; called once the file's text is parsed (a flat mesh file's: before it is
   /// read), before its check begins (the language server then starts work that must not
@@ -123,10 +128,5 @@ class ParseCache;  // frontend/parse/parse.h
 CheckResult check_source(SourceManager& sources, const std::string& path, std::string text,
                          const CheckOptions& options, DiagnosticEngine& diags,
                          ParseCache* cache);
-
-/// Frees what checking SLIDE files left for the calling thread (Tcl keeps data per thread
-/// that made an interpreter). A long-lived program's worker threads call it before they end;
-/// nothing happens on a thread that checked no Tcl.
-void release_thread_resources();
 
 }  // namespace nomec

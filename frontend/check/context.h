@@ -177,6 +177,8 @@ class Context {
   std::set<std::string> tcl_reported;
   bool has_tcl = false;
   std::unique_ptr<tcl::Interp> tcl;              // the scene's interpreter, once made (scene_tcl, tcl.cpp)
+  std::shared_ptr<tcl::Budget> tcl_budget;       // the wall time of the whole file's Tcl (scene_tcl)
+  bool tcl_stop_reported = false;                // the problem that stopped the scene's Tcl is reported
   bool tcl_available = false;                    // a SLIDE file: scene_tcl makes the interpreter on first use
   std::string tcl_dir;                           // the scene's folder, for `source`
   std::vector<SourceRange> tcl_blocks;           // the text inside each `tclinit`/`tclupdate` block's braces

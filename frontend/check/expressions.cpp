@@ -119,7 +119,7 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
   }
   if (c.dialect() == Dialect::Slide && dollar && c.tcl_available) {
     // A Tcl global: its value after `tclinit` (slide.md §6).
-    if (std::optional<double> v = tcl_number(c, name)) return constant_expr(c, *v, x.range);
+    if (std::optional<double> v = tcl_number(c, name, x.range)) return constant_expr(c, *v, x.range);
     if (c.first_tcl_report(fmt::format("${}", name))) {
       c.diags().emit(DiagKind::TclDefinedName, x.range,
                      fmt::format("`${}` is not a slider, and the scene's Tcl code does not set it to a number", name));
@@ -175,7 +175,7 @@ ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
         const size_t open = t.find('(');
         const std::string arr(t.substr(0, open)), key(t.substr(open + 1, t.size() - open - 2));
         if (auto it = c.params.find(arr + "." + key); it != c.params.end()) return param_expr(c, it->second, x.range);
-        if (std::optional<double> v = tcl_number(c, t)) return constant_expr(c, *v, x.range);
+        if (std::optional<double> v = tcl_number(c, t, x.range)) return constant_expr(c, *v, x.range);
         if (c.first_tcl_report(std::string(x.text))) {
           c.diags().emit(DiagKind::TclDefinedName, x.range,
                          fmt::format("`{}` is not set to a number by the scene's Tcl code", x.text));

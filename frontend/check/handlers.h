@@ -47,7 +47,7 @@ std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRan
 /// `slide create instance I G N` whose group G the scene never defines.
 void report_unplaced_tcl_instances(Context& c);
 /// A Tcl global's numeric value (`par_x`, `oOffset(height)`), if it has one.
-std::optional<double> tcl_number(Context& c, std::string_view name);
+std::optional<double> tcl_number(Context& c, std::string_view name, SourceRange where);
 
 // ---- tcl_live.cpp: SLIDE values Tcl re-evaluates when their sliders move ----
 /// Records what a `tclupdate` block (its text, its outcome from `run_tracking_writes`) sets

@@ -133,6 +133,7 @@ std::optional<SourceRange> proc_error_range(Context& c, const std::string& trace
 
 void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_view what) {
   if (std::optional<SourceRange> inside = proc_error_range(c, p.trace)) where = *inside;
+  const std::string_view subject = what.empty() ? std::string_view("the scene's Tcl") : what;
   switch (p.kind) {
     case tcl::ProblemKind::Error: {
       auto d = c.diags().emit(DiagKind::TclError, where, fmt::format("Tcl error in {}: {}", what, p.message));
@@ -140,16 +141,39 @@ void report(Context& c, const tcl::Problem& p, SourceRange where, std::string_vi
       return;
     }
     case tcl::ProblemKind::Limit:
+      c.tcl_stop_reported = true;
       c.diags()
-          .emit(DiagKind::TclLimit, where, fmt::format("{} was stopped: {} (a loop that never ends?)", what, p.message))
-          .note(where, "nomec stops a scene's Tcl script after 1 million commands or 10 seconds");
+          .emit(DiagKind::TclLimit, where,
+                fmt::format("{} was stopped: {}{}", subject, p.message,
+                            p.message.ends_with("limit exceeded") ? " (a loop that never ends?)" : ""))
+          .note(where, fmt::format("nomec stops a scene's Tcl script after 1 million commands, and all of a file's "
+                                   "Tcl after {} s in all (`--tcl-seconds` gives it more)",
+                                   c.options().tcl_milliseconds / 1000.0));
+      return;
+    case tcl::ProblemKind::Crashed:
+    case tcl::ProblemKind::Stopped:
+      // What stopped the scene's Tcl is reported once, where it happened; the blocks and
+      // values after it are not run and say nothing more, so the file does not fill with
+      // one message per value.
+      if (p.kind == tcl::ProblemKind::Stopped && c.tcl_stop_reported) return;
+      c.tcl_stop_reported = true;
+      c.diags()
+          .emit(DiagKind::TclCrashed, where,
+                fmt::format("{} was {}: {}", subject, p.kind == tcl::ProblemKind::Crashed ? "stopped" : "not run",
+                            p.message))
+          .note(where, "nomec runs a scene's Tcl in a process of its own: only the scene's Tcl stopped, and nomec "
+                       "runs none of it after this (the values it would have computed are errors)");
+      return;
+    case tcl::ProblemKind::Unavailable:
+      c.tcl_stop_reported = true;
+      c.diags().emit(DiagKind::TclUnavailable, where, p.message);
       return;
     case tcl::ProblemKind::Refused:
       c.diags().emit(DiagKind::TclRefused, where, p.message);
       return;
     case tcl::ProblemKind::Memory:
       c.diags()
-          .emit(DiagKind::TclMemory, where, fmt::format("{} was stopped: {}", what.empty() ? "the scene's Tcl" : what, p.message))
+          .emit(DiagKind::TclMemory, where, fmt::format("{} was stopped: {}", subject, p.message))
           .note(where, "a scene is code; nomec bounds the values and memory its Tcl may use so that no scene can exhaust them");
       return;
     case tcl::ProblemKind::MissingSource:
@@ -390,12 +414,24 @@ std::string slide_text(const std::vector<tcl::SlideCall>& calls, std::map<std::s
   return out;
 }
 
+// Reads what the scene's Tcl names next to the scene (`source`, a mesh parselib imports):
+// beneath the scene's folder when the caller can read so, else through its file reader.
+tcl::ReadFile beside_scene(Context& c) {
+  const CheckOptions& opts = c.options();
+  return [&opts, dir = c.tcl_dir](const std::string& path) -> std::optional<std::string> {
+    if (opts.read_beneath && path.compare(0, dir.size(), dir) == 0) {
+      return opts.read_beneath(dir.empty() ? "." : dir, path.substr(dir.size()));
+    }
+    return opts.read_file ? opts.read_file(path) : std::nullopt;
+  };
+}
+
 // parselib's `CreateSTLObject NAME FILE` (or `CreateSIFObject`): the mesh file next to the
 // scene becomes the flat mesh `oNAME` (its group `gNAME` is made in `slide_text`).
 void import_mesh(Context& c, const std::string& name, const std::string& file, SourceRange where) {
   const std::string path = c.tcl_dir + file;
   std::optional<ir::FlatFormat> format = flat::format_of_path(path);
-  std::optional<std::string> text = c.options().read_file ? c.options().read_file(path) : std::nullopt;
+  std::optional<std::string> text = beside_scene(c)(path);
   if (!format || !text) {
     c.diags().emit(DiagKind::IncludeFailed, where,
                    fmt::format("`o{}` would be the mesh file `{}`, which nomec cannot read as {}", name, file,
@@ -459,12 +495,18 @@ tcl::Interp* scene_tcl(Context& c) {
   if (c.tcl || !c.tcl_available) return c.tcl.get();
   // What the scene's Tcl reads is remembered for the interpreters that re-evaluate its
   // values when sliders move (tcl_live.cpp).
-  tcl::ReadFile reader = c.tcl_files->recording(c.options().read_file);
+  tcl::ReadFile reader = c.tcl_files->recording(beside_scene(c));
   const CheckOptions& opts = c.options();
-  c.tcl = std::make_unique<tcl::Interp>(c.tcl_dir, reader, tcl::Limits{},
+  tcl::Limits limits;
+  limits.milliseconds = std::max(opts.tcl_milliseconds, 1);
+  c.tcl = std::make_unique<tcl::Interp>(c.tcl_dir, reader, limits,
                                         [&opts](const std::string& var, double from, double to) {
                                           return preset_for(opts, var, from, to);
                                         });
+  // One budget for everything the file's Tcl runs while it is checked (blocks, values, and
+  // the evaluator's replay for values that follow sliders).
+  c.tcl_budget = std::make_shared<tcl::Budget>(limits.milliseconds);
+  c.tcl->use_budget(c.tcl_budget);
   return c.tcl.get();
 }
 
@@ -537,9 +579,10 @@ void report_unplaced_tcl_instances(Context& c) {
   c.tcl_group_additions.clear();
 }
 
-std::optional<double> tcl_number(Context& c, std::string_view name) {
+std::optional<double> tcl_number(Context& c, std::string_view name, SourceRange where) {
   if (scene_tcl(c) == nullptr) return std::nullopt;
   std::optional<std::string> v = c.tcl->get(name);
+  for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, where, "");
   if (!v) return std::nullopt;
   char* end = nullptr;
   double d = std::strtod(v->c_str(), &end);

@@ -7,12 +7,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
-#include <system_error>
-#include <thread>
 
 #include "frontend/check/handlers.h"
 
@@ -54,42 +51,45 @@ struct TclEvaluator::Worker {
 
   TclScene scene;
   // Guarded by `call`, which a caller holds for the whole of its evaluation.
-  std::mutex call;
+  mutable std::mutex call;
   std::deque<std::string> scripts;
   std::deque<std::string> texts;  // on one line, for dumps
   std::vector<bool> follows_update;
-  bool started = false;
-  std::thread thread;
-
-  // The hand-over, guarded by `m`.
-  std::mutex m;
-  std::condition_variable wake, finished;
-  bool stop = false, has_job = false, done = false;
-  uint32_t job_script = 0;
-  std::span<const double> job_values;
-  ir::ExternalResult job_result;
-
-  // The worker thread's own.
   std::unique_ptr<tcl::Interp> interp;
   std::vector<double> current;  // the slider values the interpreter holds
   bool update_fresh = true;     // the `tclupdate` blocks ran since the values last changed
   std::optional<std::string> update_problem;
+  std::optional<std::string> replay_problem;  // the replay itself failed: nothing more runs
   std::atomic<int> update_runs{0};
+  // While the scene is checked, its Tcl draws on the check's budget (`check_budget`); after
+  // `end_check`, each change of slider values (a move) has a budget of its own, and a value
+  // already evaluated at the current values is answered from `memo`.
+  std::shared_ptr<tcl::Budget> check_budget;
+  bool checked = false;
+  bool new_move = false;  // the next evaluation starts a move (draws a new budget)
+  std::map<uint32_t, ir::ExternalResult> memo;
 };
 
 namespace {
 
 using Worker = TclEvaluator::Worker;
 
+// Wall time of the scene's Tcl per slider move, once the scene is checked (a move runs the
+// `tclupdate` blocks and the values that changed: microseconds in real scenes).
+constexpr int kMoveMilliseconds = 2000;
+
 std::string problem_text(const tcl::Problem& p, std::string_view what) {
   switch (p.kind) {
     case tcl::ProblemKind::Error: return "Tcl error in " + std::string(what) + ": " + p.message;
     case tcl::ProblemKind::Limit:
-      return std::string(what) + " was stopped: " + p.message + " (a loop that never ends?)";
+      return std::string(what) + " was stopped: " + p.message;
     case tcl::ProblemKind::Memory: return std::string(what) + " was stopped: " + p.message;
+    case tcl::ProblemKind::Crashed: return std::string(what) + " was stopped: " + p.message;
+    case tcl::ProblemKind::Stopped: return "the scene's Tcl was stopped earlier: " + p.message;
     case tcl::ProblemKind::Refused:
     case tcl::ProblemKind::MissingSource:
-    case tcl::ProblemKind::Fallback: return p.message;
+    case tcl::ProblemKind::Fallback:
+    case tcl::ProblemKind::Unavailable: return p.message;
   }
   return p.message;
 }
@@ -107,7 +107,8 @@ void run_update(Worker& w) {
 }
 
 // The interpreter as the check left it before it read the values: the `tclinit` blocks with
-// the sliders at their checked values, then the `tclupdate` blocks once.
+// the sliders at their checked values, then the `tclupdate` blocks once. Its worker is a
+// process of its own; the scene's files are the texts the check read.
 void build(Worker& w) {
   std::map<std::string, double> preset;
   for (const TclScene::Slider& s : w.scene.sliders) preset[s.variable] = s.value;
@@ -118,7 +119,16 @@ void build(Worker& w) {
         auto it = preset.find(var);
         return it == preset.end() ? std::nullopt : std::optional<double>(it->second);
       });
-  for (const std::string& text : w.scene.init) w.interp->run(text);
+  if (w.check_budget && !w.checked) w.interp->use_budget(w.check_budget);
+  for (const std::string& text : w.scene.init) {
+    tcl::Outcome o = w.interp->run(text);
+    for (const tcl::Problem& p : o.problems) {
+      if (p.kind == tcl::ProblemKind::Crashed || p.kind == tcl::ProblemKind::Limit ||
+          p.kind == tcl::ProblemKind::Unavailable) {
+        w.replay_problem = problem_text(p, "replaying the scene's `tclinit` blocks");
+      }
+    }
+  }
   w.current.clear();
   for (const TclScene::Slider& s : w.scene.sliders) w.current.push_back(s.value);
   run_update(w);
@@ -126,8 +136,26 @@ void build(Worker& w) {
 
 ir::ExternalResult run_job(Worker& w, uint32_t script, std::span<const double> values) {
   if (script >= w.scripts.size()) return {0, false, "no such Tcl value"};
-  if (!w.interp) build(w);
+  if (w.replay_problem) return {0, false, *w.replay_problem};
+  if (w.checked) {
+    const bool moved = values.size() != w.current.size() || !std::equal(values.begin(), values.end(), w.current.begin());
+    if (moved) {
+      w.memo.clear();
+      w.new_move = true;
+    } else if (auto it = w.memo.find(script); it != w.memo.end()) {
+      return it->second;
+    }
+    if (w.new_move && w.interp && w.interp->stopped()) w.interp.reset();  // crashed or overdue in an earlier move
+  }
+  if (!w.interp) {
+    build(w);
+    if (w.replay_problem) return {0, false, *w.replay_problem};
+  }
   if (values.size() != w.current.size()) return {0, false, "the scene's sliders changed since its Tcl was checked"};
+  if (w.checked && w.new_move) {
+    w.interp->use_budget(std::make_shared<tcl::Budget>(kMoveMilliseconds, "for each slider move"));
+    w.new_move = false;
+  }
   for (size_t i = 0; i < values.size(); ++i) {
     if (values[i] == w.current[i]) continue;
     const TclScene::Slider& s = w.scene.sliders[i];
@@ -140,34 +168,16 @@ ir::ExternalResult run_job(Worker& w, uint32_t script, std::span<const double> v
     if (w.update_problem) return {0, false, *w.update_problem};
   }
   tcl::Outcome o = w.interp->value(w.scripts[script]);
-  if (o.ok) return {o.number, true, {}};
-  if (o.problems.empty()) return {0, false, "Tcl gave this value no number"};
-  return {0, false, problem_text(o.problems.front(), "this value")};
-}
-
-void loop(Worker* w) {
-  std::unique_lock lock(w->m);
-  for (;;) {
-    w->wake.wait(lock, [w] { return w->stop || w->has_job; });
-    if (!w->has_job) break;  // stopped
-    w->has_job = false;
-    const uint32_t script = w->job_script;
-    const std::span<const double> values = w->job_values;
-    lock.unlock();
-    ir::ExternalResult r;
-    try {
-      r = run_job(*w, script, values);
-    } catch (const std::exception& e) {  // memory exhausted: an error of this value, not of the process
-      r = {0, false, std::string("nomec could not evaluate this value's Tcl: ") + e.what()};
-    }
-    lock.lock();
-    w->job_result = std::move(r);
-    w->done = true;
-    w->finished.notify_one();
+  ir::ExternalResult r;
+  if (o.ok) {
+    r = {o.number, true, {}};
+  } else if (o.problems.empty()) {
+    r = {0, false, "Tcl gave this value no number"};
+  } else {
+    r = {0, false, problem_text(o.problems.front(), "this value")};
   }
-  lock.unlock();
-  w->interp.reset();  // on the thread that made it
-  tcl::finish_thread();  // and Tcl's data for this thread
+  if (w.checked) w.memo[script] = r;
+  return r;
 }
 
 // One line: runs of blanks (newlines too) become one space.
@@ -184,19 +194,13 @@ std::string one_line(std::string_view s) {
 
 }  // namespace
 
-TclEvaluator::TclEvaluator(TclScene scene) : w_(std::make_unique<Worker>(std::move(scene))) {
+TclEvaluator::TclEvaluator(TclScene scene, std::shared_ptr<tcl::Budget> check_budget)
+    : w_(std::make_unique<Worker>(std::move(scene))) {
+  w_->check_budget = std::move(check_budget);
   for (const TclScene::Slider& s : w_->scene.sliders) inputs_.push_back(s.param);
 }
 
-TclEvaluator::~TclEvaluator() {
-  if (!w_->started) return;
-  {
-    std::lock_guard lock(w_->m);
-    w_->stop = true;
-  }
-  w_->wake.notify_one();
-  w_->thread.join();
-}
+TclEvaluator::~TclEvaluator() = default;
 
 uint32_t TclEvaluator::add(std::string script, bool follows_update) {
   std::lock_guard lock(w_->call);
@@ -204,6 +208,14 @@ uint32_t TclEvaluator::add(std::string script, bool follows_update) {
   w_->scripts.push_back(std::move(script));
   w_->follows_update.push_back(follows_update);
   return static_cast<uint32_t>(w_->scripts.size() - 1);
+}
+
+void TclEvaluator::end_check() {
+  std::lock_guard lock(w_->call);
+  w_->checked = true;
+  w_->new_move = true;
+  w_->check_budget.reset();
+  w_->memo.clear();
 }
 
 std::string_view TclEvaluator::text(uint32_t script) const {
@@ -215,25 +227,11 @@ int TclEvaluator::update_runs() const { return w_->update_runs.load(); }
 
 ir::ExternalResult TclEvaluator::evaluate(uint32_t script, std::span<const double> values) const {
   std::lock_guard call(w_->call);
-  if (!w_->started) {
-    try {
-      w_->thread = std::thread(loop, w_.get());
-    } catch (const std::system_error&) {
-      return {0, false, "nomec could not start the thread that evaluates this scene's Tcl"};
-    }
-    w_->started = true;
+  try {
+    return run_job(*w_, script, values);
+  } catch (const std::exception& e) {  // memory exhausted: an error of this value, not of the process
+    return {0, false, std::string("nomec could not evaluate this value's Tcl: ") + e.what()};
   }
-  {
-    std::lock_guard lock(w_->m);
-    w_->job_script = script;
-    w_->job_values = values;
-    w_->has_job = true;
-    w_->done = false;
-  }
-  w_->wake.notify_one();
-  std::unique_lock lock(w_->m);
-  w_->finished.wait(lock, [this] { return w_->done; });
-  return std::move(w_->job_result);
 }
 
 // ---- the check's side: which values are live, and what they depend on ----
@@ -306,7 +304,7 @@ TclEvaluator& live_evaluator(Context& c) {
     if (it == c.tcl_sliders.end()) continue;
     scene.sliders.push_back({s.variable, it->second, c.module().param(it->second).value, s.resolution});
   }
-  c.tcl_live = std::make_shared<TclEvaluator>(std::move(scene));
+  c.tcl_live = std::make_shared<TclEvaluator>(std::move(scene), c.tcl_budget);
   c.module().external = c.tcl_live;
   return *c.tcl_live;
 }

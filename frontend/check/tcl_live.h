@@ -6,9 +6,12 @@
 // `tclinit` blocks and the files they sourced (as the check read them), sliders preset to
 // the values they had when the scene was checked; then, per change of slider values, sets
 // the slider variables as Tk would and re-runs the `tclupdate` blocks before a value that
-// reads what they set. A Tcl interpreter may only be used by the thread that made it, and
-// the language server evaluates on several threads, so the interpreter lives on a thread of
-// the evaluator's own; callers hand it one evaluation at a time and wait (microseconds).
+// reads what they set. The interpreter is a Tcl worker process of the evaluator's own
+// (frontend/tcl/interp.h); callers on any thread are served one evaluation at a time.
+// While the scene is checked, the evaluator's Tcl shares the check's wall-clock budget;
+// afterwards each change of slider values has a budget of its own, a value already
+// evaluated at the current values is answered without running it again, and a worker that
+// crashed or ran out of time in one move is replaced by a new one for the next.
 #pragma once
 
 #include <map>
@@ -55,7 +58,8 @@ struct TclScene {
 
 class TclEvaluator final : public ir::ExternalEvaluator {
  public:
-  explicit TclEvaluator(TclScene scene);
+  /// `check_budget`: the check's budget for the scene's Tcl, drawn on until `end_check`.
+  TclEvaluator(TclScene scene, std::shared_ptr<tcl::Budget> check_budget);
   ~TclEvaluator() override;
   TclEvaluator(const TclEvaluator&) = delete;
   TclEvaluator& operator=(const TclEvaluator&) = delete;
@@ -63,6 +67,9 @@ class TclEvaluator final : public ir::ExternalEvaluator {
   /// Adds a value's script (while the scene is checked); `follows_update`: it reads what a
   /// `tclupdate` block sets, so those blocks run before it when the sliders changed.
   uint32_t add(std::string script, bool follows_update);
+  /// The check is over: from now on each slider move has a budget of its own, and results
+  /// are remembered per move.
+  void end_check();
 
   std::span<const ir::NodeId> inputs() const override { return inputs_; }
   ir::ExternalResult evaluate(uint32_t script, std::span<const double> values) const override;

@@ -5,6 +5,18 @@
 
 #include <malloc.h>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define NOMEC_TCL_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define NOMEC_TCL_SANITIZED 1
+#endif
+#ifdef NOMEC_TCL_SANITIZED
+#include <sanitizer/allocator_interface.h>
+#endif
+
 #include <algorithm>
 #include <csetjmp>
 #include <cstdarg>
@@ -265,8 +277,14 @@ std::optional<std::string> too_many_digits(Tcl_Obj* o, const char* what) {
 }
 
 size_t heap_in_use() {
+#ifdef NOMEC_TCL_SANITIZED
+  return __sanitizer_get_current_allocated_bytes();  // the sanitizer's allocator, not glibc's
+#else
+  // The Tcl worker allocates with the C library's malloc (it is not linked with jemalloc),
+  // whose counters these are.
   struct mallinfo2 m = mallinfo2();
   return m.uordblks + m.hblkhd;
+#endif
 }
 
 void install_guards(Guard& g) {
@@ -304,7 +322,7 @@ void arm_guard(Guard& g) {
   g.baseline = heap_in_use();
 }
 
-bool guarded_eval(Tcl_Interp* interp, Tcl_Obj* script, int* rc, std::string* panic_message) {
+bool guarded_call_raw(void (*fn)(void*), void* arg, std::string* panic_message) {
   std::jmp_buf here;
   std::jmp_buf* const outer = t_jump;
   if (setjmp(here) != 0) {
@@ -313,7 +331,7 @@ bool guarded_eval(Tcl_Interp* interp, Tcl_Obj* script, int* rc, std::string* pan
     return false;
   }
   t_jump = &here;
-  *rc = Tcl_EvalObjEx(interp, script, TCL_EVAL_GLOBAL);
+  fn(arg);
   t_jump = outer;
   return true;
 }

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 namespace nomec::tcl {
 
@@ -43,9 +44,15 @@ std::optional<std::string> too_many_digits(Tcl_Obj* o, const char* what);
 /// Heap bytes in use (0 where the C library cannot tell).
 size_t heap_in_use();
 
-/// Evaluates `script` at global level; a Tcl panic (a value past Tcl's 2 GB limit, memory
-/// exhausted) inside it returns false with Tcl's message instead of aborting. The
-/// interpreter must not be used again after that.
-bool guarded_eval(Tcl_Interp* interp, Tcl_Obj* script, int* rc, std::string* panic_message);
+/// Calls `fn(arg)`; a Tcl panic (a value past Tcl's 2 GB limit, memory exhausted) inside it
+/// returns false with Tcl's message instead of aborting. The interpreter must not be used
+/// again after that. `fn` must not own anything with a destructor (the panic jumps out).
+bool guarded_call_raw(void (*fn)(void*), void* arg, std::string* panic_message);
+
+/// `guarded_call_raw` for a callable that only touches the interpreter (see there).
+template <typename F>
+bool guarded_call(std::string* panic_message, F&& f) {
+  return guarded_call_raw([](void* p) { (*static_cast<std::remove_reference_t<F>*>(p))(); }, &f, panic_message);
+}
 
 }  // namespace nomec::tcl

@@ -1,557 +1,453 @@
-// The embedded Tcl interpreter (see interp.h): a safe Tcl 8.6 interpreter per scene, the
-// commands a SLIDE scene may use in place of the hidden ones, the Tk stubs, the `slide`
-// command, limits, and read traces.
+// The handle on a scene's Tcl worker (see interp.h): finding and starting the worker, one
+// request at a time with a deadline, the worker's callbacks answered meanwhile, and a dead
+// or overdue worker turned into one problem.
 #include "frontend/tcl/interp.h"
 
-#include <tcl.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cmath>
-#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
-#include <set>
 
-#include "frontend/tcl/fallback.h"
-#include "frontend/tcl/guard.h"
+#include "frontend/tcl/protocol.h"
+
+extern char** environ;
 
 namespace nomec::tcl {
 
+namespace proto = protocol;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// How long past its budget a worker may take to answer: the engine's own time limit stops
+// an interruptible script at the budget and the answer needs a moment to arrive; a command
+// Tcl cannot interrupt is ended here.
+constexpr auto kGrace = std::chrono::milliseconds(300);
+
+bool executable(const std::string& path) { return !path.empty() && access(path.c_str(), X_OK) == 0; }
+
+std::string find_worker() {
+  if (const char* env = std::getenv("NOMEC_TCL_WORKER"); env != nullptr && *env != '\0') return env;
+  char self[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    std::string dir(self, static_cast<size_t>(n));
+    dir.erase(dir.rfind('/') + 1);
+    for (const char* rel : {"nomec-tcl-worker", "../libexec/nomec/nomec-tcl-worker", "../lib/nomec/nomec-tcl-worker"}) {
+      if (executable(dir + rel)) return dir + rel;
+    }
+  }
+#ifdef NOMEC_TCL_WORKER_BUILD_PATH
+  if (executable(NOMEC_TCL_WORKER_BUILD_PATH)) return NOMEC_TCL_WORKER_BUILD_PATH;
+#endif
+  return "";
+}
+
+std::string signal_name(int sig) {
+  switch (sig) {
+    case SIGSEGV: return "SIGSEGV";
+    case SIGBUS: return "SIGBUS";
+    case SIGABRT: return "SIGABRT";
+    case SIGKILL: return "SIGKILL";
+    case SIGSYS: return "SIGSYS";
+    case SIGXCPU: return "SIGXCPU";
+    case SIGXFSZ: return "SIGXFSZ";
+    case SIGILL: return "SIGILL";
+    case SIGFPE: return "SIGFPE";
+    default: return "signal " + std::to_string(sig);
+  }
+}
+
+// What a worker's end (its wait status) means for the scene.
+Problem describe_end(int status) {
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    const std::string name = signal_name(sig);
+    switch (sig) {
+      case SIGSEGV:
+      case SIGBUS:
+        return {ProblemKind::Crashed,
+                "Tcl crashed (" + name + "): a command nested too deeply for its stack, such as a deep `regexp`, "
+                "`string match` or `eval`, or Tcl itself failed",
+                0, ""};
+      case SIGSYS:
+        return {ProblemKind::Crashed, "the scene's Tcl tried a system call nomec forbids (" + name + ")", 0, ""};
+      case SIGXCPU:
+        return {ProblemKind::Limit, "the scene's Tcl used up the CPU time nomec allows (" + name + ")", 0, ""};
+      case SIGKILL:
+        return {ProblemKind::Crashed, "the system ended the scene's Tcl (" + name + "; out of memory?)", 0, ""};
+      default: return {ProblemKind::Crashed, "Tcl crashed (" + name + ")", 0, ""};
+    }
+  }
+  if (WIFEXITED(status)) {
+    return {ProblemKind::Crashed,
+            "nomec's Tcl worker ended unexpectedly (exit status " + std::to_string(WEXITSTATUS(status)) + ")", 0, ""};
+  }
+  return {ProblemKind::Crashed, "nomec's Tcl worker ended unexpectedly", 0, ""};
+}
+
+std::string seconds_text(int ms) {
+  if (ms % 1000 == 0) return std::to_string(ms / 1000) + " s";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", ms / 1000.0);
+  return text;
+}
+
+}  // namespace
+
+const std::string& worker_path() {
+  static const std::string path = find_worker();
+  return path;
+}
+
 struct Interp::State {
-  Tcl_Interp* interp = nullptr;
   std::string dir;
   ReadFile read_file;
   Limits limits;
   Preset preset;
+  std::shared_ptr<Budget> budget;
+
+  std::mutex call;  // one operation at a time
+  pid_t pid = -1;
+  int fd = -1;
+  bool started = false;
+  std::optional<Problem> stop;  // why nothing more runs
+  std::string pending;          // bytes read past the last frame
+
   std::vector<Slider> sliders;
   std::vector<SlideCall> calls;
   std::vector<Problem> notes;
-  std::set<std::string> noted;
-  std::set<std::string> watched;
-  std::vector<std::string>* reads = nullptr;   // set while a script runs
-  std::vector<std::string>* writes = nullptr;  // set while `run_tracking_writes` runs
-  std::optional<Problem> refusal;             // the last refused command (for its kind)
-  int source_depth = 0;
-  Guard guard;
-  std::optional<std::string> broken;  // Tcl panicked (the interpreter is abandoned): why
+
+  ~State() { end_worker(); }
+
+  void end_worker() {
+    if (fd >= 0) close(fd);
+    fd = -1;
+    if (pid > 0) {
+      kill(pid, SIGKILL);
+      while (waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+      }
+    }
+    pid = -1;
+  }
+
+  // Stops the worker for `why`; returns the problem the current operation reports.
+  Problem stop_with(Problem why, bool reap_status = false) {
+    if (reap_status && pid > 0) {
+      if (fd >= 0) close(fd);
+      fd = -1;
+      int status = 0;
+      // The worker closed its socket: it is ending (or already ended); wait for it briefly.
+      pid_t got = 0;
+      for (int i = 0; i < 200 && (got = waitpid(pid, &status, WNOHANG)) == 0; ++i) usleep(1000);
+      if (got == 0) {
+        kill(pid, SIGKILL);
+        while ((got = waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
+        }
+      }
+      if (got == pid) why = describe_end(status);
+      pid = -1;
+    }
+    end_worker();
+    stop = why;
+    return why;
+  }
+
+  // Reads one frame before `deadline`: true with `out`; false on end, timeout (`*late`) or garbage.
+  bool read_frame(std::string& out, Clock::time_point deadline, bool* late) {
+    for (;;) {
+      if (pending.size() >= 4) {
+        const auto* b = reinterpret_cast<const unsigned char*>(pending.data());
+        const uint32_t n = b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<uint32_t>(b[3]) << 24);
+        if (n > proto::kMaxFrame) return false;
+        if (pending.size() >= 4 + size_t{n}) {
+          out.assign(pending, 4, n);
+          pending.erase(0, 4 + size_t{n});
+          return true;
+        }
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      if (left <= 0) {
+        *late = true;
+        return false;
+      }
+      pollfd p{fd, POLLIN, 0};
+      const int ready = poll(&p, 1, static_cast<int>(std::min<int64_t>(left, INT_MAX)));
+      if (ready < 0 && errno == EINTR) continue;
+      if (ready < 0) return false;
+      if (ready == 0) continue;  // the deadline is checked above
+      char chunk[65536];
+      const ssize_t got = ::read(fd, chunk, sizeof chunk);
+      if (got < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+      if (got <= 0) return false;
+      pending.append(chunk, static_cast<size_t>(got));
+    }
+  }
+
+  bool spawn(std::string* why) {
+    const std::string& path = worker_path();
+    if (path.empty()) {
+      *why = "nomec cannot run this scene's Tcl: its Tcl worker `nomec-tcl-worker` is not installed beside nomec "
+             "(or set NOMEC_TCL_WORKER to its path)";
+      return false;
+    }
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
+      *why = std::string("nomec cannot start its Tcl worker: ") + std::strerror(errno);
+      return false;
+    }
+    // The worker's end becomes its descriptor 3 (dup2 clears close-on-exec; a descriptor
+    // already numbered 3 is moved first, since dup2 onto itself would keep the flag).
+    int child = sv[1];
+    if (child == 3) {
+      child = fcntl(sv[1], F_DUPFD_CLOEXEC, 4);
+      close(sv[1]);
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, child, 3);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    sigset_t none, defaults;
+    sigemptyset(&none);
+    sigemptyset(&defaults);
+    for (int sig : {SIGPIPE, SIGINT, SIGTERM, SIGHUP, SIGCHLD}) sigaddset(&defaults, sig);
+    posix_spawnattr_setsigmask(&attr, &none);
+    posix_spawnattr_setsigdefault(&attr, &defaults);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    const std::string parent = std::to_string(getpid());
+    char* argv[] = {const_cast<char*>(path.c_str()), const_cast<char*>("--parent"), const_cast<char*>(parent.c_str()),
+                    nullptr};
+    pid_t child_pid = -1;
+    const int rc = posix_spawn(&child_pid, path.c_str(), &actions, &attr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attr);
+    close(child);
+    if (rc != 0) {
+      close(sv[0]);
+      *why = "nomec cannot start its Tcl worker `" + path + "`: " + std::strerror(rc);
+      return false;
+    }
+    pid = child_pid;
+    fd = sv[0];
+    return true;
+  }
+
+  // Answers one callback of the worker.
+  bool answer(const std::string& frame) {
+    std::optional<proto::Callback> c = proto::decode_callback(frame);
+    if (!c) return false;
+    proto::CallbackReply r;
+    switch (c->op) {
+      case proto::Op::ReadFile: r.text = read_file ? read_file(c->text) : std::nullopt; break;
+      case proto::Op::HasFile: r.yes = read_file && read_file(c->text).has_value(); break;
+      case proto::Op::Preset:
+        if (preset) r.number = preset(c->text, c->from, c->to);
+        break;
+      default: return false;
+    }
+    if (r.text && r.text->size() > proto::kMaxFrame - 64) r.text.reset();
+    return proto::write_frame(fd, proto::encode(r));
+  }
+
+  // The budget's message, when it is used up.
+  Problem out_of_budget() const {
+    return {ProblemKind::Limit,
+            "the scene's Tcl has run for the whole " + seconds_text(budget->total_ms()) + " nomec gives it" +
+                (budget->scope().empty() ? "" : " " + budget->scope()) + ", and nomec runs no more of it",
+            0, ""};
+  }
+
+  // Sends `q` and waits for the reply, answering callbacks; a problem when the worker
+  // failed (it is stopped then) or was stopped before.
+  std::optional<proto::Reply> exchange(proto::Request q, Problem* failure) {
+    if (stop) {
+      *failure = Problem{ProblemKind::Stopped, stop->message, 0, ""};
+      return std::nullopt;
+    }
+    if (budget->left_us() <= 0) {
+      *failure = stop_with(out_of_budget());
+      return std::nullopt;
+    }
+    const auto start = Clock::now();
+    if (!started) {
+      std::string why;
+      if (!spawn(&why)) {
+        *failure = stop_with({ProblemKind::Unavailable, why, 0, ""});
+        return std::nullopt;
+      }
+      started = true;
+      proto::Request s;
+      s.op = proto::Op::Start;
+      s.text = dir;
+      s.commands = limits.commands;
+      s.milliseconds = limits.milliseconds;
+      s.has_preset = static_cast<bool>(preset);
+      std::optional<proto::Reply> ready = round_trip(s, start, failure);
+      if (!ready) return std::nullopt;
+      if (!ready->outcome.ok) {
+        Problem why = ready->outcome.problems.empty() ? Problem{ProblemKind::Unavailable, "nomec's Tcl worker did not start", 0, ""}
+                                                      : ready->outcome.problems.front();
+        *failure = stop_with(why);
+        return std::nullopt;
+      }
+    }
+    q.milliseconds = std::max<int64_t>(1, (budget->left_us() + 999) / 1000);
+    std::optional<proto::Reply> r = round_trip(q, start, failure);
+    if (r) {
+      if (r->sliders) sliders = std::move(*r->sliders);
+      calls.insert(calls.end(), r->calls.begin(), r->calls.end());
+      notes.insert(notes.end(), r->notes.begin(), r->notes.end());
+      // Tcl's own time limit stopped this operation at the end of the budget: that is the
+      // budget's one problem, and what comes after is not run (nor reported again).
+      const bool limited = std::any_of(r->outcome.problems.begin(), r->outcome.problems.end(),
+                                       [](const Problem& p) { return p.kind == ProblemKind::Limit; });
+      if (limited && budget->left_us() <= 0) stop_with(out_of_budget());
+    }
+    return r;
+  }
+
+  std::optional<proto::Reply> round_trip(const proto::Request& q, Clock::time_point start, Problem* failure) {
+    const auto deadline = start + std::chrono::microseconds(std::max<int64_t>(budget->left_us(), 0)) + kGrace;
+    auto done = [&] {
+      budget->spend(std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start).count());
+    };
+    if (!proto::write_frame(fd, proto::encode(q))) {
+      done();
+      *failure = stop_with({ProblemKind::Crashed, "nomec's Tcl worker ended unexpectedly", 0, ""}, true);
+      return std::nullopt;
+    }
+    std::string frame;
+    for (;;) {
+      bool late = false;
+      if (!read_frame(frame, deadline, &late)) {
+        done();
+        if (late) {
+          *failure = stop_with({ProblemKind::Limit,
+                                "it did not finish within the " + seconds_text(budget->total_ms()) +
+                                    " nomec gives the scene's Tcl" +
+                                    (budget->scope().empty() ? "" : " " + budget->scope()) +
+                                    ", and nomec stopped it (a loop that never ends, or "
+                                    "one command Tcl cannot interrupt, such as `string match` on a long text or a "
+                                    "huge `expr`?)",
+                                0, ""});
+        } else {
+          *failure = stop_with({ProblemKind::Crashed, "nomec's Tcl worker ended unexpectedly", 0, ""}, true);
+        }
+        return std::nullopt;
+      }
+      std::optional<proto::Op> op = proto::op_of(frame);
+      if (op == proto::Op::Reply) {
+        std::optional<proto::Reply> r = proto::decode_reply(frame);
+        done();
+        if (!r) *failure = stop_with({ProblemKind::Crashed, "nomec's Tcl worker sent a reply nomec cannot read", 0, ""});
+        return r;
+      }
+      if (!answer(frame)) {
+        done();
+        *failure = stop_with({ProblemKind::Crashed, "nomec's Tcl worker asked something nomec cannot answer", 0, ""});
+        return std::nullopt;
+      }
+    }
+  }
+
+  Outcome operation(proto::Op op, std::string_view text) {
+    std::lock_guard lock(call);
+    proto::Request q;
+    q.op = op;
+    q.text = std::string(text);
+    Problem failure;
+    std::optional<proto::Reply> r = exchange(std::move(q), &failure);
+    if (!r) {
+      Outcome o;
+      o.problems.push_back(std::move(failure));
+      return o;
+    }
+    return std::move(r->outcome);
+  }
+
+  // get/set/watch: a failure is kept as a note (they have no outcome to carry it).
+  std::optional<proto::Reply> touch(proto::Request q) {
+    std::lock_guard lock(call);
+    Problem failure;
+    std::optional<proto::Reply> r = exchange(std::move(q), &failure);
+    if (!r && failure.kind != ProblemKind::Stopped) notes.push_back(std::move(failure));
+    return r;
+  }
 };
 
-namespace {
-
-using State = Interp::State;
-
-thread_local bool t_made_interp = false;  // this thread has Tcl data to free (finish_thread)
-
-const std::vector<std::string_view> kRefused = {"exec", "open", "socket", "cd", "exit", "load", "file", "glob",
-                                                "pwd", "fconfigure", "unload", "after", "vwait", "interp"};
-
-std::string_view arg(Tcl_Obj* o) {
-  int n = 0;
-  const char* s = Tcl_GetStringFromObj(o, &n);
-  return {s, static_cast<size_t>(n)};
-}
-
-void set_result(Tcl_Interp* interp, std::string_view text) {
-  Tcl_SetObjResult(interp, Tcl_NewStringObj(text.data(), static_cast<int>(text.size())));
-}
-
-int refuse(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  auto* s = static_cast<State*>(data);
-  std::string name(objc > 0 ? arg(objv[0]) : "");
-  std::string msg = name == "open"
-                        ? "`open` is not available in a SLIDE scene checked by nomec (a scene may not write files, "
-                          "and reads only the files it `source`s next to it)"
-                        : "`" + name + "` is not available in a SLIDE scene checked by nomec (a scene may not run "
-                          "programs, use files, sockets or the process, or wait)";
-  s->refusal = Problem{ProblemKind::Refused, msg, 0, name};
-  set_result(interp, msg);
-  return TCL_ERROR;
-}
-
-// A widget path's own command (`$root.sample conf -bg …`): does nothing.
-int widget_self(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
-  Tcl_ResetResult(interp);
-  return TCL_OK;
-}
-
-// Does nothing and returns "" (`pack`, `wm`, `bind` …).
-int noop(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
-  Tcl_ResetResult(interp);
-  return TCL_OK;
-}
-
-// `winfo exists .w` and the like: no window exists headless.
-int winfo(ClientData, Tcl_Interp* interp, int, Tcl_Obj* const[]) {
-  set_result(interp, "0");
-  return TCL_OK;
-}
-
-// The value of option `name` (Tk accepts unique abbreviations: `-var` for `-variable`).
-std::optional<std::string> option(int objc, Tcl_Obj* const objv[], std::string_view name, size_t min_len) {
-  std::optional<std::string> found;
-  for (int i = 2; i + 1 < objc; i += 2) {
-    std::string_view o = arg(objv[i]);
-    if (o.size() >= min_len && o.size() <= name.size() && name.substr(0, o.size()) == o) found = std::string(arg(objv[i + 1]));
-  }
-  return found;
-}
-
-double number_or(const std::optional<std::string>& s, double fallback) {
-  if (!s) return fallback;
-  char* end = nullptr;
-  double v = std::strtod(s->c_str(), &end);
-  return end != s->c_str() ? v : fallback;
-}
-
-int decimals_of(double res) {
-  int d = 0;
-  while (d < 9 && std::fabs(res * std::pow(10.0, d) - std::round(res * std::pow(10.0, d))) > 1e-9) ++d;
-  return d;
-}
-
-// Creates the variable with `value` when it is unset (Tk's check and radio buttons, entries).
-void create_if_unset(Tcl_Interp* interp, const std::optional<std::string>& var, const char* value) {
-  if (!var || var->empty()) return;
-  if (Tcl_GetVar2(interp, var->c_str(), nullptr, TCL_GLOBAL_ONLY) == nullptr) {
-    Tcl_SetVar2(interp, var->c_str(), nullptr, value, TCL_GLOBAL_ONLY);
-  }
-}
-
-// A scale bound to a variable: Tk rounds the value to the resolution counted from `-from`,
-// clamps it to the range and writes it back when it changed (slide.md §7.2).
-void record_scale(State& s, int objc, Tcl_Obj* const objv[]) {
-  std::optional<std::string> var = option(objc, objv, "-variable", 4);
-  if (!var || var->empty()) return;
-  Slider sl;
-  sl.variable = *var;
-  sl.from = number_or(option(objc, objv, "-from", 3), 0);
-  sl.to = number_or(option(objc, objv, "-to", 3), 100);
-  sl.resolution = number_or(option(objc, objv, "-resolution", 4), 1);
-  const char* cur = Tcl_GetVar2(s.interp, var->c_str(), nullptr, TCL_GLOBAL_ONLY);
-  double v = sl.from;
-  bool numeric = false;
-  if (cur != nullptr) {
-    char* end = nullptr;
-    double parsed = std::strtod(cur, &end);
-    numeric = end != cur;
-    if (numeric) v = parsed;
-  }
-  double r = v;
-  if (sl.resolution > 0) r = sl.from + std::round((v - sl.from) / sl.resolution) * sl.resolution;
-  r = std::clamp(r, std::min(sl.from, sl.to), std::max(sl.from, sl.to));
-  if (cur == nullptr || !numeric || std::fabs(r - v) > 1e-12) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*f", sl.resolution > 0 ? decimals_of(sl.resolution) : 6, r);
-    Tcl_SetVar2(s.interp, var->c_str(), nullptr, text, TCL_GLOBAL_ONLY);
-    r = std::strtod(text, nullptr);
-    sl.rounded = cur != nullptr && numeric;
-    sl.written = v;
-  }
-  sl.value = r;
-  if (std::optional<double> given = s.preset ? s.preset(sl.variable, sl.from, sl.to) : std::nullopt) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", *given);
-    Tcl_SetVar2(s.interp, var->c_str(), nullptr, text, TCL_GLOBAL_ONLY);
-    sl.value = *given;
-  }
-  auto same = std::find_if(s.sliders.begin(), s.sliders.end(), [&](const Slider& o) { return o.variable == sl.variable; });
-  if (same != s.sliders.end()) {
-    *same = sl;
-  } else {
-    s.sliders.push_back(sl);
-  }
-}
-
-// `frame .p.x …`, `scale …`, `radiobutton …`: returns the path and gives it a command.
-int widget(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  auto* s = static_cast<State*>(data);
-  if (objc < 2) {
-    set_result(interp, std::string("wrong # args: should be \"") + std::string(arg(objv[0])) + " pathName ?-option value ...?\"");
-    return TCL_ERROR;
-  }
-  std::string_view kind = arg(objv[0]);
-  if (kind == "scale") record_scale(*s, objc, objv);
-  if (kind == "checkbutton") create_if_unset(interp, option(objc, objv, "-variable", 4), "0");
-  if (kind == "radiobutton") create_if_unset(interp, option(objc, objv, "-variable", 4), "");
-  if (kind == "entry") create_if_unset(interp, option(objc, objv, "-textvariable", 3), "");
-  std::string path(arg(objv[1]));
-  Tcl_CreateObjCommand(interp, path.c_str(), widget_self, nullptr, nullptr);
-  set_result(interp, path);
-  return TCL_OK;
-}
-
-bool safe_relative(std::string_view p);
-
-// `slide create TYPE NAME …` / `slide delete TYPE NAME`: recorded for the checker.
-int slide_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  auto* s = static_cast<State*>(data);
-  if ((objc == 4 || objc == 5) && arg(objv[1]) == "unavailable") {  // from the prelude's lost-package procs
-    std::string proc(arg(objv[2])), group(arg(objv[3])), file(objc == 5 ? arg(objv[4]) : "");
-    std::string msg = "`" + proc + "` belongs to SLIDE's lost `slideui`/`parselib` packages; nomec makes `g" + group +
-                      "` an empty group and `o" + group + "` an empty object";
-    if (proc == "CreateSTLObject" || proc == "CreateSIFObject") {  // NAME FILE, not there (see `slide import`)
-      msg = "`" + proc + "` imports the mesh file `" + file + "`, which is " +
-            (file.empty() ? "not named" : safe_relative(file) ? "not next to the scene" : "not a file next to the scene") +
-            "; `g" + group + "` stays an empty group and `o" + group + "` an empty object: nothing of it is drawn";
-    }
-    s->notes.push_back({ProblemKind::Fallback, msg, 0, proc});
-    Tcl_ResetResult(interp);
-    return TCL_OK;
-  }
-  if (objc == 4 && arg(objv[1]) == "import") {  // `slide import NAME FILE`: 1 when FILE is next to the scene
-    const std::string file(arg(objv[3]));
-    const bool here = !file.empty() && safe_relative(file) && s->read_file && s->read_file(s->dir + file).has_value();
-    // Recorded as `import import NAME FILE`: no `slide create` call can make that first word.
-    if (here) s->calls.push_back(SlideCall{{"import", "import", std::string(arg(objv[2])), file}});
-    set_result(interp, here ? "1" : "0");
-    return TCL_OK;
-  }
-  if (objc < 4 || (arg(objv[1]) != "create" && arg(objv[1]) != "delete")) {
-    set_result(interp, "wrong # args: should be \"slide create|delete type id ?args …?\"");
-    return TCL_ERROR;
-  }
-  SlideCall call;
-  for (int i = 1; i < objc; ++i) call.words.emplace_back(arg(objv[i]));
-  s->calls.push_back(std::move(call));
-  set_result(interp, arg(objv[3]));
-  return TCL_OK;
-}
-
-bool safe_relative(std::string_view p) {
-  if (p.empty() || p[0] == '/' || p[0] == '~') return false;
-  size_t at = 0;
-  while (at <= p.size()) {
-    size_t slash = p.find('/', at);
-    std::string_view part = p.substr(at, slash == std::string_view::npos ? std::string_view::npos : slash - at);
-    if (part == "..") return false;
-    if (slash == std::string_view::npos) break;
-    at = slash + 1;
-  }
-  return true;
-}
-
-// `source FILE`: a file next to the scene, read through the checker's reader. A missing
-// SLIDE helper file (SLIDEUI.tcl …) is replaced by nomec's own version of it.
-int source_cmd(ClientData data, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  auto* s = static_cast<State*>(data);
-  if (objc != 2 && objc != 4) {
-    set_result(interp, "wrong # args: should be \"source ?-encoding name? fileName\"");
-    return TCL_ERROR;
-  }
-  std::string name(arg(objv[objc - 1]));
-  if (!safe_relative(name)) {
-    std::string msg = "`source " + name + "`: a SLIDE scene may only source files in its own folder";
-    s->refusal = Problem{ProblemKind::Refused, msg, 0, name};
-    set_result(interp, msg);
-    return TCL_ERROR;
-  }
-  std::optional<std::string> text = s->read_file ? s->read_file(s->dir + name) : std::nullopt;
-  const size_t slash = name.rfind('/');
-  std::string_view base = std::string_view(name).substr(slash == std::string::npos ? 0 : slash + 1);
-  if (!text) {
-    if (std::optional<std::string_view> own = fallback_script(base)) {
-      if (s->noted.insert("fallback:" + name).second) {
-        s->notes.push_back({ProblemKind::Fallback,
-                            "`" + name + "` is not next to the scene; nomec uses its own version of it (slide.md §7)", 0, name});
-      }
-      text = std::string(*own);
-    } else {
-      std::string msg = "couldn't read file \"" + name + "\" (looked for " + s->dir + name + ")";
-      s->refusal = Problem{ProblemKind::MissingSource, msg, 0, name};
-      set_result(interp, msg);
-      return TCL_ERROR;
-    }
-  }
-  if (s->source_depth > 32) {
-    set_result(interp, "`source` nests too deeply (a file sources itself?)");
-    return TCL_ERROR;
-  }
-  std::string script = normalize_newlines(*text);
-  ++s->source_depth;
-  int rc = Tcl_EvalEx(interp, script.c_str(), static_cast<int>(script.size()), 0);
-  --s->source_depth;
-  if (rc == TCL_ERROR) {
-    std::string info = "\n    (file \"" + name + "\" line " + std::to_string(Tcl_GetErrorLine(interp)) + ")";
-    Tcl_AddErrorInfo(interp, info.c_str());
-  }
-  return rc == TCL_RETURN ? TCL_OK : rc;
-}
-
-char* read_trace(ClientData data, Tcl_Interp*, const char* name1, const char* name2, int) {
-  auto* s = static_cast<State*>(data);
-  if (s->reads != nullptr) {
-    std::string n = name2 != nullptr ? std::string(name1) + "(" + name2 + ")" : std::string(name1);
-    if (std::find(s->reads->begin(), s->reads->end(), n) == s->reads->end()) s->reads->push_back(n);
-  }
-  return nullptr;
-}
-
-char* write_trace(ClientData data, Tcl_Interp*, const char* name1, const char*, int) {
-  auto* s = static_cast<State*>(data);
-  if (s->writes != nullptr && std::find(s->writes->begin(), s->writes->end(), name1) == s->writes->end()) {
-    s->writes->emplace_back(name1);
-  }
-  return nullptr;
-}
-
-// The names of the interpreter's global variables.
-std::vector<std::string> globals(Tcl_Interp* in) {
-  std::vector<std::string> out;
-  if (Tcl_EvalEx(in, "info globals", -1, TCL_EVAL_GLOBAL) != TCL_OK) return out;
-  Tcl_Obj* list = Tcl_GetObjResult(in);
-  Tcl_IncrRefCount(list);
-  int n = 0;
-  Tcl_Obj** items = nullptr;
-  if (Tcl_ListObjGetElements(in, list, &n, &items) == TCL_OK) {
-    for (int i = 0; i < n; ++i) out.emplace_back(arg(items[i]));
-  }
-  Tcl_DecrRefCount(list);
-  Tcl_ResetResult(in);
-  return out;
-}
-
-void install(State& s) {
-  Tcl_Interp* in = s.interp;
-  Tcl_MakeSafe(in);  // hides exec, open, socket, cd, exit, load, source, file, glob …
-  for (std::string_view name : kRefused) {
-    Tcl_CreateObjCommand(in, std::string(name).c_str(), refuse, &s, nullptr);
-  }
-  Tcl_CreateObjCommand(in, "source", source_cmd, &s, nullptr);
-  Tcl_CreateObjCommand(in, "slide", slide_cmd, &s, nullptr);
-  for (const char* w : {"toplevel", "frame", "labelframe", "scale", "label", "button", "checkbutton", "radiobutton",
-                        "entry", "canvas", "listbox", "menu", "menubutton", "message", "text", "scrollbar", "spinbox",
-                        "panedwindow"}) {
-    Tcl_CreateObjCommand(in, w, widget, &s, nullptr);
-  }
-  for (const char* w : {"pack", "grid", "place", "wm", "bind", "focus", "raise", "lower", "destroy", "tk_chooseColor",
-                        "tkwait", "image", "font", "option", "tk", "bell", "grab", "slfwin", "bindtags", "selection",
-                        "clipboard", "puts"}) {
-    Tcl_CreateObjCommand(in, w, noop, &s, nullptr);
-  }
-  Tcl_CreateObjCommand(in, "winfo", winfo, &s, nullptr);
-  s.guard.interp = in;
-  install_guards(s.guard);
-  std::string setup(prelude_script());
-  Tcl_EvalEx(in, setup.c_str(), static_cast<int>(setup.size()), TCL_EVAL_GLOBAL);
-}
-
-}  // namespace
-
-std::string normalize_newlines(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '\r') {
-      size_t j = i;
-      while (j < text.size() && text[j] == '\r') ++j;
-      if (j < text.size() && text[j] == '\n') {
-        i = j - 1;  // `\r*\n` → `\n`
-        continue;
-      }
-      out += '\n';  // a lone `\r` ends a line too
-      i = j - 1;
-      continue;
-    }
-    out += text[i];
-  }
-  return out;
-}
-
-const std::vector<std::string_view>& refused_commands() { return kRefused; }
-
 Interp::Interp(std::string dir, ReadFile read_file, Limits limits, Preset preset) : s_(std::make_unique<State>()) {
-  t_made_interp = true;
-  static std::once_flag once;
-  std::call_once(once, [] { Tcl_FindExecutable(nullptr); });
-  s_->interp = Tcl_CreateInterp();
   s_->dir = std::move(dir);
   s_->read_file = std::move(read_file);
   s_->limits = limits;
   s_->preset = std::move(preset);
-  install(*s_);
+  s_->budget = std::make_shared<Budget>(limits.milliseconds);
 }
 
-Interp::~Interp() {
-  // An interpreter Tcl panicked in is left as it is (its state is half-changed).
-  if (s_ && s_->interp != nullptr && !s_->broken) Tcl_DeleteInterp(s_->interp);
-}
+Interp::~Interp() = default;
 
-namespace {
-
-// Arms the command-count and time limits for one script.
-void arm_limits(State& s) {
-  Tcl_Interp* in = s.interp;
-  Tcl_LimitTypeReset(in, TCL_LIMIT_COMMANDS);
-  Tcl_LimitTypeReset(in, TCL_LIMIT_TIME);
-  Tcl_EvalEx(in, "info cmdcount", -1, TCL_EVAL_GLOBAL);
-  Tcl_WideInt count = 0;
-  Tcl_GetWideIntFromObj(nullptr, Tcl_GetObjResult(in), &count);
-  Tcl_ResetResult(in);
-  const int64_t limit = count + s.limits.commands;
-  Tcl_LimitSetCommands(in, limit > INT32_MAX ? INT32_MAX : static_cast<int>(limit));
-  Tcl_Time t;
-  Tcl_GetTime(&t);
-  t.sec += s.limits.milliseconds / 1000;
-  t.usec += static_cast<long>(s.limits.milliseconds % 1000) * 1000;
-  if (t.usec >= 1000000) {
-    t.sec += 1;
-    t.usec -= 1000000;
-  }
-  Tcl_LimitSetTime(in, &t);
-  Tcl_LimitSetGranularity(in, TCL_LIMIT_TIME, 100);
-  Tcl_LimitTypeSet(in, TCL_LIMIT_COMMANDS);
-  Tcl_LimitTypeSet(in, TCL_LIMIT_TIME);
-}
-
-void disarm_limits(State& s) {
-  Tcl_LimitTypeReset(s.interp, TCL_LIMIT_COMMANDS);
-  Tcl_LimitTypeReset(s.interp, TCL_LIMIT_TIME);
-}
-
-Outcome finish(State& s, int rc) {
-  Outcome o;
-  Tcl_Interp* in = s.interp;
-  if (rc == TCL_OK || rc == TCL_RETURN) {
-    // A huge whole number would take minutes to print (guard.h, kMaxDigits).
-    if (auto msg = too_many_digits(Tcl_GetObjResult(in), "the script's result")) {
-      s.guard.refusal = *msg;
-      Tcl_SetObjResult(in, Tcl_NewStringObj(msg->c_str(), -1));
-      rc = TCL_ERROR;
-    }
-  }
-  o.result = Tcl_GetStringResult(in);
-  const bool limited = Tcl_LimitExceeded(in) != 0;
-  disarm_limits(s);
-  if (rc == TCL_OK || rc == TCL_RETURN) {
-    o.ok = true;
-  } else if (s.guard.refusal || limited) {
-    const char* info = Tcl_GetVar2(in, "errorInfo", nullptr, TCL_GLOBAL_ONLY);
-    o.problems.push_back({s.guard.refusal ? ProblemKind::Memory : ProblemKind::Limit,
-                          s.guard.refusal ? *s.guard.refusal : o.result, Tcl_GetErrorLine(in), info != nullptr ? info : ""});
-  } else if (rc == TCL_BREAK || rc == TCL_CONTINUE) {
-    o.problems.push_back({ProblemKind::Error, rc == TCL_BREAK ? "`break` outside a loop" : "`continue` outside a loop", 0, ""});
-  } else {
-    const char* info = Tcl_GetVar2(in, "errorInfo", nullptr, TCL_GLOBAL_ONLY);
-    Problem p{ProblemKind::Error, o.result, Tcl_GetErrorLine(in), info != nullptr ? info : ""};
-    if (s.refusal && o.result == s.refusal->message) p.kind = s.refusal->kind;
-    o.problems.push_back(std::move(p));
-  }
-  s.refusal.reset();
-  s.guard.refusal.reset();
-  Tcl_ResetResult(in);
-  return o;
-}
-
-// Runs `text` at global level within the limits and guards; nullopt and `o` filled when the
-// interpreter cannot run it (Tcl panicked now or earlier).
-std::optional<int> eval_guarded(State& s, const std::string& text, Outcome& o) {
-  if (s.broken) {
-    o.problems.push_back({ProblemKind::Memory, *s.broken, 0, ""});
-    return std::nullopt;
-  }
-  Tcl_Obj* script = Tcl_NewStringObj(text.c_str(), static_cast<int>(text.size()));
-  Tcl_IncrRefCount(script);
-  arm_limits(s);
-  arm_guard(s.guard);
-  int rc = TCL_OK;
-  std::string panic;
-  if (!guarded_eval(s.interp, script, &rc, &panic)) {
-    s.broken = "Tcl gave up (" + panic + "); nomec stopped this scene's Tcl here, and runs none of it after";
-    o.problems.push_back({ProblemKind::Memory, *s.broken, 0, ""});
-    return std::nullopt;  // the script object stays: the abandoned interpreter may hold it
-  }
-  Tcl_DecrRefCount(script);
-  return rc;
-}
-
-}  // namespace
-
-Outcome Interp::run(std::string_view script) {
-  std::string text = normalize_newlines(script);
-  std::vector<std::string> reads;
-  s_->reads = &reads;
-  Outcome failed;
-  std::optional<int> rc = eval_guarded(*s_, text, failed);
-  s_->reads = nullptr;
-  Outcome o = rc ? finish(*s_, *rc) : std::move(failed);
-  o.reads = std::move(reads);
-  return o;
-}
-
+Outcome Interp::run(std::string_view script) { return s_->operation(proto::Op::Run, script); }
 Outcome Interp::run_tracking_writes(std::string_view script) {
-  if (s_->broken) return run(script);
-  constexpr int kFlags = TCL_GLOBAL_ONLY | TCL_TRACE_WRITES;
-  const std::vector<std::string> before = globals(s_->interp);
-  for (const std::string& g : before) Tcl_TraceVar2(s_->interp, g.c_str(), nullptr, kFlags, write_trace, s_.get());
-  std::vector<std::string> writes;
-  s_->writes = &writes;
-  Outcome o = run(script);
-  s_->writes = nullptr;
-  if (s_->broken) return o;  // the interpreter may not be touched again
-  for (const std::string& g : before) Tcl_UntraceVar2(s_->interp, g.c_str(), nullptr, kFlags, write_trace, s_.get());
-  for (std::string& g : globals(s_->interp)) {
-    if (std::find(before.begin(), before.end(), g) == before.end() &&
-        std::find(writes.begin(), writes.end(), g) == writes.end()) {
-      writes.push_back(std::move(g));
-    }
-  }
-  std::erase_if(writes, [](const std::string& w) { return w == "errorInfo" || w == "errorCode"; });
-  o.writes = std::move(writes);
-  return o;
+  return s_->operation(proto::Op::RunTrackingWrites, script);
 }
 
-Outcome Interp::value(std::string_view script) {
-  std::string text = normalize_newlines(script);
-  std::vector<std::string> reads;
-  s_->reads = &reads;
-  Outcome failed;
-  std::optional<int> rc = eval_guarded(*s_, text, failed);
-  s_->reads = nullptr;
-  if (!rc) return failed;
-  Outcome o = finish(*s_, *rc);
-  o.reads = std::move(reads);
-  if (!o.ok) return o;
-  char* end = nullptr;
-  o.number = std::strtod(o.result.c_str(), &end);
-  while (end != nullptr && *end == ' ') ++end;
-  if (o.result.empty() || end == o.result.c_str() || (end != nullptr && *end != '\0') || !std::isfinite(o.number)) {
-    o.ok = false;
-    o.problems.push_back({ProblemKind::Error, "the value is `" + o.result + "`, not a number", 0, ""});
-  }
-  return o;
-}
+Outcome Interp::value(std::string_view script) { return s_->operation(proto::Op::Value, script); }
 
-std::optional<std::string> Interp::get(std::string_view name) const {
-  if (s_->broken) return std::nullopt;
-  const char* v = Tcl_GetVar2(s_->interp, std::string(name).c_str(), nullptr, TCL_GLOBAL_ONLY);
-  if (v == nullptr) return std::nullopt;
-  return std::string(v);
+std::optional<std::string> Interp::get(std::string_view name) {
+  proto::Request q;
+  q.op = proto::Op::Get;
+  q.text = std::string(name);
+  std::optional<proto::Reply> r = s_->touch(std::move(q));
+  return r ? std::move(r->got) : std::nullopt;
 }
 
 void Interp::set(std::string_view name, std::string_view value) {
-  if (s_->broken) return;
-  Tcl_SetVar2(s_->interp, std::string(name).c_str(), nullptr, std::string(value).c_str(), TCL_GLOBAL_ONLY);
+  proto::Request q;
+  q.op = proto::Op::Set;
+  q.text = std::string(name);
+  q.value = std::string(value);
+  s_->touch(std::move(q));
 }
 
 void Interp::watch(const std::string& name) {
-  if (s_->broken || !s_->watched.insert(name).second) return;
-  Tcl_TraceVar2(s_->interp, name.c_str(), nullptr, TCL_GLOBAL_ONLY | TCL_TRACE_READS, read_trace, s_.get());
+  proto::Request q;
+  q.op = proto::Op::Watch;
+  q.text = name;
+  s_->touch(std::move(q));
 }
 
 const std::vector<Slider>& Interp::sliders() const { return s_->sliders; }
 const std::vector<SlideCall>& Interp::slide_calls() const { return s_->calls; }
 
 std::vector<Problem> Interp::take_notes() {
+  std::lock_guard lock(s_->call);
   std::vector<Problem> out;
   out.swap(s_->notes);
   return out;
 }
 
-void finish_thread() {
-  if (!t_made_interp) return;
-  t_made_interp = false;
-  Tcl_FinalizeThread();
+void Interp::use_budget(std::shared_ptr<Budget> budget) {
+  std::lock_guard lock(s_->call);
+  if (budget) s_->budget = std::move(budget);
+}
+
+bool Interp::stopped() const {
+  std::lock_guard lock(s_->call);
+  return s_->stop.has_value();
 }
 
 }  // namespace nomec::tcl

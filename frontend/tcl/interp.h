@@ -1,79 +1,53 @@
-// The embedded Tcl 8.6 interpreter of one SLIDE scene (slide.md §6, §7): runs its
-// `tclinit`/`tclupdate` blocks and `{expr …}` values with Tcl's own `expr`, in a safe
-// interpreter (no exec, files, sockets, cd, exit, load; `source` reads only files next to
-// the scene, through the checker's file reader) within command and time limits. Tk is not
-// available headless: its widget commands are stubs, except that a `scale` bound to a
-// variable records a slider. `slide create …` calls are recorded for the checker. The only
-// code that includes <tcl.h>; one object per checked file, no global state.
+// nomec's handle on one SLIDE scene's Tcl interpreter, which runs in a process of its own
+// (`nomec-tcl-worker`, worker_main.cpp): the same operations as the engine (engine.h) —
+// run a `tclinit`/`tclupdate` block, evaluate an `{expr …}` value, read, set and watch
+// variables, the sliders and `slide create` calls recorded — carried over a socket
+// (protocol.h). Tcl's own commands can overflow the C stack or panic, and a scene can loop
+// in one command no limit interrupts; in the worker that ends only the worker. Every
+// operation draws on a wall-clock budget (for the whole file's Tcl, or per slider move);
+// past it the worker is killed. A worker that crashed, was killed or could not start is
+// one problem, returned by the operation it happened in (`Crashed`, `Limit`,
+// `Unavailable`); the operations after it run nothing and return a `Stopped` problem. The
+// scene's files and `-D` values are asked of nomec (the callbacks given here) while the
+// scene's Tcl runs. Starts the worker on first use. Operations may be called from any
+// thread, one at a time.
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "frontend/tcl/types.h"
+
 namespace nomec::tcl {
 
-/// Reads a file the scene sources (a path next to the scene); nullopt when it cannot.
-using ReadFile = std::function<std::optional<std::string>(const std::string& path)>;
+/// Wall time a scene's Tcl may still take, shared by the interpreters that run it (the
+/// check's, and the one that re-evaluates values as sliders move). Not thread-safe: share it
+/// only between interpreters used one at a time.
+class Budget {
+ public:
+  /// `scope` says what the time is for in messages ("for each slider move"; "" for a file).
+  explicit Budget(int milliseconds, std::string scope = "")
+      : total_ms_(milliseconds), left_us_(int64_t{milliseconds} * 1000), scope_(std::move(scope)) {}
+  int total_ms() const { return total_ms_; }
+  const std::string& scope() const { return scope_; }
+  int64_t left_us() const { return left_us_; }
+  void spend(int64_t us) { left_us_ -= us; }
 
-/// A Tk `scale` bound to a variable: `scale .w.x -from 0 -to 2 -resolution 0.1 -var par_x`.
-struct Slider {
-  std::string variable;  // `par_x`, or `param(rradius)` for an array element
-  double value = 0, from = 0, to = 100, resolution = 1;
-  bool rounded = false;  // Tk rounded or clamped the variable's value when the scale was made
-  double written = 0;    // the value the file set before Tk rounded it (when `rounded`)
-};
-
-enum class ProblemKind : uint8_t {
-  Error,          // a Tcl error (message and line)
-  Limit,          // the command-count or time limit stopped the script
-  Refused,        // a command a scene may not use (exec, open for writing, socket, cd, exit, load …)
-  MissingSource,  // `source FILE` of a file that cannot be read
-  Fallback,       // a missing SLIDEUI.tcl/MATH.tcl/SLFCONSTS.tcl/MOVIE.tcl replaced by nomec's own
-  Memory,         // a value or memory use past nomec's bounds refused, or Tcl gave up (see guard.h)
-};
-
-struct Problem {
-  ProblemKind kind = ProblemKind::Error;
-  std::string message;
-  int line = 0;       // 1-based line in the evaluated script, 0 when unknown
-  std::string trace;  // Tcl's errorInfo (Error), or the file named (MissingSource, Fallback)
-};
-
-/// Result of running a script or evaluating a value.
-struct Outcome {
-  bool ok = false;
-  std::string result;                // Tcl's result when ok
-  double number = 0;                 // for values: the result as a number
-  std::vector<Problem> problems;     // the error that stopped it, and notes (missing files)
-  std::vector<std::string> reads;    // watched variables the script read (see `watch`)
-  std::vector<std::string> writes;   // global variables it set or made (`run_tracking_writes`)
-};
-
-/// `slide create TYPE NAME ARGS…` or `slide delete TYPE NAME`, as Tcl passed them; or
-/// `import import NAME FILE` for a mesh file next to the scene that parselib's
-/// `CreateSTLObject`/`CreateSIFObject` read (`slide import NAME FILE` checked it is there).
-struct SlideCall {
-  std::vector<std::string> words;  // after `slide`
-};
-
-/// A `-D` value for a variable a `scale` is about to bind (given its range), set in place of
-/// the file's default so the rest of `tclinit` reads it.
-using Preset = std::function<std::optional<double>(const std::string& variable, double from, double to)>;
-
-struct Limits {
-  int64_t commands = 1'000'000;  // Tcl commands per script
-  int milliseconds = 10000;       // wall time per script
+ private:
+  int total_ms_;
+  int64_t left_us_;
+  std::string scope_;
 };
 
 class Interp {
  public:
-  /// `dir` is the scene's folder (for `source`, with trailing `/` or empty); `read_file`
-  /// may be empty (then every `source` fails).
+  /// `dir` is the scene's folder (with trailing `/`, or empty); `read_file` reads what
+  /// `source` and `slide import` name (a path `dir` + name; may be empty: every `source`
+  /// fails); `limits.milliseconds` is this interpreter's budget until `use_budget`.
   Interp(std::string dir, ReadFile read_file, Limits limits = {}, Preset preset = {});
   ~Interp();
   Interp(const Interp&) = delete;
@@ -89,7 +63,7 @@ class Interp {
   /// result must be a number; records which watched variables it read.
   Outcome value(std::string_view script);
   /// A global variable's value (`name` or `arr(key)`), or nullopt when unset.
-  std::optional<std::string> get(std::string_view name) const;
+  std::optional<std::string> get(std::string_view name);
   /// Sets a global variable (a `-D` override of a slider before values are evaluated).
   void set(std::string_view name, std::string_view value);
   /// Records reads of this global variable by later `value` calls.
@@ -97,8 +71,14 @@ class Interp {
 
   const std::vector<Slider>& sliders() const;
   const std::vector<SlideCall>& slide_calls() const;
-  /// The missing files and fallbacks noticed so far, once each (cleared by the call).
+  /// The missing files and fallbacks noticed so far, once each, and the problem that stopped
+  /// the worker when it stopped in `get`, `set` or `watch` (cleared by the call).
   std::vector<Problem> take_notes();
+
+  /// Draws wall time from `budget` from now on (shared with other interpreters).
+  void use_budget(std::shared_ptr<Budget> budget);
+  /// True once the worker crashed, was stopped or could not start: nothing more runs.
+  bool stopped() const;
 
   struct State;
 
@@ -106,16 +86,9 @@ class Interp {
   std::unique_ptr<State> s_;
 };
 
-/// `\r*\n` → `\n` (several real SLIDE files end lines with `\r\r\n`, which breaks Tcl's
-/// `\`-continuations; slide.md §1); line numbers stay the same.
-std::string normalize_newlines(std::string_view text);
-
-/// Frees what Tcl keeps for the calling thread; a thread that made interpreters calls it
-/// before it ends, after they are gone (the main thread need not). Nothing happens on a
-/// thread that made none.
-void finish_thread();
-
-/// The commands a scene may not use, in the order the safety test exercises them.
-const std::vector<std::string_view>& refused_commands();
+/// The Tcl worker program nomec starts: `$NOMEC_TCL_WORKER` when set, else
+/// `nomec-tcl-worker` beside the running program, in `../libexec/nomec/` or `../lib/nomec/`
+/// from it, or in the build tree; "" when none is found.
+const std::string& worker_path();
 
 }  // namespace nomec::tcl

@@ -1,6 +1,7 @@
 // nomec-file-test: the golden-file runner. Each test file carries its own expectations:
 //
 //   # ARGS: --emit ir %s                 (optional; default `--check %s`)
+//   # ENV: NAME=value                     (optional, repeatable: set for nomec's run)
 //   # CHECK:STDOUT: <one line of nomec's stdout>
 //   # CHECK:STDERR: <one line of nomec's stderr>
 //
@@ -40,6 +41,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::string_view kArgs = "# ARGS:";
+constexpr std::string_view kEnv = "# ENV:";
 constexpr std::string_view kStdout = "# CHECK:STDOUT:";
 constexpr std::string_view kStderr = "# CHECK:STDERR:";
 
@@ -128,7 +130,7 @@ struct RunResult {
 
 // Runs `argv` in `cwd`, capturing stdout and stderr through temporary files (no pipes, so
 // large outputs cannot deadlock).
-RunResult run(const std::vector<std::string>& argv, const fs::path& cwd) {
+RunResult run(const std::vector<std::string>& argv, const fs::path& cwd, const std::vector<std::string>& env) {
   RunResult r;
   char out_name[] = "/tmp/nomec-file-test-out-XXXXXX";
   char err_name[] = "/tmp/nomec-file-test-err-XXXXXX";
@@ -145,6 +147,7 @@ RunResult run(const std::vector<std::string>& argv, const fs::path& cwd) {
     dup2(err_fd, STDERR_FILENO);
     int null_fd = open("/dev/null", O_RDONLY);
     if (null_fd >= 0) dup2(null_fd, STDIN_FILENO);
+    for (const std::string& e : env) putenv(const_cast<char*>(e.c_str()));
     std::vector<char*> args;
     for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -209,10 +212,12 @@ bool run_file(const Config& cfg, const fs::path& file) {
   }
   std::vector<std::string> lines = split_lines(*content);
   std::string args_line = "--check %s";
-  std::vector<std::string> want_out, want_err;
+  std::vector<std::string> want_out, want_err, env;
   for (const std::string& line : lines) {
     if (starts_with(line, kArgs)) {
       args_line = after_prefix(line, kArgs);
+    } else if (starts_with(line, kEnv)) {
+      env.push_back(after_prefix(line, kEnv));
     } else if (starts_with(line, kStdout)) {
       want_out.push_back(after_prefix(line, kStdout));
     } else if (starts_with(line, kStderr)) {
@@ -226,7 +231,7 @@ bool run_file(const Config& cfg, const fs::path& file) {
     replace_all(a, "%s", shown);
     argv.push_back(std::move(a));
   }
-  RunResult r = run(argv, cfg.root);
+  RunResult r = run(argv, cfg.root, env);
   replace_all(r.out, corpus, "%corpus%");
   replace_all(r.err, corpus, "%corpus%");
   std::vector<std::string> got_out = split_lines(r.out);

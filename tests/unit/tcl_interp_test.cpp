@@ -1,26 +1,37 @@
-// The embedded Tcl interpreter (frontend/tcl): Tk stubs and sliders, the `slide` command,
-// `source` next to the scene with nomec's own helper files as fallback, the refused
-// commands, read traces, and the command-count and time limits.
+// SLIDE's Tcl (frontend/tcl): Tk stubs and sliders, the `slide` command, `source` next to
+// the scene with nomec's own helper files as fallback, the refused commands, read traces,
+// and the command-count and time limits — each test run twice: on the engine in this
+// process (`Engine`) and through nomec's handle on a Tcl worker process (`Interp`), which
+// must carry everything the engine records across the process boundary.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
 
+#include <type_traits>
+
+#include "frontend/tcl/engine.h"
 #include "frontend/tcl/interp.h"
 
 namespace nomec::tcl {
 namespace {
 
-Interp make(std::map<std::string, std::string> files = {}, Limits limits = {}) {
-  return Interp("scene/", [files](const std::string& p) -> std::optional<std::string> {
+template <typename T>
+class TclInterp : public ::testing::Test {};
+using Implementations = ::testing::Types<Engine, Interp>;
+TYPED_TEST_SUITE(TclInterp, Implementations);
+
+template <typename T>
+T make(std::map<std::string, std::string> files = {}, Limits limits = {}) {
+  return T("scene/", [files](const std::string& p) -> std::optional<std::string> {
     auto it = files.find(p);
     if (it == files.end()) return std::nullopt;
     return it->second;
   }, limits);
 }
 
-TEST(TclInterp, ScaleBoundToAVariableIsASlider) {
-  Interp in = make();
+TYPED_TEST(TclInterp, ScaleBoundToAVariableIsASlider) {
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run("set par_r 0.5\nframe .w\nscale .w.r -from 0 -to 2 -resolution 0.1 -var par_r\nscale .w.n\n");
   ASSERT_TRUE(o.ok) << o.result;
   ASSERT_EQ(in.sliders().size(), 1u);  // the scale without a variable is no slider
@@ -34,8 +45,8 @@ TEST(TclInterp, ScaleBoundToAVariableIsASlider) {
 
 // What a `tclupdate` block sets (an existing global, a new one, an array element) and which
 // watched variables it reads are recorded; untouched globals are not.
-TEST(TclInterp, TracksWhatAScriptWritesAndReads) {
-  Interp in = make();
+TYPED_TEST(TclInterp, TracksWhatAScriptWritesAndReads) {
+  TypeParam in = make<TypeParam>();
   ASSERT_TRUE(in.run("set par_a 2; set keep 1; set r 0; array set arr {x 1}").ok);
   in.watch("par_a");
   Outcome o = in.run_tracking_writes("set r [expr {$par_a * 2}]; set fresh $keep; set arr(x) 5");
@@ -49,8 +60,8 @@ TEST(TclInterp, TracksWhatAScriptWritesAndReads) {
   EXPECT_EQ(in.get("r").value_or(""), "1");
 }
 
-TEST(TclInterp, ScaleRoundsAndClampsLikeTk) {
-  Interp in = make();
+TYPED_TEST(TclInterp, ScaleRoundsAndClampsLikeTk) {
+  TypeParam in = make<TypeParam>();
   ASSERT_TRUE(in.run("set a 0.707\nscale .a -from 0.5 -to 2 -resolution 0.1 -variable a\n"
                      "set b 0\nscale .b -from 0.1 -to 1.0 -resolution 0.01 -variable b\n"
                      "scale .c -from 3 -to 9 -variable c\n").ok);
@@ -60,8 +71,8 @@ TEST(TclInterp, ScaleRoundsAndClampsLikeTk) {
   EXPECT_TRUE(in.sliders()[0].rounded);
 }
 
-TEST(TclInterp, TkStubsDoNothingAndReturnPaths) {
-  Interp in = make();
+TYPED_TEST(TclInterp, TkStubsDoNothingAndReturnPaths) {
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run("toplevel .slfWindow.ui\npack [label .x -text hi] -side top\nwm geometry .x +1+1\n"
                      "bind .x <1> {puts hi}\ngrid .x\ncheckbutton .c -variable writeRib\nradiobutton .r -variable rv\n"
                      "entry .e -textvariable ev\n.x conf -bg red\nset w [frame .f]\nwinfo exists .f");
@@ -73,16 +84,16 @@ TEST(TclInterp, TkStubsDoNothingAndReturnPaths) {
   EXPECT_EQ(in.get("ev"), "");
 }
 
-TEST(TclInterp, SlideCreateIsRecorded) {
-  Interp in = make();
+TYPED_TEST(TclInterp, SlideCreateIsRecorded) {
+  TypeParam in = make<TypeParam>();
   ASSERT_TRUE(in.run("slide create point p1 {1 2 3}\nslide create face f {p1 p2 p3} -surface s\n").ok);
   ASSERT_EQ(in.slide_calls().size(), 2u);
   EXPECT_EQ(in.slide_calls()[0].words, (std::vector<std::string>{"create", "point", "p1", "1 2 3"}));
   EXPECT_FALSE(in.run("slide frobnicate x").ok);
 }
 
-TEST(TclInterp, SourceReadsFilesNextToTheScene) {
-  Interp in = make({{"scene/lib.tcl", "proc Twice {x} { expr {2*$x} }"}});
+TYPED_TEST(TclInterp, SourceReadsFilesNextToTheScene) {
+  TypeParam in = make<TypeParam>({{"scene/lib.tcl", "proc Twice {x} { expr {2*$x} }"}});
   Outcome o = in.run("source lib.tcl\nTwice 4");
   ASSERT_TRUE(o.ok) << o.result;
   EXPECT_EQ(o.result, "8");
@@ -94,8 +105,8 @@ TEST(TclInterp, SourceReadsFilesNextToTheScene) {
   EXPECT_EQ(outside.problems[0].kind, ProblemKind::Refused);
 }
 
-TEST(TclInterp, MissingHelperFilesUseNomecsOwn) {
-  Interp in = make();
+TYPED_TEST(TclInterp, MissingHelperFilesUseNomecsOwn) {
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run("source SLIDEUI.tcl\nCreateScale par .w thick Thickness 0.25 0 1 0.05 4 horizontal\n"
                      "CreateGroupUI .slfWindow gRoot\nDegToRad 180");
   ASSERT_TRUE(o.ok) << o.result;
@@ -109,17 +120,17 @@ TEST(TclInterp, MissingHelperFilesUseNomecsOwn) {
   EXPECT_EQ(notes[0].kind, ProblemKind::Fallback);
 }
 
-TEST(TclInterp, SlideuiPackageObjectsAndSliders) {
-  Interp in = make();
+TYPED_TEST(TclInterp, SlideuiPackageObjectsAndSliders) {
+  TypeParam in = make<TypeParam>();
   ASSERT_TRUE(in.run("package require slideui\nCreateSLIDESubdivisionObject oS\nCreateSLIDESubdivisionUI .u oS\n").ok);
   EXPECT_EQ(in.get("oS(subdivisions)"), "2");
   ASSERT_EQ(in.sliders().size(), 1u);
   EXPECT_EQ(in.sliders()[0].variable, "oS(subdivisions)");
 }
 
-TEST(TclInterp, EveryWorldTouchingCommandIsRefused) {
+TYPED_TEST(TclInterp, EveryWorldTouchingCommandIsRefused) {
   for (std::string_view cmd : refused_commands()) {
-    Interp in = make();
+    TypeParam in = make<TypeParam>();
     std::string script = std::string(cmd) + (cmd == "open" ? " /tmp/x w" : " x");
     Outcome o = in.run(script);
     ASSERT_FALSE(o.ok) << cmd;
@@ -128,13 +139,13 @@ TEST(TclInterp, EveryWorldTouchingCommandIsRefused) {
     EXPECT_NE(o.problems[0].message.find("not available"), std::string::npos) << cmd;
   }
   // Nor can a script get them back.
-  Interp in = make();
+  TypeParam in = make<TypeParam>();
   EXPECT_FALSE(in.run("interp expose {} exec").ok);
   EXPECT_FALSE(in.run("rename exec {}; exec ls").ok);
 }
 
-TEST(TclInterp, ValuesRecordTheWatchedVariablesTheyRead) {
-  Interp in = make();
+TYPED_TEST(TclInterp, ValuesRecordTheWatchedVariablesTheyRead) {
+  TypeParam in = make<TypeParam>();
   ASSERT_TRUE(in.run("set a 2\nset b 3\nset c 4\nproc viaB {} { global b; return $b }").ok);
   in.watch("a");
   in.watch("b");
@@ -148,8 +159,8 @@ TEST(TclInterp, ValuesRecordTheWatchedVariablesTheyRead) {
   EXPECT_DOUBLE_EQ(div.number, 3);
 }
 
-TEST(TclInterp, ErrorsCarryTheirLine) {
-  Interp in = make();
+TYPED_TEST(TclInterp, ErrorsCarryTheirLine) {
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run("set a 1\n\nset b [expr {$a +}]\n");
   ASSERT_FALSE(o.ok);
   EXPECT_EQ(o.problems[0].kind, ProblemKind::Error);
@@ -160,23 +171,32 @@ TEST(TclInterp, ErrorsCarryTheirLine) {
   EXPECT_NE(p.problems[0].trace.find("(procedure \"f\" line 2)"), std::string::npos);
 }
 
-TEST(TclInterp, RunawayScriptsStopAtTheTimeLimit) {
+TYPED_TEST(TclInterp, RunawayScriptsStopAtTheTimeLimit) {
   // An empty loop body runs no commands: only the time limit stops it.
-  Interp in = make({}, Limits{int64_t{1} << 40, 200});
+  TypeParam in = make<TypeParam>({}, Limits{int64_t{1} << 40, 200});
   Outcome o = in.run("while 1 {}");
   ASSERT_FALSE(o.ok);
   EXPECT_EQ(o.problems[0].kind, ProblemKind::Limit);
   EXPECT_NE(o.problems[0].message.find("time"), std::string::npos) << o.problems[0].message;
-  // The interpreter stays usable, with a fresh budget.
-  Outcome after = in.run("set x 5");
-  EXPECT_TRUE(after.ok) << after.result;
+  if constexpr (std::is_same_v<TypeParam, Engine>) {
+    // The engine's limit is per script: the next one has a fresh one.
+    Outcome after = in.run("set x 5");
+    EXPECT_TRUE(after.ok) << after.result;
+  } else {
+    // Through a worker the limit is a budget for all of the scene's Tcl: it is spent, and
+    // the one problem of it was the script's; nothing more runs.
+    Outcome after = in.run("set x 5");
+    ASSERT_FALSE(after.ok);
+    EXPECT_EQ(after.problems[0].kind, ProblemKind::Stopped);
+    EXPECT_NE(after.problems[0].message.find("whole 0.2 s"), std::string::npos) << after.problems[0].message;
+  }
 }
 
-TEST(TclInterp, RunawayLoopsStopAtTheCommandLimit) {
+TYPED_TEST(TclInterp, RunawayLoopsStopAtTheCommandLimit) {
   // Loops whose body Tcl compiles (at top level and in a procedure) count their commands.
   for (const char* script : {"set i 0; while 1 {incr i}", "proc p {} {while 1 {set x 1}}; p",
                              "for {set i 0} {1} {incr i} {set y [expr {$i * 2}]}"}) {
-    Interp in = make({}, Limits{100000, 60000});
+    TypeParam in = make<TypeParam>({}, Limits{100000, 60000});
     Outcome o = in.run(script);
     ASSERT_FALSE(o.ok) << script;
     EXPECT_EQ(o.problems[0].kind, ProblemKind::Limit) << script;
@@ -185,7 +205,7 @@ TEST(TclInterp, RunawayLoopsStopAtTheCommandLimit) {
   }
 }
 
-TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
+TYPED_TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
   for (const char* script : {
            "string repeat x 1000000000",
            "string repeat abc 400000000",
@@ -207,7 +227,7 @@ TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
            "join [lrepeat 3000 [string repeat x 3000]]",
            "proc grow {s} {return $s$s}; set s x; while 1 {set s [grow $s]}",
        }) {
-    Interp in = make({}, Limits{int64_t{1} << 40, 60000});
+    TypeParam in = make<TypeParam>({}, Limits{int64_t{1} << 40, 60000});
     Outcome o = in.run(script);
     ASSERT_FALSE(o.ok) << script;
     EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory) << script << ": " << o.problems[0].message;
@@ -220,7 +240,7 @@ TEST(TclInterp, ValuesPastTheBoundsAreRefusedBeforeTheyAreBuilt) {
 // Tcl computes huge whole numbers quickly but prints them in quadratic time (200,000 digits
 // take about 20 s inside one command, which no limit interrupts): they are refused before
 // any command gets them and as a script's result, and their text is never built.
-TEST(TclInterp, HugeWholeNumbersAreRefusedBeforeTheyArePrinted) {
+TYPED_TEST(TclInterp, HugeWholeNumbersAreRefusedBeforeTheyArePrinted) {
   for (const char* script : {
            "expr {10**200000}",
            "set x [expr {10**200000}]",
@@ -228,14 +248,14 @@ TEST(TclInterp, HugeWholeNumbersAreRefusedBeforeTheyArePrinted) {
            "proc f {} {return [expr {7**50000}]}; f",
            "set x 1; while 1 {set x [expr {$x * 1000}]}",
        }) {
-    Interp in = make({}, Limits{int64_t{1} << 40, 60000});
+    TypeParam in = make<TypeParam>({}, Limits{int64_t{1} << 40, 60000});
     Outcome o = in.run(script);
     ASSERT_FALSE(o.ok) << script;
     EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory) << script << ": " << o.problems[0].message;
     EXPECT_NE(o.problems[0].message.find("at most 10000 digits"), std::string::npos) << o.problems[0].message;
     EXPECT_TRUE(in.run("set after 1").ok) << script;
   }
-  Interp in = make();
+  TypeParam in = make<TypeParam>();
   Outcome v = in.value("expr {10**20000}");
   ASSERT_FALSE(v.ok);
   EXPECT_EQ(v.problems[0].kind, ProblemKind::Memory);
@@ -248,8 +268,8 @@ TEST(TclInterp, HugeWholeNumbersAreRefusedBeforeTheyArePrinted) {
   EXPECT_DOUBLE_EQ(w.number, 100.0);
 }
 
-TEST(TclInterp, OrdinaryUseOfTheGuardedCommandsStillWorks) {
-  Interp in = make();
+TYPED_TEST(TclInterp, OrdinaryUseOfTheGuardedCommandsStillWorks) {
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run(
       "set s [string repeat ab 3]; append s c; lappend l 1 2; set f [format %5.2f 3.14159];"
       "set r [lrepeat 2 x]; set j [join {a b} -]; set m [string map {a A} abc]; regsub -all b abab B g;"
@@ -265,12 +285,12 @@ TEST(TclInterp, OrdinaryUseOfTheGuardedCommandsStillWorks) {
   EXPECT_EQ(in.get("k"), "abababc 3.14");
 }
 
-TEST(TclInterp, ATclPanicStopsTheScenesTclInsteadOfTheProcess) {
+TYPED_TEST(TclInterp, ATclPanicStopsTheScenesTclInsteadOfTheProcess) {
   // One word joining 720 copies of a 3-million-character value passes Tcl's 2 GB limit for
   // a value, which Tcl answers by aborting the process; nomec turns that into a problem.
   std::string script = "set s [string repeat x 3000000]; set t ";
   for (int i = 0; i < 720; ++i) script += "$s";
-  Interp in = make();
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run(script);
   ASSERT_FALSE(o.ok);
   EXPECT_EQ(o.problems[0].kind, ProblemKind::Memory);
@@ -281,21 +301,21 @@ TEST(TclInterp, ATclPanicStopsTheScenesTclInsteadOfTheProcess) {
   EXPECT_EQ(after.problems[0].kind, ProblemKind::Memory);
   EXPECT_FALSE(in.get("s").has_value());
   // Other interpreters are not affected.
-  Interp other = make();
+  TypeParam other = make<TypeParam>();
   EXPECT_TRUE(other.run("set y [string repeat y 3]").ok);
   EXPECT_EQ(other.get("y"), "yyy");
 }
 
-TEST(TclInterp, NormalizesCarriageReturns) {
+TYPED_TEST(TclInterp, NormalizesCarriageReturns) {
   EXPECT_EQ(normalize_newlines("a \\\r\r\nb\rc"), "a \\\nb\nc");
-  Interp in = make();
+  TypeParam in = make<TypeParam>();
   Outcome o = in.run("set x [expr 1 + \\\r\r\n 2]");
   ASSERT_TRUE(o.ok) << o.result;
   EXPECT_EQ(in.get("x"), "3");
 }
 
-TEST(TclInterp, TwoInterpretersAreIndependent) {
-  Interp a = make(), b = make();
+TYPED_TEST(TclInterp, TwoInterpretersAreIndependent) {
+  TypeParam a = make<TypeParam>(), b = make<TypeParam>();
   ASSERT_TRUE(a.run("set v 1").ok);
   EXPECT_FALSE(b.get("v").has_value());
 }
