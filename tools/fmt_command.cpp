@@ -81,7 +81,7 @@ int run_fmt(const FmtCommand& command) {
       // formatted all the same.
       if (result.text == *text) continue;
       if (std::string error = rewrite_file(path, *text, result.text); !error.empty()) {
-        std::cerr << "nomec fmt: " << error << " (not rewritten)\n";
+        std::cerr << "nomec fmt: not rewritten: " << error << "\n";
         status = 2;
       }
     } else {
