@@ -1,9 +1,12 @@
-// File reading, atomic writing and folder listing (see file_io.h), with POSIX calls so that
-// errors carry the system's reason.
+// File reading, atomic writing (with the signal handler that removes temporary files and
+// the careful rewrite of a source file), and folder listing (see file_io.h), with POSIX
+// calls so that errors carry the system's reason.
 #include "base/file_io.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -12,6 +15,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <mutex>
+#include <random>
 #include <utility>
 
 namespace nomec {
@@ -73,6 +78,57 @@ std::string write_all(int fd, std::string_view content, const std::string& shown
   return {};
 }
 
+// The temporary files that exist now, for the signal handler: a fixed table of pointers to
+// the writers' own path strings (a handler may not allocate or lock). A writer lists its
+// file once it is created and takes it off once it is renamed or removed; a signal that
+// comes in between finds a path that no longer exists, and unlink fails harmlessly.
+constexpr int kTempSlots = 64;
+std::atomic<const char*> g_temps[kTempSlots];
+constexpr int kCleanedSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+extern "C" void remove_temps_and_die(int sig) {
+  const int saved = errno;
+  for (std::atomic<const char*>& slot : g_temps) {
+    if (const char* p = slot.load()) ::unlink(p);
+  }
+  errno = saved;
+  // SA_RESETHAND made the action the default again: the signal, raised once more, ends
+  // the process as it would have without us once this handler returns.
+  ::raise(sig);
+}
+
+// Installs the handler for each signal whose action is still the default, once.
+void install_cleanup_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (int sig : kCleanedSignals) {
+      struct sigaction old {};
+      if (::sigaction(sig, nullptr, &old) != 0 || (old.sa_flags & SA_SIGINFO) != 0 || old.sa_handler != SIG_DFL) continue;
+      struct sigaction sa {};
+      sa.sa_handler = remove_temps_and_die;
+      sigemptyset(&sa.sa_mask);
+      for (int other : kCleanedSignals) sigaddset(&sa.sa_mask, other);
+      sa.sa_flags = SA_RESETHAND;
+      ::sigaction(sig, &sa, nullptr);
+    }
+  });
+}
+
+// Lists `path` (a string that lives until `unlist`) for the handler; the slot or -1 when
+// the table is full (the file is then only removed by the writer's own destructor).
+int list_temp(const char* path) {
+  for (int i = 0; i < kTempSlots; ++i) {
+    const char* empty = nullptr;
+    if (g_temps[i].compare_exchange_strong(empty, path)) return i;
+  }
+  return -1;
+}
+
+void unlist_temp(int& slot) {
+  if (slot >= 0) g_temps[slot].store(nullptr);
+  slot = -1;
+}
+
 }  // namespace
 
 // An existing non-regular file (`/dev/null`, a FIFO, a terminal) is written straight into:
@@ -82,26 +138,49 @@ AtomicFileWriter::AtomicFileWriter(const std::string& path) : path_(path) {
   exists_ = ::stat(path.c_str(), &st) == 0;
   if (exists_ && !S_ISREG(st.st_mode)) {
     is_in_place_ = true;
-    fd_ = ::open(path.c_str(), O_WRONLY | O_TRUNC);
+    fd_ = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd_ < 0) error_ = quoted_error("cannot open", path);
     return;
   }
   mode_ = st.st_mode & 07777;
-  std::string tmpl = path + ".tmp.XXXXXX";
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  fd_ = mkstemp(name.data());
-  if (fd_ < 0) {
-    error_ = quoted_error("cannot create", tmpl);
-    return;
+  gid_ = st.st_gid;
+  const std::string tmpl = path + ".tmp.XXXXXX";
+  // Listed for the signal handler before the file exists, so that a signal taken by any
+  // thread at any moment finds it: the name is chosen here (as mkstemp would), listed, then
+  // created exclusively.
+  install_cleanup_handlers();
+  std::random_device rng;
+  static constexpr char kChars[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+  for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
+    temp_ = tmpl;
+    for (size_t i = temp_.size() - 6; i < temp_.size(); ++i) temp_[i] = kChars[rng() % (sizeof kChars - 1)];
+    slot_ = list_temp(temp_.c_str());
+    fd_ = ::open(temp_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd_ < 0) {
+      const int reason = errno;
+      unlist_temp(slot_);
+      errno = reason;
+      if (reason != EEXIST) break;
+    }
   }
-  temp_ = name.data();
+  if (fd_ < 0) {
+    temp_.clear();
+    error_ = quoted_error("cannot create", tmpl);
+  }
 }
 
 AtomicFileWriter::~AtomicFileWriter() {
   if (fd_ >= 0) ::close(fd_);
-  if (!temp_.empty()) ::unlink(temp_.c_str());
+  drop_temp();
 }
+
+void AtomicFileWriter::drop_temp() {
+  if (!temp_.empty()) ::unlink(temp_.c_str());
+  unlist_temp(slot_);
+  temp_.clear();
+}
+
+void AtomicFileWriter::require_unchanged(std::string original) { original_ = std::move(original); }
 
 bool AtomicFileWriter::append(std::string_view piece) {
   if (!error_.empty() || fd_ < 0) return false;
@@ -116,21 +195,47 @@ std::string AtomicFileWriter::commit() {
     ::close(fd);
     return {};
   }
-  // mkstemp creates 0600: keep the permissions of the file being replaced, or give a new
-  // output the ordinary 0666 less the umask.
+  // mkstemp creates 0600: keep the permissions and group of the file being replaced, or
+  // give a new output the ordinary 0666 less the umask.
   mode_t mode = 0;
   if (exists_) {
     mode = static_cast<mode_t>(mode_);
+    if (fchown(fd, static_cast<uid_t>(-1), static_cast<gid_t>(gid_)) != 0) {
+      // Not a member of the group: the file takes ours, as any new file would.
+    }
   } else {
     mode_t mask = umask(0);
     umask(mask);
     mode = 0666 & ~mask;
   }
   fchmod(fd, mode);
-  if (::close(fd) != 0) return quoted_error("cannot write", temp_);
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
-    return "cannot rename `" + temp_ + "` to `" + path_ + "`: " + std::strerror(errno);
+  if (original_ && ::fsync(fd) != 0) {
+    error_ = quoted_error("cannot write", temp_);
+    ::close(fd);
+    drop_temp();
+    return error_;
   }
+  if (::close(fd) != 0) {
+    error_ = quoted_error("cannot write", temp_);
+    drop_temp();
+    return error_;
+  }
+  // The last moment before the rename: the file must still hold what it was read with.
+  if (original_) {
+    errno = 0;
+    std::optional<std::string> now = read_file_bytes(path_);
+    if (!now || *now != *original_) {
+      drop_temp();
+      return "`" + path_ + "` " + (now ? "changed" : "disappeared") +
+             " since it was read; it is left as it is now, the change made meanwhile kept";
+    }
+  }
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    error_ = "cannot rename `" + temp_ + "` to `" + path_ + "`: " + std::strerror(errno);
+    drop_temp();
+    return error_;
+  }
+  unlist_temp(slot_);
   temp_.clear();  // in place now: nothing to remove
   return {};
 }
@@ -139,6 +244,45 @@ std::string write_file_atomically(const std::string& path, std::string_view cont
   AtomicFileWriter out(path);
   out.append(content);
   return out.commit();
+}
+
+bool is_same_file(const std::string& a, const std::string& b) {
+  struct stat sa {}, sb {};
+  if (::stat(a.c_str(), &sa) != 0 || ::stat(b.c_str(), &sb) != 0) return false;
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+std::string rewrite_file(const std::string& path, std::string_view original, std::string_view content) {
+  // Through a symlink: its target is the file rewritten, next to which the temporary file
+  // goes (a rename over the link would replace the link itself).
+  char* real = ::realpath(path.c_str(), nullptr);
+  if (real == nullptr) return quoted_error("cannot find", path);
+  const std::string target(real);
+  std::free(real);
+  struct stat st {};
+  if (::stat(target.c_str(), &st) != 0) return quoted_error("cannot find", path);
+  if (!S_ISREG(st.st_mode)) return "`" + path + "` is not a regular file";
+  if ((st.st_mode & 0222) == 0 || ::access(target.c_str(), W_OK) != 0) {
+    return "`" + path + "` is read-only; make it writable to rewrite it";
+  }
+  if (st.st_nlink > 1) {
+    return "`" + path + "` has " + std::to_string(st.st_nlink) +
+           " hard links; replacing it would split them (the other names would keep the old text)";
+  }
+  if (::geteuid() != 0 && st.st_uid != ::geteuid()) {
+    return "`" + path + "` belongs to another user; replacing it would make it yours";
+  }
+  AtomicFileWriter out(target);
+  out.require_unchanged(std::string(original));
+  out.append(content);
+  std::string error = out.commit();
+  // Name the file as the user did, not its resolved target.
+  if (target != path) {
+    for (size_t at = 0; (at = error.find("`" + target + "`", at)) != std::string::npos; at += path.size() + 2) {
+      error.replace(at, target.size() + 2, "`" + path + "`");
+    }
+  }
+  return error;
 }
 
 std::optional<FolderListing> list_folder(const std::string& dir) {

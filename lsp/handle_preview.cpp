@@ -5,11 +5,17 @@
 // `ok: false` with its diagnostics and no geometry, so the client keeps its last good
 // picture. The session it builds is the one nome/setParameter then moves sliders in.
 // nome/saveScene {uri}: the document saved with the session's current slider values
-// (`nomec --emit nome`).
+// (`nomec --emit nome`: each moved slider's value token rewritten in place, nothing else);
+// the saved text is checked again first, and an error (no text) names any moved slider it
+// would not give its value.
 #include <mutex>
 
 #include "backend/save.h"
 #include "backend/session.h"
+#include "base/file_io.h"
+#include "frontend/check/check.h"
+#include "frontend/flat/flat.h"
+#include "frontend/source/file_kinds.h"
 #include "lsp/handler.h"
 #include "lsp/preview.h"
 
@@ -80,7 +86,34 @@ json save_scene(Context& ctx) {
     if (h.uri == uri && h.version == a->version) module = &h.session->module();
   }
   const std::string path(a->sources().name(a->file));
-  return {{"uri", uri}, {"version", a->version}, {"text", backend::to_nome(*module, a->sources(), path)}};
+  backend::SavedScene saved = backend::save_scene(*module, a->module(), a->sources(), path, a->check->base_file);
+  if (module != &a->module()) {
+    // Something moved: the saved text is checked again beside the document (where its
+    // includes and Tcl sources are) and must give every slider its value.
+    CheckOptions options;
+    options.dialect = a->check->dialect;
+    if (uri_to_path(uri)) {
+      options.read_file = read_file_bytes;
+      options.list_folder = list_folder;
+    }
+    const std::string_view ext = path_extension(path);
+    const std::string beside = path.substr(0, path.size() - ext.size()) + ".saved" +
+                               (is_saved_work_path(path) || flat::format_of_path(path) ? std::string(".nome") : std::string(ext));
+    SourceManager sources;
+    DiagnosticEngine diags;
+    const CheckResult back = check_source(sources, beside, saved.text, options, diags);
+    std::vector<std::string> lost;
+    for (const Diagnostic& d : diags.diagnostics()) {
+      if (d.severity == Severity::Error && lost.empty()) lost.push_back("the saved text does not check: " + d.message);
+    }
+    if (lost.empty()) lost = backend::lost_values(*module, saved, back.module);
+    if (!lost.empty()) {
+      std::string message = "not saved: ";
+      for (size_t i = 0; i < lost.size(); ++i) message += (i == 0 ? "" : "; ") + lost[i];
+      throw LspError(error_code::InvalidParams, message);
+    }
+  }
+  return {{"uri", uri}, {"version", a->version}, {"text", std::move(saved.text)}};
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ namespace {
 
 // What follows the check of one file; returns the errors it adds.
 int after_check(const Cli& cli, const std::string& path, const SourceManager& sources, CheckResult& result,
-                double check_ms, DiagnosticOutput& out, const WhatIf& what_if) {
+                const CheckOptions& options, const std::vector<std::string>& inputs, double check_ms,
+                DiagnosticOutput& out, const WhatIf& what_if) {
   if (cli.emit == "ir") {
     std::cout << ir::dump_ir(result.module, sources);
     return 0;
@@ -30,8 +31,8 @@ int after_check(const Cli& cli, const std::string& path, const SourceManager& so
     std::cout << ir::dump_deps_dot(result.module);
     return 0;
   }
-  if (cli.emit == "nome") return emit_nome(cli, path, sources, result.module);
-  if (cli.emits_mesh()) return emit_meshes(cli, path, sources, result.module, check_ms, out);
+  if (cli.emit == "nome") return emit_nome(cli, path, sources, result, options, inputs);
+  if (cli.emits_mesh()) return emit_meshes(cli, path, sources, result.module, inputs, check_ms, out);
   if (cli.what_if.empty()) return 0;
   DiagnosticEngine geo;
   int errors = run_what_if(path, std::move(result.module), what_if, cli.pipeline, cli.allow_out_of_range, geo, std::cout);
@@ -54,10 +55,21 @@ int run_check_command(const Cli& cli) {
     std::cerr << "nomec: " << problem << "\n";
     return 2;
   }
+  // Every file the check reads (includes, a base scene, meshes, Tcl sources) is recorded:
+  // an output must not overwrite any of them (output_is_input).
+  std::vector<std::string> inputs;
+  const CheckOptions unrecorded = options;
+  if (options.read_file) {
+    options.read_file = [&inputs, read = options.read_file](const std::string& file) {
+      inputs.push_back(file);
+      return read(file);
+    };
+  }
   const bool color = cli.color == "always" || (cli.color == "auto" && isatty(STDERR_FILENO) != 0);
   DiagnosticOutput out(cli.format == "json", cli.werror, color);
   int errors = 0;
   for (const std::string& path : cli.files) {
+    inputs.assign(1, path);
     std::optional<std::string> text = read_file_bytes(path);
     if (!text) {
       std::cerr << fmt::format("nomec: cannot read `{}`: {}\n", path, std::strerror(errno));
@@ -82,7 +94,9 @@ int run_check_command(const Cli& cli) {
                                diags.warning_count(), result.module.nodes.size());
     }
     const bool dumps = cli.emit == "ir" || cli.emit == "deps";  // shown even for files with errors
-    if (dumps || file_errors == 0) errors += after_check(cli, path, sources, result, check_ms, out, what_if);
+    if (dumps || file_errors == 0) {
+      errors += after_check(cli, path, sources, result, unrecorded, inputs, check_ms, out, what_if);
+    }
   }
   out.finish(std::cout);
   return errors > 0 ? 1 : 0;

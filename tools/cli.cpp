@@ -157,4 +157,18 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   return {};
 }
 
+std::string output_is_input(const std::string& target, const std::vector<std::string>& inputs) {
+  if (target == "-") return {};
+  for (const std::string& input : inputs) {
+    if (is_same_file(target, input)) {
+      return target == input
+                 ? fmt::format("refusing to overwrite the input `{}`; nothing written (name another output with -o)", input)
+                 : fmt::format("refusing to overwrite the input `{}` with the output `{}` (the same file); nothing "
+                               "written (name another output with -o)",
+                               input, target);
+    }
+  }
+  return {};
+}
+
 }  // namespace nomec::tools

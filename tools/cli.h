@@ -50,6 +50,11 @@ int parse_command_line(int argc, char** argv, Cli& cli);
 /// The check options the command line asks for; "" or a usage error message.
 std::string check_options(const Cli& cli, CheckOptions& out);
 
+/// "" or why the output `target` must not be written: it is one of `inputs`, the files the
+/// command read (the same file by device and inode: through a symlink, a hard link or
+/// another spelling of its path). `-` (standard output) is never an input.
+std::string output_is_input(const std::string& target, const std::vector<std::string>& inputs);
+
 /// `nomec FILE…` with `--check` or `--emit` (check_command.cpp). Returns the exit code.
 int run_check_command(const Cli& cli);
 

@@ -1,5 +1,6 @@
-// `nomec --emit stl|obj|ply|summary` (see emit.h): evaluate, run the whole-scene pipeline,
-// encode and write atomically, with a progress line on a terminal.
+// `nomec --emit stl|obj|ply|summary` (see emit.h): refuse an output that is an input,
+// evaluate, run the whole-scene pipeline, encode and write atomically, with a progress
+// line on a terminal.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -94,7 +95,21 @@ bool write_mesh_streamed(const Cli& cli, const std::string& target, const std::v
 }  // namespace
 
 int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& sources, const ir::Module& module,
-                double check_ms, DiagnosticOutput& out) {
+                const std::vector<std::string>& inputs, double check_ms, DiagnosticOutput& out) {
+  // The output (and an OBJ's MTL beside it) must not be a file the check read: refused
+  // before anything is built.
+  std::string target = cli.output;
+  if (target.empty()) {
+    target = cli.emit == "summary" ? "-" : std::filesystem::path(path).stem().string() + "." + cli.emit;
+  }
+  std::string problem = output_is_input(target, inputs);
+  if (problem.empty() && cli.emit == "obj" && target != "-") {
+    problem = output_is_input(std::filesystem::path(target).replace_extension(".mtl").string(), inputs);
+  }
+  if (!problem.empty()) {
+    std::cerr << fmt::format("nomec: {}\n", problem);
+    return 1;
+  }
   const bool progress = isatty(STDERR_FILENO) != 0;
   auto say = [&](std::string_view stage) {
     if (progress) std::cerr << fmt::format("\r\033[Knomec: {}: {}…", path, stage) << std::flush;
@@ -117,10 +132,6 @@ int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& so
   out.show(sources, geo);
   if (geo.error_count() > 0) return geo.error_count();
   const auto write_start = std::chrono::steady_clock::now();
-  std::string target = cli.output;
-  if (target.empty()) {
-    target = cli.emit == "summary" ? "-" : std::filesystem::path(path).stem().string() + "." + cli.emit;
-  }
   const bool is_streamed = cli.emit == "stl" || cli.emit == "obj";
   const int failed =
       (is_streamed ? write_mesh_streamed(cli, target, meshes) : write(target, encode(cli, path, meshes))) ? 0 : 1;

@@ -1,5 +1,7 @@
 // `nomec fmt` implementation: reads each file (or stdin), calls format_source, and prints,
-// checks or rewrites in place (write to a temporary file next to it, then rename).
+// checks or rewrites in place (`rewrite_file`: a temporary file next to it, then a rename,
+// only if the file is unchanged since it was read; through symlinks; read-only and
+// hard-linked files refused with the reason).
 #include "base/file_io.h"
 #include "tools/fmt_command.h"
 
@@ -74,10 +76,13 @@ int run_fmt(const FmtCommand& command) {
         status = std::max(status, 1);
       }
     } else if (command.in_place) {
-      std::string error;
-      if (result.text != *text && !(error = write_file_atomically(path, result.text)).empty()) {
-        std::cerr << "nomec fmt: " << error << "\n";
-        return 2;
+      // Only if the file still holds what was read, through a symlink, never over a
+      // read-only or hard-linked file (base/file_io.h, rewrite_file); the other files are
+      // formatted all the same.
+      if (result.text == *text) continue;
+      if (std::string error = rewrite_file(path, *text, result.text); !error.empty()) {
+        std::cerr << "nomec fmt: not rewritten: " << error << "\n";
+        status = 2;
       }
     } else {
       std::cout << result.text;

@@ -272,7 +272,7 @@ def case_save(nomec, _admesh, corpus):
             tried += 1
             ext = os.path.splitext(path)[1]
             # Saved work and flat mesh files are saved as NOME scenes.
-            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext in ('.anom', '.sif') else ext}")
+            saved = os.path.join(tmp, f"saved{tried}{'.nome' if ext in ('.anom', '.amom', '.sif') else ext}")
             code, _, err = run(nomec, ["--emit", "nome", "-o", saved] + flags + [path])
             check(code == 0 and os.path.isfile(saved), f"{path} {flags}: --emit nome ({err})")
             if code != 0:
@@ -290,7 +290,7 @@ def case_save(nomec, _admesh, corpus):
         run(nomec, ["--emit", "nome", "-o", saved, "-D", "fp.n=5", src("examples/funnel_cube.nome")])
         text = open(saved).read()
         check(re.search(r"^\s*set\s+n\s+5\s", text, re.M) is not None, "-D fp.n=5 rewrites the `set n` line")
-        check(text.count("endsavedparameter") == 1, "one savedparameter block for a 2016 file")
+        check("savedparameter" not in text, "a 2016 file without savedparameter blocks gets none: its banks hold the values")
         # Default name: <stem>.saved<ext> in the working directory.
         code, _, _ = run(nomec, ["--emit", "nome", os.path.join(corpus, "nome3/torusknot.nom")], cwd=tmp)
         check(code == 0 and os.path.isfile(os.path.join(tmp, "torusknot.saved.nom")), "default saved name")

@@ -3,7 +3,8 @@
 // counts, the sliders (NOME3 `list` order first), and the pipeline used; a slider move with
 // `geometry: true` answers the changed outputs only, positions alone when the topology
 // stayed; a document with errors answers `ok: false` and no geometry; nome/saveScene saves
-// the moved values.
+// the moved values, each in place (SLIDE's `CreateScale` arguments, a NOME 2016 file's one
+// `savedparameter` block), and refuses a save that would lose a moved value.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -198,6 +199,58 @@ TEST(LspPreview, ListOrderAndDocumentsWithErrors) {
   EXPECT_NE(e["result"]["diagnostics"][0]["message"].get<std::string>().find("fp_q"), std::string::npos);
   json save = c.request("nome/saveScene", {{"uri", broken}});
   EXPECT_TRUE(save.contains("error"));
+}
+
+// The preview's "Save scene with these values" and "Write slider values into the file"
+// (issue 45): a SLIDE file keeps its `CreateScale` calls, the moved value is their default
+// argument, nothing else changes; a NOME 2016 file's savedparameter block is updated, not
+// repeated; a slider whose value the file cannot carry makes the save an error.
+TEST(LspPreview, SaveSceneWritesEachMovedValueInPlace) {
+  Client c;
+  c.initialize();
+  const std::string path = std::string(NOMEC_CORPUS_DIR) + "/slide/BellShape.slf";
+  const std::string uri = "file://" + path;
+  const std::string original = read_text(path);
+  c.open(uri.c_str(), original, 1);
+  ASSERT_EQ(c.request("nome/preview", {{"uri", uri}})["result"]["ok"], true);
+  json moved = c.request("nome/setParameter", {{"uri", uri}, {"parameter", "swp.q0x"}, {"value", 0.9 + 0.1 + 0.1}});
+  ASSERT_TRUE(moved.contains("result")) << moved.dump(2);
+  json saved = c.request("nome/saveScene", {{"uri", uri}});
+  ASSERT_TRUE(saved.contains("result")) << saved.dump(2);
+  std::string text = saved["result"]["text"].get<std::string>();
+  text = text.substr(text.find('\n') + 1);  // past the `# Saved by nomec` line
+  std::string expected = original;
+  const std::string q0x = "\"q0x\"                              0.9";
+  expected.replace(expected.find(q0x), q0x.size(), "\"q0x\"                              1.1");
+  EXPECT_EQ(text, expected);
+
+  std::string scene =
+      "bank fp\n    set n 8 3 10 1\nendbank\nfunnel fun ({expr $fp_n} 0.4 0 0.2) endfunnel\ninstance f fun endinstance\n"
+      "savedparameter\n    fp_n 6.000000\nendsavedparameter\n";
+  for (int round = 0; round < 2; ++round) {
+    const std::string nome = "file:///tmp/lsp-test/saved" + std::to_string(round) + ".nom";
+    c.open(nome, scene, 1);
+    ASSERT_EQ(c.request("nome/preview", {{"uri", nome}})["result"]["ok"], true);
+    c.request("nome/setParameter", {{"uri", nome}, {"parameter", "fp.n"}, {"value", 4 + round}});
+    json r = c.request("nome/saveScene", {{"uri", nome}});
+    ASSERT_TRUE(r.contains("result")) << r.dump(2);
+    const std::string t = r["result"]["text"].get<std::string>();
+    EXPECT_EQ(t.find("\nsavedparameter"), t.rfind("\nsavedparameter")) << "one block: " << t;
+    EXPECT_NE(t.find("    fp_n " + std::to_string(4 + round) + "\n"), std::string::npos) << t;
+    EXPECT_NE(t.find("    set n 8 3 10 1\n"), std::string::npos) << t;
+    scene = t.substr(t.find('\n') + 1);  // "Write slider values into the file"
+  }
+
+  const char* off = "file:///tmp/lsp-test/off.slf";
+  c.open(off, "tclinit {\n  package require slideui\n  CreateSLIDEOffsetObject oOff\n  CreateSLIDEOffsetUI .ui oOff\n}\n"
+              "point p (0 0 0) endpoint\n", 1);
+  ASSERT_EQ(c.request("nome/preview", {{"uri", off}})["result"]["ok"], true);
+  c.request("nome/setParameter", {{"uri", off}, {"parameter", "oOff.height"}, {"value", 0.5}});
+  json refused = c.request("nome/saveScene", {{"uri", off}});
+  ASSERT_TRUE(refused.contains("error")) << refused.dump(2);
+  EXPECT_NE(refused["error"]["message"].get<std::string>().find("slider `oOff.height` = 0.5 cannot be saved"),
+            std::string::npos)
+      << refused.dump(2);
 }
 
 TEST(LspPreview, CurvesAreLines) {
