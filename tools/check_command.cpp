@@ -65,6 +65,12 @@ int run_check_command(const Cli& cli) {
       return read(file);
     };
   }
+  if (options.read_beneath) {  // what SLIDE's Tcl sources and imports next to the scene
+    options.read_beneath = [&inputs, read = options.read_beneath](const std::string& folder, const std::string& name) {
+      inputs.push_back(folder.empty() || folder.back() == '/' ? folder + name : folder + "/" + name);
+      return read(folder, name);
+    };
+  }
   const bool color = cli.color == "always" || (cli.color == "auto" && isatty(STDERR_FILENO) != 0);
   DiagnosticOutput out(cli.format == "json", cli.werror, color);
   int errors = 0;
