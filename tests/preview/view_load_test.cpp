@@ -37,6 +37,14 @@
 
 #include "tools/view_command.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define NOMEC_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define NOMEC_UNDER_ASAN 1
+#endif
+#endif
+
 namespace {
 
 namespace beast = boost::beast;
@@ -491,7 +499,7 @@ TEST(ViewLoad, TwoHostHeadersAreRefused) {
 }
 
 TEST(ViewLoad, ThreadsTheSystemRefusesRefuseThePageNotTheServer) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(NOMEC_UNDER_ASAN)
   GTEST_SKIP() << "an address-space limit leaves AddressSanitizer no room for its shadow memory";
 #endif
   Workspace w;
