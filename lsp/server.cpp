@@ -88,13 +88,23 @@ ServerImpl::ServerImpl(Server::Sink sink, ServerOptions options)
       (this->*loop)();
     });
   };
-  request_thread_ = start("nomec-request", &ServerImpl::request_loop, false);
-  analysis_thread_ = start("nomec-analysis", &ServerImpl::analysis_loop, false);
-  geometry_thread_ = start("nomec-geometry", &ServerImpl::geometry_loop, true);
-  after_thread_ = start("nomec-after", &ServerImpl::after_loop, true);
+  // When the system refuses a thread (std::system_error), the ones already started are
+  // stopped before the error reaches the caller (`nomec view` refuses that page and keeps
+  // serving the others); a joinable std::thread left behind would end the process.
+  try {
+    request_thread_ = start("nomec-request", &ServerImpl::request_loop, false);
+    analysis_thread_ = start("nomec-analysis", &ServerImpl::analysis_loop, false);
+    geometry_thread_ = start("nomec-geometry", &ServerImpl::geometry_loop, true);
+    after_thread_ = start("nomec-after", &ServerImpl::after_loop, true);
+  } catch (...) {
+    stop_threads();
+    throw;
+  }
 }
 
-ServerImpl::~ServerImpl() {
+ServerImpl::~ServerImpl() { stop_threads(); }
+
+void ServerImpl::stop_threads() {
   {
     std::lock_guard lock(mu_);
     stopping_ = true;
@@ -107,10 +117,9 @@ ServerImpl::~ServerImpl() {
   docs_cv_.notify_all();
   geo_cv_.notify_all();
   after_cv_.notify_all();
-  request_thread_.join();
-  analysis_thread_.join();
-  geometry_thread_.join();
-  after_thread_.join();
+  for (std::thread* t : {&request_thread_, &analysis_thread_, &geometry_thread_, &after_thread_}) {
+    if (t->joinable()) t->join();
+  }
 }
 
 void ServerImpl::send(json message) {

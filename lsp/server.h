@@ -80,6 +80,8 @@ class Server {
   /// `sink` receives every outgoing message as one JSON text (no framing); it is called
   /// from the server's threads, one message at a time.
   using Sink = std::function<void(std::string message)>;
+  /// Starts the server's four threads; throws std::system_error when the system refuses
+  /// one (the ones already started are stopped first).
   explicit Server(Sink sink, ServerOptions options = {});
   ~Server();
   Server(const Server&) = delete;

@@ -203,6 +203,10 @@ class ServerImpl {
   bool after_freed_ = false;              // memory was freed since the last release
   std::atomic<size_t> memory_releases_{0};  // ServerOptions::idle_release_ms
 
+  /// Stops the threads started so far and joins them (the destructor, and a constructor
+  /// that could not start them all: the system refused a thread).
+  void stop_threads();
+
   std::thread request_thread_;
   std::thread analysis_thread_;
   std::thread geometry_thread_;

@@ -1,18 +1,26 @@
 // `nomec view FILE`: serves the preview app (preview/, built by esbuild) and its JSON-RPC
 // over a WebSocket on 127.0.0.1 only, with Boost.Beast. Each WebSocket connection gets its
 // own in-process language server (lsp::Server) with the file open; the browser may send
-// only the preview's requests (nome/preview, nome/setParameter, nome/saveScene). Requests
-// whose Host is not 127.0.0.1:PORT or localhost:PORT, or whose Origin (when sent) is not
-// http:// one of those, are refused with 403 (DNS rebinding, other sites' pages). The file
-// and the files it reads (includes, an `.anom` base: the `files` of the latest nome/preview
-// reply) are polled every 200 ms; a change re-sends the text to the server and tells the
-// browser `nome/changed`, which asks for the scene again. SIGINT/SIGTERM stop the server
-// cleanly (exit 0).
+// only the preview's requests (nome/preview, nome/setParameter, nome/saveScene), and gets
+// every reply of its server (errors too) and its notifications but the diagnostics (the
+// preview's replies carry them). Requests whose Host is not 127.0.0.1:PORT or
+// localhost:PORT, or whose Origin (when sent) is not http:// one of those, are refused
+// with 403 (DNS rebinding, other sites' pages); a request without exactly one Host (or with
+// two Origins) with 400. The file and the files it reads (includes, an `.anom` base: the
+// `files` of the latest nome/preview reply) are polled every 200 ms; a change re-sends the
+// text to the server and tells the browser `nome/changed`, which asks for the scene again.
+// Bounded: at most kViewMaxPages pages (language servers, counted until their threads are
+// joined) and kViewMaxConnections connections; past them a page is refused with a close
+// reason it shows, a connection with 503. A language server is stopped (its threads
+// joined) on a thread of its own, never on the one serving the others. The accept loop
+// backs off and retries when the process is out of descriptors (EMFILE) and never stops.
+// SIGINT/SIGTERM stop the server (exit 0), waiting at most kViewStopGraceMs for the pages'
+// language servers (one still checking its scene is left behind).
 #include "tools/view_command.h"
 
-#include "tools/allocator.h"
-
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 
@@ -27,15 +35,21 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <deque>
 #include <filesystem>
 #include <fmt/format.h>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string_view>
+#include <system_error>
+#include <thread>
+#include <utility>
 
 #include "base/file_io.h"
 #include "lsp/handler.h"
@@ -84,14 +98,129 @@ Stamp stamp_of(const std::string& path) {
 
 class WsSession;
 
-// What every connection shares.
+// The language servers of the pages, counted from their start until their threads are
+// joined (at most kViewMaxPages). A server is stopped on a thread of its own (or, if the
+// system refuses one, on the stopper thread started with nomec view), so a page closed
+// while its scene is still being checked never holds up the thread serving the others.
+// The count lives in a shared State, which the stopping threads keep alive.
+class LanguageServers {
+ public:
+  LanguageServers() : state_(std::make_shared<State>()) {
+    std::thread([state = state_] { state->stopper(); }).detach();
+  }
+  ~LanguageServers() {
+    {
+      std::lock_guard lock(state_->mu);
+      state_->quit = true;
+    }
+    state_->cv.notify_all();
+  }
+  LanguageServers(const LanguageServers&) = delete;
+  LanguageServers& operator=(const LanguageServers&) = delete;
+
+  /// A new language server, or null with `why` saying why: kViewMaxPages are running or
+  /// stopping, or the system refused a thread.
+  std::unique_ptr<lsp::Server> start(lsp::Server::Sink sink, const lsp::ServerOptions& options, std::string& why) {
+    {
+      std::lock_guard lock(state_->mu);
+      if (state_->live >= kViewMaxPages) {
+        why = fmt::format("nomec view serves {} pages at once: close one, then reload this page", kViewMaxPages);
+        return nullptr;
+      }
+      ++state_->live;
+    }
+    try {
+      return std::make_unique<lsp::Server>(std::move(sink), options);
+    } catch (const std::system_error& e) {
+      why = fmt::format("nomec view could not start this page's language server ({})", e.what());
+    } catch (const std::bad_alloc&) {
+      why = "nomec view could not start this page's language server (out of memory)";
+    }
+    state_->stopped_one();
+    return nullptr;
+  }
+
+  /// Stops `server` (joins its threads) on another thread.
+  void stop(std::unique_ptr<lsp::Server> server) {
+    if (!server) return;
+    auto job = std::make_shared<std::unique_ptr<lsp::Server>>(std::move(server));
+    try {
+      std::thread([state = state_, job] {
+        job->reset();
+        state->stopped_one();
+      }).detach();
+    } catch (const std::system_error&) {
+      {
+        std::lock_guard lock(state_->mu);
+        state_->queue.push_back(std::move(*job));
+      }
+      state_->cv.notify_all();
+    }
+  }
+
+  /// Waits until every server has stopped, at most `timeout`; false if some have not.
+  bool wait_stopped(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(state_->mu);
+    return state_->cv.wait_for(lock, timeout, [&] { return state_->live == 0; });
+  }
+
+ private:
+  struct State {
+    std::mutex mu;
+    std::condition_variable cv;
+    int live = 0;
+    bool quit = false;
+    std::deque<std::unique_ptr<lsp::Server>> queue;  // for the stopper thread
+
+    void stopped_one() {
+      std::lock_guard lock(mu);
+      --live;
+      cv.notify_all();
+    }
+    void stopper() {
+      std::unique_lock lock(mu);
+      for (;;) {
+        cv.wait(lock, [&] { return quit || !queue.empty(); });
+        if (queue.empty()) return;
+        std::unique_ptr<lsp::Server> s = std::move(queue.front());
+        queue.pop_front();
+        lock.unlock();
+        s.reset();
+        lock.lock();
+        --live;
+        cv.notify_all();
+      }
+    }
+  };
+  std::shared_ptr<State> state_;
+};
+
+// What every connection shares (used on the thread serving them only).
 struct Site {
-  /// The open WebSocket sessions, stopped (their language servers joined) before exit.
-  mutable std::vector<std::weak_ptr<WsSession>> sessions;
+  /// The open WebSocket sessions, stopped before exit.
+  std::vector<std::weak_ptr<WsSession>> sessions;
+  LanguageServers* servers = nullptr;
+  int connections = 0;  // open connections (at most kViewMaxConnections)
   std::string app_dir;
   std::string path;  // the scene file, absolute
   std::string uri;
   unsigned short port = 0;
+};
+
+// One open connection, counted in Site::connections while it lives.
+class Slot {
+ public:
+  explicit Slot(int& count) : count_(&count) { ++*count_; }
+  Slot(Slot&& o) noexcept : count_(std::exchange(o.count_, nullptr)) {}
+  Slot(const Slot&) = delete;
+  Slot& operator=(const Slot&) = delete;
+  Slot& operator=(Slot&&) = delete;
+  ~Slot() {
+    if (count_ != nullptr) --*count_;
+  }
+
+ private:
+  int* count_;
 };
 
 bool allowed_host(const Site& site, std::string_view host) {
@@ -137,16 +266,108 @@ std::optional<std::vector<std::string>> files_in_reply(std::string_view m) {
   return std::nullopt;
 }
 
+// What an outgoing message of a language server is, from its top-level members, read
+// without parsing the rest (a reply may carry hundreds of kilobytes of geometry): the JSON
+// texts of its `id` and `method`, and whether it has a `result`. The scan stops once it
+// knows: at `method` (a notification), or at `result`/`error` with the id seen.
+struct Envelope {
+  std::string_view id;
+  std::string_view method;
+  bool result = false;
+};
+
+// The index just past the JSON string starting at `i` (a quote), or npos.
+size_t skip_string(std::string_view m, size_t i) {
+  for (++i;;) {
+    i = m.find_first_of("\"\\", i);
+    if (i == std::string_view::npos) return i;
+    if (m[i] == '"') return i + 1;
+    i += 2;  // an escaped character
+  }
+}
+
+// The index just past the JSON value starting at `i`, or npos.
+size_t skip_value(std::string_view m, size_t i) {
+  if (i >= m.size()) return std::string_view::npos;
+  if (m[i] == '"') return skip_string(m, i);
+  if (m[i] == '{' || m[i] == '[') {
+    int depth = 0;
+    while (i < m.size()) {
+      const char c = m[i];
+      if (c == '"') {
+        i = skip_string(m, i);
+        if (i == std::string_view::npos) return i;
+        continue;
+      }
+      if (c == '{' || c == '[') ++depth;
+      if ((c == '}' || c == ']') && --depth == 0) return i + 1;
+      ++i;
+    }
+    return std::string_view::npos;
+  }
+  const size_t end = m.find_first_of(",}] \t\r\n", i);
+  return end == std::string_view::npos ? m.size() : end;
+}
+
+Envelope envelope_of(std::string_view m) {
+  Envelope e;
+  constexpr std::string_view kSpace = " \t\r\n";
+  size_t i = m.find_first_not_of(kSpace);
+  if (i == std::string_view::npos || m[i] != '{') return e;
+  bool reply = false;
+  for (++i;;) {
+    i = m.find_first_not_of(kSpace, i);
+    if (i == std::string_view::npos || m[i] != '"') return e;
+    const size_t key_end = skip_string(m, i);
+    if (key_end == std::string_view::npos) return e;
+    const std::string_view key = m.substr(i + 1, key_end - i - 2);
+    i = m.find_first_not_of(kSpace, key_end);
+    if (i == std::string_view::npos || m[i] != ':') return e;
+    i = m.find_first_not_of(kSpace, i + 1);
+    if (i == std::string_view::npos) return e;
+    const bool is_result = key == "result";
+    if (is_result || key == "error") {
+      e.result = is_result;
+      reply = true;
+      if (!e.id.empty()) return e;
+    }
+    const size_t end = skip_value(m, i);
+    if (end == std::string_view::npos) return e;
+    if (key == "method") {
+      e.method = m.substr(i, end - i);
+      return e;
+    }
+    if (key == "id") {
+      e.id = m.substr(i, end - i);
+      if (reply) return e;
+    }
+    i = m.find_first_not_of(kSpace, end);
+    if (i == std::string_view::npos || m[i] != ',') return e;
+    ++i;
+  }
+}
+
+// The close reason of a refused page: a WebSocket close reason holds at most 123 bytes.
+websocket::close_reason refusal(const std::string& why) {
+  std::string text = why.substr(0, 123);
+  while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80) text.pop_back();  // whole UTF-8
+  if (!text.empty() && static_cast<unsigned char>(text.back()) >= 0xC0) text.pop_back();
+  return websocket::close_reason(websocket::close_code::try_again_later, text);
+}
+
 class WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket&& socket, const Site& site, net::io_context& ioc)
-      : ws_(std::move(socket)), site_(site), ioc_(ioc), timer_(ioc) {}
+  WsSession(tcp::socket&& socket, Site& site, net::io_context& ioc, Slot slot)
+      : ws_(std::move(socket)), site_(site), ioc_(ioc), timer_(ioc), slot_(std::move(slot)) {}
+  ~WsSession() { site_.servers->stop(std::move(server_)); }
+  WsSession(const WsSession&) = delete;
+  WsSession& operator=(const WsSession&) = delete;
 
-  /// Ends the session now: its language server's threads are joined here.
+  /// Ends the session now; its language server is stopped on another thread.
   void stop() {
     closed_ = true;
     timer_.cancel();
-    server_.reset();
+    site_.servers->stop(std::move(server_));
     beast::error_code ignored;
     ws_.next_layer().socket().close(ignored);
   }
@@ -170,12 +391,18 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     options.geometry = false;  // nome/preview evaluates; no background evaluation needed
     std::weak_ptr<WsSession> weak = weak_from_this();
     net::io_context& ioc = ioc_;
-    server_ = std::make_unique<lsp::Server>(
+    std::string why;
+    server_ = site_.servers->start(
         [weak, &ioc](std::string m) {
-          // Only answers to the browser's requests go out: not the host's own (ids
-          // "view-…") nor the server's notifications (the preview carries diagnostics).
-          if (m.rfind("{\"id\":", 0) != 0 || m.rfind("{\"id\":\"view-", 0) == 0) return;
-          std::optional<std::vector<std::string>> files = files_in_reply(m);
+          // Every reply goes out (errors too) but those to the host's own requests (ids
+          // "view-…"), and every notification but the diagnostics (nome/preview's replies
+          // carry them; the page does not read them).
+          const Envelope e = envelope_of(m);
+          if (e.method.empty() ? e.id.rfind("\"view-", 0) == 0 : e.method == "\"textDocument/publishDiagnostics\"") {
+            return;
+          }
+          std::optional<std::vector<std::string>> files;
+          if (e.result) files = files_in_reply(m);
           net::post(ioc, [weak, m = std::move(m), files = std::move(files)]() mutable {
             auto s = weak.lock();
             if (!s) return;
@@ -183,7 +410,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
             s->send(std::move(m));
           });
         },
-        options);
+        options, why);
+    if (!server_) return refuse(why);
     server_->handle(json{{"jsonrpc", "2.0"}, {"id", "view-init"}, {"method", "initialize"},
                          {"params", {{"processId", nullptr}, {"rootUri", nullptr}, {"capabilities", json::object()}}}}
                         .dump());
@@ -199,6 +427,13 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     watch({site_.path});  // the files it includes join once the first preview names them
     read();
     poll();
+  }
+
+  // A page nomec view cannot serve: closed with the reason, which the page shows.
+  void refuse(const std::string& why) {
+    std::cerr << fmt::format("nomec view: refused a page: {}\n", why);
+    closed_ = true;
+    ws_.async_close(refusal(why), [self = shared_from_this()](beast::error_code) {});
   }
 
   // Watches `files` (and the scene itself), keeping the stamps of files already watched so
@@ -291,9 +526,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   }
 
   websocket::stream<beast::tcp_stream> ws_;
-  const Site& site_;
+  Site& site_;
   net::io_context& ioc_;
   net::steady_timer timer_;
+  Slot slot_;
   beast::flat_buffer buffer_;
   std::deque<std::string> out_;
   std::unique_ptr<lsp::Server> server_;
@@ -343,8 +579,8 @@ http::response<http::string_body> static_response(const Site& site, const http::
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(tcp::socket&& socket, const Site& site, net::io_context& ioc)
-      : stream_(std::move(socket)), site_(site), ioc_(ioc) {}
+  HttpSession(tcp::socket&& socket, Site& site, net::io_context& ioc, Slot slot)
+      : stream_(std::move(socket)), site_(site), ioc_(ioc), slot_(std::move(slot)) {}
   void run() { read(); }
 
  private:
@@ -362,6 +598,17 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void answer() {
+    // One Host names the server (RFC 9112: 400 without one or with several); with two,
+    // which one a check reads and which one a proxy reads could differ.
+    const size_t hosts = req_.count(http::field::host);
+    const size_t origins = req_.count(http::field::origin);
+    if (hosts != 1 || origins > 1) {
+      std::cerr << fmt::format("nomec view: refused a request with {} Host and {} Origin headers\n", hosts, origins);
+      return respond(text_response(http::status::bad_request,
+                                   "nomec view needs exactly one Host header and at most one Origin header\n",
+                                   req_.version()),
+                     /*keep_alive=*/false);
+    }
     if (!allowed(site_, req_)) {
       std::cerr << fmt::format("nomec view: refused a request from Host `{}`, Origin `{}`\n",
                                sv(req_[http::field::host]), sv(req_[http::field::origin]));
@@ -371,7 +618,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (websocket::is_upgrade(req_)) {
       if (sv(req_.target()) != "/rpc") return respond(text_response(http::status::not_found, "not found\n", req_.version()));
       stream_.expires_never();
-      auto ws = std::make_shared<WsSession>(stream_.release_socket(), site_, ioc_);
+      auto ws = std::make_shared<WsSession>(stream_.release_socket(), site_, ioc_, std::move(slot_));
       std::erase_if(site_.sessions, [](const std::weak_ptr<WsSession>& w) { return w.expired(); });
       site_.sessions.push_back(ws);
       ws->run(std::move(req_));
@@ -380,8 +627,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     respond(static_response(site_, req_));
   }
 
-  void respond(http::response<http::string_body> res) {
-    res.keep_alive(req_.keep_alive());
+  void respond(http::response<http::string_body> res, bool keep_alive = true) {
+    res.keep_alive(keep_alive && req_.keep_alive());
     auto sp = std::make_shared<http::response<http::string_body>>(std::move(res));
     http::async_write(stream_, *sp, [self = shared_from_this(), sp](beast::error_code ec, size_t) {
       if (ec || !sp->keep_alive()) {
@@ -394,19 +641,80 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   beast::tcp_stream stream_;
-  const Site& site_;
+  Site& site_;
   net::io_context& ioc_;
+  Slot slot_;
   beast::flat_buffer buffer_;
   http::request<http::string_body> req_;
 };
 
-void accept(tcp::acceptor& acceptor, const Site& site, net::io_context& ioc) {
-  acceptor.async_accept(net::make_strand(ioc), [&](beast::error_code ec, tcp::socket socket) {
-    if (ec) return;  // closed by Ctrl-C
-    std::make_shared<HttpSession>(std::move(socket), site, ioc)->run();
-    accept(acceptor, site, ioc);
-  });
-}
+// Takes connections until closed. When the process is out of descriptors (EMFILE, ENFILE)
+// or memory, the waiting connection stays in the listen queue and accepting resumes after
+// a pause (10 ms, doubling up to 1 s) — never stops. A connection past
+// kViewMaxConnections is answered 503 and closed at once.
+class Listener {
+ public:
+  Listener(tcp::acceptor& acceptor, Site& site, net::io_context& ioc)
+      : acceptor_(acceptor), site_(site), ioc_(ioc), timer_(ioc) {}
+
+  void accept() {
+    acceptor_.async_accept(ioc_, [this](beast::error_code ec, tcp::socket socket) { accepted(ec, std::move(socket)); });
+  }
+
+  void close() {
+    beast::error_code ignored;
+    acceptor_.close(ignored);
+    timer_.cancel();
+  }
+
+ private:
+  void accepted(beast::error_code ec, tcp::socket socket) {
+    if (!acceptor_.is_open()) return;  // closed by Ctrl-C
+    if (ec) {
+      if (pause_.count() == 0) {
+        std::cerr << fmt::format("nomec view: cannot accept connections for now ({}); trying again\n", ec.message());
+      }
+      pause_ = std::clamp(pause_ * 2, std::chrono::milliseconds(10), std::chrono::milliseconds(1000));
+      timer_.expires_after(pause_);
+      timer_.async_wait([this](beast::error_code wait_ec) {
+        if (!wait_ec && acceptor_.is_open()) accept();
+      });
+      return;
+    }
+    if (pause_.count() != 0) {
+      std::cerr << "nomec view: accepting connections again\n";
+      pause_ = {};
+    }
+    if (site_.connections >= kViewMaxConnections) {
+      refuse_busy(socket);
+    } else {
+      std::make_shared<HttpSession>(std::move(socket), site_, ioc_, Slot(site_.connections))->run();
+    }
+    accept();
+  }
+
+  // A fresh socket's send buffer takes the short answer whole; it is never waited for.
+  static void refuse_busy(tcp::socket& socket) {
+    static const std::string kBusy = [] {
+      const std::string body = fmt::format("nomec view has {} connections open; try again\n", kViewMaxConnections);
+      return fmt::format(
+          "HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain; charset=utf-8\r\n"
+          "Content-Length: {}\r\nRetry-After: 1\r\nConnection: close\r\n\r\n{}",
+          body.size(), body);
+    }();
+    beast::error_code ignored;
+    socket.non_blocking(true, ignored);
+    socket.write_some(net::buffer(kBusy), ignored);
+    socket.shutdown(tcp::socket::shutdown_send, ignored);
+    socket.close(ignored);
+  }
+
+  tcp::acceptor& acceptor_;
+  Site& site_;
+  net::io_context& ioc_;
+  net::steady_timer timer_;
+  std::chrono::milliseconds pause_{0};
+};
 
 // The built app: --app-dir, $NOMEC_PREVIEW_DIR, the build tree, or share/nomec/preview
 // beside the installed binary.
@@ -438,7 +746,11 @@ void open_browser(const std::string& url) {
 }  // namespace
 
 int run_view(const ViewCommand& command) {
-  use_huge_pages_from_now();  // the preview builds meshes (tools/allocator.h)
+  // No `use_huge_pages_from_now()` here (tools/allocator.h), unlike the other commands that
+  // build meshes: its extent hooks on jemalloc's arena 0 deadlocked the allocator when
+  // several pages' language servers ended at once (their threads exiting while others
+  // freed memory; ViewLoad.PagesPastTheCapAreRefusedWithAReasonAndTheOthersServed hung
+  // every time). The kernel still asks for huge pages for its large arrays.
   Site site;
   std::error_code ec;
   site.path = fs::absolute(command.file, ec).lexically_normal().string();
@@ -453,6 +765,14 @@ int run_view(const ViewCommand& command) {
                  "--app-dir DIR holding index.html and app.js)\n";
     return 1;
   }
+  std::optional<LanguageServers> servers;  // outlives the sessions (they stop their servers through it)
+  try {
+    servers.emplace();
+  } catch (const std::system_error& e) {
+    std::cerr << fmt::format("nomec view: cannot start a thread: {}\n", e.what());
+    return 1;
+  }
+  site.servers = &*servers;
   net::io_context ioc{1};
   tcp::acceptor acceptor(ioc);
   try {
@@ -469,18 +789,26 @@ int run_view(const ViewCommand& command) {
   const std::string url = fmt::format("http://127.0.0.1:{}/", site.port);
   std::cout << fmt::format("nomec view: serving {} at {} (Ctrl-C stops)\n", command.file, url) << std::flush;
   if (command.open) open_browser(url);
+  Listener listener(acceptor, site, ioc);
   net::signal_set signals(ioc, SIGINT, SIGTERM);
   signals.async_wait([&](beast::error_code, int) {
-    beast::error_code ignored;
-    acceptor.close(ignored);
+    listener.close();
     for (const auto& w : site.sessions) {
       if (auto s = w.lock()) s->stop();
     }
     ioc.stop();
   });
-  accept(acceptor, site, ioc);
+  listener.accept();
   ioc.run();
+  // The language servers stop on their own threads; one whose scene is still being checked
+  // (a Tcl command that runs for minutes) is not waited for: the process ends without it.
+  const bool all_stopped = servers->wait_stopped(std::chrono::milliseconds(kViewStopGraceMs));
   std::cout << "nomec view: stopped\n" << std::flush;
+  if (!all_stopped) {
+    std::cerr << "nomec view: a page's scene was still being checked; stopped without waiting for it\n" << std::flush;
+    std::fflush(nullptr);
+    std::_Exit(0);
+  }
   return 0;
 }
 

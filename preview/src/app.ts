@@ -44,8 +44,12 @@ class App {
     transport.onNotification = (method, params) => {
       if (method === "nome/open") this.open(String(params.uri), params.title ? String(params.title) : undefined);
       else if (method === "nome/changed" && params.uri === this.uri) void this.preview();
+      else if (method === "window/showMessage" && typeof params?.message === "string") {
+        this.status(params.message, params.type === 1 || params.type === 2);
+      }
     };
-    transport.onClose = () => this.status("Disconnected from nomec view (it stopped or the file is gone).", true);
+    transport.onClose = (reason) =>
+      this.status(reason !== "" ? `Disconnected: ${reason}.` : "Disconnected from nomec view (it stopped or the file is gone).", true);
     if (transport.writeIntoFile !== undefined) $("write-values").hidden = false;
     this.wirePanel();
   }

@@ -148,7 +148,9 @@ export abstract class Transport {
   private nextId = 1;
   private pending = new Map<number, { resolve: (v: any) => void; reject: (e: RpcError) => void }>();
   onNotification: Handler = () => {};
-  onClose: () => void = () => {};
+  /// The channel closed; `reason` is the host's, when it gave one (`nomec view` refusing a
+  /// page past its limits).
+  onClose: (reason: string) => void = () => {};
   /// The size of the last message's text, when the channel carries text (-1 otherwise).
   lastBytes = -1;
 
@@ -195,9 +197,9 @@ export class WebSocketTransport extends Transport {
       this.lastBytes = text.length;
       this.receive(JSON.parse(text));
     };
-    this.ws.onclose = () => {
-      this.failAll("the connection to nomec view closed");
-      this.onClose();
+    this.ws.onclose = (e: CloseEvent) => {
+      this.failAll(e.reason || "the connection to nomec view closed");
+      this.onClose(e.reason);
     };
   }
   private queue: string[] = [];

@@ -4,10 +4,11 @@
 // says χ = 0 and non-orientable, a slider moved by keyboard changes the mesh (vertex hash;
 // the round trips are timed and printed), saving the file on disk reloads the picture, a
 // file with an error shows its diagnostic and keeps the last good mesh; and the server
-// refuses other Hosts/Origins and stops cleanly on Ctrl-C. Also how frames are drawn: a new
-// scene's first frame cheaply then at rest, shared (indexed) vertices, one-pixel overlays
-// while dragging; a SLIDE file from the shared corpus with its CreateScale sliders; and a
-// SLIDE render's camera (perspective and parallel), lights and background.
+// refuses other Hosts/Origins, refuses a page past its limit (the page says why) and stops
+// cleanly on Ctrl-C. Also how frames are drawn: a new scene's first frame cheaply then at
+// rest, shared (indexed) vertices, one-pixel overlays while dragging; a SLIDE file from the
+// shared corpus with its CreateScale sliders; and a SLIDE render's camera (perspective and
+// parallel), lights and background.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdtempSync, readFileSync, writeFileSync, rmSync } from "node:fs";
@@ -328,6 +329,40 @@ function rawRequest(port, headers, path = "/") {
     req.end();
   });
 }
+
+test("a page past nomec view's limit shows why it was refused", async () => {
+  const view = await startView(nomec, join(examples, "funnel_cube.nome"));
+  try {
+    const { page } = await openPage(view);
+    // This page holds one of the 16 places; its script takes the other 15.
+    const opened = await page.evaluate((port) => Promise.all(Array.from({ length: 15 }, () => new Promise((resolve) => {
+      const s = new WebSocket(`ws://127.0.0.1:${port}/rpc`);
+      s.onmessage = () => resolve(true);
+      s.onclose = () => resolve(false);
+      window.heldSockets = [...(window.heldSockets ?? []), s];
+    }))), view.port);
+    assert.deepEqual(opened, Array(15).fill(true));
+    const refused = await browser.newPage();
+    await refused.goto(view.url);
+    await refused.waitForFunction(() => document.getElementById("status").textContent.startsWith("Disconnected"));
+    assert.equal(await refused.locator("#status").innerText(),
+      "Disconnected: nomec view serves 16 pages at once: close one, then reload this page.");
+    assert.match(view.stderr(), /refused a page/);
+    // Closing one of them makes room (once its language server has stopped, on a thread of
+    // its own): reloading the refused page shows the scene.
+    await page.evaluate(() => window.heldSockets.pop().close());
+    let shown = false;
+    for (let attempt = 0; attempt < 20 && !shown; ++attempt) {
+      await refused.reload();
+      await refused.waitForFunction(() => document.getElementById("status").textContent.startsWith("Disconnected") ||
+        (window.nomePreview?.state.ready && window.nomePreview.state.ok));
+      shown = await refused.evaluate(() => window.nomePreview?.state.ok === true);
+    }
+    assert.ok(shown, "the page is served once another is closed");
+  } finally {
+    assert.equal(await stopView(view), 0);
+  }
+});
 
 test("other hosts and origins are refused", async () => {
   const view = await startView(nomec, join(examples, "mobius_band.nome"));
