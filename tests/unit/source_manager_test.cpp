@@ -96,6 +96,26 @@ TEST(Diagnostics, TabsAndUtf8KeepTheCaretAligned) {
             "      |                       ^~\n");
 }
 
+// A leading UTF-8 byte order mark is not part of the first line: columns count from after
+// it (as editors show them) and the quoted line leaves it out. Other lines are unchanged.
+TEST(SourceManager, ByteOrderMarkIsNotAColumn) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "\xEF\xBB\xBFpoint p\n  (1 2 3)\n");
+  EXPECT_EQ(utf8_bom_length(sm.text(f)), 3u);
+  EXPECT_EQ(sm.line_col(f, 3).column, 1u);  // `point`
+  EXPECT_EQ(sm.line_col(f, 9).column, 7u);  // `p`
+  EXPECT_EQ(sm.line_col(f, 0).column, 1u);  // inside the mark: its start
+  EXPECT_EQ(sm.line_col(f, 13).column, 3u);  // line 2 counts as always
+  EXPECT_EQ(sm.line_text(f, 1), "point p");
+  EXPECT_EQ(sm.offset_of(f, 1, 6), 9u);
+  DiagnosticEngine d;
+  d.emit(DiagKind::UnknownName, {f, 9, 10}, "unknown `p`");
+  EXPECT_EQ(render_text(sm, d.diagnostics()[0], false, false),
+            "a.nome:1:7: error: unknown `p` [UnknownName]\n    1 | point p\n      |       ^\n");
+  EXPECT_EQ(utf8_bom_length("\xEF\xBB"), 0u);
+  EXPECT_EQ(utf8_bom_length("x\xEF\xBB\xBF"), 0u);
+}
+
 TEST(Diagnostics, ClosestMatch) {
   EXPECT_EQ(closest_match("radus", {"radius", "ratio", "n"}), "radius");
   EXPECT_EQ(closest_match("pint", {"point", "face"}), "point");
