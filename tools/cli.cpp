@@ -30,7 +30,7 @@ const CLI::Validator kFiniteNumber(
     [](const std::string& text) -> std::string {
       return parse_finite_number(text) ? std::string() : fmt::format("`{}` is not a finite number", text);
     },
-    "NUMBER");
+    "FINITE");
 
 void add_fmt_command(CLI::App& app, Cli& cli, CLI::App*& fmt_app) {
   fmt_app = app.add_subcommand("fmt", "Format files: print (one file), --check or -i");
