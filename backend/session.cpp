@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fmt/format.h>
 
 namespace nomec::backend {
@@ -72,6 +73,10 @@ UpdateStats Session::set_parameter(std::string_view name, double value, Diagnost
   }
   ir::ParamData& param = module_->param(p);
   u.parameter = module_->node(p).name;  // qualified, e.g. `fp.z`
+  if (!std::isfinite(value)) {  // even with allow_out_of_range: no geometry is made of it
+    u.error = fmt::format("{} is not a finite number; slider `{}` keeps {}", value, u.parameter, param.value);
+    return u;
+  }
   if (!options_.allow_out_of_range && param.min <= param.max && (value < param.min || value > param.max)) {
     u.error = fmt::format("{} is outside the range [{}, {}] of slider `{}`", value, param.min, param.max,
                           u.parameter);

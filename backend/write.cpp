@@ -142,9 +142,17 @@ void put_f32s(char* at, const float (&f)[12]) {
 }
 
 glm::dvec3 tri_normal(const glm::dvec3* pos, int32_t a, int32_t b, int32_t c) {
-  glm::dvec3 n = glm::cross(pos[b] - pos[a], pos[c] - pos[a]);
+  const glm::dvec3 u = pos[b] - pos[a], w = pos[c] - pos[a];
+  glm::dvec3 n = glm::cross(u, w);
   double l = glm::length(n);
-  return l > 0 ? n / l : glm::dvec3(0.0);
+  if (!std::isfinite(l)) {
+    // A huge triangle (sides near 1e154 and more) overflows the cross product or its
+    // length: the same direction from the sides scaled down.
+    const double s = std::max({std::fabs(u.x), std::fabs(u.y), std::fabs(u.z), std::fabs(w.x), std::fabs(w.y), std::fabs(w.z)});
+    n = glm::cross(u / s, w / s);
+    l = glm::length(n);
+  }
+  return l > 0 && std::isfinite(l) ? n / l : glm::dvec3(0.0);  // no direction: 0 0 0, as STL allows
 }
 
 // A face that is not fanned from its first vertex (a non-convex one whose ear clipping
@@ -182,6 +190,28 @@ namespace {
 // Whether `out` is a pipeline output made without its polygon list
 // (`PipelineOptions::polygon_lists`), whose faces are read from its mesh.
 bool faces_in_mesh_only(const OutputMesh& out) { return out.soup.face_count() == 0 && out.mesh.face_count() > 0; }
+
+// The positions the writers read: the polygon list's, or (faces_in_mesh_only) the mesh's.
+std::span<const glm::dvec3> written_positions(const OutputMesh& out) {
+  if (faces_in_mesh_only(out)) return {out.mesh.positions().data(), static_cast<size_t>(out.mesh.vertex_count())};
+  return out.soup.positions;
+}
+
+// The first vertex of `out` whose position is not finite or beyond ±`limit`, or -1.
+int64_t first_unwritable_vertex(const OutputMesh& out, double limit) {
+  const std::span<const glm::dvec3> positions = written_positions(out);
+  for (size_t v = 0; v < positions.size(); ++v) {
+    const glm::dvec3& p = positions[v];
+    // `!(|x| <= limit)` is also true for NaN.
+    if (!(std::fabs(p.x) <= limit && std::fabs(p.y) <= limit && std::fabs(p.z) <= limit)) return static_cast<int64_t>(v);
+  }
+  return -1;
+}
+
+bool all_writable(std::span<const OutputMesh> meshes, double limit) {
+  return std::all_of(meshes.begin(), meshes.end(),
+                     [&](const OutputMesh& m) { return first_unwritable_vertex(m, limit) < 0; });
+}
 
 // Calls `fn(positions, v, n)` for each face of `out` in order, `v` its `n` corners: from the
 // polygon list, or (faces_in_mesh_only) walked in the mesh exactly as `kernel::to_soup` lists
@@ -345,13 +375,61 @@ class OverlappedSink {
 
 }  // namespace
 
+bool check_coordinates(std::span<const OutputMesh> meshes, const ir::Module& module, double limit,
+                       DiagnosticEngine& diags) {
+  bool ok = true;
+  for (const OutputMesh& out : meshes) {
+    const int64_t bad = first_unwritable_vertex(out, limit);
+    if (bad < 0) continue;
+    ok = false;
+    // What made the vertex: the source of the first face that uses it.
+    kernel::FaceSource source;
+    std::vector<int32_t> corners;
+    int32_t face = 0;
+    for_each_face(out, corners, [&](const glm::dvec3*, const int32_t* v, int32_t n) {
+      if (std::find(v, v + n, bad) != v + n) {
+        source = faces_in_mesh_only(out)                     ? out.mesh.face_source(kernel::FaceId(face))
+                 : face < static_cast<int32_t>(out.soup.face_sources.size()) ? out.soup.face_sources[face]
+                                                                             : kernel::FaceSource{};
+        return false;
+      }
+      ++face;
+      return true;
+    });
+    auto node = [&](int32_t index) -> const ir::Node* {
+      return index >= 0 && static_cast<size_t>(index) < module.nodes.size() ? &module.nodes[index] : nullptr;
+    };
+    std::string made_by;
+    SourceRange at = out.scene_node.is_valid() ? module.node(out.scene_node).range : SourceRange{};
+    if (const ir::Node* src = node(source.source_face)) {
+      at = src->range;
+      made_by = src->kind == ir::NodeKind::Face ? fmt::format("face `{}`", src->name)
+                                                : fmt::format("`{}` `{}`", src->keyword, src->name);
+    }
+    if (const ir::Node* inst = node(source.instance); inst != nullptr && inst->kind == ir::NodeKind::Instance) {
+      made_by += fmt::format("{}placed by instance `{}`", made_by.empty() ? "" : " ", inst->name);
+    }
+    const glm::dvec3 p = written_positions(out)[static_cast<size_t>(bad)];
+    const bool is_finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    diags.emit(DiagKind::NonFiniteCoordinate, at,
+               fmt::format("output `{}` has a vertex at ({}, {}, {}){}{}; nothing was written{}", out.name, p.x, p.y, p.z,
+                           is_finite ? ", beyond the ±3.4e38 that binary STL's 32-bit numbers hold"
+                                     : ", which is not a finite point",
+                           made_by.empty() ? "" : fmt::format(" (made by {})", made_by),
+                           is_finite ? " (ASCII STL, OBJ and PLY hold it)" : ""));
+  }
+  return ok;
+}
+
 bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+  if (!all_writable(meshes, kMaxStlBinaryCoordinate)) return false;
   std::vector<char> bufs[2];
   return write_stl_pieces(meshes, bufs, 1, sink);
 }
 
 bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
                                  const std::function<bool(std::string_view)>& sink) {
+  if (!all_writable(meshes, kMaxStlBinaryCoordinate)) return false;
   std::vector<char> bufs[2];  // outlives the second thread's writes (declared first)
   OverlappedSink overlapped(sink);
   const bool is_made =
@@ -459,6 +537,7 @@ char* put_xyz(char* p, const glm::dvec3& v) {
 }  // namespace
 
 bool write_stl_ascii(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink) {
+  if (!all_writable(meshes, kMaxTextCoordinate)) return false;
   TextOut out(sink);
   for (const OutputMesh& m : meshes) {
     if (!out.is_ok()) break;
@@ -501,6 +580,7 @@ std::string to_stl_ascii(std::span<const OutputMesh> meshes) {
 
 bool write_obj(std::span<const OutputMesh> meshes, std::string_view mtl_file,
                const std::function<bool(std::string_view)>& sink) {
+  if (!all_writable(meshes, kMaxTextCoordinate)) return false;
   TextOut out(sink);
   out.add("# written by nomec\n");
   if (!mtl_file.empty()) out.add(fmt::format("mtllib {}\n", mtl_file));
@@ -564,6 +644,7 @@ std::string to_mtl(std::span<const OutputMesh> meshes) {
 }
 
 std::string to_ply(std::span<const OutputMesh> meshes) {
+  if (!all_writable(meshes, kMaxTextCoordinate)) return {};
   size_t vcount = 0, fcount = 0;
   bool colored = false;
   for (const OutputMesh& m : meshes) {

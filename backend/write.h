@@ -32,11 +32,28 @@ bool is_convex(const glm::dvec3* positions, const int32_t* v, int32_t n, glm::dv
 bool is_convex_quad(const glm::dvec3* positions, const int32_t* v);
 }  // namespace write_detail
 
+/// The largest coordinate each format holds: binary STL stores 32-bit floats (about
+/// ±3.4e38); the text formats (ASCII STL, OBJ, PLY) any finite double.
+inline constexpr double kMaxStlBinaryCoordinate = 3.4028234663852886e38;  // FLT_MAX
+inline constexpr double kMaxTextCoordinate = 1.7976931348623157e308;     // DBL_MAX
+
+/// The last check before an output is written: every vertex position of `meshes` is a
+/// finite number within ±`limit` (one of the two above). When one is not (an overflow no
+/// earlier check caught, e.g. `scale (1e300 1e300 1e300)` of a point at 1e10), reports
+/// `NonFiniteCoordinate` at what made it (the face statement or generator of a face that
+/// uses the vertex, and the instance that placed it; else the output's scene entry) and
+/// returns false. The writers below refuse such meshes too: they write nothing and return
+/// false (or an empty string), so infinity or NaN never reaches a file.
+bool check_coordinates(std::span<const OutputMesh> meshes, const ir::Module& module, double limit,
+                       DiagnosticEngine& diags);
+
 /// Binary STL: 80-byte header, triangle count, 50 bytes per triangle (little endian).
 std::string to_stl_binary(std::span<const OutputMesh> meshes);
 /// The same bytes as `to_stl_binary`, handed to `sink` in consecutive pieces of about a
 /// megabyte (so a large model is never held in memory whole, e.g. `nomec --emit stl`
-/// writes each piece to the file as it is made). Stops and returns false when `sink` does.
+/// writes each piece to the file as it is made). Stops and returns false when `sink` does,
+/// and returns false at once, calling `sink` never, when a coordinate is beyond
+/// `kMaxStlBinaryCoordinate` or not finite (`check_coordinates` says which).
 bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bool(std::string_view)>& sink);
 /// `write_stl_binary` with the sink called on a second thread (one piece at a time, in
 /// order) while the next piece is formatted, so formatting and writing overlap on two
@@ -44,7 +61,8 @@ bool write_stl_binary(std::span<const OutputMesh> meshes, const std::function<bo
 /// pieces are then not made).
 bool write_stl_binary_overlapped(std::span<const OutputMesh> meshes,
                                  const std::function<bool(std::string_view)>& sink);
-/// ASCII STL, one `solid` per mesh.
+/// ASCII STL, one `solid` per mesh. The text writers (this one, OBJ and PLY, whole or in
+/// pieces) write nothing when a coordinate is not finite (see `check_coordinates`).
 std::string to_stl_ascii(std::span<const OutputMesh> meshes);
 /// The same bytes as `to_stl_ascii`, handed to `sink` in consecutive pieces of about a
 /// megabyte from one reused buffer (e.g. `nomec --emit stl --stl-ascii` writes each piece to

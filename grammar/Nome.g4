@@ -200,7 +200,8 @@ fragment TCL_BRACES : '{' ( TCL_BRACES | '\\' . | ~[{}\\] )* '}' ;
 // rule; the front end detects the `(` `*` pair and reports it at its opening.
 BLOCK_COMMENT : '(*' ( BLOCK_COMMENT | . )*? '*)' -> channel(HIDDEN) ;
 LINE_COMMENT  : '#' ~[\r\n]* -> channel(HIDDEN) ;
-WS            : [ \t\r\n\f\u000B]+ -> channel(HIDDEN) ;
+// U+FEFF is whitespace: a file some editors save starts with it (the UTF-8 byte order mark).
+WS            : [ \t\r\n\f\u000B\uFEFF]+ -> channel(HIDDEN) ;
 // U+00A0 (no-break space) separates tokens like a space: real files have it inside number
 // lists, and every original tool skipped it (compat.md §B1). The front end warns.
 NBSP          : '\u00A0'+ -> channel(HIDDEN) ;

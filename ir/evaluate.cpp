@@ -2,8 +2,12 @@
 // expressions at check time, for the backend's operands, and for the functions of function
 // surfaces at every grid point. Iterative (an explicit stack), so no expression, however
 // deep, recurses on the C++ stack; errors are values that point at the sub-expression.
+// Every value it returns is finite: an operation whose result overflows (`1e200 * 1e200`,
+// `exp(1000)`) or a leaf that is not a finite number (a script's `Inf`) is an error there,
+// so no infinity or NaN reaches geometry or an output file.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fmt/format.h>
 
 #include "ir/ir.h"
@@ -26,9 +30,35 @@ EvalResult fail(std::string problem, SourceRange where) {
   return r;
 }
 
+// How an operator is written.
+std::string_view op_text(char op) {
+  switch (op) {
+    case '+': return "+";
+    case '-': return "-";
+    case '*': return "*";
+    case '/': return "/";
+    case 'i': return "//";
+    case '%': return "%";
+    case '^': return "^";
+    default: return "?";
+  }
+}
+
+// The problem of an operation on finite operands whose result is not finite: it overflowed
+// (`1e200 * 1e200`, `exp(1000)`), or divided by zero in disguise (`0 ^ -1`).
+EvalResult not_finite(std::string what, SourceRange where) {
+  return fail(fmt::format("{} is too large: numbers stop near 1.8e308", what), where);
+}
+
 // The operands evaluation visits (an External's parameter references are not evaluated).
+// Those of `-x` and `a * b` are read in place (most nodes are leaves or operators).
 std::span<const ExprId> evaluated_operands(const Module& m, const Expr& e) {
-  return e.kind == ExprKind::External ? std::span<const ExprId>() : m.subexprs(e);
+  switch (e.kind) {
+    case ExprKind::Unary: return {e.operands, 1};
+    case ExprKind::Binary: return {e.operands, 2};
+    case ExprKind::Call: return m.subexprs(e);
+    default: return {};
+  }
 }
 
 EvalResult binary(const Expr& e, double a, double b) {
@@ -48,11 +78,19 @@ EvalResult binary(const Expr& e, double a, double b) {
     case '^': {
       double r = std::pow(a, b);
       if (std::isnan(r)) return fail(fmt::format("{} ^ {} has no real value", a, b), e.range);
+      if (a == 0 && b < 0) return fail(fmt::format("division by zero: {} ^ {}", a, b), e.range);
       return value_of(r);
     }
     default:
       return fail("unknown operator", e.range);
   }
+}
+
+// `binary`, refusing a result that is not finite.
+EvalResult finite_binary(const Expr& e, double a, double b) {
+  EvalResult r = binary(e, a, b);
+  if (r.ok && !std::isfinite(r.value)) return not_finite(fmt::format("{} {} {}", a, op_text(e.op), b), e.range);
+  return r;
 }
 
 // Tcl 8.6's `srand(seed)`: seeds its Park–Miller generator (seed = 16807·seed mod 2³¹−1,
@@ -132,6 +170,15 @@ EvalResult call(const Expr& e, std::span<const double> v) {
   return fail("unknown function", e.range);
 }
 
+// `call`, refusing a result that is not finite.
+EvalResult finite_call(const Expr& e, std::span<const double> v) {
+  EvalResult r = call(e, v);
+  if (r.ok && !std::isfinite(r.value)) {
+    return not_finite(fmt::format("`{}({})`", func_name(e.func), fmt::join(v, ", ")), e.range);
+  }
+  return r;
+}
+
 // A script the module's external evaluator computes, given every input parameter's value.
 EvalResult external(const Module& m, const Expr& e) {
   if (!m.external) return fail("this value is a script, and nothing here can evaluate it", e.range);
@@ -140,11 +187,12 @@ EvalResult external(const Module& m, const Expr& e) {
   ExternalResult r =
       m.external->evaluate(m.external_script(e).script, std::span<const double>(values.data(), values.size()));
   if (!r.ok) return fail(std::move(r.problem), e.range);
+  if (!std::isfinite(r.value)) return fail(fmt::format("the script's value, {}, is not a finite number", r.value), e.range);
   return value_of(r.value);
 }
 
 // The value of a leaf (an expression without operands).
-EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variables) {
+EvalResult leaf_value(const Module& m, const Expr& e, std::span<const double> variables) {
   switch (e.kind) {
     case ExprKind::Const: return value_of(e.value);
     case ExprKind::Param: return value_of(m.param(e.param).value);
@@ -157,37 +205,139 @@ EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variable
   }
 }
 
+// `leaf_value`, refusing one that is not finite (the front end, `-D` and the slider
+// requests refuse such numbers before they become constants or slider values; this is the
+// last wall).
+EvalResult leaf(const Module& m, const Expr& e, std::span<const double> variables) {
+  EvalResult r = leaf_value(m, e, variables);
+  if (r.ok && !std::isfinite(r.value)) {
+    // (`name` is read only for the kinds that have one: the members share a union.)
+    const bool named = e.kind == ExprKind::Builtin || e.kind == ExprKind::Variable;
+    const std::string what = e.kind == ExprKind::Param ? fmt::format("the slider's value ({})", r.value)
+                             : named                   ? fmt::format("`{}` ({})", e.name, r.value)
+                                                       : fmt::format("{}", r.value);
+    return fail(fmt::format("{} is not a finite number", what), e.range);
+  }
+  return r;
+}
+
+// Whether every operand of `e` is a constant (then `may_fail` can evaluate it).
+bool has_constant_operands(const Module& m, const Expr& e) {
+  const std::span<const ExprId> kids = evaluated_operands(m, e);
+  return std::all_of(kids.begin(), kids.end(), [&](ExprId k) { return m.expr(k).kind == ExprKind::Const; });
+}
+
 }  // namespace
 
-bool may_fail(const Module& m, const Expr& e) {
+namespace {
+
+// How `evaluate` may fail at an expression itself, whatever the (finite) values of its
+// operands (constant or not): never; only by overflowing, and then by no more than the magnitude of its
+// operands allows (`a + b`, `a * b`, `hypot(a, b)`: 1 + |result| is at most the product of
+// 1 + |operand|); or otherwise (outside its domain: a division by a value, `sqrt`, `log`;
+// or by growing without bound: `exp`, `^`).
+enum class Risk { None, Overflow, Domain };
+
+// An expression's `Risk` from its kind alone (an operation on constants is judged as any
+// other), and a bound in bits on the factor by which it can raise 1 + |value| over the
+// product of its operands' (see may_fail_now): for a leaf, 1 + |its value| itself; for a
+// function whose value is bounded (`sin` at most 1, `tan` of a double below 1.7e16) or may
+// exceed its argument by 1 (`floor`, `//`), that bound or factor; 0 (a factor of 1) for the
+// rest, whose 1 + |value| is at most the product of their operands'. Cheap: the checker
+// asks it of every expression it lowers.
+struct Assessment {
+  Risk risk = Risk::None;
+  int bits = 0;
+};
+
+// The bits of 1 + |v|, rounded up: 1 below 1, else the binary exponent + 2; more than any
+// finite bound for infinity or NaN.
+int bits_of(double v) {
+  uint64_t u = 0;
+  std::memcpy(&u, &v, sizeof u);
+  const int exponent = static_cast<int>((u >> 52) & 0x7ff);
+  if (exponent == 0x7ff) return 4096;
+  return exponent < 1023 ? 1 : exponent - 1023 + 2;  // 1 + |v| < 2^(exponent + 2)
+}
+
+Assessment assess(const Module& m, const Expr& e) {
   switch (e.kind) {
     case ExprKind::Const:
+      return {std::isfinite(e.value) ? Risk::None : Risk::Domain, bits_of(e.value)};
     case ExprKind::Param:
+      return {Risk::None, bits_of(m.param(e.param).value)};
     case ExprKind::Builtin:
+      return {Risk::None, bits_of(e.name == "time" ? m.time : m.frame)};
     case ExprKind::Unary:
-      return false;
+      return {};
     case ExprKind::Binary:
-      if (e.op == '+' || e.op == '-' || e.op == '*') return false;
-      if (e.op == '/' || e.op == 'i' || e.op == '%') {  // `binary`: fails on a zero divisor only
-        const Expr& divisor = m.expr(e.rhs());
-        return divisor.kind != ExprKind::Const || divisor.value == 0;
+      switch (e.op) {
+        case '+': case '-': case '*':
+          return {Risk::Overflow, 0};
+        case '/': case 'i': case '%': {
+          // By a constant: a remainder cannot fail unless it is 0, nor a quotient by 1 or
+          // more in magnitude (`binary` fails on a zero divisor; a smaller one may overflow).
+          const Expr& divisor = m.expr(e.rhs());
+          if (divisor.kind != ExprKind::Const || !std::isfinite(divisor.value)) return {Risk::Domain, 0};
+          const bool ok = e.op == '%' ? divisor.value != 0 : std::fabs(divisor.value) >= 1;
+          return {ok ? Risk::None : Risk::Domain, e.op == 'i' ? 1 : 0};
+        }
+        default:  // `^`: no real value, or growth without bound
+          return {Risk::Domain, 0};
       }
-      return true;
     case ExprKind::Call:
-      switch (e.func) {  // the functions `call` may fail for
+      switch (e.func) {
+        case Func::Hypot:
+          return {Risk::Overflow, 0};
         case Func::Asin: case Func::Acos: case Func::Sqrt: case Func::Log: case Func::Ln:
         case Func::Log10: case Func::Pow: case Func::Mod: case Func::Int: case Func::Wide:
-        case Func::Fmod: case Func::Srand:
-          return true;
+        case Func::Fmod: case Func::Srand: case Func::Exp: case Func::Sinh: case Func::Cosh:
+          return {Risk::Domain, 0};
+        case Func::Sin: case Func::Cos: case Func::Tanh: case Func::Sign:
+        case Func::Floor: case Func::Ceil: case Func::Round:
+          return {Risk::None, 1};
+        case Func::Atan: return {Risk::None, 2};   // 1 + π/2 < 4
+        case Func::Atan2: return {Risk::None, 3};  // 1 + π < 8
+        case Func::Tan: return {Risk::None, 55};   // |tan(x)| < 1.7e16 < 2^54 for every double x
         default:
-          return false;
+          return {};  // abs, min, max, double: at most an operand's magnitude
       }
     case ExprKind::Variable:
     case ExprKind::External:
     case ExprKind::Error:
-      return true;
+      return {Risk::Domain, 0};
   }
-  return true;
+  return {Risk::Domain, 0};
+}
+
+}  // namespace
+
+bool may_fail(const Module& m, const Expr& e) {
+  if ((e.kind == ExprKind::Binary || e.kind == ExprKind::Call) && has_constant_operands(m, e)) {
+    // An operation on constants fails exactly when evaluating it does.
+    SmallVec<double, 4> v;
+    for (ExprId k : evaluated_operands(m, e)) v.push_back(m.expr(k).value);
+    if (std::any_of(v.begin(), v.end(), [](double x) { return !std::isfinite(x); })) return true;
+    const std::span<const double> operands(v.data(), v.size());
+    return !(e.kind == ExprKind::Binary ? finite_binary(e, operands[0], operands[1]) : finite_call(e, operands)).ok;
+  }
+  return assess(m, e).risk != Risk::None;
+}
+
+bool may_fail_now(const Module& m, std::span<const Expr> nodes) {
+  // 1 + |value| of every node is at most the product, over the leaves and bounded functions
+  // beneath it, of their factors (by induction: 1 + |a + b| and 1 + |a * b| are at most
+  // (1 + |a|)(1 + |b|)); below 2^1023 the value is finite, rounding included.
+  constexpr int kFiniteBits = 1023;
+  bool may_overflow = false;
+  int bits = 0;
+  for (const Expr& e : nodes) {
+    const Assessment a = assess(m, e);
+    if (a.risk == Risk::Domain) return true;
+    may_overflow = may_overflow || a.risk == Risk::Overflow;
+    bits = std::min(bits + a.bits, 1 << 20);
+  }
+  return may_overflow && bits >= kFiniteBits;
 }
 
 EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variables) {
@@ -204,6 +354,15 @@ EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variab
   while (!stack.empty()) {
     Frame& top = stack.back();
     const Expr& e = m.expr(top.id);
+    // A finite constant or slider value, the most common nodes, without more ado.
+    if (e.kind == ExprKind::Const || e.kind == ExprKind::Param) {
+      const double v = e.kind == ExprKind::Const ? e.value : m.param(e.param).value;
+      if (std::isfinite(v)) {
+        values.push_back(v);
+        stack.pop_back();
+        continue;
+      }
+    }
     const std::span<const ExprId> kids = evaluated_operands(m, e);
     const int n = static_cast<int>(kids.size());
     if (e.kind == ExprKind::Error) return fail("", e.range);
@@ -215,16 +374,13 @@ EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variab
     // The kinds that cannot fail are computed in place; the others go through the helpers,
     // whose results carry a problem (a string) when they fail.
     double value;
-    if (n == 0 && e.kind == ExprKind::Const) {
-      value = e.value;
-    } else if (n == 0 && e.kind == ExprKind::Param) {
-      value = m.param(e.param).value;
-    } else if (e.kind == ExprKind::Unary) {
+    if (e.kind == ExprKind::Unary) {
       value = e.op == '-' ? -values.back() : values.back();
       values.truncate(values.size() - 1);
     } else if (e.kind == ExprKind::Binary && (e.op == '+' || e.op == '-' || e.op == '*')) {
       const double a = values[values.size() - 2], b = values.back();
       value = e.op == '+' ? a + b : e.op == '-' ? a - b : a * b;
+      if (!std::isfinite(value)) return not_finite(fmt::format("{} {} {}", a, e.op, b), e.range);
       values.truncate(values.size() - 2);
     } else {
       EvalResult r;
@@ -232,7 +388,7 @@ EvalResult evaluate(const Module& m, ExprId root, std::span<const double> variab
         r = leaf(m, e, variables);
       } else {
         std::span<const double> operands(values.end() - n, static_cast<size_t>(n));
-        r = e.kind == ExprKind::Binary ? binary(e, operands[0], operands[1]) : call(e, operands);
+        r = e.kind == ExprKind::Binary ? finite_binary(e, operands[0], operands[1]) : finite_call(e, operands);
         values.truncate(values.size() - static_cast<uint32_t>(n));
       }
       if (!r.ok) return r;

@@ -246,15 +246,25 @@ struct EvalResult {
 };
 /// Evaluates with the module's current parameter values and its `time`/`frame`; `variables`
 /// are the values of a function's variables (`u`, `v` …) by index. Iterative: expressions
-/// of any depth are evaluated without deep recursion.
+/// of any depth are evaluated without deep recursion. A value is always finite: a result
+/// that overflows (`1e200 * 1e200`, `exp(1000)`, `0 ^ -1`) or a leaf that is not finite is
+/// a problem at that sub-expression.
 EvalResult evaluate(const Module& module, ExprId expr, std::span<const double> variables = {});
 /// False when `evaluate` cannot report a problem at expression `e` itself, whatever the
-/// values of its operands: a constant, a parameter, a built-in, `-x`, `a + b`, `a - b`,
-/// `a * b`, a division or remainder by a non-zero constant, or a call of a function defined
-/// everywhere (`sin`, `exp` …). True for the rest (`^`, `sqrt`, `log`, a division by a
-/// value, a script, a variable, an error). The checker evaluates a new value only when one
-/// of its expressions may fail.
+/// (finite) values of its operands: a finite constant, a parameter, a built-in, `-x`, an
+/// operation on constants that evaluates, a division by a constant of magnitude 1 or more,
+/// a remainder by a non-zero constant, or a call of a function that is finite wherever it
+/// is defined (`sin`, `atan` …). True for the rest (`a + b`, `a * b` and `hypot(a, b)` of
+/// values, which may overflow, `^`, `sqrt`, `log`, `exp`, a division by a value, a script,
+/// a variable, an error).
 bool may_fail(const Module& module, const Expr& e);
+/// Whether evaluating now the expression made of exactly `nodes` (every operand of each
+/// among them, e.g. the expressions the checker lowered for one value) may fail: some node
+/// may fail for a reason other than overflow, or some may overflow and the current values
+/// of its constants, sliders and built-ins are large enough for that (a bound: 1 + |value|
+/// of a node is at most the product of 1 + |leaf| beneath it). `$r * cos(2 * pi / 8)` with
+/// `r` at 2 cannot: the checker evaluates a new value only when this is true.
+bool may_fail_now(const Module& module, std::span<const Expr> nodes);
 
 /// The values of a viewing statement (camera, light, window, viewport, render) by field, with
 /// the defaults it takes for those not written (marked "(default)"), e.g. `{"projection",

@@ -3,6 +3,7 @@
 #include "lsp/preview.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "backend/preview.h"
 #include "backend/session.h"
@@ -117,7 +118,10 @@ backend::PipelineOptions pipeline_from_json(const json& p) {
     o.rule = p["rule"] == "derose" ? kernel::VertexRule::DeRose : kernel::VertexRule::CatmullClark;
   }
   if (p.contains("offset")) {
-    if (!p["offset"].is_number() || !(p["offset"].get<double>() >= 0)) throw bad();
+    // JSON's `1e999` reads as infinity: refused like a negative offset.
+    if (!p["offset"].is_number() || !(p["offset"].get<double>() >= 0) || !std::isfinite(p["offset"].get<double>())) {
+      throw bad();
+    }
     o.offset_height = p["offset"].get<double>();
   }
   return o;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 
 namespace nomec::lsp {
 
@@ -23,11 +24,16 @@ namespace {
 // for: on a machine with fewer free cores than busy threads, the next keystroke's check is
 // scheduled first. A thread may lower its own priority without privileges (Linux applies
 // `setpriority` to one thread when given its id); failing that, it keeps the default.
+// The step is relative to the process's own nice value (its main thread's): under
+// `nice -n 5 nomec --lsp` the analysis thread runs at 5 and these at 10, not at 5 with it.
 // Each thread also carries its name (`nomec-analysis` …), which `top -H` and debuggers show.
 void name_thread(const char* name) { pthread_setname_np(pthread_self(), name); }
 
 void yield_to_analysis() {
-  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBackgroundNice);
+  errno = 0;
+  const int base = getpriority(PRIO_PROCESS, static_cast<id_t>(getpid()));  // -1 is a valid value
+  if (base == -1 && errno != 0) return;
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), std::min(19, base + kBackgroundNice));
 }
 
 // A request id is an integer or a string; anything else is not a valid request.

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <CLI/CLI.hpp>
+#include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <fmt/format.h>
 #include <iostream>
@@ -14,7 +16,23 @@
 
 namespace nomec::tools {
 
+std::optional<double> parse_finite_number(const std::string& text) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 namespace {
+
+// CLI11 reads `nan`, `inf` and `1e999999` (as infinity) into a double option; this check,
+// run on the option's text before that, refuses them (a usage error, exit 2).
+const CLI::Validator kFiniteNumber(
+    [](const std::string& text) -> std::string {
+      return parse_finite_number(text) ? std::string() : fmt::format("`{}` is not a finite number", text);
+    },
+    "FINITE");
 
 void add_fmt_command(CLI::App& app, Cli& cli, CLI::App*& fmt_app) {
   fmt_app = app.add_subcommand("fmt", "Format files: print (one file), --check or -i");
@@ -47,6 +65,7 @@ void add_emit_options(CLI::App& app, Cli& cli) {
   app.add_flag("--merge", cli.pipeline.is_merge, "Merge coinciding boundary edges of the whole scene");
   app.add_option("--merge-tolerance", cli.pipeline.merge_tolerance,
                  "Merge tolerance (default 1e-4 x bounding-box diagonal)")
+      ->check(kFiniteNumber)
       ->check(CLI::NonNegativeNumber);
   app.add_option("--subdivide", cli.pipeline.subdivide_levels, "Catmull-Clark levels after merging")
       ->check(CLI::Range(0, 12));
@@ -54,6 +73,7 @@ void add_emit_options(CLI::App& app, Cli& cli) {
       ->check(CLI::IsMember({"catmull-clark", "derose"}));
   app.add_option("--offset", cli.pipeline.offset_height,
                  "Offset the (merged, subdivided) scene into a slab of this half-thickness")
+      ->check(kFiniteNumber)
       ->check(CLI::PositiveNumber);
   app.add_option("--subdivide-after", cli.pipeline.subdivide_after_levels, "Catmull-Clark levels after the offset")
       ->check(CLI::Range(0, 12));
@@ -82,8 +102,8 @@ void add_check_options(CLI::App& app, Cli& cli) {
                "Read .sif triangles in consecutive pairs that share an edge as quads (NOME 2016 had this off)");
   app.add_option("--color", cli.color, "Colour diagnostics: auto, always, never")
       ->check(CLI::IsMember({"auto", "always", "never"}));
-  app.add_option("--time", cli.time, "Value of `$time` in expressions (default 0)");
-  app.add_option("--frame", cli.frame, "Value of `$frame` in expressions (default 0)");
+  app.add_option("--time", cli.time, "Value of `$time` in expressions (default 0)")->check(kFiniteNumber);
+  app.add_option("--frame", cli.frame, "Value of `$frame` in expressions (default 0)")->check(kFiniteNumber);
   app.add_option("--tcl-seconds", cli.tcl_seconds,
                  "Wall time in seconds a SLIDE file's Tcl may take in all (default 10)")
       ->check(CLI::Range(0.001, 86400.0));
@@ -149,10 +169,9 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
     const auto eq = d.find('=');
     if (eq == std::string::npos || eq == 0) return fmt::format("-D expects bank.param=value, got `{}`", d);
     const std::string value = d.substr(eq + 1);
-    char* end = nullptr;
-    const double v = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0') return fmt::format("-D {}: `{}` is not a number", d.substr(0, eq), value);
-    options.overrides.emplace_back(d.substr(0, eq), v);
+    const std::optional<double> v = parse_finite_number(value);
+    if (!v) return fmt::format("-D {}: `{}` is not a finite number", d.substr(0, eq), value);
+    options.overrides.emplace_back(d.substr(0, eq), *v);
   }
   return {};
 }

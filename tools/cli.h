@@ -3,6 +3,7 @@
 // that main (nomec.cpp) dispatches to.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct Cli {
 /// Reads the command line into `cli`. Returns -1 to go on, or the exit code to return now
 /// (0 after `--help`/`--version`, 2 on a usage error, with its message printed).
 int parse_command_line(int argc, char** argv, Cli& cli);
+
+/// The number `text` spells (`0.5`, `-2`, `1e-3`), or nullopt when it is not a number or not
+/// finite (`nan`, `inf`, `1e999999`, which would overflow): every number of the command line
+/// (`-D`, `--what-if`, `--offset` …) is read by this.
+std::optional<double> parse_finite_number(const std::string& text);
 
 /// The check options the command line asks for; "" or a usage error message.
 std::string check_options(const Cli& cli, CheckOptions& out);

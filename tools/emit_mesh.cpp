@@ -56,15 +56,22 @@ using PieceWriter = std::function<bool(const std::function<bool(std::string_view
 // when not empty; false after printing the error.
 bool write_streamed(const std::string& target, const PieceWriter& writer, const std::string& mtl = {}) {
   if (target == "-") {
-    writer([](std::string_view piece) {
+    const bool written = writer([](std::string_view piece) {
       std::cout.write(piece.data(), static_cast<std::streamsize>(piece.size()));
       return static_cast<bool>(std::cout);
     });
     std::cout.flush();
-    return true;
+    return written;
   }
   AtomicFileWriter file(target);
-  writer([&](std::string_view piece) { return file.append(piece); });
+  bool is_sink_ok = true;
+  const bool written = writer([&](std::string_view piece) { return is_sink_ok = file.append(piece); });
+  if (!written && is_sink_ok) {
+    // The writer refused the meshes before writing (check_coordinates said why): the
+    // temporary file goes, and an existing output stays as it was.
+    std::cerr << fmt::format("nomec: {}: not written\n", target);
+    return false;
+  }
   std::string err = file.commit();
   if (err.empty() && !mtl.empty()) {
     err = write_file_atomically(std::filesystem::path(target).replace_extension(".mtl").string(), mtl);
@@ -128,6 +135,11 @@ int emit_meshes(const Cli& cli, const std::string& path, const SourceManager& so
     meshes = be::run_pipeline(std::move(meshes), pipeline, stem, where, geo, &timings, say);
   }
   if (progress) std::cerr << "\r\033[K" << std::flush;
+  if (geo.error_count() == 0) {
+    // The last check: no infinity or NaN (nor, in binary STL, a number past 32-bit floats).
+    be::check_coordinates(meshes, module,
+                          cli.emit == "stl" && !cli.stl_ascii ? be::kMaxStlBinaryCoordinate : be::kMaxTextCoordinate, geo);
+  }
   geo.sort_and_dedupe();
   out.show(sources, geo);
   if (geo.error_count() > 0) return geo.error_count();

@@ -7,6 +7,7 @@
 
 #include "backend/session.h"
 #include "lsp/summary_json.h"
+#include "tools/cli.h"
 
 namespace nomec::tools {
 
@@ -19,13 +20,10 @@ std::string parse_what_if(const std::string& text, WhatIf& out) {
     return fmt::format("--what-if expects bank.param=value, got `{}`", text);
   }
   std::string value = text.substr(eq + 1);
-  char* end = nullptr;
-  double v = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0') {
-    return fmt::format("--what-if {}: `{}` is not a number", text.substr(0, eq), value);
-  }
+  const std::optional<double> v = parse_finite_number(value);
+  if (!v) return fmt::format("--what-if {}: `{}` is not a finite number", text.substr(0, eq), value);
   out.parameter = text.substr(0, eq);
-  out.value = v;
+  out.value = *v;
   return {};
 }
 

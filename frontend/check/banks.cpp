@@ -2,6 +2,7 @@
 // values saved work sets (`savedparameter`), `-D bank.param=value` overrides, the `list`
 // entries checked once all banks are known, and finding the slider a reference names.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <fmt/format.h>
 
@@ -191,11 +192,15 @@ void apply_overrides(Context& c) {
     }
     const ir::Node& n = c.module().node(p);
     ir::ParamData& d = c.module().param(p);
-    if ((value < d.min || value > d.max) && !c.options().allow_out_of_range) {
+    // A value that is not finite (`nan` is in no range, `inf` past every one) is refused even
+    // with --allow-out-of-range: nothing could be built from it.
+    if (!std::isfinite(value) || ((value < d.min || value > d.max) && !c.options().allow_out_of_range)) {
       c.diags().emit(DiagKind::OverrideOutOfRange, n.range,
-                     fmt::format("`-D {}={}` is outside the slider range [{}, {}] of `{}`; pass --allow-out-of-range to "
-                                 "use it anyway",
-                                 name, value, d.min, d.max, n.name));
+                     std::isfinite(value)
+                         ? fmt::format("`-D {}={}` is outside the slider range [{}, {}] of `{}`; pass "
+                                       "--allow-out-of-range to use it anyway",
+                                       name, value, d.min, d.max, n.name)
+                         : fmt::format("`-D {}={}` is not a finite number; `{}` keeps {}", name, value, n.name, d.value));
       continue;
     }
     d.value = value;

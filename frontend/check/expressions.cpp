@@ -164,6 +164,11 @@ ir::ExprId lower_name(Context& c, const ast::Expr& x, const Scope& scope) {
 ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
   switch (x.kind) {
     case ast::ExprKind::Number:
+      if (!std::isfinite(x.number())) {
+        c.diags().emit(DiagKind::NumberTooLarge, x.range,
+                       fmt::format("the number `{}` is too large: numbers stop near 1.8e308", Context::clip(x.text)));
+        return error_expr(c, x.range);
+      }
       return constant_expr(c, x.number(), x.range);
     case ast::ExprKind::DollarRef:
     case ast::ExprKind::Name:
@@ -448,12 +453,10 @@ ir::ExprId lower_checked(Context& c, const ast::Ast& a, ast::ExprId id, const Sc
   ir::ExprId out = lower_tree(c, a, id, scope);
   if (!scope.variables.empty()) return out;  // a function is evaluated where it is used
   // Evaluated only if it may fail: the expressions lowered for this value are the ones
-  // added since `first` (most values, `$r * cos(2 * pi / 8)`, cannot fail).
+  // added since `first` (most values, `$r * cos(2 * pi / 8)`, cannot fail, nor overflow
+  // with the numbers they hold now).
   const std::vector<ir::Expr>& added = c.module().exprs;
-  if (std::none_of(added.begin() + static_cast<std::ptrdiff_t>(first), added.end(),
-                   [&](const ir::Expr& e) { return ir::may_fail(c.module(), e); })) {
-    return out;
-  }
+  if (!ir::may_fail_now(c.module(), std::span<const ir::Expr>(added).subspan(first))) return out;
   ir::EvalResult r = ir::evaluate(c.module(), out);
   if (!r.ok && !r.problem.empty()) {
     c.diags().emit(DiagKind::ExpressionDomain, r.where.is_valid() ? r.where : a.expr(id).range, r.problem);

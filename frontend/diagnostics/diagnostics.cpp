@@ -111,8 +111,104 @@ void DiagnosticEngine::append(DiagnosticEngine&& other) {
 
 namespace {
 
+// A tab in a quoted source line moves to the next multiple of this many columns, as
+// terminals and clang do, so the caret line below it can use spaces and still line up.
+constexpr uint32_t kTabStop = 8;
+
+// The length of the well-formed UTF-8 sequence at `s[i]` and its code point, or 0 for a
+// byte that does not start one (a stray continuation byte, an overlong form, a surrogate,
+// a truncated sequence).
+size_t utf8_sequence(std::string_view s, size_t i, char32_t& cp) {
+  const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = b(i);
+  size_t len = 0;
+  if (c >= 0xC2 && c <= 0xDF) {
+    len = 2;
+    cp = c & 0x1F;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    len = 3;
+    cp = c & 0x0F;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    len = 4;
+    cp = c & 0x07;
+  } else {
+    return 0;
+  }
+  if (i + len > s.size()) return 0;
+  for (size_t k = 1; k < len; ++k) {
+    if ((b(i + k) & 0xC0) != 0x80) return 0;
+    cp = (cp << 6) | (b(i + k) & 0x3F);
+  }
+  if ((len == 3 && cp < 0x800) || (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)) || (cp >= 0xD800 && cp <= 0xDFFF)) {
+    return 0;
+  }
+  return len;
+}
+
+// Code points a terminal acts on instead of showing: C1 controls (U+0080–U+009F, `U+009B`
+// starts an escape sequence on some terminals) and the bidirectional embeddings,
+// overrides and isolates, which reorder what follows them on the line.
+bool is_hidden_control(char32_t cp) {
+  return (cp >= 0x80 && cp <= 0x9F) || (cp >= 0x202A && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
+}
+
+// `text` as it may be shown on a terminal: control characters, bytes that are not UTF-8 and
+// the code points of `is_hidden_control` become visible escapes (`\x1b`, `\n`, `\u202e`), so a
+// scene's text cannot move the cursor, clear the screen, change colours or reorder the
+// line it is quoted in. With `expand_tabs`, a tab becomes the spaces to the next tab stop
+// (a quoted source line, whose caret line must line up); otherwise `\t`. When `columns`
+// is given, it receives the display column (0-based) at which each byte of `text` starts,
+// and one more entry for the end.
+std::string visible(std::string_view text, bool expand_tabs, std::vector<uint32_t>* columns = nullptr) {
+  std::string out;
+  out.reserve(text.size());
+  uint32_t column = 0;
+  if (columns != nullptr) columns->assign(text.size() + 1, 0);
+  for (size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    size_t len = 1;
+    const uint32_t at = column;
+    if (c == '\t' && expand_tabs) {
+      const uint32_t next = (column / kTabStop + 1) * kTabStop;
+      out.append(next - column, ' ');
+      column = next;
+    } else if (c < 0x20 || c == 0x7F) {
+      const std::string e = c == '\t' ? "\\t" : c == '\n' ? "\\n" : c == '\r' ? "\\r" : fmt::format("\\x{:02x}", c);
+      out += e;
+      column += static_cast<uint32_t>(e.size());
+    } else if (c < 0x80) {
+      out += static_cast<char>(c);
+      ++column;
+    } else {
+      char32_t cp = 0;
+      len = utf8_sequence(text, i, cp);
+      std::string e;
+      if (len == 0) {
+        len = 1;
+        e = fmt::format("\\x{:02x}", c);
+      } else if (is_hidden_control(cp)) {
+        e = fmt::format("\\u{:04x}", static_cast<uint32_t>(cp));
+      }
+      if (e.empty()) {
+        out.append(text.substr(i, len));
+        ++column;  // one column per code point (wide characters are rare in scenes)
+      } else {
+        out += e;
+        column += static_cast<uint32_t>(e.size());
+      }
+    }
+    if (columns != nullptr) {
+      for (size_t k = 0; k < len; ++k) (*columns)[i + k] = at;
+    }
+    i += len;
+  }
+  if (columns != nullptr) columns->back() = column;
+  return out;
+}
+
 // Appends `file:line:col: ` (or nothing for an invalid range), the source line and a
-// caret/underline for the range.
+// caret/underline for the range. The line is shown through `visible`, and the caret and
+// underline are placed by display column, so they stay under the range.
 void render_location(const SourceManager& sources, SourceRange range, std::string& out,
                      std::string_view header) {
   if (!range.is_valid()) {
@@ -121,29 +217,34 @@ void render_location(const SourceManager& sources, SourceRange range, std::strin
     return;
   }
   LineCol begin = sources.line_col(range.file, range.begin);
-  out += fmt::format("{}:{}:{}: {}\n", sources.name(range.file), begin.line, begin.column,
+  out += fmt::format("{}:{}:{}: {}\n", visible(sources.name(range.file), false), begin.line, begin.column,
                      header);
   std::string_view line = sources.line_text(range.file, begin.line);
   if (line.size() > 240) {
     return;  // minified or generated input: the caret line would not help
   }
+  std::vector<uint32_t> columns;
+  const std::string shown = visible(line, true, &columns);
   std::string gutter = fmt::format("{:>5} | ", begin.line);
   out += gutter;
-  out += line;
+  out += shown;
   out += '\n';
   out += std::string(gutter.size() - 2, ' ');
   out += "| ";
-  uint32_t col0 = begin.column - 1;
-  for (uint32_t i = 0; i < col0 && i < line.size(); ++i) {
-    out += line[i] == '\t' ? '\t' : ' ';
-  }
+  // Byte columns within the line (line_col's columns count from after a leading BOM, as
+  // line_text's text starts there too).
+  const uint32_t col0 = std::min<uint32_t>(begin.column - 1, static_cast<uint32_t>(line.size()));
   LineCol end = sources.line_col(range.file, range.end);
-  uint32_t width = 1;
+  uint32_t end0 = col0 + 1;
   if (end.line == begin.line && end.column > begin.column) {
-    width = end.column - begin.column;
+    end0 = std::min<uint32_t>(end.column - 1, static_cast<uint32_t>(line.size()));
   } else if (end.line > begin.line) {
-    width = static_cast<uint32_t>(line.size() > col0 ? line.size() - col0 : 1);
+    end0 = static_cast<uint32_t>(line.size());
   }
+  const uint32_t from = columns[col0];
+  const uint32_t to = end0 > col0 ? columns[end0] : from + 1;
+  const uint32_t width = std::max<uint32_t>(1, to - from);
+  out += std::string(from, ' ');
   out += '^';
   if (width > 1) {
     out += std::string(width - 1, '~');
@@ -170,15 +271,15 @@ std::string render_text(const SourceManager& sources, const Diagnostic& diag, bo
   std::string out;
   render_location(
       sources, diag.range, out,
-      fmt::format("{}: {} [{}]", sev_colored, diag.message, diag_kind_name(diag.kind)));
+      fmt::format("{}: {} [{}]", sev_colored, visible(diag.message, false), diag_kind_name(diag.kind)));
   for (const DiagNote& note : diag.notes) {
-    render_location(sources, note.range, out, fmt::format("note: {}", note.message));
+    render_location(sources, note.range, out, fmt::format("note: {}", visible(note.message, false)));
   }
   for (const FixIt& fix : diag.fixits) {
     if (fix.range.is_valid()) {
       LineCol at = sources.line_col(fix.range.file, fix.range.begin);
-      out += fmt::format("{}:{}:{}: fix-it: {}\n", sources.name(fix.range.file), at.line,
-                         at.column, fix.description);
+      out += fmt::format("{}:{}:{}: fix-it: {}\n", visible(sources.name(fix.range.file), false), at.line,
+                         at.column, visible(fix.description, false));
     }
   }
   return out;

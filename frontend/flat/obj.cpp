@@ -52,7 +52,7 @@ std::shared_ptr<const ir::FlatGeometry> read_obj(const SourceManager& sources, F
   auto range = [file](const Word& w) { return SourceRange{file, w.begin, w.begin + static_cast<uint32_t>(w.text.size())}; };
   std::vector<PendingFace> faces;
   std::vector<std::string> warned;
-  size_t start = 0;
+  size_t start = utf8_bom_length(text);  // a leading byte order mark is not part of the mesh
   while (start < text.size()) {
     size_t nl = text.find('\n', start);
     if (nl == std::string_view::npos) nl = text.size();

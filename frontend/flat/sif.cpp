@@ -88,7 +88,7 @@ class SifReader {
   }
 
   void scan() {
-    size_t i = 0;
+    size_t i = utf8_bom_length(text_);  // a leading byte order mark is not part of the mesh
     while (i < text_.size()) {
       const char ch = text_[i];
       if (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r' || ch == '\f' || ch == '\v') {

@@ -77,7 +77,7 @@ struct Word {
 void read_ascii(std::string_view t, FileId file, ir::FlatGeometry& g, DiagnosticEngine& diags, int& dropped) {
   Welder weld(g);
   std::vector<Word> words;
-  for (size_t i = 0; i < t.size();) {
+  for (size_t i = utf8_bom_length(t); i < t.size();) {  // after a leading byte order mark
     while (i < t.size() && std::isspace(static_cast<unsigned char>(t[i]))) ++i;
     size_t j = i;
     while (j < t.size() && !std::isspace(static_cast<unsigned char>(t[j]))) ++j;
@@ -141,7 +141,7 @@ std::shared_ptr<const ir::FlatGeometry> read_stl(const SourceManager& sources, F
   const std::string_view t = sources.text(file);
   auto g = std::make_shared<ir::FlatGeometry>();
   const bool binary = t.size() >= 84 && t.size() == 84 + 50 * static_cast<uint64_t>(read_u32(t, 80));
-  size_t first = 0;
+  size_t first = utf8_bom_length(t);  // an ASCII file may start with a byte order mark
   while (first < t.size() && std::isspace(static_cast<unsigned char>(t[first]))) ++first;
   int dropped = 0;
   if (binary) {

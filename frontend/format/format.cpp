@@ -564,6 +564,9 @@ std::vector<std::string> comments_of(std::string_view text, const std::vector<Le
 
 FormatResult format_source(std::string_view input, const FormatOptions& options) {
   FormatResult result;
+  // A leading byte order mark is kept as it is, in front of the formatted text.
+  const std::string_view bom = input.substr(0, utf8_bom_length(input));
+  input.remove_prefix(bom.size());
   // Line endings: work on LF; write CRLF back if the file's first line ends with CRLF.
   size_t first_nl = input.find('\n');
   bool crlf = first_nl != std::string_view::npos && first_nl > 0 && input[first_nl - 1] == '\r';
@@ -604,7 +607,7 @@ FormatResult format_source(std::string_view input, const FormatOptions& options)
     formatted = std::move(with_cr);
   }
   result.ok = true;
-  result.text = std::move(formatted);
+  result.text = std::string(bom) + formatted;
   return result;
 }
 

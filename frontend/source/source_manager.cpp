@@ -24,6 +24,7 @@ std::vector<uint32_t> lf_line_starts(std::string_view text) {
 FileId SourceManager::add_file(std::string name, std::string text) {
   File file{std::move(name), std::move(text), {}};
   file.line_starts = lf_line_starts(file.text);
+  file.bom = utf8_bom_length(file.text);
   files_.push_back(std::move(file));
   return FileId{static_cast<int32_t>(files_.size() - 1)};
 }
@@ -40,7 +41,8 @@ LineCol SourceManager::line_col(FileId file, uint32_t offset) const {
   offset = std::min<uint32_t>(offset, f.text.size());
   auto it = std::upper_bound(f.line_starts.begin(), f.line_starts.end(), offset);
   uint32_t line = static_cast<uint32_t>(it - f.line_starts.begin());
-  return LineCol{line, offset - f.line_starts[line - 1] + 1};
+  const uint32_t start = f.line_starts[line - 1] + (line == 1 ? std::min(f.bom, offset) : 0);
+  return LineCol{line, offset - start + 1};
 }
 
 std::string_view SourceManager::line_text(FileId file, uint32_t line) const {
@@ -48,7 +50,7 @@ std::string_view SourceManager::line_text(FileId file, uint32_t line) const {
   if (line == 0 || line > f.line_starts.size()) {
     return {};
   }
-  uint32_t begin = f.line_starts[line - 1];
+  uint32_t begin = f.line_starts[line - 1] + (line == 1 ? f.bom : 0);
   uint32_t end = line < f.line_starts.size() ? f.line_starts[line] : f.text.size();
   std::string_view s(f.text.data() + begin, end - begin);
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) {
@@ -65,7 +67,7 @@ uint32_t SourceManager::offset_of(FileId file, uint32_t line, uint32_t column0) 
   if (line > f.line_starts.size()) {
     return f.text.size();
   }
-  uint32_t begin = f.line_starts[line - 1];
+  uint32_t begin = f.line_starts[line - 1] + (line == 1 ? f.bom : 0);
   uint32_t len = static_cast<uint32_t>(line_text(file, line).size());
   return begin + std::min(column0, len);
 }

@@ -17,6 +17,16 @@ namespace nomec {
 /// Shared by SourceManager's line tables and the language server's LineIndex.
 std::vector<uint32_t> lf_line_starts(std::string_view text);
 
+/// The UTF-8 byte order mark some editors write at the start of a file (`EF BB BF`).
+inline constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
+/// 3 when `text` starts with a UTF-8 byte order mark, else 0. A leading mark is not part of
+/// the scene: the lexer and the flat-mesh readers skip it, and columns on the first line
+/// count from after it (as editors show them, which hide the mark).
+constexpr uint32_t utf8_bom_length(std::string_view text) {
+  return text.substr(0, kUtf8Bom.size()) == kUtf8Bom ? static_cast<uint32_t>(kUtf8Bom.size()) : 0;
+}
+
 /// Identifies one file held by a SourceManager.
 struct FileTag;
 using FileId = Id<FileTag>;
@@ -30,7 +40,8 @@ struct SourceRange {
   friend bool operator==(const SourceRange&, const SourceRange&) = default;
 };
 
-/// A 1-based line and column (column counts bytes) for printing.
+/// A 1-based line and column (column counts bytes, on the first line from after a leading
+/// byte order mark) for printing.
 struct LineCol {
   uint32_t line = 0;
   uint32_t column = 0;
@@ -48,9 +59,11 @@ class SourceManager {
 
   /// Line and column of a byte offset (offset may equal the text size).
   LineCol line_col(FileId file, uint32_t offset) const;
-  /// The text of a 1-based line without its line terminator.
+  /// The text of a 1-based line without its line terminator (nor, on line 1, a leading
+  /// byte order mark).
   std::string_view line_text(FileId file, uint32_t line) const;
-  /// The byte offset of a 1-based line/0-based byte column (clamped to the text).
+  /// The byte offset of a 1-based line/0-based byte column (clamped to the text), the
+  /// inverse of `line_col`.
   uint32_t offset_of(FileId file, uint32_t line, uint32_t column0) const;
   /// The file's line table: `lf_line_starts` of its text.
   const std::vector<uint32_t>& line_starts(FileId file) const { return files_[file.index].line_starts; }
@@ -65,6 +78,7 @@ class SourceManager {
     std::string name;
     std::string text;
     std::vector<uint32_t> line_starts;
+    uint32_t bom = 0;  // utf8_bom_length(text)
   };
   std::deque<File> files_;
 };

@@ -12,6 +12,11 @@
            its --emit summary equals the original's
   progress the progress line: never on a piped stderr; on a terminal (a pty) it is written
            and erased in place, leaving nothing but the diagnostics
+  non_finite  nothing infinite or NaN is written: `nan`, `inf` and overflowing numbers in
+           every numeric flag are usage errors (exit 2), an overflowing literal or expression
+           is an error (exit 1), and a mesh whose placed geometry overflows is refused by the
+           last check before writing in every format (exit 1, no file, an existing output and
+           standard output untouched); binary STL refuses coordinates past 32-bit floats
 """
 import argparse
 import json
@@ -391,15 +396,113 @@ def case_slide_import(nomec, _admesh, corpus):
               and meshes[0].get("closed"), f"with it, the subdivided tetrahedron: {meshes}")
 
 
+TRIANGLE = """bank b
+  set x 1 0 10 1
+endbank
+point p ({expr $b_x} 0 0) endpoint
+point q (0 1 0) endpoint
+point r (0 0 1) endpoint
+mesh m
+  face f (p q r) endface
+endmesh
+instance i m {xform}endinstance
+"""
+
+
+def no_temp_files(folder):
+    return not [n for n in os.listdir(folder) if ".tmp." in n]
+
+
+def case_non_finite(nomec, _admesh, _corpus):
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = os.path.join(tmp, "tri.nome")
+        with open(scene, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", ""))
+        out = os.path.join(tmp, "out.stl")
+        code, _, err = run(nomec, ["--emit", "stl", "-o", out, scene])
+        check(code == 0 and os.path.isfile(out), f"the triangle builds ({code}: {err})")
+        os.remove(out)
+        # Every number of the command line is finite: CLI11 and strtod read `nan`, `inf` and
+        # `1e999999` (as infinity) as numbers, and they reached the output files.
+        for flags in (["-D", "b.x=nan"], ["-D", "b.x=inf"], ["-D", "b.x=-Infinity"], ["-D", "b.x=1e999999"],
+                      ["--allow-out-of-range", "-D", "b.x=nan"], ["--allow-out-of-range", "-D", "b.x=1e400"],
+                      ["--offset", "nan"], ["--offset", "inf"], ["--offset", "1e999"], ["--merge", "--merge-tolerance", "nan"],
+                      ["--merge", "--merge-tolerance", "inf"], ["--time", "nan"], ["--frame", "-inf"]):
+            code, stdout, err = run(nomec, ["--emit", "stl", "-o", out] + flags + [scene])
+            check(code == 2 and "is not a finite number" in err, f"{flags} is a usage error (exit {code}: {err})")
+            check(not os.path.exists(out), f"{flags} writes nothing")
+        code, _, err = run(nomec, ["--what-if", "b.x=nan", scene])
+        check(code == 2 and "`nan` is not a finite number" in err, f"--what-if b.x=nan is a usage error ({code}: {err})")
+        code, _, err = run(nomec, ["--what-if", "b.x=1e999", scene])
+        check(code == 2 and "`1e999` is not a finite number" in err, f"--what-if b.x=1e999 is a usage error ({code})")
+        # A literal that overflows, in the scene: an error where it is written.
+        big = os.path.join(tmp, "big.nome")
+        with open(big, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", "translate (1e999999 0 0) "))
+        code, _, err = run(nomec, ["--emit", "obj", "-o", out, big])
+        check(code == 1 and "[NumberTooLarge]" in err and not os.path.exists(out),
+              f"1e999999 in a scene is an error and writes nothing ({code}: {err})")
+        # A slider value (a finite one) that makes an expression overflow: an error at the
+        # operation.
+        times = os.path.join(tmp, "times.nome")
+        with open(times, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", "").replace("{expr $b_x}", "{expr $b_x * 1e300}"))
+        code, _, err = run(nomec, ["--emit", "ply", "-o", out, times])
+        check(code == 0 and os.path.isfile(out), f"1 * 1e300 builds ({code}: {err})")
+        if os.path.exists(out):
+            os.remove(out)
+        code, _, err = run(nomec, ["--emit", "ply", "-o", out, "--allow-out-of-range", "-D", "b.x=1e10", times])
+        check(code == 1 and "10000000000 * 1e+300 is too large" in err and not os.path.exists(out),
+              f"-D b.x=1e10 overflows `$b_x * 1e300`: an error, nothing written ({code}: {err})")
+
+        # Placed geometry that overflows: refused by the last check in every format. An
+        # existing output stays as it was, and no temporary file is left.
+        huge = os.path.join(tmp, "huge.nome")
+        with open(huge, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", "scale (1e300 1e300 1e300) ").replace("set x 1 0 10 1", "set x 1e10 0 1e11 1"))
+        for emit, extra in (("stl", []), ("stl", ["--stl-ascii"]), ("obj", []), ("ply", []), ("summary", [])):
+            keep = os.path.join(tmp, f"keep.{emit}")
+            with open(keep, "w") as f:
+                f.write("previous output")
+            code, stdout, err = run(nomec, ["--emit", emit, "-o", keep] + extra + [huge])
+            check(code == 1 and "[NonFiniteCoordinate]" in err and "instance `i`" in err and "which is not a finite point" in err,
+                  f"--emit {emit} {extra} refuses a vertex at infinity ({code}: {err})")
+            check(open(keep).read() == "previous output", f"--emit {emit} {extra} keeps the previous output")
+            check(no_temp_files(tmp), f"--emit {emit} {extra} leaves no temporary file")
+            code, stdout, err = run(nomec, ["--emit", emit, "-o", "-"] + extra + [huge])
+            check(code == 1 and stdout == b"", f"--emit {emit} {extra} -o - writes nothing to stdout ({code}, {len(stdout)} bytes)")
+
+        # Binary STL holds 32-bit floats: 1e39 is refused there, and written by the text formats.
+        far = os.path.join(tmp, "far.nome")
+        with open(far, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", "").replace("set x 1 0 10 1", "set x 1e39 0 1e40 1"))
+        code, stdout, err = run(nomec, ["--emit", "stl", "-o", "-", far])
+        check(code == 1 and stdout == b"" and "binary STL's 32-bit numbers" in err,
+              f"binary STL refuses 1e39 ({code}: {err})")
+        code, stdout, err = run(nomec, ["--emit", "stl", "--stl-ascii", "-o", "-", far])
+        text = stdout.decode()
+        check(code == 0 and "1.000000e+39" in text and "inf" not in text and "nan" not in text,
+              f"ASCII STL writes 1e39 ({code}: {err})")
+        # Close to the float limit, binary STL writes finite floats only (the normal too).
+        near = os.path.join(tmp, "near.nome")
+        with open(near, "w") as f:
+            f.write(TRIANGLE.replace("{xform}", "scale (1e38 1e38 1e38) ").replace("set x 1 0 10 1", "set x 3 0 10 1"))
+        code, stdout, err = run(nomec, ["--emit", "stl", "-o", "-", near])
+        check(code == 0 and len(stdout) == 84 + 50, f"binary STL of a triangle near the float limit ({code}: {err})")
+        if code == 0 and len(stdout) == 134:
+            floats = struct.unpack_from("<12f", stdout, 84)
+            check(all(abs(x) < float("inf") and x == x for x in floats), f"binary STL floats are finite: {floats}")
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress", "what_if", "slide_import"])
+    ap.add_argument("case", choices=["outputs", "admesh", "save", "progress", "what_if", "slide_import", "non_finite"])
     ap.add_argument("--nomec", required=True)
     ap.add_argument("--admesh", default="admesh")
     ap.add_argument("--corpus", default=os.path.join(ROOT, "..", "shared", "corpus"))
     a = ap.parse_args()
     cases = {"outputs": case_outputs, "admesh": case_admesh, "save": case_save, "progress": case_progress,
-             "what_if": case_what_if, "slide_import": case_slide_import}
+             "what_if": case_what_if, "slide_import": case_slide_import, "non_finite": case_non_finite}
     cases[a.case](a.nomec, a.admesh, a.corpus)
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")

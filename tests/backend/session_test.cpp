@@ -7,6 +7,7 @@
 // overrides (summaries and vertex data), on examples and corpus files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fmt/format.h>
 #include <fstream>
 #include <map>
@@ -378,6 +379,38 @@ TEST(Session, RefusesUnknownAndOutOfRangeSliders) {
   EXPECT_FALSE(u.ok());
   EXPECT_NE(u.error.find("outside the range [3, 10]"), std::string::npos);
   EXPECT_EQ(s.module().param(s.find_parameter("fp.n")).value, 8);
+}
+
+// A slider never takes a value that is not finite, even where out-of-range values are
+// allowed (`nome/setParameter` with JSON's `1e999`, which reads as infinity); a finite value
+// whose expressions overflow is an error at the operation, and no output is made of it.
+TEST(Session, RefusesValuesThatAreNotFinite) {
+  const std::string text =
+      "bank b\n  set x 1 0 10 1\nendbank\n"
+      "point p ({expr $b_x * 1e300} 0 0) endpoint\npoint q (0 1 0) endpoint\npoint r (0 0 1) endpoint\n"
+      "mesh m\n  face f (p q r) endface\nendmesh\ninstance i m endinstance\n";
+  auto c = check("overflow.nome", text);
+  ASSERT_EQ(c->diags.error_count(), 0);
+  SessionOptions options;
+  options.allow_out_of_range = true;
+  Session s(std::move(c->check.module), options);
+  DiagnosticEngine d;
+  s.build(d);
+  ASSERT_EQ(d.error_count(), 0);
+  for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    UpdateStats u = s.set_parameter("b.x", bad, d);
+    EXPECT_FALSE(u.ok());
+    EXPECT_NE(u.error.find("is not a finite number; slider `b.x` keeps 1"), std::string::npos) << u.error;
+    EXPECT_EQ(s.module().param(s.find_parameter("b.x")).value, 1);
+  }
+  EXPECT_EQ(d.error_count(), 0);
+  UpdateStats u = s.set_parameter("b.x", 1e10, d);  // allowed, but 1e10 * 1e300 overflows
+  EXPECT_TRUE(u.ok());
+  ASSERT_EQ(d.error_count(), 1);
+  EXPECT_EQ(d.diagnostics()[0].kind, DiagKind::GeometryFailed);
+  EXPECT_EQ(d.diagnostics()[0].message,
+            "cannot evaluate `position`: 10000000000 * 1e+300 is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(d.diagnostics()[0].range.begin, text.find("$b_x * 1e300"));
 }
 
 // Every array of two outputs, soup and built mesh, is equal (a patched or reused result

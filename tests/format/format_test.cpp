@@ -143,6 +143,20 @@ TEST(FormatLineEndings, CrlfInputKeepsCrlf) {
   EXPECT_EQ(format_source(r.text).text, r.text);
 }
 
+// A file saved with a UTF-8 byte order mark is formatted (it was a syntax error, left
+// alone) and keeps its mark in front; an error's column counts from after the mark.
+TEST(FormatEdges, ByteOrderMarkIsKept) {
+  const std::string bom = "\xEF\xBB\xBF";
+  nomec::FormatResult r = format_source(bom + "group g\ninstance i m endinstance\nendgroup\n");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.text, bom + "group g\n    instance i m endinstance\nendgroup\n");
+  EXPECT_EQ(format_source(r.text).text, r.text);
+  EXPECT_EQ(format_source(bom + "  # only a comment\n").text, bom + "# only a comment\n");
+  nomec::FormatResult bad = format_source(bom + "point p (0 0 0 endpoint\n");
+  EXPECT_FALSE(bad.ok);
+  EXPECT_EQ(bad.error.rfind("1:", 0), 0u) << bad.error;
+}
+
 TEST(FormatEdges, EmptyAndCommentOnlyFiles) {
   EXPECT_TRUE(format_source("").ok);
   EXPECT_EQ(format_source("").text, "");

@@ -154,6 +154,29 @@ TEST(LspProtocol, Utf16RangesAndCrLf) {
   EXPECT_EQ(c.server().document_text(kUri), "# ok\r\n(* é😀 *) instance x y endinstance\r\n");
 }
 
+// A byte order mark is skipped by the check (it was an unexpected character). VS Code hides
+// the mark of a file it opens ("UTF-8 with BOM") and sends the text without it, so its
+// positions start after it; a client that sends the mark (U+FEFF) counts it as one UTF-16
+// unit of line 0, and so does the server: positions are always in the text as received.
+TEST(LspProtocol, ByteOrderMarkIsSkippedAndPositionsFollowTheText) {
+  Client c;
+  c.initialize();
+  c.open(kUri, "instance x nosuch endinstance\n", 1);  // as VS Code sends a file with a mark
+  json without = c.diagnostics(kUri, 1);
+  ASSERT_EQ(without["diagnostics"].size(), 1u) << without.dump(2);
+  EXPECT_EQ(without["diagnostics"][0]["range"], range(0, 11, 0, 17));
+  const std::string other = "file:///tmp/lsp-test/bom.nome";
+  c.open(other, "\xEF\xBB\xBFinstance x nosuch endinstance\npoint p (1 2 3) endpoint\n", 1);
+  json with = c.diagnostics(other, 1);
+  ASSERT_EQ(with["diagnostics"].size(), 1u) << with.dump(2);  // only the unknown name
+  EXPECT_EQ(with["diagnostics"][0]["code"], "UnknownName");
+  EXPECT_EQ(with["diagnostics"][0]["range"], range(0, 12, 0, 18));
+  // An edit at those positions lands on `nosuch`.
+  c.change(other, 2, json::array({{{"range", range(0, 12, 0, 18)}, {"text", "y"}}}));
+  c.diagnostics(other, 2);
+  EXPECT_EQ(c.server().document_text(other), "\xEF\xBB\xBFinstance x y endinstance\npoint p (1 2 3) endpoint\n");
+}
+
 TEST(LspProtocol, CloseClearsDiagnosticsAndForgetsTheDocument) {
   Client c;
   c.initialize();

@@ -139,6 +139,52 @@ TEST(LspStdio, SessionEndsWithExitCodeZero) {
   EXPECT_EQ(p.wait_exit(), 0);
 }
 
+// A frame whose header is malformed (a negative or absurd Content-Length, one that is not a
+// number, none at all, a line that is no header) is answered with a parse error and skipped,
+// body included, up to the next `Content-Length:`: the next well-formed message is answered.
+// `Content-Length: -1` used to be read as 2^64 - 1 and the rest of the stream dropped.
+TEST(LspStdio, MalformedHeadersAreSkippedAndTheNextMessageIsAnswered) {
+  Process p;
+  p.send({{"jsonrpc", "2.0"}, {"id", 1}, {"method", "initialize"}, {"params", {{"capabilities", json::object()}}}});
+  ASSERT_TRUE(p.read_until([](const json& m) { return m.value("id", json()) == 1; }).contains("result"));
+  const std::string hover_body = json{{"jsonrpc", "2.0"}, {"id", 99}, {"method", "shutdown"}}.dump();
+  const char* bad_frames[] = {
+      "Content-Length: -1\r\n\r\n",
+      "Content-Length: -1\r\n\r\n{\"jsonrpc\":\"2.0\",\"id\":98,\"method\":\"shutdown\"}",
+      "Content-Length: 99999999999999999999999\r\n\r\n{\"x\":1}",
+      "Content-Length: 1099511627776\r\n\r\n",  // 1 TiB
+      "Content-Length: 12abc\r\n\r\n{\"x\":1}",
+      "Content-Length: +5\r\n\r\n{\"x\":1}",
+      "Content-Length:\r\n\r\n",
+      "Content-Type: application/json\r\n\r\n{\"x\":1}",
+      "garbage without a colon\r\n\r\n",
+      "Content-Length: 5\r\nContent-Length: 6\r\n\r\n{\"x\":1}",
+  };
+  int64_t id = 10;
+  for (const char* bad : bad_frames) {
+    SCOPED_TRACE(bad);
+    p.send_raw(bad);
+    json parse_error = p.read_until([](const json& m) { return m.contains("error"); });
+    ASSERT_FALSE(parse_error.is_null());
+    EXPECT_EQ(parse_error["error"]["code"], -32700);
+    EXPECT_TRUE(parse_error["id"].is_null());
+    // The next message, right after the bad frame's bytes, is read and answered.
+    const std::string body = json{{"jsonrpc", "2.0"}, {"id", id}, {"method", "textDocument/hover"},
+                                  {"params", {{"textDocument", {{"uri", "file:///none.nome"}}},
+                                              {"position", {{"line", 0}, {"character", 0}}}}}}
+                                 .dump();
+    p.send_raw("Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
+    json answer = p.read_until([&](const json& m) { return m.value("id", json()) == id; });
+    ASSERT_FALSE(answer.is_null()) << "no answer after the malformed frame";
+    ++id;
+  }
+  p.send_raw("Content-Length: " + std::to_string(hover_body.size()) + "\r\n\r\n" + hover_body);
+  json sd = p.read_until([](const json& m) { return m.value("id", json()) == 99; });
+  EXPECT_TRUE(sd.contains("result")) << sd.dump();
+  p.send({{"jsonrpc", "2.0"}, {"method", "exit"}});
+  EXPECT_EQ(p.wait_exit(), 0);
+}
+
 TEST(LspStdio, EndOfInputEndsTheServer) {
   Process p;
   p.send({{"jsonrpc", "2.0"}, {"id", 1}, {"method", "initialize"}, {"params", {{"capabilities", json::object()}}}});

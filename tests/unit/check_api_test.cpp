@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "frontend/check/check.h"
 
@@ -134,6 +135,25 @@ TEST(Check, OverridesAndTheirRange) {
   EXPECT_DOUBLE_EQ(field_value(*allowed, "f", "n", 0), 50);
   opt.overrides = {{"fp.nn", 5}};
   EXPECT_TRUE(has(*check("f.nome", text, opt), DiagKind::OverrideUnknown));
+}
+
+// An override that is not finite is refused even where out-of-range values are allowed
+// (NaN is in no range, so it passed the range test); the slider keeps its value.
+TEST(Check, OverridesThatAreNotFiniteAreRefused) {
+  std::string text = "bank fp set n 8 3 10 1 endbank\nfunnel f ({expr $fp_n} 1 0 1) endfunnel\n";
+  for (bool allowed : {false, true}) {
+    for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+      CheckOptions opt;
+      opt.allow_out_of_range = allowed;
+      opt.overrides = {{"fp.n", bad}};
+      auto c = check("f.nome", text, opt);
+      ASSERT_EQ(c->diags.error_count(), 1);
+      EXPECT_EQ(c->diags.diagnostics()[0].kind, DiagKind::OverrideOutOfRange);
+      EXPECT_NE(c->diags.diagnostics()[0].message.find("is not a finite number; `fp.n` keeps 8"), std::string::npos)
+          << c->diags.diagnostics()[0].message;
+      EXPECT_DOUBLE_EQ(field_value(*c, "f", "n", 0), 8);
+    }
+  }
 }
 
 TEST(Check, SliderReachesTheInstancesItControls) {

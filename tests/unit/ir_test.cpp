@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <random>
 #include <set>
 #include <string>
 
@@ -199,9 +201,11 @@ TEST(Evaluate, DomainErrorsNameTheValues) {
 }
 
 // `may_fail` says false only where `evaluate` cannot fail, and true only where some operand
-// values make it fail: every function and operator over operands with awkward values.
+// values make it fail: every function and operator over operands with awkward values
+// (finite ones: no leaf of an expression is anything else), among them the largest and
+// tiny ones, whose sums, products, quotients and exponentials overflow.
 TEST(Evaluate, MayFailIsExactlyWhereEvaluationCanFail) {
-  const double samples[] = {0, 1, -1, 2, -2, 0.5, 1e300, -1e300, 6.6, std::nan(""), INFINITY, -INFINITY};
+  const double samples[] = {0, 1, -1, 2, -2, 0.5, 1e300, -1e300, 6.6, 1e-300, 1.7976931348623157e308, -1.7976931348623157e308};
   auto fails_somewhere = [&](auto make, size_t operands) {
     bool failed = false;
     for (double x : samples) {
@@ -236,11 +240,152 @@ TEST(Evaluate, MayFailIsExactlyWhereEvaluationCanFail) {
     const ExprId x = bin(m, '+', num(m, 1), num(m, 1));
     EXPECT_EQ(may_fail(m, m.expr(call(m, x, x))), failed);
   }
-  // A division or remainder by a non-zero constant cannot fail; by zero or by a value, it may.
+  // A division by a constant of magnitude 1 or more, or a remainder by a non-zero constant,
+  // cannot fail; by zero, by a smaller constant (it may overflow) or by a value, it may.
+  // An operation on constants may fail exactly when it does.
   Module m;
+  const ExprId x = bin(m, '+', num(m, 1), num(m, 1));
   EXPECT_FALSE(may_fail(m, m.expr(bin(m, '/', num(m, 1), num(m, 3)))));
+  EXPECT_FALSE(may_fail(m, m.expr(bin(m, '/', x, num(m, -2)))));
+  EXPECT_TRUE(may_fail(m, m.expr(bin(m, '/', x, num(m, 0.5)))));
+  EXPECT_FALSE(may_fail(m, m.expr(bin(m, '%', x, num(m, 0.5)))));
   EXPECT_TRUE(may_fail(m, m.expr(bin(m, '/', num(m, 1), num(m, 0)))));
   EXPECT_TRUE(may_fail(m, m.expr(bin(m, '%', num(m, 1), bin(m, '-', num(m, 1), num(m, 1))))));
+  EXPECT_FALSE(may_fail(m, m.expr(bin(m, '*', num(m, 1e200), num(m, 1e100)))));
+  EXPECT_TRUE(may_fail(m, m.expr(bin(m, '*', num(m, 1e200), num(m, 1e200)))));
+}
+
+// `may_fail_now` (which decides whether the checker evaluates a value) says false only where
+// evaluating the value now cannot fail: over random expressions of the operations that can
+// only overflow, the bounded functions and operations on constants, with leaves from tiny to
+// huge, every one it passes evaluates; and it passes most of those with moderate numbers.
+TEST(Evaluate, MayFailNowIsSound) {
+  std::mt19937 rng(45);
+  const double magnitudes[] = {0, 1e-300, 0.5, 1, 3, 1e5, 1e40, 1e100, 1e154, 1e200, 1e300, 1.7e308};
+  int passed = 0, moderate = 0, moderate_passed = 0;
+  for (int round = 0; round < 20000; ++round) {
+    Module m;
+    const NodeId p = add(m, NodeKind::Param, "b.x");
+    bool is_moderate = true;
+    auto leaf = [&]() -> ExprId {
+      double v = magnitudes[rng() % std::size(magnitudes)] * ((rng() & 1) != 0 ? -1 : 1);
+      is_moderate = is_moderate && std::fabs(v) <= 1e5;
+      if (rng() % 3 == 0) {
+        m.param(p).value = v;
+        Expr e;
+        e.kind = ExprKind::Param;
+        e.param = p;
+        return m.add_expr(e);
+      }
+      return num(m, v);
+    };
+    std::function<ExprId(int)> tree = [&](int depth) -> ExprId {
+      if (depth == 0 || rng() % 4 == 0) return leaf();
+      switch (rng() % 9) {
+        case 0: return bin(m, "+-*"[rng() % 3], tree(depth - 1), tree(depth - 1));
+        case 1: return bin(m, "/i%"[rng() % 3], tree(depth - 1), num(m, (rng() & 1) != 0 ? 2.5 : -1));
+        case 2: {
+          const double power = static_cast<double>(rng() % 400);
+          is_moderate = is_moderate && power <= 5;
+          return bin(m, '^', num(m, 10), num(m, power));
+        }
+        case 3: {
+          Expr neg;
+          neg.kind = ExprKind::Unary;
+          neg.op = '-';
+          neg.operands[0] = tree(depth - 1);
+          return m.add_expr(neg);
+        }
+        default: {
+          static const Func one[] = {Func::Sin, Func::Cos, Func::Tan, Func::Tanh, Func::Atan, Func::Abs,
+                                     Func::Floor, Func::Ceil, Func::Round, Func::Sign, Func::Double};
+          static const Func two[] = {Func::Hypot, Func::Min, Func::Max, Func::Atan2};
+          const bool binary_call = rng() % 3 == 0;
+          const ExprId args[] = {tree(depth - 1), tree(depth - 1)};
+          const Func f = binary_call ? two[rng() % std::size(two)] : one[rng() % std::size(one)];
+          return m.add_call(f, std::span<const ExprId>(args, binary_call ? 2 : 1), SourceRange{});
+        }
+      }
+    };
+    const ExprId root = tree(4);
+    const bool risky = may_fail_now(m, m.exprs);
+    const EvalResult r = evaluate(m, root);
+    if (!risky) {
+      ++passed;
+      ASSERT_TRUE(r.ok) << expr_text(m, root) << ": " << r.problem;
+    }
+    if (is_moderate) {
+      ++moderate;
+      moderate_passed += risky ? 0 : 1;
+    }
+  }
+  EXPECT_GT(passed, 2000);
+  EXPECT_GT(moderate_passed, moderate * 9 / 10);
+  // By hand: the checker's usual values pass; large numbers, and operations on constants
+  // with large results, do not.
+  Module m;
+  const NodeId p = add(m, NodeKind::Param, "b.r");
+  m.param(p).value = 2;
+  Expr r;
+  r.kind = ExprKind::Param;
+  r.param = p;
+  const size_t first = m.exprs.size();
+  const ExprId angle[] = {bin(m, '/', bin(m, '*', num(m, 2), num(m, 3.14159)), num(m, 8))};
+  bin(m, '*', m.add_expr(r), m.add_call(Func::Cos, angle, SourceRange{}));
+  auto since = [&](size_t from) { return std::span<const Expr>(m.exprs).subspan(from); };
+  EXPECT_FALSE(may_fail_now(m, since(first)));
+  m.param(p).value = 1e300;
+  EXPECT_FALSE(may_fail_now(m, since(first)));  // times at most 1: cannot overflow
+  const size_t second = m.exprs.size();
+  bin(m, '*', m.add_expr(r), num(m, 1e10));
+  EXPECT_TRUE(may_fail_now(m, since(second)));
+  const size_t third = m.exprs.size();
+  bin(m, '*', bin(m, '^', num(m, 10), num(m, 300)), num(m, 1e10));  // 10^300 has 3-digit operands
+  EXPECT_TRUE(may_fail_now(m, since(third)));
+  const size_t fourth = m.exprs.size();
+  const ExprId radius[] = {m.add_expr(r)};
+  m.add_call(Func::Sqrt, radius, SourceRange{});  // a domain of its own: always evaluated
+  EXPECT_TRUE(may_fail_now(m, since(fourth)));
+}
+
+// No value is infinite or NaN: an operation whose result overflows fails at that operation,
+// naming its operands, and so does a constant, slider value or script value that is not
+// finite (the front end and the slider requests refuse those earlier; this is the last wall).
+TEST(Evaluate, ResultsThatAreNotFiniteAreProblems) {
+  Module m;
+  const SourceRange where{FileId(0), 5, 12};
+  auto with_range = [&](ExprId e) {
+    m.exprs[static_cast<size_t>(e.index)].range = where;
+    return e;
+  };
+  EvalResult product = evaluate(m, with_range(bin(m, '*', num(m, 1e200), num(m, 1e200))));
+  EXPECT_FALSE(product.ok);
+  EXPECT_EQ(product.problem, "1e+200 * 1e+200 is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(product.where, where);
+  // Nested: the overflowing operation is named, not the whole expression.
+  EvalResult nested = evaluate(m, bin(m, '-', num(m, 1), with_range(bin(m, '+', num(m, 1.5e308), num(m, 1.5e308)))));
+  EXPECT_EQ(nested.problem, "1.5e+308 + 1.5e+308 is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(nested.where, where);
+  EXPECT_EQ(evaluate(m, bin(m, '/', num(m, 1e300), num(m, 1e-300))).problem,
+            "1e+300 / 1e-300 is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(evaluate(m, bin(m, '^', num(m, 10), num(m, 400))).problem, "10 ^ 400 is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(evaluate(m, bin(m, '^', num(m, 0), num(m, -1))).problem, "division by zero: 0 ^ -1");
+  const ExprId thousand[] = {num(m, 1000)};
+  EXPECT_EQ(evaluate(m, m.add_call(Func::Exp, thousand, SourceRange{})).problem,
+            "`exp(1000)` is too large: numbers stop near 1.8e308");
+  EXPECT_EQ(evaluate(m, m.add_call(Func::Cosh, thousand, SourceRange{})).problem,
+            "`cosh(1000)` is too large: numbers stop near 1.8e308");
+  // Leaves.
+  EXPECT_EQ(evaluate(m, num(m, INFINITY)).problem, "inf is not a finite number");
+  EXPECT_FALSE(evaluate(m, bin(m, '+', num(m, std::nan("")), num(m, 1))).ok);
+  const NodeId p = add(m, NodeKind::Param, "b.x");
+  m.param(p).value = -INFINITY;
+  Expr ref;
+  ref.kind = ExprKind::Param;
+  ref.param = p;
+  EXPECT_EQ(evaluate(m, m.add_expr(ref)).problem, "the slider's value (-inf) is not a finite number");
+  // Finite results of large operands are kept.
+  EXPECT_DOUBLE_EQ(evaluate(m, bin(m, '*', num(m, 1e200), num(m, 1e100))).value, 1e300);
 }
 
 // An evaluator of external scripts as the front end provides one: script 0 is twice its

@@ -44,6 +44,78 @@ TEST(Diagnostics, WerrorPromotesWarnings) {
   EXPECT_NE(render_text(sm, d.diagnostics()[0], false, false).find(": warning: "), std::string::npos);
 }
 
+// A source line quoted under a diagnostic cannot drive the terminal: escape sequences,
+// other control characters, bytes that are not UTF-8, C1 controls and bidirectional
+// overrides are shown as visible escapes, and the caret still stands under the range.
+TEST(Diagnostics, ControlCharactersInTheLineAreEscaped) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "point \x1b[2J\x1b[31mp\x07 (1 2 \xc2\x9b\xe2\x80\xae\xff zz) endpoint\n");
+  const uint32_t zz = static_cast<uint32_t>(sm.text(f).find("zz"));
+  DiagnosticEngine d;
+  d.emit(DiagKind::ExpectedNumber, {f, zz, zz + 2}, "`zz` is not a number");
+  const std::string text = render_text(sm, d.diagnostics()[0], false, false);
+  EXPECT_EQ(text,
+            "a.nome:1:31: error: `zz` is not a number [ExpectedNumber]\n"
+            "    1 | point \\x1b[2J\\x1b[31mp\\x07 (1 2 \\u009b\\u202e\\xff zz) endpoint\n"
+            "      |                                                  ^~\n");
+  EXPECT_EQ(text.find('\x1b'), std::string::npos);
+}
+
+// Messages, notes, fix-it descriptions and file names that quote the scene's text are
+// escaped too (a Tcl error message, an include path); the colours nomec adds are kept.
+TEST(Diagnostics, ControlCharactersInMessagesAreEscaped) {
+  SourceManager sm;
+  FileId f = sm.add_file("dir/\x1b]0;title\x07.nome", "x\n");
+  DiagnosticEngine d;
+  d.emit(DiagKind::TclError, {f, 0, 1}, "Tcl error: \x1b[2Jgone\nfake.nome:1:1: error: forged")
+      .note({f, 0, 1}, "note \x1b[31m")
+      .fixit({f, 0, 1}, "y", "replace with `\x1b[0m`");
+  const std::string text = render_text(sm, d.diagnostics()[0], false, true);
+  EXPECT_EQ(text,
+            "dir/\\x1b]0;title\\x07.nome:1:1: \x1b[1;31merror\x1b[0m: Tcl error: \\x1b[2Jgone\\nfake.nome:1:1: error: "
+            "forged [TclError]\n"
+            "    1 | x\n"
+            "      | ^\n"
+            "dir/\\x1b]0;title\\x07.nome:1:1: note: note \\x1b[31m\n"
+            "    1 | x\n"
+            "      | ^\n"
+            "dir/\\x1b]0;title\\x07.nome:1:1: fix-it: replace with `\\x1b[0m`\n");
+}
+
+// Tabs become spaces to the next multiple of 8 columns and the caret line uses spaces, so
+// it lines up whatever the terminal's tab width; a UTF-8 character is one column.
+TEST(Diagnostics, TabsAndUtf8KeepTheCaretAligned) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "\tpoint\tp (\xc3\xa9\xc3\xa9 zz) endpoint\n");
+  const uint32_t zz = static_cast<uint32_t>(sm.text(f).find("zz"));
+  DiagnosticEngine d;
+  d.emit(DiagKind::ExpectedNumber, {f, zz, zz + 2}, "`zz` is not a number");
+  EXPECT_EQ(render_text(sm, d.diagnostics()[0], false, false),
+            "a.nome:1:16: error: `zz` is not a number [ExpectedNumber]\n"
+            "    1 |         point   p (\xc3\xa9\xc3\xa9 zz) endpoint\n"
+            "      |                       ^~\n");
+}
+
+// A leading UTF-8 byte order mark is not part of the first line: columns count from after
+// it (as editors show them) and the quoted line leaves it out. Other lines are unchanged.
+TEST(SourceManager, ByteOrderMarkIsNotAColumn) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "\xEF\xBB\xBFpoint p\n  (1 2 3)\n");
+  EXPECT_EQ(utf8_bom_length(sm.text(f)), 3u);
+  EXPECT_EQ(sm.line_col(f, 3).column, 1u);  // `point`
+  EXPECT_EQ(sm.line_col(f, 9).column, 7u);  // `p`
+  EXPECT_EQ(sm.line_col(f, 0).column, 1u);  // inside the mark: its start
+  EXPECT_EQ(sm.line_col(f, 13).column, 3u);  // line 2 counts as always
+  EXPECT_EQ(sm.line_text(f, 1), "point p");
+  EXPECT_EQ(sm.offset_of(f, 1, 6), 9u);
+  DiagnosticEngine d;
+  d.emit(DiagKind::UnknownName, {f, 9, 10}, "unknown `p`");
+  EXPECT_EQ(render_text(sm, d.diagnostics()[0], false, false),
+            "a.nome:1:7: error: unknown `p` [UnknownName]\n    1 | point p\n      |       ^\n");
+  EXPECT_EQ(utf8_bom_length("\xEF\xBB"), 0u);
+  EXPECT_EQ(utf8_bom_length("x\xEF\xBB\xBF"), 0u);
+}
+
 TEST(Diagnostics, ClosestMatch) {
   EXPECT_EQ(closest_match("radus", {"radius", "ratio", "n"}), "radius");
   EXPECT_EQ(closest_match("pint", {"point", "face"}), "point");
