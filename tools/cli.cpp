@@ -83,6 +83,11 @@ void add_check_options(CLI::App& app, Cli& cli) {
   app.add_option("--time", cli.time, "Value of `$time` in expressions (default 0)");
   app.add_option("--frame", cli.frame, "Value of `$frame` in expressions (default 0)");
   app.add_flag("-v,--verbose", cli.verbose, "Report the dialect used and summary counts");
+  app.add_option("--max-file-size", cli.max_file_bytes,
+                 "Most bytes read for one scene: a file, and a file with all it includes (each time) and its base "
+                 "scene; e.g. 64M (default 32M)")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
 }
 
 // The rules between options CLI11 cannot express; "" or the usage error.
@@ -136,7 +141,10 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   options.time = cli.time;
   options.frame = cli.frame;
   if (!cli.base.empty()) options.base_file = cli.base;
-  options.read_file = read_file_bytes;
+  InputReader reader = input_reader(cli.max_file_bytes);
+  options.read_file = std::move(reader.read);
+  options.read_problem = std::move(reader.problem);
+  options.max_input_bytes = cli.max_file_bytes;
   options.list_folder = list_folder;
   for (const std::string& d : cli.defines) {
     const auto eq = d.find('=');
