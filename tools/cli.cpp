@@ -57,7 +57,7 @@ void add_emit_options(CLI::App& app, Cli& cli) {
       ->check(CLI::Range(0, 12));
   app.add_flag("--time-report", cli.time_report, "Print the time of each stage to stderr");
   app.add_option("--max-vertices", cli.pipeline.max_vertices,
-                 "Most vertices evaluation may build (placed geometry and subdivisions); default 20000000")
+                 "Most vertices evaluation may build (placed geometry and subdivisions); default 1000000")
       ->check(CLI::Range(int64_t{1}, int64_t{2'000'000'000}));
   app.add_option("--what-if", cli.what_if,
                  "Move one slider (bank.param=value) after a full build and print, as JSON, what "
@@ -85,7 +85,7 @@ void add_check_options(CLI::App& app, Cli& cli) {
   app.add_flag("-v,--verbose", cli.verbose, "Report the dialect used and summary counts");
   app.add_option("--max-file-size", cli.max_file_bytes,
                  "Most bytes read for one scene: a file, and a file with all it includes (each time) and its base "
-                 "scene; e.g. 64M (default 32M)")
+                 "scene; e.g. 16M (default 2M)")
       ->transform(CLI::AsSizeValue(false))
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
 }
