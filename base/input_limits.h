@@ -13,10 +13,11 @@ namespace nomec {
 
 /// The most bytes nomec reads for one scene by default (`--max-file-size`): one file, and
 /// a file together with everything it includes (each time it is included) and its base
-/// scene. Real scenes and meshes are far smaller (the largest file of the corpus is 23 KB,
-/// a sculpture's STL a few MB); checking 64 MiB of scene text peaks near 1 GiB of memory
-/// (about 15 bytes per source byte once checked in pieces), so the default is half of that.
-inline constexpr int64_t kDefaultMaxFileBytes = int64_t{32} << 20;
+/// scene. Real scenes and meshes are far smaller (the largest file of the corpus is 23 KB).
+/// The bound is memory: checking costs about 17 bytes per byte of ordinary scene text, but
+/// up to some 300 bytes per byte of the densest (one statement of a million vertex names,
+/// parsed whole), so 2 MiB keeps a check under about 620 MiB whatever the text holds.
+inline constexpr int64_t kDefaultMaxFileBytes = int64_t{2} << 20;
 
 /// Files nested deeper than this in `include`s are refused (a file that includes itself).
 inline constexpr int kMaxIncludeDepth = 16;
