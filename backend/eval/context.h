@@ -116,11 +116,11 @@ class Context {
   int64_t vertex_limit = kDefaultMaxVertices;
   int64_t vertex_budget = kDefaultMaxVertices;
   bool is_budget_exhausted = false;
-  /// The plan (placement.cpp, `plan_fits`): the vertices placing each node would build, for
-  /// this evaluation (-1 while being counted); each scene entry's count as last planned,
-  /// kept for entries an update reuses; each mesh's vertex count (fixed by the IR).
-  std::unordered_map<int32_t, int64_t> planned;
-  std::map<int32_t, int64_t> entry_plans;
+  /// The plan (placement.cpp, `plan_fits`; each node's count is memoized in `cache.plans`):
+  /// the nodes being counted (a cycle counts nothing), each scene entry's count as last
+  /// planned, kept for entries an update reuses, and each mesh's vertex count (fixed by the IR).
+  std::vector<int32_t> planning;
+  std::unordered_map<int32_t, int64_t> entry_plans;
   std::unordered_map<int32_t, int64_t> mesh_vertex_counts;
 
   DiagnosticEngine& diags() { return cache.recorder.diags(); }

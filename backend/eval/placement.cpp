@@ -165,19 +165,28 @@ int64_t planned_instance(Context& c, ir::NodeId inst, const std::string& parent_
   const ir::Node& n = c.m.node(inst);
   const ir::InstanceData& d = n.as<ir::InstanceData>();
   if (d.is_hidden || !d.target.is_valid() || depth > 64 || is_off(c, d.lod)) return 0;
-  if (auto it = c.planned.find(d.target.index); it != c.planned.end()) return std::max<int64_t>(it->second, 0);
+  if (auto it = c.cache.plans.find(d.target.index); it != c.cache.plans.end()) {
+    c.cache.recorder.note(it->second.deps);
+    return it->second.value;
+  }
   return planned_target(c, d.target, parent_path.empty() ? short_name(n.name) : parent_path + "." + short_name(n.name),
                         depth);
 }
 
-// The vertices placing `tid` once would build (memoized per node: a group instanced a
-// million times is counted once). A leaf counts at least one, so instances of empty meshes
-// or curves still cost; a block counts its input per placement (a merge may weld some of
-// it, a subdivision's growth is checked when it runs). `path` names the first placement,
-// for the messages of the generators and sweeps run here (and reused by the walk).
+// The vertices placing `tid` once would build, memoized per node with the parameters read
+// (a group instanced a million times is counted once, and a slider move recounts only what
+// read it). A leaf counts at least one, so instances of empty meshes or curves still cost;
+// a block counts its input per placement (a merge may weld some of it, a subdivision's
+// growth is checked when it runs). `path` names the first placement, for the messages of
+// the generators and sweeps run here (and reused by the walk).
 int64_t planned_target(Context& c, ir::NodeId tid, const std::string& path, int depth) {
-  if (auto it = c.planned.find(tid.index); it != c.planned.end()) return std::max<int64_t>(it->second, 0);
-  c.planned[tid.index] = -1;  // a cycle (reported by the checker) counts nothing
+  if (auto it = c.cache.plans.find(tid.index); it != c.cache.plans.end()) {
+    c.cache.recorder.note(it->second.deps);
+    return it->second.value;
+  }
+  if (std::find(c.planning.begin(), c.planning.end(), tid.index) != c.planning.end()) return 0;  // a cycle
+  c.planning.push_back(tid.index);
+  c.cache.recorder.open();
   const ir::Node& tn = c.m.node(tid);
   int64_t n = 0;
   bool is_leaf = true;
@@ -224,7 +233,9 @@ int64_t planned_target(Context& c, ir::NodeId tid, const std::string& path, int 
       break;
   }
   if (is_leaf) n = std::max<int64_t>(n, 1);
-  c.planned[tid.index] = n;
+  Deps deps = c.cache.recorder.close();
+  c.planning.pop_back();
+  c.cache.plans.insert_or_assign(tid.index, Memo<int64_t>{n, std::move(deps)});
   return n;
 }
 
@@ -281,7 +292,6 @@ bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_vi
 }
 
 bool plan_fits(Context& c, std::span<const ir::NodeId> entries, const std::function<bool(ir::NodeId)>& reused) {
-  c.planned.clear();
   int64_t total = 0;
   for (ir::NodeId id : entries) {
     int64_t n = 0;

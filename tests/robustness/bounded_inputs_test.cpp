@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "backend/evaluate.h"
+#include "backend/session.h"
 #include "base/file_io.h"
 #include "frontend/check/check.h"
 
@@ -364,6 +365,45 @@ TEST_F(BoundedInputs, AHugeFaceOrListGivesAFewShortErrors) {
     if (message.size() > 300 || message.find("… (200000 in all)") == std::string::npos) return "list.nome: " + message;
     return "";
   });
+}
+
+// In an editing session the plan follows the sliders: a move that makes the scene too large
+// is refused before building, and moving back builds it again (the plan of each node is
+// kept with the parameters it read, so the move recounts only what read the slider).
+TEST_F(BoundedInputs, ThePlanFollowsSliderMoves) {
+  std::string text = "bank b\n  set n 10 3 100 1\nendbank\nfunnel f ($b_n 1 0.5 1) endfunnel\n";
+  std::string below = "f";
+  for (int level = 1; level <= 3; ++level) {
+    text += "group g" + std::to_string(level) + "\n";
+    for (int k = 0; k < 10; ++k) text += "  instance i" + std::to_string(k) + " " + below + " endinstance\n";
+    text += "endgroup\n";
+    below = "g" + std::to_string(level);
+  }
+  text += "instance top g3 endinstance\n";
+  SourceManager sources;
+  DiagnosticEngine diags;
+  CheckResult r = check_source(sources, "slider.nome", text, CheckOptions{}, diags);
+  ASSERT_EQ(diags.error_count(), 0);
+  backend::SessionOptions options;
+  options.pipeline.max_vertices = 50000;  // 1000 funnels of 2n vertices: n = 10 fits, n = 40 does not
+  backend::Session session(std::move(r.module), options);
+  DiagnosticEngine built;
+  session.build(built);
+  EXPECT_EQ(built.error_count(), 0);
+  ASSERT_EQ(session.outputs().size(), 1u);
+  EXPECT_EQ(session.outputs()[0]->soup.vertex_count(), 20000);
+  DiagnosticEngine grown;
+  session.set_parameter("b.n", 40, grown);
+  ASSERT_EQ(grown.error_count(), 1);
+  EXPECT_EQ(grown.diagnostics()[0].message,
+            "instance `top` → `i0` → `i0` → `i0` would build 80,000 vertices; nomec builds at most 50,000 "
+            "(`--max-vertices`)");
+  EXPECT_TRUE(session.outputs().empty());
+  DiagnosticEngine back;
+  session.set_parameter("b.n", 12, back);
+  EXPECT_EQ(back.error_count(), 0);
+  ASSERT_EQ(session.outputs().size(), 1u);
+  EXPECT_EQ(session.outputs()[0]->soup.vertex_count(), 24000);
 }
 
 // ---- saved work ----
