@@ -129,7 +129,6 @@ void place(Context& c, ir::NodeId tid, const Placing& at, Collected& out) {
   transform_into(out, *pl.part, glm::dmat4(1.0));
 }
 
-
 // The one place SceneTooLarge is reported: once per evaluation, after which nothing more is
 // placed.
 void report_too_large(Context& c, SourceRange at, const std::string& message) {
