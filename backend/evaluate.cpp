@@ -227,12 +227,27 @@ std::vector<std::shared_ptr<const OutputMesh>> SceneEvaluator::evaluate(Diagnost
   impl_->vertex_limit = impl_->vertex_budget = pipeline_.max_vertices;
   impl_->is_budget_exhausted = false;
   std::vector<std::shared_ptr<const OutputMesh>> out;
+  // Nothing is built for a scene whose instances would place more than the budget.
+  if (!eval::plan_fits(*impl_, entries_, [&](ir::NodeId id) { return impl_->cache.entries.contains(id.index); })) {
+    if (timings) timings->evaluate_ms += ms_since(t0);
+    return out;
+  }
   for (ir::NodeId id : entries_) {
     if (auto m = eval::entry(*impl_, id)) out.push_back(std::move(m));
   }
   // Zipper faces: one output mesh per `zipper` statement, after the scene entries.
   for (ir::NodeId id : zippers_) {
     if (auto m = eval::zipper_entry(*impl_, id)) out.push_back(std::move(m));
+  }
+  if (impl_->is_budget_exhausted) {
+    // What was placed after the budget ran out is incomplete: none of it is kept for the
+    // next evaluation.
+    impl_->cache.entries.clear();
+    impl_->cache.blocks.clear();
+    impl_->cache.placements.clear();
+    impl_->cache.zippers.clear();
+    impl_->layouts.clear();
+    impl_->block_memos.clear();
   }
   if (timings) timings->evaluate_ms += ms_since(t0);
   if (!pipeline_.any() || out.empty() || diags.error_count() > errors_before) return out;

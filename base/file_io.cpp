@@ -1,6 +1,8 @@
 // File reading, atomic writing (with the signal handler that removes temporary files and
 // the careful rewrite of a source file), and folder listing (see file_io.h), with POSIX
-// calls so that errors carry the system's reason.
+// calls so that errors carry the system's reason. Reading looks at what a path is (stat,
+// then fstat of the descriptor opened with O_NONBLOCK) before it reads a byte, and stops
+// at the cap.
 #include "base/file_io.h"
 
 #include <algorithm>
@@ -15,22 +17,62 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <map>
 #include <mutex>
 #include <random>
 #include <utility>
 
 namespace nomec {
 
-std::optional<std::string> read_file_bytes(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return std::nullopt;
-  // One string of the file's size, read into directly: a front end's peak memory is a few
-  // dozen bytes per source byte, and a stream's growing buffer and its copy would add two
-  // or three of them. A file whose size is unknown (a pipe) or changes while it is read is
-  // read to its end all the same.
-  struct stat st{};
-  std::string out;
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) out.resize(static_cast<size_t>(st.st_size));
+namespace {
+
+// What a file that is not regular is, for messages.
+std::string_view file_type_name(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "";
+}
+
+FileRead refused(ReadRefusal why, std::string_view shown, std::string reason, int error_number = 0) {
+  FileRead r;
+  r.refusal = why;
+  r.error = "cannot read `" + std::string(shown) + "`: " + reason;
+  r.reason = std::move(reason);
+  r.error_number = error_number;
+  return r;
+}
+
+// The system's reason for a failed call on `shown` (strerror's text, lowercase).
+FileRead system_refusal(ReadRefusal why, std::string_view shown) {
+  const int number = errno;
+  std::string reason = std::strerror(number);
+  if (!reason.empty() && reason[0] >= 'A' && reason[0] <= 'Z' && (reason.size() < 2 || reason[1] < 'A' || reason[1] > 'Z')) {
+    reason[0] = static_cast<char>(reason[0] - 'A' + 'a');
+  }
+  return refused(why, shown, std::move(reason), number);
+}
+
+FileRead not_regular(std::string_view shown, mode_t mode) {
+  const std::string_view type = file_type_name(mode);
+  return refused(ReadRefusal::NotRegular, shown,
+                 type.empty() ? "it is not a regular file" : "it is " + std::string(type) + ", not a regular file");
+}
+
+// `size` is the file's, or 0 when only reading found it larger.
+FileRead too_large(std::string_view shown, int64_t size, int64_t max_bytes) {
+  const std::string limit = byte_size_text(max_bytes) + " nomec reads (`--max-file-size`)";
+  return refused(ReadRefusal::TooLarge, shown,
+                 size > 0 ? "it is " + byte_size_text(size) + ", more than the " + limit : "it holds more than the " + limit);
+}
+
+// Reads `fd` to its end into `out`, which holds the bytes expected (the file's announced
+// size, or nothing) and is grown only past them; at most `max_bytes`. Refuses with a message
+// naming `shown`; `fd` stays open.
+FileRead read_all(int fd, std::string_view shown, int64_t max_bytes, std::string out) {
+  const size_t cap = static_cast<size_t>(std::max<int64_t>(max_bytes, 0));
   size_t done = 0;
   char extra[16 * 1024];
   while (true) {
@@ -39,23 +81,105 @@ std::optional<std::string> read_file_bytes(const std::string& path) {
     const bool has_room = done < out.size();
     const ssize_t n = has_room ? ::read(fd, out.data() + done, out.size() - done) : ::read(fd, extra, sizeof extra);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {  // e.g. a folder (EISDIR): not a file to read
-      const int reason = errno;
-      ::close(fd);
-      errno = reason;
-      return std::nullopt;
+    if (n < 0) {  // e.g. a folder opened on a system that allows it (EISDIR)
+      return system_refusal(ReadRefusal::ReadFailed, shown);
     }
     if (n == 0) break;
+    if (done + static_cast<size_t>(n) > cap) {
+      return too_large(shown, 0, max_bytes);
+    }
     if (!has_room) {
       out.resize(done);
       out.append(extra, static_cast<size_t>(n));
-      out.resize(std::max(out.size(), 2 * done));
+      out.resize(std::min(std::max(out.size(), 2 * done), cap));
     }
     done += static_cast<size_t>(n);
   }
-  ::close(fd);
   out.resize(done);
-  return out;
+  FileRead r;
+  r.bytes = std::move(out);
+  return r;
+}
+
+}  // namespace
+
+FileRead read_input_file(const std::string& path, int64_t max_bytes) {
+  // Looked at before it is opened: opening a FIFO for reading would wait for a writer, and
+  // opening a device can do something (a tape rewinds).
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    return system_refusal(ReadRefusal::CannotOpen, path);
+  }
+  if (!S_ISREG(st.st_mode)) return not_regular(path, st.st_mode);
+  if (st.st_size > max_bytes) return too_large(path, st.st_size, max_bytes);
+  // O_NONBLOCK: should a FIFO have taken the file's place since, opening it does not wait.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) return system_refusal(ReadRefusal::CannotOpen, path);
+  FileRead r;
+  if (::fstat(fd, &st) != 0) {
+    r = system_refusal(ReadRefusal::CannotOpen, path);
+  } else if (!S_ISREG(st.st_mode)) {
+    r = not_regular(path, st.st_mode);
+  } else if (st.st_size > max_bytes) {
+    r = too_large(path, st.st_size, max_bytes);
+  } else {
+    // One string of the file's size, read into directly: a front end's peak memory is a few
+    // dozen bytes per source byte, and a stream's growing buffer and its copy would add two
+    // or three of them. A file whose size is unknown (/proc) or that changes while it is
+    // read is read to its end all the same, up to the cap.
+    std::string out;
+    if (st.st_size > 0) out.resize(static_cast<size_t>(st.st_size));
+    r = read_all(fd, path, max_bytes, std::move(out));
+  }
+  ::close(fd);
+  return r;
+}
+
+FileRead read_input_stream(int fd, std::string_view shown, int64_t max_bytes) {
+  return read_all(fd, shown, max_bytes, std::string());
+}
+
+std::optional<std::string> read_file_bytes(const std::string& path) {
+  FileRead r = read_input_file(path);
+  if (r.ok()) return std::move(r.bytes);
+  // The reason as `errno`, for callers that print strerror.
+  switch (r.refusal) {
+    case ReadRefusal::NotRegular: {
+      struct stat st {};
+      errno = ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode) ? EISDIR : EINVAL;
+      break;
+    }
+    case ReadRefusal::TooLarge: errno = EFBIG; break;
+    case ReadRefusal::None:
+    case ReadRefusal::CannotOpen:
+    case ReadRefusal::ReadFailed: errno = r.error_number; break;
+  }
+  return std::nullopt;
+}
+
+InputReader input_reader(int64_t max_bytes) {
+  struct Problems {
+    std::mutex mutex;
+    std::map<std::string, std::string> by_path;
+  };
+  auto problems = std::make_shared<Problems>();
+  InputReader r;
+  r.read = [problems, max_bytes](const std::string& path) -> std::optional<std::string> {
+    FileRead f = read_input_file(path, max_bytes);
+    std::lock_guard<std::mutex> lock(problems->mutex);
+    if (f.ok()) {
+      problems->by_path.erase(path);
+      return std::move(f.bytes);
+    }
+    problems->by_path[path] = std::move(f.reason);
+    return std::nullopt;
+  };
+  r.problem = [problems](const std::string& path) -> std::string {
+    std::lock_guard<std::mutex> lock(problems->mutex);
+    auto it = problems->by_path.find(path);
+    return it == problems->by_path.end() ? std::string() : it->second;
+  };
+  return r;
 }
 
 namespace {

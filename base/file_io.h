@@ -1,22 +1,75 @@
-// Files on disk, for the clients of the library: the one reader (whole files as bytes) and
+// Files on disk, for the clients of the library: the one reader (whole regular files as
+// bytes, under a size cap, refusing FIFOs and devices without blocking on them) and
 // the one atomic writer (a temporary file next to the target, then a rename; whole or in
 // pieces), shared by the CLI's outputs, `nomec fmt -i`, the language server and the tests;
 // and the listing of a folder's file names, which the checker asks for (through
 // CheckOptions) to find the base scene of saved work. The front end itself never touches the disk.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "base/folder_listing.h"
+#include "base/input_limits.h"
 
 namespace nomec {
 
-/// Reads a whole file as bytes (no newline conversion); nullopt when it cannot be opened or
-/// read (e.g. a folder), with `errno` saying why.
+/// Why a read gave no bytes.
+enum class ReadRefusal : uint8_t {
+  None,        // read
+  CannotOpen,  // missing, no permission, … (the system's reason is in the message)
+  NotRegular,  // a folder, FIFO, device or socket: never read
+  TooLarge,    // more bytes than the cap
+  ReadFailed,  // an error while reading
+};
+
+/// A whole input read, or why it was not: `reason` is "" when read, else lowercase and
+/// without the path, e.g. "it is a character device, not a regular file", "it is 40.0 MiB,
+/// more than the 32.0 MiB nomec reads (`--max-file-size`)" or "no such file or directory";
+/// `error` is the message that names the path: "cannot read `/dev/zero`: it is a character
+/// device, not a regular file".
+struct FileRead {
+  std::string bytes;
+  std::string reason;
+  std::string error;
+  ReadRefusal refusal = ReadRefusal::None;
+  int error_number = 0;  // the system's reason (`errno`) for CannotOpen and ReadFailed
+  bool ok() const { return refusal == ReadRefusal::None; }
+};
+
+/// Reads a whole regular file as bytes (no newline conversion), at most `max_bytes` of them.
+/// Anything else is refused without blocking and without reading a byte: the path is looked
+/// at before it is opened, then opened with O_NONBLOCK and looked at again (fstat), so a FIFO
+/// (even one put in its place meanwhile) never waits for a writer and a device such as
+/// `/dev/zero` is never read. A file larger than the cap is refused before it is read, and a
+/// file whose size the system does not announce (/proc) or that grows while it is read is
+/// read only up to the cap. Symbolic links are followed. For every input nomec reads from a
+/// path (scenes, includes, base scenes, meshes, SLIDE's `source`).
+FileRead read_input_file(const std::string& path, int64_t max_bytes = kDefaultMaxFileBytes);
+
+/// Reads descriptor `fd` (standard input: a pipe or a terminal, which may block as the user
+/// means it to) to its end, at most `max_bytes` bytes; `shown` names it in messages.
+FileRead read_input_stream(int fd, std::string_view shown, int64_t max_bytes = kDefaultMaxFileBytes);
+
+/// `read_input_file` with the default cap, as an optional; nullopt when refused, with `errno`
+/// saying why (the system's reason when it cannot be opened, EISDIR for a folder, EINVAL for
+/// another file that is not regular, EFBIG for one larger than the cap).
 std::optional<std::string> read_file_bytes(const std::string& path);
+
+/// The readers of one check's inputs (its includes and base scene), for `CheckOptions`:
+/// `read` is `read_input_file` under `max_bytes` (nullopt when refused) and `problem` gives
+/// the `reason` it refused a path ("" if it did not), for the diagnostic at the `include`. Copies
+/// share what they remember; safe to use from several threads.
+struct InputReader {
+  std::function<std::optional<std::string>(const std::string& path)> read;
+  std::function<std::string(const std::string& path)> problem;
+};
+InputReader input_reader(int64_t max_bytes = kDefaultMaxFileBytes);
 
 /// Writes `content` to `path` through `path.tmp.XXXXXX` and a rename, so readers never see
 /// a half-written file and a failure leaves an existing file untouched. A file that exists

@@ -144,10 +144,11 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
     options.parsed = std::move(parsed);
     options.cancelled = std::move(cancelled);
     if (path) {
-      options.read_file = read_file_bytes;
-      options.read_beneath = [](const std::string& folder, const std::string& name) {
-        return read_file_beneath(folder, name);
-      };
+      // Includes and base scenes: regular files under the cap, never a FIFO or a device.
+      InputReader reader = input_reader();
+      options.read_file = std::move(reader.read);
+      options.read_problem = std::move(reader.problem);
+      options.read_beneath = [](const std::string& folder, const std::string& name) { return read_file_beneath(folder, name); };
       options.list_folder = list_folder;
     }
     const size_t bytes = text.size();
@@ -180,7 +181,9 @@ QuickDiagnostics ServerImpl::analyse_incrementally(const Analysis& from, const s
   if (basis == nullptr || !path || text.size() > options_.max_document_bytes) return q;
   CheckOptions options;
   options.dialect = options_.dialect;
-  options.read_file = read_file_bytes;
+  InputReader reader = input_reader();
+  options.read_file = std::move(reader.read);
+  options.read_problem = std::move(reader.problem);
   options.read_beneath = [](const std::string& folder, const std::string& name) { return read_file_beneath(folder, name); };
   options.list_folder = list_folder;
   auto sources = std::make_shared<SourceManager>();

@@ -1,8 +1,6 @@
 // `nomec FILE…`: checks each file and shows its diagnostics, then does what `--emit` or
 // `--what-if` asks for on a file without errors (see cli.h). Exit codes: 0 clean, 1 errors,
-// 2 usage or unreadable input.
-#include <cerrno>
-#include <cstring>
+// 2 usage or unreadable input (not a regular file or standard input, or past --max-file-size).
 #include <chrono>
 #include <fmt/format.h>
 #include <iostream>
@@ -76,11 +74,15 @@ int run_check_command(const Cli& cli) {
   int errors = 0;
   for (const std::string& path : cli.files) {
     inputs.assign(1, path);
-    std::optional<std::string> text = read_file_bytes(path);
-    if (!text) {
-      std::cerr << fmt::format("nomec: cannot read `{}`: {}\n", path, std::strerror(errno));
+    // A regular file under the cap: a FIFO or device is refused without waiting on it. The
+    // one stream read is standard input, named `-` or `/dev/stdin` (a pipe the user means).
+    FileRead input = path == "-" || path == "/dev/stdin" ? read_input_stream(STDIN_FILENO, path, cli.max_file_bytes)
+                                                         : read_input_file(path, cli.max_file_bytes);
+    if (!input.ok()) {
+      std::cerr << fmt::format("nomec: {}\n", input.error);
       return 2;
     }
+    std::optional<std::string> text = std::move(input.bytes);
     SourceManager sources;
     DiagnosticEngine diags;
     const auto start = std::chrono::steady_clock::now();

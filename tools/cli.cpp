@@ -79,7 +79,7 @@ void add_emit_options(CLI::App& app, Cli& cli) {
       ->check(CLI::Range(0, 12));
   app.add_flag("--time-report", cli.time_report, "Print the time of each stage to stderr");
   app.add_option("--max-vertices", cli.pipeline.max_vertices,
-                 "Most vertices evaluation may build (placed geometry and subdivisions); default 20000000")
+                 "Most vertices evaluation may build (placed geometry and subdivisions); default 1000000")
       ->check(CLI::Range(int64_t{1}, int64_t{2'000'000'000}));
   app.add_option("--what-if", cli.what_if,
                  "Move one slider (bank.param=value) after a full build and print, as JSON, what "
@@ -108,6 +108,11 @@ void add_check_options(CLI::App& app, Cli& cli) {
                  "Wall time in seconds a SLIDE file's Tcl may take in all (default 10)")
       ->check(CLI::Range(0.001, 86400.0));
   app.add_flag("-v,--verbose", cli.verbose, "Report the dialect used and summary counts");
+  app.add_option("--max-file-size", cli.max_file_bytes,
+                 "Most bytes read for one scene: a file, and a file with all it includes (each time) and its base "
+                 "scene; e.g. 16M (default 2M)")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
 }
 
 // The rules between options CLI11 cannot express; "" or the usage error.
@@ -162,8 +167,13 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   options.frame = cli.frame;
   options.tcl_milliseconds = static_cast<int>(std::lround(cli.tcl_seconds * 1000));
   if (!cli.base.empty()) options.base_file = cli.base;
-  options.read_file = read_file_bytes;
-  options.read_beneath = [](const std::string& folder, const std::string& name) { return read_file_beneath(folder, name); };
+  InputReader reader = input_reader(cli.max_file_bytes);
+  options.read_file = std::move(reader.read);
+  options.read_problem = std::move(reader.problem);
+  options.max_input_bytes = cli.max_file_bytes;
+  options.read_beneath = [max = static_cast<size_t>(cli.max_file_bytes)](const std::string& folder, const std::string& name) {
+    return read_file_beneath(folder, name, max);
+  };
   options.list_folder = list_folder;
   for (const std::string& d : cli.defines) {
     const auto eq = d.find('=');

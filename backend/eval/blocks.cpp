@@ -297,9 +297,11 @@ std::optional<BlockResult> run_block(Context& c, ir::NodeId pid, const std::stri
   Sink* const saved_sink = c.sink;
   c.sink = c.is_incremental ? &sink : nullptr;
   for (ir::NodeId k : c.m.children(p)) {
+    if (c.is_budget_exhausted) break;
     if (c.m.node(k).kind == ir::NodeKind::Instance) instance(c, k, glm::dmat4(1.0), std::nullopt, path, in, depth + 1);
   }
   c.sink = saved_sink;
+  if (c.is_budget_exhausted) return std::nullopt;  // reported where it ran out
   if (sink.is_deferred) {
     int32_t faces = in.soup.face_count();
     for (const EntryPart& part : sink.parts) faces += part.part->soup.face_count();
@@ -354,6 +356,10 @@ void block(Context& c, ir::NodeId pid, const Placing& at, Collected& out, int de
   }
   const std::shared_ptr<const BlockResult> res = it->second.value;
   if (!res) return;
+  // Each placement of the result is vertices placed, like a leaf's (the block runs once).
+  int64_t placed = 0;
+  for (const auto& part : res->parts) placed += static_cast<int64_t>(part->soup.positions.size());
+  if (!spend_vertices(c, placed, c.m.node(at.inst.is_valid() ? at.inst : pid).range, at.path)) return;
   const bool is_plain = !at.color && at.t == glm::dmat4(1.0);
   if (c.collects(out)) {
     const bool is_built = std::all_of(res->parts.begin(), res->parts.end(), [](const auto& part) { return part->built != nullptr; });

@@ -4,12 +4,15 @@
 // functions, one file each (listed below), in the manner of the checker.
 #pragma once
 
+#include <functional>
 #include <glm/mat4x4.hpp>
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "backend/eval/eval_cache.h"
@@ -113,6 +116,12 @@ class Context {
   int64_t vertex_limit = kDefaultMaxVertices;
   int64_t vertex_budget = kDefaultMaxVertices;
   bool is_budget_exhausted = false;
+  /// The plan (placement.cpp, `plan_fits`; each node's count is memoized in `cache.plans`):
+  /// the nodes being counted (a cycle counts nothing), each scene entry's count as last
+  /// planned, kept for entries an update reuses, and each mesh's vertex count (fixed by the IR).
+  std::vector<int32_t> planning;
+  std::unordered_map<int32_t, int64_t> entry_plans;
+  std::unordered_map<int32_t, int64_t> mesh_vertex_counts;
 
   DiagnosticEngine& diags() { return cache.recorder.diags(); }
   /// True if `out` is the faces of the entry or block being collected part by part.
@@ -166,6 +175,8 @@ std::optional<Generated> morph_visualizer(Context& c, ir::NodeId visualizer, std
 // ---- meshes.cpp: meshes and vertex positions ----
 /// Adds the faces of a mesh (or object / saved mesh) in its local frame, with its creases.
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out);
+/// The vertices `mesh` places for a mesh: one per distinct vertex its faces name (memoized).
+int64_t mesh_vertex_count(Context& c, ir::NodeId mesh_id);
 /// The soup of a flat mesh file: its vertices `v0…` and faces, in the file's frame.
 kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat);
 /// World position of a vertex reference (a point, or a vertex through instances).
@@ -185,8 +196,15 @@ bool is_off(Context& c, ir::OperandId lod);
 /// Appends the parts collected so far to the sink's faces and stops deferring.
 void make_eager(Context& c);
 /// Takes `vertices` from the evaluation's vertex budget for placing `path`; false (and one
-/// SceneTooLarge error at `at`) when the budget is exhausted.
+/// SceneTooLarge error at `at`) when the budget is exhausted. The walk stops once it is.
 bool spend_vertices(Context& c, int64_t vertices, SourceRange at, std::string_view path);
+/// Before anything is built: counts the vertices the scene entries `entries` would place
+/// (instances × the vertices of their leaves, at least one per leaf, from the module and
+/// the generators' meshes, memoized per node, so nested instancing costs the nodes, not the
+/// instances) against the vertex budget; false, with one SceneTooLarge error naming the
+/// chain of instances that multiplies, when they do not fit. Entries reused from the last
+/// evaluation (`reused`) keep their last count.
+bool plan_fits(Context& c, std::span<const ir::NodeId> entries, const std::function<bool(ir::NodeId)>& reused);
 
 // ---- highgenus.cpp: `handle`, `rind`, `sierpinski` and `menger` blocks ----
 /// True for the four high-genus block kinds.

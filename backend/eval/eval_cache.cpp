@@ -38,6 +38,7 @@ void EvalCache::invalidate(int32_t param) {
   drop(borders);
   drop(entries);
   drop(zippers);
+  drop(plans);
 }
 
 const std::vector<int32_t>& EvalCache::params_of(const ir::Module& m, ir::ExprId id) {

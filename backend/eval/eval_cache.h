@@ -95,6 +95,8 @@ struct EvalCache {
   std::map<std::string, Memo<InstanceBorders>> borders;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> entries;
   std::map<int32_t, Memo<std::shared_ptr<const OutputMesh>>> zippers;
+  /// The vertices placing each node would build (placement.cpp's plan), by node index.
+  std::unordered_map<int32_t, Memo<int64_t>> plans;
 
   /// Drops every value that read parameter `param` (or every tainted value when `param` < 0).
   void invalidate(int32_t param);

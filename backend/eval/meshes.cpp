@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <array>
 #include <map>
+#include <unordered_set>
 
 #include "backend/eval/context.h"
 
@@ -65,18 +66,24 @@ std::vector<ir::NodeId> faces_of(const ir::Module& m, ir::NodeId mesh_id) {
   return faces;
 }
 
+// What a vertex reference names, as a key: references with equal keys are one vertex.
+std::string vertex_key(const ir::VertexRef& ref) {
+  std::string key;
+  if (ref.point.is_valid()) {
+    key = fmt::format("p{}", ref.point.index);
+  } else {
+    for (ir::NodeId i : ref.instances) key += fmt::format("i{}.", i.index);
+    key += ref.vertex;
+  }
+  return key;
+}
+
 // A mesh's vertices as soup indices: each reference placed once (keyed by what it names).
 class VertexIndex {
  public:
   VertexIndex(Context& c, kernel::PolygonSoup& soup, const std::string& path) : c_(c), soup_(soup), path_(path) {}
   std::optional<int32_t> operator()(const ir::VertexRef& ref) {
-    std::string key;
-    if (ref.point.is_valid()) {
-      key = fmt::format("p{}", ref.point.index);
-    } else {
-      for (ir::NodeId i : ref.instances) key += fmt::format("i{}.", i.index);
-      key += ref.vertex;
-    }
+    std::string key = vertex_key(ref);
     if (auto it = index_.find(key); it != index_.end()) return it->second;
     std::optional<glm::dvec3> p = ref_position(c_, ref, path_);
     if (!p) return std::nullopt;
@@ -223,6 +230,19 @@ kernel::PolygonSoup flat_soup(const ir::FlatMeshData& flat) {
     soup.add_face(std::span<const int32_t>(g.corners.data() + b, static_cast<size_t>(e - b)));
   }
   return soup;
+}
+
+int64_t mesh_vertex_count(Context& c, ir::NodeId mesh_id) {
+  if (auto it = c.mesh_vertex_counts.find(mesh_id.index); it != c.mesh_vertex_counts.end()) return it->second;
+  std::unordered_set<std::string> keys;
+  for (ir::NodeId fid : faces_of(c.m, mesh_id)) {
+    std::span<const ir::VertexRef> vertices = c.m.refs(c.m.node(fid).as<ir::FaceData>().vertices);
+    if (vertices.size() < 3) continue;  // not placed (see `mesh`)
+    for (const ir::VertexRef& r : vertices) keys.insert(vertex_key(r));
+  }
+  const auto n = static_cast<int64_t>(keys.size());
+  c.mesh_vertex_counts.emplace(mesh_id.index, n);
+  return n;
 }
 
 void mesh(Context& c, ir::NodeId mesh_id, const Placing& at, Collected& out) {

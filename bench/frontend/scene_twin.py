@@ -195,7 +195,7 @@ def main():
     small_nome = os.path.join(folder, "one_line.nome")
     with open(small_nome, "w") as f:
         f.write("point p (0 0 0) endpoint\n")
-    t_n, rss_n, cpu_n, median_n = run([args.nomec, "--check", nome_path], args.repeat)
+    t_n, rss_n, cpu_n, median_n = run([args.nomec, "--check", "--max-file-size", str(nome_size), nome_path], args.repeat)
     _, startup_n, _, _ = run([args.nomec, "--check", small_nome], args.repeat)
     report("nomec --check", nome_size, t_n, rss_n, cpu_n, startup_n, median_n)
     clang = None

@@ -75,12 +75,14 @@ def main():
         path = os.path.join(d, "pipeline.nome")
         with open(path, "w") as f:
             f.write(scene(a.scale))
-        pipeline = ["--merge", "--subdivide", "2", "--offset", "0.05"]
+        # Scale 1 makes 1,010,880 vertices when subdivided, past the default --max-vertices.
+        limit = ["--max-vertices", str(20_000_000 * a.scale)]
+        pipeline = limit + ["--merge", "--subdivide", "2", "--offset", "0.05"]
         counts = {
             "parse+check": None,
-            "evaluate": faces(a.nomec, path, []),
-            "merge": faces(a.nomec, path, ["--merge"]),
-            "subdivide": faces(a.nomec, path, ["--merge", "--subdivide", "2"]),
+            "evaluate": faces(a.nomec, path, limit),
+            "merge": faces(a.nomec, path, limit + ["--merge"]),
+            "subdivide": faces(a.nomec, path, limit + ["--merge", "--subdivide", "2"]),
             "offset": faces(a.nomec, path, pipeline),
         }
         counts["write"] = counts["offset"]

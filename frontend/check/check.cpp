@@ -137,6 +137,7 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   }
   FileId file = sources.add_file(path, std::move(text));
   c.main_file = file;
+  c.input_bytes = static_cast<int64_t>(sources.text(file).size());  // against CheckOptions::max_input_bytes
   if (std::optional<ir::FlatFormat> format = flat::format_of_path(path)) {
     // A flat mesh file is a scene of that one mesh, instanced once (language.md §8).
     if (options.parsed) options.parsed();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "base/folder_listing.h"
+#include "base/input_limits.h"
 #include "frontend/ast/ast.h"
 #include "frontend/diagnostics/diagnostic.h"
 #include "ir/dialect.h"
@@ -21,6 +22,10 @@ namespace nomec {
 /// Reads an input file (the main file, `include`d files, `.anom` base files). Returns
 /// nullopt when the file cannot be read.
 using FileReader = std::function<std::optional<std::string>(const std::string& path)>;
+
+/// Why a `FileReader` read nothing for `path`, lowercase without the path ("it is a named
+/// pipe (FIFO), not a regular file"), or "" when it cannot say.
+using ReadProblem = std::function<std::string(const std::string& path)>;
 
 /// Lists a folder (its name and file names), to find the base scene of saved work next to
 /// it. May be empty: then only `CheckOptions::base_file` names one.
@@ -40,6 +45,13 @@ struct CheckOptions {
   /// link out of it): what SLIDE's Tcl `source`s and imports next to the scene. May be
   /// empty: then `read_file(folder + name)` (tests and fuzzers that read from memory).
   std::function<std::optional<std::string>(const std::string& folder, const std::string& name)> read_beneath;
+  ReadProblem read_problem;                                // may be empty: no reasons given
+  /// The most bytes one check reads (`--max-file-size`): the main file's text, every file
+  /// it includes (each time it is included, so a file that includes itself spends it) and
+  /// its base scene, together. Includes also stop at kMaxIncludeDepth levels and
+  /// kMaxIncludes files; the `include` that crosses a limit is one `IncludeLimit` error and
+  /// later ones are skipped.
+  int64_t max_input_bytes = kDefaultMaxFileBytes;
   FolderLister list_folder;                                // may be empty: no base search
   /// May be empty; called once the file's text is parsed (a flat mesh file's: before it is
   /// read), before its check begins (the language server then starts work that must not

@@ -199,8 +199,14 @@ std::string Context::clip(std::string_view t) {
 
 std::string Context::split_text(const ast::Ast& a, const ast::ParenList& list) const {
   if (list.elems.empty()) return "";
+  // At most the first 16 parts: a list of millions of numbers makes a message of a line.
+  constexpr size_t kShownParts = 16;
   std::vector<std::string> parts;
-  for (ast::ExprId e : list.elems) parts.push_back(fmt::format("`{}`", clip(sources_.text(a.expr(e).range))));
+  for (ast::ExprId e : list.elems) {
+    if (parts.size() == kShownParts) break;
+    parts.push_back(fmt::format("`{}`", clip(sources_.text(a.expr(e).range))));
+  }
+  if (list.elems.size() > kShownParts) parts.push_back(fmt::format("… ({} in all)", list.elems.size()));
   return fmt::format("; the list was read as: {}", fmt::join(parts, " | "));
 }
 

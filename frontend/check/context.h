@@ -202,6 +202,14 @@ class Context {
   // ---- progress ----
   int order = 0;  // index of the top-level statement being checked
   int include_depth = 0;
+  /// What the check has read (CheckOptions::max_input_bytes): bytes of the main file, its
+  /// includes and base scene; `include`s read (repeats counted); the files being included,
+  /// outermost first, for messages; whether a limit stopped an include (later ones are
+  /// skipped without another error).
+  int64_t input_bytes = 0;
+  int include_count = 0;
+  std::vector<std::string> include_chain;
+  bool is_include_limit_reached = false;
   bool reported_deep_expr = false;
   bool is_saved_work = false;
   bool is_jipcad = false;  // a NOME3 file with JIPCAD-only syntax (read in JIPCAD's tunnel order)

@@ -67,11 +67,13 @@ SourceRange path_range(Context& c, const ast::Item& it) {
 bool include_flat(Context& c, const std::string& path, const std::string& rel, const ast::Item& it) {
   std::optional<ir::FlatFormat> format = flat::format_of_path(path);
   if (!format) return false;
-  std::optional<std::string> text;
-  if (c.options().read_file) text = c.options().read_file(path);
-  if (!text) {
-    c.diags().emit(DiagKind::IncludeFailed, path_range(c, it),
-                   fmt::format("cannot read included mesh file `{}` (looked for `{}`)", rel, path));
+  IncludeRead read = read_include(c, path, rel, it);
+  if (!read.text) {
+    if (!read.is_stopped) {
+      c.diags().emit(DiagKind::IncludeFailed, path_range(c, it),
+                     fmt::format("cannot read included mesh file `{}` (looked for `{}`){}", rel, path,
+                                 read.problem.empty() ? "" : ": " + read.problem));
+    }
     // The mesh is still defined (empty), so its instances do not add errors of their own.
     const std::string name = stem_of(path);
     if (!c.scopes[static_cast<int>(Ns::Shape)].contains(name)) {
@@ -82,6 +84,7 @@ bool include_flat(Context& c, const std::string& path, const std::string& rel, c
     }
     return true;
   }
+  std::optional<std::string>& text = read.text;
   const std::string name = stem_of(path);
   const bool is_name = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
                        std::all_of(name.begin(), name.end(), [](char ch) {

@@ -135,6 +135,16 @@ ir::ExprId lower_function(Context& c, const ast::Ast& a, ast::ExprId raw, std::s
 /// file share it, so a run across a cut is reported once, as in the whole tree).
 void process(Context& c, const ast::Ast& a, int order_base, bool* in_stray_run = nullptr);
 ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);
+/// The file an `include` names, read through CheckOptions::read_file within the check's
+/// input limits: `text`, or nullopt with `problem` (the reader's reason, maybe "") for the
+/// caller to report; or `is_stopped` when a limit (depth, count, bytes) refused it — then one
+/// `IncludeLimit` error is reported at the first such `include` and later ones are skipped.
+struct IncludeRead {
+  std::optional<std::string> text;
+  std::string problem;
+  bool is_stopped = false;
+};
+IncludeRead read_include(Context& c, const std::string& path, const std::string& rel, const ast::Item& it);
 
 // ---- meshes.cpp: points, faces, polylines, objects, meshes, sharps, deletes, saved work ----
 ir::NodeId handle_surface(Context& c, const ast::Ast& a, const ast::Stmt& s, const Ctx& ctx);

@@ -4,6 +4,10 @@
 // once every instance is known.
 #include <fmt/format.h>
 
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
+
 #include "frontend/check/handlers.h"
 
 namespace nomec::check {
@@ -53,10 +57,9 @@ void slide_repeated_vertices(Context& c, ir::NodeId face, SourceRange where) {
     if (vs[i].text != vs[(i + vs.size() - 1) % vs.size()].text) kept.push_back(vs[i]);
   }
   if (kept.empty()) kept.push_back(vs[0]);  // every vertex the same
+  std::unordered_set<std::string_view> seen;
   bool again = false;
-  for (size_t i = 0; i < kept.size(); ++i) {
-    for (size_t j = i + 1; j < kept.size(); ++j) again = again || kept[i].text == kept[j].text;
-  }
+  for (const ir::VertexRef& v : kept) again = again || !seen.insert(v.text).second;
   if (kept.size() == vs.size() && !again) return;
   std::string written;
   for (const ir::VertexRef& v : vs) written += (written.empty() ? "" : " ") + v.text;
@@ -99,14 +102,18 @@ void check_face_vertices(Context& c, ir::NodeId face, SourceRange at, SourceRang
     slide_repeated_vertices(c, face, list_range.is_valid() ? list_range : at);
     return;
   }
-  for (size_t i = 0; i < vs.size(); ++i) {
-    for (size_t j = i + 1; j < vs.size(); ++j) {
-      if (vs[i].text == vs[j].text) {
-        c.diags()
-            .emit(DiagKind::FaceRepeatedVertex, vs[j].range, fmt::format("vertex `{}` appears twice in this face", vs[j].text))
-            .note(vs[i].range, "first use is here");
-      }
-    }
+  // Each repeat against the vertex's first use, in one pass: a face of millions of
+  // repeats (a hostile file) costs linear time and at most kShownRepeats errors.
+  constexpr int kShownRepeats = 10;
+  std::unordered_map<std::string_view, size_t> first_use;
+  int repeats = 0;
+  for (size_t j = 0; j < vs.size(); ++j) {
+    auto [it, is_first] = first_use.try_emplace(vs[j].text, j);
+    if (is_first || ++repeats > kShownRepeats) continue;
+    auto d = c.diags().emit(DiagKind::FaceRepeatedVertex, vs[j].range,
+                            fmt::format("vertex `{}` appears twice in this face", vs[j].text));
+    d.note(vs[it->second].range, "first use is here");
+    if (repeats == kShownRepeats) d.note(SourceRange{}, "further repeats in this face are not reported one by one");
   }
 }
 

@@ -12,10 +12,14 @@
 //      when no sibling qualifies (the saved work names stale sliders), the same tie-break
 //      picks among the scenes.
 // With no base the saved work is checked alone and stays silent about names of the scene.
+// A candidate is read only while the most it can score (known from its kind and the saved
+// names alone) can still reach the best score read, so a mesh that cannot qualify is never
+// parsed; the base scene read counts against the check's input bytes (--max-file-size).
 #include <algorithm>
 #include <fmt/format.h>
 #include <set>
 
+#include "base/input_limits.h"
 #include "frontend/check/handlers.h"
 #include "frontend/flat/flat.h"
 #include "frontend/parse/parse.h"
@@ -89,6 +93,12 @@ int score_flat(SourceManager& scratch_sources, const std::string& path, std::str
                                         [&](const std::string& v) { return d.vertex_index(v) >= 0; }));
 }
 
+// Could `name` be a vertex of some flat mesh (`v0`, `v17`; FlatMeshData::vertex_index)?
+bool is_flat_vertex_name(std::string_view name) {
+  return name.size() >= 2 && name.size() <= 11 && name[0] == 'v' && (name.size() == 2 || name[1] != '0') &&
+         std::all_of(name.begin() + 1, name.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+}
+
 std::optional<std::string> find_base(const std::string& path, const CheckOptions& options, const ast::Ast& saved) {
   if (options.base_file) return options.base_file;
   if (!options.list_folder || !options.read_file) return std::nullopt;
@@ -98,35 +108,64 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
   if (!listing) return std::nullopt;
   auto full = [&](const std::string& name) { return (dir.empty() ? std::string(".") : dir) + "/" + name; };
   const SavedNeeds needs = needs_of(saved);
-  int best = -1;
-  std::vector<std::string> tied;
+  // The candidates with the most a file can score, known from its kind alone: a scene every
+  // saved vertex name, a flat mesh only the `v<k>` names, and nothing when sliders are
+  // saved (it has none). They are read best bound first, and only while their bound can
+  // still reach the best score read: a mesh beside saved work that sets sliders is never
+  // read, nor one that no saved name can name.
+  struct Candidate {
+    size_t order;  // in the listing (sorted by name), for the tie-break
+    bool is_flat;
+    int bound;
+  };
+  const int flat_bound = needs.params.empty() ? static_cast<int>(std::count_if(needs.vertices.begin(), needs.vertices.end(),
+                                                                              [](const std::string& v) { return is_flat_vertex_name(v); }))
+                                              : -1;
+  std::vector<Candidate> candidates;
   std::vector<std::string> scenes;  // every `.nom`/`.nome`, for the fallback
-  for (const std::string& f : listing->files) {
+  for (size_t i = 0; i < listing->files.size(); ++i) {
+    const std::string& f = listing->files[i];
     if (is_base_scene_path(f)) scenes.push_back(f);
     const bool is_flat = flat::format_of_path(f).has_value();
     if (!is_base_scene_path(f) && !is_flat) continue;
-    std::optional<std::string> text = options.read_file(full(f));
-    if (!text) continue;
-    SourceManager scratch_sources;
-    int score = -1;
-    if (is_flat) {
-      score = score_flat(scratch_sources, full(f), std::move(*text), needs);
+    const int bound = is_flat ? flat_bound : static_cast<int>(needs.vertices.size());
+    if (bound >= 0) candidates.push_back(Candidate{i, is_flat, bound});
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.bound > b.bound; });
+  int best = -1;
+  std::vector<size_t> tied;
+  for (const Candidate& cand : candidates) {
+    if (cand.bound < best) break;  // neither it nor any after it can reach the best
+    const std::string& f = listing->files[cand.order];
+    int score = 0;
+    if (cand.bound == 0 && needs.params.empty()) {
+      score = 0;  // asked for no slider, and no saved name can resolve in it: 0 whatever it holds
     } else {
-      DiagnosticEngine scratch;
-      FileId id = scratch_sources.add_file(full(f), std::move(*text));
-      score = score_scene(parse_file(scratch_sources, id, scratch), needs);
+      std::optional<std::string> text = options.read_file(full(f));
+      if (!text) continue;
+      SourceManager scratch_sources;
+      if (cand.is_flat) {
+        score = score_flat(scratch_sources, full(f), std::move(*text), needs);
+      } else {
+        DiagnosticEngine scratch;
+        FileId id = scratch_sources.add_file(full(f), std::move(*text));
+        score = score_scene(parse_file(scratch_sources, id, scratch), needs);
+      }
     }
     if (score < 0 || score < best) continue;
     if (score > best) tied.clear();
     best = score;
-    tied.push_back(f);
+    tied.push_back(cand.order);
   }
+  std::sort(tied.begin(), tied.end());
+  std::vector<std::string> chosen;
+  for (size_t i : tied) chosen.push_back(listing->files[i]);
   // No sibling defines every saved slider (some are stale): the scenes are the candidates.
-  if (tied.empty()) tied = scenes;
-  for (const std::string& c : tied) {
+  if (chosen.empty()) chosen = scenes;
+  for (const std::string& c : chosen) {
     if (c.substr(0, c.size() - path_extension(c).size()) == listing->name) return full(c);
   }
-  if (tied.size() == 1) return full(tied[0]);
+  if (chosen.size() == 1) return full(chosen[0]);
   return std::nullopt;
 }
 
@@ -135,15 +174,25 @@ std::optional<std::string> find_base(const std::string& path, const CheckOptions
 std::unique_ptr<ast::Ast> load_base(Context& c, const std::string& path, const ast::Ast& saved, CheckResult& result) {
   c.is_saved_work = true;
   std::optional<std::string> base = find_base(path, c.options(), saved);
-  std::optional<std::string> base_text;
-  if (base && c.options().read_file) base_text = c.options().read_file(*base);
+  std::optional<std::string> base_text = base && c.options().read_file ? c.options().read_file(*base) : std::nullopt;
+  std::string problem;
+  if (base && !base_text && c.options().read_problem) problem = c.options().read_problem(*base);
+  // The base scene's text counts with the saved work's against CheckOptions::max_input_bytes.
+  const int64_t total = c.input_bytes + (base_text ? static_cast<int64_t>(base_text->size()) : 0);
+  if (base_text && total > c.options().max_input_bytes) {
+    problem = fmt::format("with it the scene's text would be {}, more than the {} nomec reads (`--max-file-size`)",
+                          byte_size_text(total), byte_size_text(c.options().max_input_bytes));
+    base_text.reset();
+  }
   if (!base_text) {
     c.diags().emit(DiagKind::MissingBaseFile, SourceRange{saved.file, 0, 0},
-                   base ? fmt::format("cannot read the base scene `{}`: the saved work's vertices cannot be resolved", *base)
+                   base ? fmt::format("cannot read the base scene `{}`{}: the saved work's vertices cannot be resolved", *base,
+                                      problem.empty() ? "" : " (" + problem + ")")
                         : "saved-work file without its base scene: its instance vertices cannot be resolved; pass `--base "
                           "SCENE.nom` (or the `.sif` it was saved over)");
     return nullptr;
   }
+  c.input_bytes = total;
   FileId bf = c.sources().add_file(*base, std::move(*base_text));
   result.base_file = *base;
   c.base_loaded = true;

@@ -1,11 +1,13 @@
 // Top-level statements and dispatch (see handlers.h): each statement goes to the handler of
 // its kind (a `switch` over block_kinds.def, compiled with -Wswitch); stray words and values
 // at the top level are explained; `include "file.slf"` is read, declared and checked in
-// place (an included file sees every definition of the including file: SLIDE binds late);
+// place (an included file sees every definition of the including file: SLIDE binds late),
+// within the check's input limits (depth, count and bytes, a repeat counting again);
 // `include "file.sif"` (also `.obj`, `.stl`) defines a mesh (flat_meshes.cpp).
 #include <algorithm>
 #include <fmt/format.h>
 
+#include "base/input_limits.h"
 #include "frontend/check/handlers.h"
 #include "frontend/parse/parse.h"
 
@@ -56,22 +58,20 @@ void handle_include(Context& c, const ast::Ast& a, const ast::Item& it) {
     c.diags().emit(DiagKind::IncludeFailed, it.range, "`include` needs a file name in quotes, e.g. `include \"viewing.slf\"`");
     return;
   }
-  if (c.include_depth >= 16) {
-    c.diags().emit(DiagKind::IncludeFailed, it.range,
-                   fmt::format("`include \"{}\"` nests more than 16 files deep; does a file include itself?", rel));
-    return;
-  }
   if (include_flat(c, path, rel, it)) return;  // `.sif`, `.obj`, `.stl`: a mesh
-  std::optional<std::string> text;
-  if (c.options().read_file) text = c.options().read_file(path);
-  if (!text) {
-    c.diags().emit(DiagKind::IncludeFailed, it.range, fmt::format("cannot read included file `{}` (looked for `{}`)", rel, path));
+  IncludeRead read = read_include(c, path, rel, it);
+  if (read.is_stopped) return;
+  if (!read.text) {
+    c.diags().emit(DiagKind::IncludeFailed, it.range,
+                   fmt::format("cannot read included file `{}` (looked for `{}`){}", rel, path,
+                               read.problem.empty() ? "" : ": " + read.problem));
     return;
   }
-  FileId f = c.sources().add_file(path, std::move(*text));
+  FileId f = c.sources().add_file(path, std::move(*read.text));
   c.owned_asts.push_back(std::make_unique<ast::Ast>(parse_file(c.sources(), f, c.diags())));
   const ast::Ast& inc = *c.owned_asts.back();
   ++c.include_depth;
+  c.include_chain.push_back(rel);
   collect_tcl(c, inc);
   collect_banks(c, inc);
   // An included file sees every definition of the including file (SLIDE binds late).
@@ -80,6 +80,7 @@ void handle_include(Context& c, const ast::Ast& a, const ast::Item& it) {
   const int saved_order = c.order;
   process(c, inc, base_order);
   c.order = saved_order;
+  c.include_chain.pop_back();
   --c.include_depth;
 }
 
@@ -219,6 +220,54 @@ ir::NodeId handle_stmt(Context& c, const ast::Ast& a, const ast::Stmt& s, const 
     case BlockKind::Generator: return handle_generator(c, a, s, ctx);
   }
   return ir::NodeId::None();
+}
+
+IncludeRead read_include(Context& c, const std::string& path, const std::string& rel, const ast::Item& it) {
+  IncludeRead r;
+  if (c.is_include_limit_reached) {
+    r.is_stopped = true;
+    return r;
+  }
+  // The files that include this one, outermost first: `scene.slf → a.slf → b.slf`.
+  auto chain = [&] {
+    const std::string_view main = c.sources().name(c.main_file);
+    std::string out(main.substr(main.find_last_of('/') + 1));
+    for (const std::string& f : c.include_chain) out += " → " + f;
+    return out + " → " + rel;
+  };
+  auto stop = [&](const std::string& message, std::string_view hint) {
+    c.is_include_limit_reached = true;
+    r.is_stopped = true;
+    c.diags().emit(DiagKind::IncludeLimit, it.range, message).note(SourceRange{}, std::string(hint));
+  };
+  if (c.include_depth >= kMaxIncludeDepth) {
+    stop(fmt::format("`include \"{}\"` nests more than {} files deep: {}", rel, kMaxIncludeDepth, chain()),
+         "does a file include itself? nomec reads no include after this one");
+    return r;
+  }
+  if (c.include_count >= kMaxIncludes) {
+    stop(fmt::format("`include \"{}\"` is one more than the {} includes nomec reads for one scene, repeats counted: {}", rel,
+                     kMaxIncludes, chain()),
+         "does a file include itself, or include a file many times? nomec reads no include after this one");
+    return r;
+  }
+  ++c.include_count;
+  if (c.options().read_file) r.text = c.options().read_file(path);
+  if (!r.text) {
+    if (c.options().read_problem) r.problem = c.options().read_problem(path);
+    return r;
+  }
+  const int64_t total = c.input_bytes + static_cast<int64_t>(r.text->size());
+  if (total > c.options().max_input_bytes) {
+    r.text.reset();
+    stop(fmt::format("`include \"{}\"` brings the scene's text to {}, more than the {} nomec reads "
+                     "(`--max-file-size`): {}",
+                     rel, byte_size_text(total), byte_size_text(c.options().max_input_bytes), chain()),
+         "a file included again is read again and counts again; nomec reads no include after this one");
+    return r;
+  }
+  c.input_bytes = total;
+  return r;
 }
 
 }  // namespace nomec::check

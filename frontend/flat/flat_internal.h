@@ -1,11 +1,14 @@
-// Helpers the flat-file readers share (frontend/flat only): strict number parsing and
-// adding a face with the check every format needs (a face whose vertices repeat once welded
-// is dropped with a warning).
+// Helpers the flat-file readers share (frontend/flat only): strict number parsing, adding
+// a face with the check every format needs (a face whose vertices repeat once welded is
+// dropped with a warning), and `.sif`'s weld of nearby points.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "frontend/flat/flat.h"
 
@@ -25,5 +28,18 @@ bool add_face(ir::FlatGeometry& g, std::span<const int32_t> vertices, SourceRang
               DiagnosticEngine& diags, int& dropped);
 /// After a file: one warning for the dropped faces not reported one by one.
 void report_dropped(int dropped, FileId file, DiagnosticEngine& diags);
+
+/// Points welded within a distance (`.sif`, sif.cpp): `map[i]` is the survivor point `i`
+/// went into, `survivors` their positions in order; `comparisons` counts the distances
+/// measured (tests hold the weld to O(n log n) with it).
+struct Weld {
+  std::vector<int32_t> map;
+  std::vector<std::array<double, 3>> survivors;
+  int64_t comparisons = 0;
+};
+/// Each point goes into the earliest survivor at most `distance` (< 2^-9) away, or
+/// survives itself; a point with `apart[i]` set (a misread vertex) or a non-finite
+/// coordinate survives without being compared. O(n log n) for any coordinates.
+Weld weld_points(std::span<const std::array<double, 3>> points, std::span<const uint8_t> apart, double distance);
 
 }  // namespace nomec::flat::detail

@@ -2,7 +2,8 @@
 // an earlier vertex at most 0.001 away across all shells, the survivors named `v0, v1, …`
 // in order; `(t a b c)` triangles with 0-based indices local to their shell, offset by the
 // declared `(vertices N)` counts of the earlier shells; `(* … *)` comments, nesting; any
-// number of shells, one mesh; triangles kept as triangles.
+// number of shells, one mesh; triangles kept as triangles. The weld is O(n log n) at any
+// coordinate magnitude (`detail::weld_points`, at the end).
 //
 // The file is read as nested parenthesised lists with an explicit stack (no recursion, so
 // no input can exhaust the call stack); a list is interpreted when it closes, by its first
@@ -10,12 +11,12 @@
 // the others.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <fmt/format.h>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "frontend/flat/flat_internal.h"
@@ -232,48 +233,13 @@ class SifReader {
     }
   }
 
-  // Welds the vertices (an earlier survivor at most 0.001 away takes a vertex in) and maps
-  // the triangles onto the survivors.
+  // Welds the vertices (`detail::weld_points`) and maps the triangles onto the survivors.
   std::shared_ptr<const ir::FlatGeometry> build() {
     auto g = std::make_shared<ir::FlatGeometry>();
-    const double d = kSifWeldDistance;
-    auto cell = [d](double x) { return static_cast<int64_t>(std::clamp(std::floor(x / d), -4e15, 4e15)); };
-    struct KeyHash {
-      size_t operator()(const std::array<int64_t, 3>& k) const {
-        return std::hash<int64_t>()(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791);
-      }
-    };
-    std::unordered_map<std::array<int64_t, 3>, std::vector<int32_t>, KeyHash> grid;
-    std::vector<int32_t> map(raw_.size());
-    for (size_t i = 0; i < raw_.size(); ++i) {
-      const std::array<double, 3>& p = raw_[i];
-      const std::array<int64_t, 3> c{cell(p[0]), cell(p[1]), cell(p[2])};
-      int32_t found = -1;
-      if (bad_[i] != 0) {  // misread (reported): kept apart, its triangles left out
-        map[i] = static_cast<int32_t>(g->positions.size());
-        g->positions.push_back(p);
-        continue;
-      }
-      for (int64_t dx = -1; dx <= 1; ++dx) {
-        for (int64_t dy = -1; dy <= 1; ++dy) {
-          for (int64_t dz = -1; dz <= 1; ++dz) {
-            auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-            if (it == grid.end()) continue;
-            for (int32_t s : it->second) {
-              const std::array<double, 3>& q = g->positions[static_cast<size_t>(s)];
-              const double dist2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
-              if (dist2 <= d * d && (found < 0 || s < found)) found = s;
-            }
-          }
-        }
-      }
-      if (found < 0) {
-        found = static_cast<int32_t>(g->positions.size());
-        g->positions.push_back(p);
-        grid[c].push_back(found);
-      }
-      map[i] = found;
-    }
+    static_assert(kSifWeldDistance < 1.0 / 512, "the weld grid's cells are 2^-9 wide");
+    detail::Weld weld = detail::weld_points(raw_, bad_, kSifWeldDistance);
+    g->positions = std::move(weld.survivors);
+    const std::vector<int32_t>& map = weld.map;
     int dropped = 0;
     std::vector<int32_t> faces;  // the triangles kept, three vertices each
     for (const Triangle& t : triangles_) {
@@ -344,5 +310,92 @@ std::shared_ptr<const ir::FlatGeometry> read_sif(const SourceManager& sources, F
                                                  const ReadOptions& options) {
   return SifReader(sources, file, diags, options).run();
 }
+
+namespace detail {
+
+namespace {
+
+// The weld grid's cell of coordinate `x` (finite) along one axis. Cells are 2^-9 wide, more
+// than the weld distance, so a vertex within it lies in the same or a neighbouring cell in
+// each axis. Below 2^43 in magnitude the cell is floor(x · 512) (exact: a power of two);
+// beyond, doubles are 2^-9 or more apart, so only equal coordinates weld, and each double
+// is a cell of its own, numbered by its rank from 2^43 outwards (the bits of a positive
+// double grow with it) and placed right after the last cell below, so that no two far
+// coordinates share a cell however large they are and the cells around ±2^43 stay
+// neighbours. Every value fits an int64_t with room for ±1.
+int64_t weld_cell(double x) {
+  constexpr double kExact = 8796093022208.0;  // 2^43
+  if (x > -kExact && x < kExact) return static_cast<int64_t>(std::floor(x * 512));  // within ±2^52
+  const int64_t rank = static_cast<int64_t>(std::bit_cast<uint64_t>(std::fabs(x)) - std::bit_cast<uint64_t>(kExact));
+  constexpr int64_t kEdge = int64_t{1} << 52;
+  return x > 0 ? kEdge + rank : -kEdge - 1 - rank;
+}
+
+}  // namespace
+
+// Survivors are looked up in a grid of cells (see `weld_cell`) wider than the distance,
+// numbered by sorting, not hashing, so no choice of coordinates makes many points share a
+// bucket; survivors are more than the distance apart, so a cell holds a bounded number of
+// them (a few dozen at most: a cell is 2^-9 wide), and the weld is
+// O(n log n) at any coordinate magnitude.
+Weld weld_points(std::span<const std::array<double, 3>> points, std::span<const uint8_t> apart, double distance) {
+  Weld w;
+  using Cell = std::array<int64_t, 3>;
+  auto cell_of = [](const std::array<double, 3>& p) { return Cell{weld_cell(p[0]), weld_cell(p[1]), weld_cell(p[2])}; };
+  auto is_welded = [&](size_t i) {
+    return (i >= apart.size() || apart[i] == 0) && std::isfinite(points[i][0]) && std::isfinite(points[i][1]) &&
+           std::isfinite(points[i][2]);
+  };
+  // The occupied cells, sorted.
+  std::vector<Cell> cells;
+  cells.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (is_welded(i)) cells.push_back(cell_of(points[i]));
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  auto find_cell = [&](const Cell& k) { return std::lower_bound(cells.begin(), cells.end(), k); };
+  // The survivors of each cell as a list: the cell's first, then each one's next.
+  std::vector<int32_t> first(cells.size(), -1);
+  std::vector<int32_t> next;  // by survivor; -1 ends a list
+  w.map.resize(points.size());
+  const double d2 = distance * distance;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const std::array<double, 3>& p = points[i];
+    int32_t found = -1;
+    if (is_welded(i)) {
+      const Cell c = cell_of(p);
+      // The cells (x+dx, y+dy, z-1 … z+1) are consecutive in the sorted order.
+      for (int64_t dx = -1; dx <= 1; ++dx) {
+        for (int64_t dy = -1; dy <= 1; ++dy) {
+          const Cell last{c[0] + dx, c[1] + dy, c[2] + 1};
+          for (auto it = find_cell(Cell{c[0] + dx, c[1] + dy, c[2] - 1}); it != cells.end() && *it <= last; ++it) {
+            for (int32_t s = first[static_cast<size_t>(it - cells.begin())]; s >= 0; s = next[static_cast<size_t>(s)]) {
+              const std::array<double, 3>& q = w.survivors[static_cast<size_t>(s)];
+              ++w.comparisons;
+              const double dist2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+              if (dist2 <= d2 && (found < 0 || s < found)) found = s;
+            }
+          }
+        }
+      }
+      if (found < 0) {
+        found = static_cast<int32_t>(w.survivors.size());
+        w.survivors.push_back(p);
+        int32_t& head = first[static_cast<size_t>(find_cell(c) - cells.begin())];
+        next.push_back(head);
+        head = found;
+      }
+    } else {  // kept apart: a survivor of its own, never a candidate
+      found = static_cast<int32_t>(w.survivors.size());
+      w.survivors.push_back(p);
+      next.push_back(-1);
+    }
+    w.map[i] = found;
+  }
+  return w;
+}
+
+}  // namespace detail
 
 }  // namespace nomec::flat

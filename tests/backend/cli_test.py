@@ -41,8 +41,8 @@ def check(cond, what):
         print(f"FAIL: {what}")
 
 
-def run(nomec, args, cwd=None):
-    p = subprocess.run([nomec, "--color", "never"] + args, cwd=cwd, capture_output=True)
+def run(nomec, args, cwd=None, timeout=None):
+    p = subprocess.run([nomec, "--color", "never"] + args, cwd=cwd, capture_output=True, timeout=timeout)
     return p.returncode, p.stdout, p.stderr.decode("utf-8", "replace")
 
 
@@ -155,12 +155,23 @@ def case_outputs(nomec, _admesh, _corpus):
     check(code == 2, "--subdivide 13 is a usage error")
 
     # An input that cannot be read exits 2 and says why (a folder was once read as an empty
-    # scene and passed); a pipe is read to its end.
+    # scene and passed); standard input is read to its end. A FIFO or a device is refused
+    # without waiting on it or reading it (issue 45), and so is a file past --max-file-size.
     with tempfile.TemporaryDirectory() as tmp:
-        for args, reason in ((["--check", tmp], "Is a directory"),
-                             (["--check", os.path.join(tmp, "missing.nome")], "No such file or directory"),
-                             (["--emit", "stl", "-o", os.path.join(tmp, "x.stl"), tmp], "Is a directory")):
-            code, _, err = run(nomec, args)
+        fifo = os.path.join(tmp, "pipe.nome")
+        os.mkfifo(fifo)
+        for args, reason in ((["--check", tmp], "it is a folder, not a regular file"),
+                             (["--check", os.path.join(tmp, "missing.nome")], "no such file or directory"),
+                             (["--emit", "stl", "-o", os.path.join(tmp, "x.stl"), tmp], "it is a folder, not a regular file"),
+                             (["--check", fifo], "it is a named pipe (FIFO), not a regular file"),
+                             (["--check", "/dev/zero"], "it is a character device, not a regular file"),
+                             (["--check", "--max-file-size", "100", cube],
+                              f"it is {os.path.getsize(cube) / 1024:.1f} KiB, more than the 100 bytes nomec reads "
+                              "(`--max-file-size`)")):
+            try:
+                code, _, err = run(nomec, args, timeout=60)
+            except subprocess.TimeoutExpired:
+                code, err = None, "timed out"
             check(code == 2 and f"cannot read `{args[-1]}`: {reason}" in err,
                   f"{args} exits 2 and says `{reason}` (exit {code}: {err})")
         fmt = subprocess.run([nomec, "fmt", tmp], capture_output=True, text=True)

@@ -1,10 +1,12 @@
-// The one file reader (base/file_io.h): every byte of a file of any size, files whose size
-// the system does not announce (a pipe, /proc), and a refusal with the reason for what is
-// not a readable file (a folder, a missing path).
+// The one file reader (base/file_io.h): every byte of a regular file, files whose size the
+// system does not announce (/proc), and a refusal with the reason for what is not a regular
+// file (a folder, a FIFO, a device, a missing path) or is larger than the cap, without
+// blocking on it or reading it; standard input read to its end within the cap.
 #include <gtest/gtest.h>
 
 #include <cerrno>
 #include <cstdio>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -64,32 +66,105 @@ TEST_F(FileIoTest, ReadsAFileOfUnannouncedSize) {
   EXPECT_NE(status->find("VmRSS:"), std::string::npos);
 }
 
-// A pipe gives its bytes as the writer writes them: everything it wrote is read.
-TEST_F(FileIoTest, ReadsAPipeToItsEnd) {
-  const std::string path = (dir_ / "fifo").string();
-  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+// A FIFO is refused without waiting for a writer (it once blocked `include` forever), and
+// a device without reading it (`/dev/zero` once grew a string to 2 GB), also behind a
+// symbolic link; the error says what the path is.
+TEST_F(FileIoTest, RefusesAFifoAndADeviceWithoutReadingThem) {
+  const std::string fifo = (dir_ / "fifo.nome").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path to_zero = dir_ / "zero.nome";
+  fs::create_symlink("/dev/zero", to_zero);
+  const fs::path to_fifo = dir_ / "to_fifo.nome";
+  fs::create_symlink(fifo, to_fifo);
+  for (const auto& [path, what] : std::vector<std::pair<std::string, std::string>>{
+           {fifo, "a named pipe (FIFO)"},
+           {"/dev/zero", "a character device"},
+           {to_zero.string(), "a character device"},
+           {to_fifo.string(), "a named pipe (FIFO)"},
+           {dir_.string(), "a folder"}}) {
+    const FileRead r = read_input_file(path);
+    EXPECT_EQ(r.refusal, ReadRefusal::NotRegular) << path;
+    EXPECT_EQ(r.error, "cannot read `" + path + "`: it is " + what + ", not a regular file");
+    EXPECT_TRUE(r.bytes.empty());
+  }
+  errno = 0;
+  EXPECT_FALSE(read_file_bytes(fifo).has_value());
+  EXPECT_EQ(errno, EINVAL);
+}
+
+// A file larger than the cap is refused before a byte is read (a sparse file of 3 GiB takes
+// no disk), one at the cap is read, and a file whose size is not announced (/proc) is read
+// only up to the cap.
+TEST_F(FileIoTest, RefusesAFileLargerThanTheCap) {
+  const std::string huge = (dir_ / "huge.stl").string();
+  {
+    std::ofstream(huge, std::ios::binary).put('x');
+  }
+  fs::resize_file(huge, std::uintmax_t{3} << 30);
+  FileRead r = read_input_file(huge);
+  EXPECT_EQ(r.refusal, ReadRefusal::TooLarge);
+  EXPECT_EQ(r.error, "cannot read `" + huge + "`: it is 3.0 GiB, more than the " + byte_size_text(kDefaultMaxFileBytes) +
+                         " nomec reads (`--max-file-size`)");
+  errno = 0;
+  EXPECT_FALSE(read_file_bytes(huge).has_value());
+  EXPECT_EQ(errno, EFBIG);
+
+  const std::string ten = write("ten.nome", "0123456789");
+  EXPECT_EQ(read_input_file(ten, 10).bytes, "0123456789");
+  EXPECT_EQ(read_input_file(ten, 9).refusal, ReadRefusal::TooLarge);
+
+  r = read_input_file("/proc/self/status", 16);
+  EXPECT_EQ(r.refusal, ReadRefusal::TooLarge);
+  EXPECT_EQ(r.reason, "it holds more than the 16 bytes nomec reads (`--max-file-size`)");
+}
+
+// Standard input is the one stream read (`nomec -`): a pipe to its end, within the cap.
+TEST_F(FileIoTest, ReadsAStreamToItsEndWithinTheCap) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
   std::string bytes;
   for (int i = 0; i < 20000; ++i) bytes += "point p" + std::to_string(i) + " (0 0 0) endpoint\n";
   std::thread writer([&] {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    ASSERT_NE(f, nullptr);
     for (size_t at = 0; at < bytes.size(); at += 1000) {
-      std::fwrite(bytes.data() + at, 1, std::min<size_t>(1000, bytes.size() - at), f);
-      std::fflush(f);
+      ASSERT_GT(::write(fds[1], bytes.data() + at, std::min<size_t>(1000, bytes.size() - at)), 0);
     }
-    std::fclose(f);
+    ::close(fds[1]);
   });
-  const std::optional<std::string> read = read_file_bytes(path);
+  const FileRead r = read_input_stream(fds[0], "standard input");
   writer.join();
-  ASSERT_TRUE(read.has_value());
-  EXPECT_EQ(read->size(), bytes.size());
-  EXPECT_TRUE(*read == bytes);
+  ::close(fds[0]);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(r.bytes == bytes);
+
+  // An endless stream stops at the cap.
+  const int zero = ::open("/dev/zero", O_RDONLY);
+  ASSERT_GE(zero, 0);
+  const FileRead endless = read_input_stream(zero, "-", 1 << 20);
+  ::close(zero);
+  EXPECT_EQ(endless.refusal, ReadRefusal::TooLarge);
+  EXPECT_EQ(endless.error, "cannot read `-`: it holds more than the 1.0 MiB nomec reads (`--max-file-size`)");
+}
+
+// The checker's reader remembers why it refused a path, for the diagnostic at the include.
+TEST_F(FileIoTest, InputReaderSaysWhyItRefused) {
+  const InputReader reader = input_reader(4);
+  const std::string ok = write("ok.slf", "1234");
+  const std::string big = write("big.slf", "12345");
+  EXPECT_EQ(reader.read(ok), std::optional<std::string>("1234"));
+  EXPECT_EQ(reader.problem(ok), "");
+  EXPECT_FALSE(reader.read(big).has_value());
+  EXPECT_EQ(reader.problem(big), "it is 5 bytes, more than the 4 bytes nomec reads (`--max-file-size`)");
+  EXPECT_FALSE(reader.read("/dev/zero").has_value());
+  EXPECT_EQ(reader.problem("/dev/zero"), "it is a character device, not a regular file");
+  EXPECT_FALSE(reader.read((dir_ / "missing.slf").string()).has_value());
+  EXPECT_EQ(reader.problem((dir_ / "missing.slf").string()), "no such file or directory");
 }
 
 TEST_F(FileIoTest, RefusesAFolderAndAMissingFileWithTheReason) {
   errno = 0;
   EXPECT_FALSE(read_file_bytes(dir_.string()).has_value());
   EXPECT_EQ(errno, EISDIR);
+  EXPECT_EQ(read_input_file((dir_ / "missing.nome").string()).reason, "no such file or directory");
   errno = 0;
   EXPECT_FALSE(read_file_bytes((dir_ / "missing.nome").string()).has_value());
   EXPECT_EQ(errno, ENOENT);

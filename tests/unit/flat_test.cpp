@@ -1,14 +1,19 @@
 // The flat mesh readers (frontend/flat), written from their rules: `.sif` welding within
 // 0.001 across shells and per-shell index offsets by declared counts, nesting comments,
 // errors with positions; `.obj` corners `v/vt/vn` and negative indices; binary and ASCII
-// `.stl` with exact welding.
+// `.stl` with exact welding; the `.sif` weld against the quadratic rule at every magnitude,
+// and its work bounded per point.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "frontend/flat/flat.h"
+#include "frontend/flat/flat_internal.h"
 
 namespace nomec::flat {
 namespace {
@@ -136,6 +141,89 @@ TEST(Sif, NoInputCrashes) {
   }
   std::string deep(100000, '(');
   EXPECT_NE(read("deep.sif", deep)->g, nullptr);
+}
+
+// The weld as NOME 2016 defined it, in quadratic time: each point into the earliest
+// survivor within the distance. The reference for `detail::weld_points`.
+std::vector<int32_t> weld_by_pairs(const std::vector<std::array<double, 3>>& points, double d) {
+  std::vector<std::array<double, 3>> survivors;
+  std::vector<int32_t> map;
+  for (const auto& p : points) {
+    int32_t found = -1;
+    for (size_t s = 0; s < survivors.size() && found < 0; ++s) {
+      const auto& q = survivors[s];
+      const double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+      if (d2 <= d * d) found = static_cast<int32_t>(s);
+    }
+    if (found < 0) {
+      found = static_cast<int32_t>(survivors.size());
+      survivors.push_back(p);
+    }
+    map.push_back(found);
+  }
+  return map;
+}
+
+// Clusters of points a little closer and a little farther than 0.001 apart, at every scale
+// where welding changes character: near 0, across cell edges, around 2^43 (where doubles
+// become 2^-9 apart and the grid switches from cells to values), near the largest doubles.
+TEST(SifWeld, AgreesWithTheQuadraticWeldAtEveryScale) {
+  std::mt19937_64 rng(45);
+  for (const double centre : {0.0, 1.0 / 1024, 1e6, 4398046511104.0, 8796093022208.0, -8796093022208.0, 1e13, 1e20,
+                              -1e20, 1e300, -1.7e308}) {
+    std::vector<std::array<double, 3>> points;
+    std::uniform_real_distribution<double> step(-0.0015, 0.0015);
+    for (int cluster = 0; cluster < 40; ++cluster) {
+      std::array<double, 3> base{centre, centre, centre};
+      for (double& x : base) x += std::uniform_real_distribution<double>(-0.05, 0.05)(rng);
+      for (int k = 0; k < 6; ++k) {
+        std::array<double, 3> p = base;
+        for (double& x : p) x += step(rng);
+        if (k == 5) {  // the double next to the cluster's first point, in one axis
+          const size_t axis = rng() % 3;
+          p = points[points.size() - 5];
+          p[axis] = std::nextafter(p[axis], HUGE_VAL);
+        }
+        points.push_back(p);
+      }
+    }
+    const detail::Weld w = detail::weld_points(points, {}, kSifWeldDistance);
+    EXPECT_EQ(w.map, weld_by_pairs(points, kSifWeldDistance)) << "around " << centre;
+  }
+}
+
+// The weld once kept every vertex beyond 4e12 in one cell (200,000 vertices: 32 s). Now a
+// point is compared with a bounded number of survivors at any magnitude: far fewer than the
+// n²/2 comparisons of one crowded cell.
+TEST(SifWeld, ComparesABoundedNumberOfSurvivorsPerPointAtAnyScale) {
+  const int n = 200000;
+  for (const double scale : {1.0, 1e13, 1e20, 1e300}) {
+    std::vector<std::array<double, 3>> points;
+    points.reserve(n);
+    for (int i = 0; i < n; ++i) {
+      // A grid of distinct points one unit apart (at 1e300, a unit is below the doubles'
+      // spacing: the points are rounded together, and weld only where exactly equal).
+      const double x = scale + (i % 100), y = scale + (i / 100 % 100), z = scale + (i / 10000);
+      points.push_back({x, y, z});
+    }
+    const detail::Weld w = detail::weld_points(points, {}, kSifWeldDistance);
+    EXPECT_LE(w.comparisons, int64_t{30} * n) << "at " << scale;
+    if (scale < 1e15) EXPECT_EQ(w.survivors.size(), static_cast<size_t>(n)) << "at " << scale;
+  }
+  // Points exactly 0.001 apart along a line weld in chains into the earliest survivor.
+  std::vector<std::array<double, 3>> line;
+  for (int i = 0; i < n; ++i) line.push_back({1e12 + i * 0.0009, 0, 0});
+  const detail::Weld w = detail::weld_points(line, {}, kSifWeldDistance);
+  EXPECT_LE(w.comparisons, int64_t{30} * n);
+}
+
+// Misread vertices and non-finite coordinates stay apart and compare with nothing.
+TEST(SifWeld, KeepsApartWhatCannotBeWelded) {
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::array<double, 3>> points{{0, 0, 0}, {inf, 0, 0}, {0, nan, 0}, {0, 0, 0}, {inf, 0, 0}, {0, 0, 0}};
+  const std::vector<uint8_t> apart{0, 0, 0, 1, 0, 0};
+  const detail::Weld w = detail::weld_points(points, apart, kSifWeldDistance);
+  EXPECT_EQ(w.map, (std::vector<int32_t>{0, 1, 2, 3, 4, 0}));
 }
 
 TEST(Obj, CornersWithTextureAndNormalAndNegativeIndices) {
