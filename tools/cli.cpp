@@ -42,6 +42,9 @@ void add_fmt_command(CLI::App& app, Cli& cli, CLI::App*& fmt_app) {
   fmt_app->add_option("--indent", cli.fmt.indent_width, "Spaces per indentation level (default 4)")
       ->check(CLI::Range(0, 16));
   fmt_app->add_flag("--tabs", cli.fmt.use_tabs, "Indent with tabs");
+  fmt_app->add_option("--max-file-size", cli.fmt.max_file_bytes, "Largest file read, e.g. 16M (default 2M)")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
 }
 
 void add_view_command(CLI::App& app, Cli& cli, CLI::App*& view_app) {

@@ -24,11 +24,11 @@ namespace nomec::tools {
 
 namespace {
 
-std::optional<std::string> read_input(const std::string& path) {
-  if (path == "-") {
-    return std::string(std::istreambuf_iterator<char>(std::cin), {});
-  }
-  return nomec::read_file_bytes(path);
+// A regular file (or standard input, `-`) under the cap: a FIFO or device is refused
+// without waiting on it.
+FileRead read_input(const std::string& path, int64_t max_bytes) {
+  if (path == "-") return read_input_stream(STDIN_FILENO, "<stdin>", max_bytes);
+  return read_input_file(path, max_bytes);
 }
 
 }  // namespace
@@ -54,11 +54,12 @@ int run_fmt(const FmtCommand& command) {
   options.insert_spaces = !command.use_tabs;
   int status = 0;
   for (const std::string& path : command.files) {
-    std::optional<std::string> text = read_input(path);
-    if (!text) {
-      std::cerr << fmt::format("nomec fmt: cannot read `{}`: {}\n", path, std::strerror(errno));
+    FileRead input = read_input(path, command.max_file_bytes);
+    if (!input.ok()) {
+      std::cerr << fmt::format("nomec fmt: {}\n", input.error);
       return 2;
     }
+    const std::optional<std::string> text = std::move(input.bytes);
     FormatResult result = format_source(*text, options);
     std::string shown = path == "-" ? "<stdin>" : path;
     if (!result.ok) {

@@ -2,8 +2,11 @@
 // nomec.cpp so the main command line stays small.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
+
+#include "base/input_limits.h"
 
 namespace nomec::tools {
 
@@ -13,6 +16,7 @@ struct FmtCommand {
   bool check = false;              // --check: list files that would change, exit 1 if any
   int indent_width = 4;
   bool use_tabs = false;
+  int64_t max_file_bytes = kDefaultMaxFileBytes;  // --max-file-size: the largest file read
 };
 
 /// Runs `nomec fmt`. Exit status: 0 done (or nothing would change), 1 a file would change

@@ -259,7 +259,7 @@ def case_fmt(nomec, _corpus):
         for _ in range(3):
             write(big, "".join(f"group g{i}\ninstance i{i} m   endinstance\nendgroup\n" for i in range(60000)))
             fd = inotify(big, IN_CLOSE_NOWRITE)
-            proc = subprocess.Popen([nomec, "fmt", "-i", big], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            proc = subprocess.Popen([nomec, "fmt", "-i", "--max-file-size", "16M", big], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
             for _ in events(fd, proc):
                 write(big, edit)
                 break

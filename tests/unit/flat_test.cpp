@@ -208,7 +208,9 @@ TEST(SifWeld, ComparesABoundedNumberOfSurvivorsPerPointAtAnyScale) {
     }
     const detail::Weld w = detail::weld_points(points, {}, kSifWeldDistance);
     EXPECT_LE(w.comparisons, int64_t{30} * n) << "at " << scale;
-    if (scale < 1e15) EXPECT_EQ(w.survivors.size(), static_cast<size_t>(n)) << "at " << scale;
+    if (scale < 1e15) {
+      EXPECT_EQ(w.survivors.size(), static_cast<size_t>(n)) << "at " << scale;
+    }
   }
   // Points exactly 0.001 apart along a line weld in chains into the earliest survivor.
   std::vector<std::array<double, 3>> line;
