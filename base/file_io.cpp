@@ -63,7 +63,8 @@ FileRead not_regular(std::string_view shown, mode_t mode) {
 
 // `size` is the file's, or 0 when only reading found it larger.
 FileRead too_large(std::string_view shown, int64_t size, int64_t max_bytes) {
-  const std::string limit = byte_size_text(max_bytes) + " nomec reads (`--max-file-size`)";
+  const std::string limit =
+      byte_size_text(max_bytes) + " nomec reads (" + (is_mesh_file_path(shown) ? "`--max-mesh-size`" : "`--max-file-size`") + ")";
   return refused(ReadRefusal::TooLarge, shown,
                  size > 0 ? "it is " + byte_size_text(size) + ", more than the " + limit : "it holds more than the " + limit);
 }
@@ -157,15 +158,15 @@ std::optional<std::string> read_file_bytes(const std::string& path) {
   return std::nullopt;
 }
 
-InputReader input_reader(int64_t max_bytes) {
+InputReader input_reader(int64_t max_bytes, int64_t max_mesh_bytes) {
   struct Problems {
     std::mutex mutex;
     std::map<std::string, std::string> by_path;
   };
   auto problems = std::make_shared<Problems>();
   InputReader r;
-  r.read = [problems, max_bytes](const std::string& path) -> std::optional<std::string> {
-    FileRead f = read_input_file(path, max_bytes);
+  r.read = [problems, max_bytes, max_mesh_bytes](const std::string& path) -> std::optional<std::string> {
+    FileRead f = read_input_file(path, is_mesh_file_path(path) ? max_mesh_bytes : max_bytes);
     std::lock_guard<std::mutex> lock(problems->mutex);
     if (f.ok()) {
       problems->by_path.erase(path);

@@ -69,7 +69,7 @@ struct InputReader {
   std::function<std::optional<std::string>(const std::string& path)> read;
   std::function<std::string(const std::string& path)> problem;
 };
-InputReader input_reader(int64_t max_bytes = kDefaultMaxFileBytes);
+InputReader input_reader(int64_t max_bytes = kDefaultMaxFileBytes, int64_t max_mesh_bytes = kDefaultMaxMeshFileBytes);
 
 /// Writes `content` to `path` through `path.tmp.XXXXXX` and a rename, so readers never see
 /// a half-written file and a failure leaves an existing file untouched. A file that exists

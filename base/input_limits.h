@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iterator>
 #include <string>
+#include <string_view>
 
 namespace nomec {
 
@@ -18,6 +19,25 @@ namespace nomec {
 /// up to some 300 bytes per byte of the densest (one statement of a million vertex names,
 /// parsed whole), so 2 MiB keeps a check under about 620 MiB whatever the text holds.
 inline constexpr int64_t kDefaultMaxFileBytes = int64_t{2} << 20;
+
+/// The most bytes of flat mesh files (`.stl`, `.obj`, `.sif`) nomec reads for one scene
+/// by default (`--max-mesh-size`): a mesh file named on the command line, and the mesh files
+/// a scene includes or saved work is based on, together. Meshes exported for 3D printing
+/// are megabytes to tens of megabytes, and reading one costs about 6 bytes per byte (a
+/// binary STL of 25 MB: 157 MB) to 7 (an OBJ whose one face has 3 million corners: 426 MB
+/// for 60 MB), so 64 MiB keeps a check under about 450 MiB; what a mesh builds is bounded
+/// by `--max-vertices`.
+inline constexpr int64_t kDefaultMaxMeshFileBytes = int64_t{64} << 20;
+
+/// Is `path` a flat mesh file by its extension (`.stl`, `.obj`, `.sif`, any case)? Those
+/// are read under the mesh cap (kDefaultMaxMeshFileBytes), other files under the text cap.
+inline bool is_mesh_file_path(std::string_view path) {
+  const size_t dot = path.rfind('.');
+  if (dot == std::string_view::npos || path.find('/', dot) != std::string_view::npos) return false;
+  std::string ext(path.substr(dot + 1));
+  for (char& ch : ext) ch = static_cast<char>(ch >= 'A' && ch <= 'Z' ? ch - 'A' + 'a' : ch);
+  return ext == "stl" || ext == "obj" || ext == "sif";
+}
 
 /// Files nested deeper than this in `include`s are refused (a file that includes itself).
 inline constexpr int kMaxIncludeDepth = 16;

@@ -76,8 +76,9 @@ int run_check_command(const Cli& cli) {
     inputs.assign(1, path);
     // A regular file under the cap: a FIFO or device is refused without waiting on it. The
     // one stream read is standard input, named `-` or `/dev/stdin` (a pipe the user means).
+    const int64_t cap = is_mesh_file_path(path) ? cli.max_mesh_bytes : cli.max_file_bytes;
     FileRead input = path == "-" || path == "/dev/stdin" ? read_input_stream(STDIN_FILENO, path, cli.max_file_bytes)
-                                                         : read_input_file(path, cli.max_file_bytes);
+                                                         : read_input_file(path, cap);
     if (!input.ok()) {
       std::cerr << fmt::format("nomec: {}\n", input.error);
       return 2;

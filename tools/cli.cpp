@@ -116,6 +116,10 @@ void add_check_options(CLI::App& app, Cli& cli) {
                  "scene; e.g. 16M (default 2M)")
       ->transform(CLI::AsSizeValue(false))
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  app.add_option("--max-mesh-size", cli.max_mesh_bytes,
+                 "The same for flat mesh files (.stl, .obj, .sif) a scene is or reads; e.g. 256M (default 64M)")
+      ->transform(CLI::AsSizeValue(false))
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
 }
 
 // The rules between options CLI11 cannot express; "" or the usage error.
@@ -170,10 +174,11 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   options.frame = cli.frame;
   options.tcl_milliseconds = static_cast<int>(std::lround(cli.tcl_seconds * 1000));
   if (!cli.base.empty()) options.base_file = cli.base;
-  InputReader reader = input_reader(cli.max_file_bytes);
+  InputReader reader = input_reader(cli.max_file_bytes, cli.max_mesh_bytes);
   options.read_file = std::move(reader.read);
   options.read_problem = std::move(reader.problem);
   options.max_input_bytes = cli.max_file_bytes;
+  options.max_mesh_bytes = cli.max_mesh_bytes;
   options.read_beneath = [max = static_cast<size_t>(cli.max_file_bytes)](const std::string& folder, const std::string& name) {
     return read_file_beneath(folder, name, max);
   };

@@ -26,7 +26,8 @@ struct Cli {
   std::string format = "text";  // diagnostics: text or json
   std::string base;
   bool sif_quads = false;  // --sif-quads
-  int64_t max_file_bytes = kDefaultMaxFileBytes;  // --max-file-size
+  int64_t max_file_bytes = kDefaultMaxFileBytes;       // --max-file-size
+  int64_t max_mesh_bytes = kDefaultMaxMeshFileBytes;  // --max-mesh-size
   std::string color = "auto";
   double time = 0;
   double frame = 0;

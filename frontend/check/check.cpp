@@ -11,6 +11,7 @@
 //      (CheckOptions::piece_bytes), the passes of 2–4 reading the pieces in order;
 //   6. resolve `delete` entries and `render` paths, then finish the dependency graph
 //      (dependencies.cpp).
+#include "base/input_limits.h"
 #include "frontend/check/check.h"
 
 #include <fmt/format.h>
@@ -137,7 +138,8 @@ CheckResult check_source(SourceManager& sources, const std::string& path, std::s
   }
   FileId file = sources.add_file(path, std::move(text));
   c.main_file = file;
-  c.input_bytes = static_cast<int64_t>(sources.text(file).size());  // against CheckOptions::max_input_bytes
+  // Against CheckOptions::max_input_bytes, or max_mesh_bytes for a flat mesh file.
+  (is_mesh_file_path(path) ? c.mesh_bytes : c.input_bytes) = static_cast<int64_t>(sources.text(file).size());
   if (std::optional<ir::FlatFormat> format = flat::format_of_path(path)) {
     // A flat mesh file is a scene of that one mesh, instanced once (language.md §8).
     if (options.parsed) options.parsed();

@@ -52,6 +52,9 @@ struct CheckOptions {
   /// kMaxIncludes files; the `include` that crosses a limit is one `IncludeLimit` error and
   /// later ones are skipped.
   int64_t max_input_bytes = kDefaultMaxFileBytes;
+  /// The same for flat mesh files (`.stl`, `.obj`, `.sif`; `--max-mesh-size`): the mesh
+  /// files the check reads (the main file, includes, a base scene) count against this.
+  int64_t max_mesh_bytes = kDefaultMaxMeshFileBytes;
   FolderLister list_folder;                                // may be empty: no base search
   /// May be empty; called once the file's text is parsed (a flat mesh file's: before it is
   /// read), before its check begins (the language server then starts work that must not

@@ -207,6 +207,7 @@ class Context {
   /// outermost first, for messages; whether a limit stopped an include (later ones are
   /// skipped without another error).
   int64_t input_bytes = 0;
+  int64_t mesh_bytes = 0;  // of flat mesh files (CheckOptions::max_mesh_bytes)
   int include_count = 0;
   std::vector<std::string> include_chain;
   bool is_include_limit_reached = false;

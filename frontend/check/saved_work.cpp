@@ -177,11 +177,16 @@ std::unique_ptr<ast::Ast> load_base(Context& c, const std::string& path, const a
   std::optional<std::string> base_text = base && c.options().read_file ? c.options().read_file(*base) : std::nullopt;
   std::string problem;
   if (base && !base_text && c.options().read_problem) problem = c.options().read_problem(*base);
-  // The base scene's text counts with the saved work's against CheckOptions::max_input_bytes.
-  const int64_t total = c.input_bytes + (base_text ? static_cast<int64_t>(base_text->size()) : 0);
-  if (base_text && total > c.options().max_input_bytes) {
-    problem = fmt::format("with it the scene's text would be {}, more than the {} nomec reads (`--max-file-size`)",
-                          byte_size_text(total), byte_size_text(c.options().max_input_bytes));
+  // The base scene's text counts with the saved work's against CheckOptions::max_input_bytes
+  // (a `.sif` base against max_mesh_bytes).
+  const bool mesh = base && is_mesh_file_path(*base);
+  int64_t& spent = mesh ? c.mesh_bytes : c.input_bytes;
+  const int64_t cap = mesh ? c.options().max_mesh_bytes : c.options().max_input_bytes;
+  const int64_t total = spent + (base_text ? static_cast<int64_t>(base_text->size()) : 0);
+  if (base_text && total > cap) {
+    problem = fmt::format("with it the scene's {} would be {}, more than the {} nomec reads (`{}`)",
+                          mesh ? "mesh files" : "text", byte_size_text(total), byte_size_text(cap),
+                          mesh ? "--max-mesh-size" : "--max-file-size");
     base_text.reset();
   }
   if (!base_text) {
@@ -192,7 +197,7 @@ std::unique_ptr<ast::Ast> load_base(Context& c, const std::string& path, const a
                           "SCENE.nom` (or the `.sif` it was saved over)");
     return nullptr;
   }
-  c.input_bytes = total;
+  spent = total;
   FileId bf = c.sources().add_file(*base, std::move(*base_text));
   result.base_file = *base;
   c.base_loaded = true;

@@ -257,16 +257,19 @@ IncludeRead read_include(Context& c, const std::string& path, const std::string&
     if (c.options().read_problem) r.problem = c.options().read_problem(path);
     return r;
   }
-  const int64_t total = c.input_bytes + static_cast<int64_t>(r.text->size());
-  if (total > c.options().max_input_bytes) {
+  const bool mesh = is_mesh_file_path(path);
+  int64_t& spent = mesh ? c.mesh_bytes : c.input_bytes;
+  const int64_t cap = mesh ? c.options().max_mesh_bytes : c.options().max_input_bytes;
+  const int64_t total = spent + static_cast<int64_t>(r.text->size());
+  if (total > cap) {
     r.text.reset();
-    stop(fmt::format("`include \"{}\"` brings the scene's text to {}, more than the {} nomec reads "
-                     "(`--max-file-size`): {}",
-                     rel, byte_size_text(total), byte_size_text(c.options().max_input_bytes), chain()),
+    stop(fmt::format("`include \"{}\"` brings the scene's {} to {}, more than the {} nomec reads (`{}`): {}", rel,
+                     mesh ? "mesh files" : "text", byte_size_text(total), byte_size_text(cap),
+                     mesh ? "--max-mesh-size" : "--max-file-size", chain()),
          "a file included again is read again and counts again; nomec reads no include after this one");
     return r;
   }
-  c.input_bytes = total;
+  spent = total;
   return r;
 }
 

@@ -189,14 +189,50 @@ TEST_F(BoundedInputs, AnIncludedFileLargerThanTheCapIsRefusedUnread) {
     auto c = check_file(scene);
     const auto failed = c->of(DiagKind::IncludeFailed);
     if (failed.size() != 2) return "expected 2 IncludeFailed:\n" + c->all();
-    for (const Diagnostic* d : failed) {
-      if (d->message.find("): it is 3.0 GiB, more than the " + byte_size_text(kDefaultMaxFileBytes) +
-                          " nomec reads (`--max-file-size`)") == std::string::npos) {
-        return c->all();
-      }
+    // A scene's text and its mesh files each have a cap of their own.
+    if (failed[0]->message.find("): it is 3.0 GiB, more than the " + byte_size_text(kDefaultMaxFileBytes) +
+                                " nomec reads (`--max-file-size`)") == std::string::npos ||
+        failed[1]->message.find("): it is 3.0 GiB, more than the " + byte_size_text(kDefaultMaxMeshFileBytes) +
+                                " nomec reads (`--max-mesh-size`)") == std::string::npos) {
+      return c->all();
     }
     return "";
   });
+}
+
+// Mesh files for 3D printing are megabytes to tens of megabytes: a binary STL past the
+// scene text's cap is read under the mesh cap, and one past that is refused naming it.
+TEST_F(BoundedInputs, MeshFilesHaveACapOfTheirOwn) {
+  const int triangles = 120'000;  // 6 MB, three times the text cap
+  std::string stl(80, '\0');
+  auto u32 = [&](uint32_t v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+  auto f32 = [&](float v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(triangles);
+  for (int t = 0; t < triangles; ++t) {
+    const float x = static_cast<float>(t % 400), y = static_cast<float>(t / 400);
+    for (float v : {0.f, 0.f, 1.f, x, y, 0.f, x + 1, y, 0.f, x, y + 1, 0.f}) f32(v);
+    stl.append(2, '\0');
+  }
+  write("big.stl", stl);
+  ASSERT_GT(static_cast<int64_t>(stl.size()), kDefaultMaxFileBytes);
+  const std::string scene = write("scene.nome", "include \"big.stl\"\ninstance b big endinstance\n");
+  auto c = check_file(scene);
+  EXPECT_TRUE(c->of(DiagKind::IncludeFailed).empty()) << c->all();
+  EXPECT_EQ(c->diags.error_count(), 0u) << c->all();
+  // Under a smaller mesh cap it is refused, and the message names the mesh cap's flag.
+  CheckOptions options;
+  InputReader reader = input_reader(kDefaultMaxFileBytes, int64_t{1} << 20);
+  options.read_file = reader.read;
+  options.read_problem = reader.problem;
+  options.max_mesh_bytes = int64_t{1} << 20;
+  SourceManager sources;
+  DiagnosticEngine diags;
+  check_source(sources, scene, read_input_file(scene).bytes, options, diags);
+  bool named = false;
+  for (const Diagnostic& d : diags.diagnostics()) {
+    named = named || (d.kind == DiagKind::IncludeFailed && d.message.find("`--max-mesh-size`") != std::string::npos);
+  }
+  EXPECT_TRUE(named);
 }
 
 // ---- include bombs ----

@@ -286,3 +286,31 @@ TEST(Stl, NeitherFormIsAnErrorAndBadNumbersArePlaced) {
 
 }  // namespace
 }  // namespace nomec::flat
+
+namespace nomec::flat {
+namespace {
+
+// A face that uses a vertex twice is dropped, naming the first vertex (in the face's order)
+// it repeats — also for a face of many corners, found in one pass rather than pair by pair
+// (a hostile file's face of a million corners took hours).
+TEST(FlatFaces, RepeatedVerticesAreFoundInLongFacesToo) {
+  for (const int32_t n : {5, 40, 200'000}) {
+    std::vector<int32_t> face(static_cast<size_t>(n));
+    for (int32_t i = 0; i < n; ++i) face[static_cast<size_t>(i)] = i;
+    ir::FlatGeometry g;
+    DiagnosticEngine diags;
+    int dropped = 0;
+    EXPECT_TRUE(detail::add_face(g, face, SourceRange{}, "face f", diags, dropped)) << n;
+    EXPECT_EQ(diags.error_count() + diags.warning_count(), 0u) << n;
+    // v3 repeats near the end and v1 at the end: v1 comes first in the face.
+    face[static_cast<size_t>(n - 2)] = 3;
+    face[static_cast<size_t>(n - 1)] = 1;
+    EXPECT_FALSE(detail::add_face(g, face, SourceRange{}, "face f", diags, dropped)) << n;
+    ASSERT_EQ(diags.diagnostics().size(), 1u) << n;
+    EXPECT_EQ(diags.diagnostics()[0].message, "face f uses vertex v1 twice (after welding); the face is dropped") << n;
+    EXPECT_EQ(g.face_count(), 1) << n;  // the first face only
+  }
+}
+
+}  // namespace
+}  // namespace nomec::flat
