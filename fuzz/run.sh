@@ -8,7 +8,8 @@
 # Usage: fuzz/run.sh [--build DIR] [--seconds N] [--jobs J] [TARGET...]
 #   DIR: a build with -DNOMEC_FUZZ=ON (default build-sanitize, the `sanitize` preset)
 #   N: seconds per target (default 60); J: fuzzing processes (libFuzzer's -fork=J; default
-#   1, one process); TARGET: frontend_fuzzer, pipeline_fuzzer (default both)
+#   1, one process); TARGET: frontend_fuzzer, pipeline_fuzzer, slide_fuzzer, lsp_fuzzer
+#   (default all four)
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$repo/build-sanitize"
@@ -24,7 +25,7 @@ while (($#)); do
     *) targets+=("$1"); shift ;;
   esac
 done
-((${#targets[@]})) || targets=(frontend_fuzzer pipeline_fuzzer)
+((${#targets[@]})) || targets=(frontend_fuzzer pipeline_fuzzer slide_fuzzer lsp_fuzzer)
 
 seeds=("$repo/examples")
 for d in nome1 nome3 slide; do
@@ -36,9 +37,24 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
 for t in "${targets[@]}"; do
   # The front end is fuzzed on short texts (a few statements: fast, and where the grammar's
   # corners are); the pipeline on longer ones, which its own limits keep fast.
+  # The SLIDE target starts from SLIDE files; the language server's from its own transcripts
+  # (fuzz/lsp_seeds: a first byte choosing the shape, then messages).
+  target_seeds=("${seeds[@]}")
+  dict="$repo/fuzz/nome.dict"
   case "$t" in
     frontend_fuzzer) max_len=128 ;;
     pipeline_fuzzer) max_len=1024 ;;
+    slide_fuzzer)
+      max_len=1024
+      target_seeds=()
+      if [[ -d "$repo/../shared/corpus/slide" ]]; then target_seeds+=("$repo/../shared/corpus/slide"); fi
+      target_seeds+=("$repo/tests/check/testdata")
+      ;;
+    lsp_fuzzer)
+      max_len=8192
+      target_seeds=("$repo/fuzz/lsp_seeds")
+      dict="$repo/fuzz/lsp.dict"
+      ;;
     *) echo "run.sh: unknown target $t" >&2; exit 2 ;;
   esac
   binary="$build/fuzz/$t"
@@ -50,8 +66,8 @@ for t in "${targets[@]}"; do
   fork=()
   if ((jobs > 1)); then fork=(-fork="$jobs"); fi
   if ! "$binary" "${fork[@]}" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
-      -dict="$repo/fuzz/nome.dict" -artifact_prefix="$artifacts" -print_final_stats=1 \
-      "$work" "${seeds[@]}" >"$log" 2>&1; then
+      -dict="$dict" -artifact_prefix="$artifacts" -print_final_stats=1 \
+      "$work" "${target_seeds[@]}" >"$log" 2>&1; then
     echo "run.sh: $t found a problem; input in $artifacts, log $log" >&2
     # The report, the stack (its first frames) and what a differential check printed.
     grep -E "ERROR|SUMMARY|==[0-9]+==|^    #[0-9] |_fuzzer: " "$log" | head -40 >&2 || true

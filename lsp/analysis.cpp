@@ -141,6 +141,8 @@ std::shared_ptr<Analysis> ServerImpl::analyse(const std::string& uri, int64_t ve
   } else {
     CheckOptions options;
     options.dialect = options_.dialect;
+    options.tcl_milliseconds = options_.tcl_milliseconds;
+    options.tcl_move_milliseconds = options_.tcl_move_milliseconds;
     options.parsed = std::move(parsed);
     options.cancelled = std::move(cancelled);
     if (path) {
@@ -181,6 +183,8 @@ QuickDiagnostics ServerImpl::analyse_incrementally(const Analysis& from, const s
   if (basis == nullptr || !path || text.size() > options_.max_document_bytes) return q;
   CheckOptions options;
   options.dialect = options_.dialect;
+  options.tcl_milliseconds = options_.tcl_milliseconds;
+  options.tcl_move_milliseconds = options_.tcl_move_milliseconds;
   InputReader reader = input_reader();
   options.read_file = std::move(reader.read);
   options.read_problem = std::move(reader.problem);

@@ -13,6 +13,7 @@
 #include "backend/save.h"
 #include "backend/session.h"
 #include "base/file_io.h"
+#include "base/read_beneath.h"
 #include "frontend/check/check.h"
 #include "frontend/flat/flat.h"
 #include "frontend/source/file_kinds.h"
@@ -94,6 +95,9 @@ json save_scene(Context& ctx) {
     options.dialect = a->check->dialect;
     if (uri_to_path(uri)) {
       options.read_file = read_file_bytes;
+      options.read_beneath = [](const std::string& folder, const std::string& name) {
+        return read_file_beneath(folder, name);
+      };
       options.list_folder = list_folder;
     }
     const std::string_view ext = path_extension(path);

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -43,6 +44,10 @@ struct ServerOptions {
   /// edit before starting the version's full check: while the sculptor types faster than
   /// this, no full check starts only to be stopped by the next keystroke.
   int full_check_delay_ms = 25;
+  /// Wall time a SLIDE document's Tcl may take in all when checked, and per slider move
+  /// (CheckOptions::tcl_milliseconds, tcl_move_milliseconds).
+  int tcl_milliseconds = 10000;
+  int tcl_move_milliseconds = 2000;
 };
 
 /// How much lower than the analysis thread the background threads run (a `nice` step:
@@ -131,5 +136,11 @@ class Server {
 
 /// Serves LSP over stdin/stdout until `exit` or end of input; returns the exit code.
 int run_stdio(ServerOptions options = {});
+
+/// `run_stdio` on any streams (the message fuzzer's): reads frames from `in` until end of
+/// input or `exit`, writes the server's frames to `out`, and returns the exit code. With
+/// `exit_when_busy`, a background check still running at the end ends the process at once
+/// (`_Exit`) instead of being waited for.
+int serve_stream(std::FILE* in, std::FILE* out, ServerOptions options, bool exit_when_busy);
 
 }  // namespace nomec::lsp

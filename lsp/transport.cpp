@@ -116,9 +116,7 @@ Frame read_frame(std::FILE* in, std::optional<std::string> first, std::string& b
 
 }  // namespace
 
-int run_stdio(ServerOptions options) {
-  std::signal(SIGPIPE, SIG_IGN);  // a client that went away must not kill us mid-write
-  std::FILE* out = stdout;
+int serve_stream(std::FILE* in, std::FILE* out, ServerOptions options, bool exit_when_busy) {
   Server server(
       [out](std::string message) {
         std::fprintf(out, "Content-Length: %zu\r\n\r\n", message.size());
@@ -129,11 +127,11 @@ int run_stdio(ServerOptions options) {
   std::string body;
   std::optional<std::string> next_header;  // the first line of the next frame, when found
   for (;;) {
-    Frame f = read_frame(stdin, std::exchange(next_header, std::nullopt), body);
+    Frame f = read_frame(in, std::exchange(next_header, std::nullopt), body);
     if (f == Frame::End) break;
     if (f == Frame::Malformed) {
       server.handle("{");  // answered as a parse error, like any malformed message
-      next_header = skip_to_next_frame(stdin);
+      next_header = skip_to_next_frame(in);
       if (!next_header) break;
       continue;
     }
@@ -142,12 +140,17 @@ int run_stdio(ServerOptions options) {
   }
   server.wait_idle();
   int code = server.exit_requested() ? server.exit_code() : 1;
-  if (server.background_busy()) {
+  if (exit_when_busy && server.background_busy()) {
     // A long check or scene evaluation cannot be interrupted; end without waiting for it.
     std::fflush(out);
     std::_Exit(code);
   }
   return code;
+}
+
+int run_stdio(ServerOptions options) {
+  std::signal(SIGPIPE, SIG_IGN);  // a client that went away must not kill us mid-write
+  return serve_stream(stdin, stdout, std::move(options), true);
 }
 
 }  // namespace nomec::lsp

@@ -74,10 +74,6 @@ namespace {
 
 using Worker = TclEvaluator::Worker;
 
-// Wall time of the scene's Tcl per slider move, once the scene is checked (a move runs the
-// `tclupdate` blocks and the values that changed: microseconds in real scenes).
-constexpr int kMoveMilliseconds = 2000;
-
 std::string problem_text(const tcl::Problem& p, std::string_view what) {
   switch (p.kind) {
     case tcl::ProblemKind::Error: return "Tcl error in " + std::string(what) + ": " + p.message;
@@ -153,7 +149,9 @@ ir::ExternalResult run_job(Worker& w, uint32_t script, std::span<const double> v
   }
   if (values.size() != w.current.size()) return {0, false, "the scene's sliders changed since its Tcl was checked"};
   if (w.checked && w.new_move) {
-    w.interp->use_budget(std::make_shared<tcl::Budget>(kMoveMilliseconds, "for each slider move"));
+    // A move runs the `tclupdate` blocks and the values that changed: microseconds in real
+    // scenes (CheckOptions::tcl_move_milliseconds).
+    w.interp->use_budget(std::make_shared<tcl::Budget>(w.scene.move_milliseconds, "for each slider move"));
     w.new_move = false;
   }
   for (size_t i = 0; i < values.size(); ++i) {
@@ -299,6 +297,7 @@ TclEvaluator& live_evaluator(Context& c) {
   scene.init = c.tcl_init_texts;
   scene.update = c.tcl_update_texts;
   scene.files = c.tcl_files;
+  scene.move_milliseconds = std::max(c.options().tcl_move_milliseconds, 1);
   for (const tcl::Slider& s : c.tcl->sliders()) {
     auto it = c.tcl_sliders.find(s.variable);
     if (it == c.tcl_sliders.end()) continue;

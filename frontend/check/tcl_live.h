@@ -53,6 +53,7 @@ struct TclScene {
     double resolution = 0;  // Tk writes the variable with the digits this step has
   };
   std::vector<Slider> sliders;  // in the order of `inputs()`
+  int move_milliseconds = 2000;  // the Tcl's budget per slider move once the scene is checked
   std::shared_ptr<TclFiles> files;
 };
 

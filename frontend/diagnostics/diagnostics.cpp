@@ -235,7 +235,9 @@ void render_location(const SourceManager& sources, SourceRange range, std::strin
   // line_text's text starts there too).
   const uint32_t col0 = std::min<uint32_t>(begin.column - 1, static_cast<uint32_t>(line.size()));
   LineCol end = sources.line_col(range.file, range.end);
-  uint32_t end0 = col0 + 1;
+  // One column past the start (a range at the end of the line, as a missing token's, ends
+  // there: the caret sits after the last character).
+  uint32_t end0 = std::min<uint32_t>(col0 + 1, static_cast<uint32_t>(line.size()));
   if (end.line == begin.line && end.column > begin.column) {
     end0 = std::min<uint32_t>(end.column - 1, static_cast<uint32_t>(line.size()));
   } else if (end.line > begin.line) {

@@ -96,6 +96,20 @@ TEST(Diagnostics, TabsAndUtf8KeepTheCaretAligned) {
             "      |                       ^~\n");
 }
 
+// A range that starts at the end of a line (a missing token's, at the end of a file cut
+// short) puts the caret just after the line's last character, without reading past it
+// (found by the front-end fuzzer under AddressSanitizer).
+TEST(Diagnostics, ARangeAtTheEndOfTheLineIsShownAfterIt) {
+  SourceManager sm;
+  FileId f = sm.add_file("a.nome", "list (radius nu");
+  DiagnosticEngine d;
+  d.emit(DiagKind::MissingEndKeyword, {f, 15, 15}, "`list` is never closed");
+  EXPECT_EQ(render_text(sm, d.diagnostics()[0], false, false),
+            "a.nome:1:16: error: `list` is never closed [MissingEndKeyword]\n"
+            "    1 | list (radius nu\n"
+            "      |                ^\n");
+}
+
 // A leading UTF-8 byte order mark is not part of the first line: columns count from after
 // it (as editors show them) and the quoted line leaves it out. Other lines are unchanged.
 TEST(SourceManager, ByteOrderMarkIsNotAColumn) {
