@@ -105,6 +105,7 @@ FileRead read_all(int fd, std::string_view shown, int64_t max_bytes, std::string
 }  // namespace
 
 FileRead read_input_file(const std::string& path, int64_t max_bytes) {
+  if (max_bytes < 0) max_bytes = is_mesh_file_path(path) ? kDefaultMaxMeshFileBytes : kDefaultMaxFileBytes;
   // Looked at before it is opened: opening a FIFO for reading would wait for a writer, and
   // opening a device can do something (a tape rewinds).
   struct stat st {};

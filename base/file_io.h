@@ -49,14 +49,16 @@ struct FileRead {
 /// `/dev/zero` is never read. A file larger than the cap is refused before it is read, and a
 /// file whose size the system does not announce (/proc) or that grows while it is read is
 /// read only up to the cap. Symbolic links are followed. For every input nomec reads from a
-/// path (scenes, includes, base scenes, meshes, SLIDE's `source`).
-FileRead read_input_file(const std::string& path, int64_t max_bytes = kDefaultMaxFileBytes);
+/// path (scenes, includes, base scenes, meshes, SLIDE's `source`). A negative `max_bytes` is
+/// the default cap of the file's kind: `kDefaultMaxMeshFileBytes` for a flat mesh file
+/// (`is_mesh_file_path`), else `kDefaultMaxFileBytes`; the message names the flag of that kind.
+FileRead read_input_file(const std::string& path, int64_t max_bytes = -1);
 
 /// Reads descriptor `fd` (standard input: a pipe or a terminal, which may block as the user
 /// means it to) to its end, at most `max_bytes` bytes; `shown` names it in messages.
 FileRead read_input_stream(int fd, std::string_view shown, int64_t max_bytes = kDefaultMaxFileBytes);
 
-/// `read_input_file` with the default cap, as an optional; nullopt when refused, with `errno`
+/// `read_input_file` with the default cap of the file's kind, as an optional; nullopt when refused, with `errno`
 /// saying why (the system's reason when it cannot be opened, EISDIR for a folder, EINVAL for
 /// another file that is not regular, EFBIG for one larger than the cap).
 std::optional<std::string> read_file_bytes(const std::string& path);

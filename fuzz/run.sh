@@ -8,8 +8,8 @@
 # Usage: fuzz/run.sh [--build DIR] [--seconds N] [--jobs J] [TARGET...]
 #   DIR: a build with -DNOMEC_FUZZ=ON (default build-sanitize, the `sanitize` preset)
 #   N: seconds per target (default 60); J: fuzzing processes (libFuzzer's -fork=J; default
-#   1, one process); TARGET: frontend_fuzzer, pipeline_fuzzer, slide_fuzzer, lsp_fuzzer
-#   (default all four)
+#   1, one process); TARGET: frontend_fuzzer, parse_fuzzer, pipeline_fuzzer, slide_fuzzer,
+#   lsp_fuzzer (default all five)
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$repo/build-sanitize"
@@ -25,7 +25,7 @@ while (($#)); do
     *) targets+=("$1"); shift ;;
   esac
 done
-((${#targets[@]})) || targets=(frontend_fuzzer pipeline_fuzzer slide_fuzzer lsp_fuzzer)
+((${#targets[@]})) || targets=(frontend_fuzzer parse_fuzzer pipeline_fuzzer slide_fuzzer lsp_fuzzer)
 
 seeds=("$repo/examples")
 for d in nome1 nome3 slide; do
@@ -42,7 +42,7 @@ for t in "${targets[@]}"; do
   target_seeds=("${seeds[@]}")
   dict="$repo/fuzz/nome.dict"
   case "$t" in
-    frontend_fuzzer) max_len=128 ;;
+    frontend_fuzzer | parse_fuzzer) max_len=128 ;;
     pipeline_fuzzer) max_len=1024 ;;
     slide_fuzzer)
       max_len=1024

@@ -7,7 +7,7 @@
 # libFuzzer target from the corpus (fuzz/run.sh).
 # This is README's test command and what CI runs (.ci/run). Works from any directory.
 #
-# Usage: scripts/test.sh        (NOMEC_FUZZ_SECONDS=N sets each fuzzer's run, default 60)
+# Usage: scripts/test.sh        (NOMEC_FUZZ_SECONDS=N sets each fuzzer's run, default 45)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -27,5 +27,5 @@ scripts/bootstrap.sh --threads
 stage "kernel tests under TSan"
 ctest --test-dir build-threads --output-on-failure --no-tests=error -j2
 stage "fuzz smoke runs"
-fuzz/run.sh --build build-sanitize --seconds "${NOMEC_FUZZ_SECONDS:-60}"
+fuzz/run.sh --build build-sanitize --seconds "${NOMEC_FUZZ_SECONDS:-45}"
 stage "done"

@@ -110,6 +110,7 @@ void add_check_options(CLI::App& app, Cli& cli) {
   app.add_option("--tcl-seconds", cli.tcl_seconds,
                  "Wall time in seconds a SLIDE file's Tcl may take in all (default 10)")
       ->check(CLI::Range(0.001, 86400.0));
+  app.add_flag("--no-tcl", cli.no_tcl, "Do not run SLIDE files' Tcl (check a file from a stranger without running its code)");
   app.add_flag("-v,--verbose", cli.verbose, "Report the dialect used and summary counts");
   app.add_option("--max-file-size", cli.max_file_bytes,
                  "Most bytes read for one scene: a file, and a file with all it includes (each time) and its base "
@@ -173,6 +174,7 @@ std::string check_options(const Cli& cli, CheckOptions& options) {
   options.time = cli.time;
   options.frame = cli.frame;
   options.tcl_milliseconds = static_cast<int>(std::lround(cli.tcl_seconds * 1000));
+  options.run_tcl = !cli.no_tcl;
   if (!cli.base.empty()) options.base_file = cli.base;
   InputReader reader = input_reader(cli.max_file_bytes, cli.max_mesh_bytes);
   options.read_file = std::move(reader.read);

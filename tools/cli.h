@@ -32,6 +32,7 @@ struct Cli {
   double time = 0;
   double frame = 0;
   double tcl_seconds = 10;  // --tcl-seconds: wall time of a SLIDE file's Tcl in all
+  bool no_tcl = false;      // --no-tcl: SLIDE files' Tcl is not run
   std::string output;  // -o
   bool stl_ascii = false;
   bool time_report = false;

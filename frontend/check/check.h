@@ -41,6 +41,9 @@ struct CheckOptions {
   double frame = 0;                                        // --frame: value of `$frame`
   int tcl_milliseconds = 10000;  // --tcl-seconds: wall time of a SLIDE file's Tcl in all (its blocks and values)
   int tcl_move_milliseconds = 2000;  // wall time of a SLIDE file's Tcl per slider move, once checked
+  /// false (`--no-tcl`): a SLIDE file's Tcl is not run at all: one `TclUnavailable` error
+  /// says so, and the values only Tcl computes are errors without more messages.
+  bool run_tcl = true;
   FileReader read_file;                                    // may be empty: no includes
   /// Reads a file by its name relative to a folder without leaving the folder (no `..`, no
   /// link out of it): what SLIDE's Tcl `source`s and imports next to the scene. May be

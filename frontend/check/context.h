@@ -197,7 +197,12 @@ class Context {
   std::map<std::string, std::pair<const ast::Ast*, const ast::Stmt*>> tcl_group_additions;
   /// Names only Tcl defines are reported once per name (real SLIDE files use them hundreds
   /// of times); later uses stay quiet.
-  bool first_tcl_report(const std::string& name) { return tcl_reported.insert(name).second; }
+  /// Whether `name` (a Tcl-made value) is reported now: once per name, and never when the
+  /// file's Tcl was not run on purpose (`--no-tcl` says so once, in its own error).
+  bool first_tcl_report(const std::string& name) {
+    if (!options().run_tcl) return false;
+    return tcl_reported.insert(name).second;
+  }
 
   // ---- progress ----
   int order = 0;  // index of the top-level statement being checked

@@ -201,6 +201,7 @@ ir::ExprId lower_leaf(Context& c, const ast::Expr& x, const Scope& scope) {
       return error_expr(c, x.range);
     case ast::ExprKind::Raw:
       if (c.dialect() == Dialect::Slide && x.in_braces) {
+        if (!c.options().run_tcl) return error_expr(c, x.range);
         c.diags().emit(DiagKind::TclDefinedName, x.range,
                        fmt::format("this value is a Tcl script (`{}`); nomec does not evaluate Tcl yet, so values that "
                                    "use it are not checked yet",

@@ -510,8 +510,26 @@ tcl::Interp* scene_tcl(Context& c) {
   return c.tcl.get();
 }
 
+// The one error of a SLIDE file checked without running its Tcl (CheckOptions::run_tcl).
+void report_tcl_not_run(Context& c, SourceRange where) {
+  if (c.tcl_stop_reported) return;
+  c.tcl_stop_reported = true;
+  report(c, {tcl::ProblemKind::Unavailable, "this file's Tcl is not run (`--no-tcl`): its sliders and the values only Tcl computes are missing", 0, ""}, where, "");
+}
+
 void run_tcl(Context& c, std::span<const ast::Ast> trees, const std::string& path) {
   if (c.dialect() != Dialect::Slide || c.tcl_available) return;
+  if (!c.options().run_tcl) {
+    for (const ast::Ast& a : trees) {
+      for (const ast::Item& it : a.top) {
+        if (it.kind == ItemKind::Tcl) {
+          report_tcl_not_run(c, body_of(it).keyword);
+          return;
+        }
+      }
+    }
+    return;
+  }
   const size_t slash = path.rfind('/');
   c.tcl_dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
   c.tcl_available = true;
@@ -555,6 +573,7 @@ void run_tcl(Context& c, std::span<const ast::Ast> trees, const std::string& pat
 }
 
 std::optional<TclValue> tcl_value(Context& c, std::string_view script, SourceRange where) {
+  if (!c.options().run_tcl && c.dialect() == Dialect::Slide) report_tcl_not_run(c, where);
   if (scene_tcl(c) == nullptr) return std::nullopt;
   tcl::Outcome o = c.tcl->value(script);
   for (const tcl::Problem& p : c.tcl->take_notes()) report(c, p, where, "");

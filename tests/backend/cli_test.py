@@ -175,7 +175,7 @@ def case_outputs(nomec, _admesh, _corpus):
             check(code == 2 and f"cannot read `{args[-1]}`: {reason}" in err,
                   f"{args} exits 2 and says `{reason}` (exit {code}: {err})")
         fmt = subprocess.run([nomec, "fmt", tmp], capture_output=True, text=True)
-        check(fmt.returncode == 2 and f"nomec fmt: cannot read `{tmp}`: Is a directory" in fmt.stderr,
+        check(fmt.returncode == 2 and f"nomec fmt: cannot read `{tmp}`: it is a folder, not a regular file" in fmt.stderr,
               f"fmt of a folder exits 2 and says why (exit {fmt.returncode}: {fmt.stderr})")
         with open(cube, "rb") as f:
             piped = subprocess.run([nomec, "--color", "never", "--emit", "summary", "-o", "-", "/dev/stdin"],

@@ -96,7 +96,7 @@ TEST_F(FileIoTest, RefusesAFifoAndADeviceWithoutReadingThem) {
 // no disk), one at the cap is read, and a file whose size is not announced (/proc) is read
 // only up to the cap.
 TEST_F(FileIoTest, RefusesAFileLargerThanTheCap) {
-  const std::string huge = (dir_ / "huge.stl").string();
+  const std::string huge = (dir_ / "huge.nome").string();
   {
     std::ofstream(huge, std::ios::binary).put('x');
   }
@@ -105,6 +105,16 @@ TEST_F(FileIoTest, RefusesAFileLargerThanTheCap) {
   EXPECT_EQ(r.refusal, ReadRefusal::TooLarge);
   EXPECT_EQ(r.error, "cannot read `" + huge + "`: it is 3.0 GiB, more than the " + byte_size_text(kDefaultMaxFileBytes) +
                          " nomec reads (`--max-file-size`)");
+  // A flat mesh has a cap of its own, and the message names its flag.
+  const std::string mesh = (dir_ / "huge.stl").string();
+  {
+    std::ofstream(mesh, std::ios::binary).put('x');
+  }
+  fs::resize_file(mesh, std::uintmax_t{3} << 30);
+  FileRead m = read_input_file(mesh);
+  EXPECT_EQ(m.refusal, ReadRefusal::TooLarge);
+  EXPECT_EQ(m.error, "cannot read `" + mesh + "`: it is 3.0 GiB, more than the " +
+                         byte_size_text(kDefaultMaxMeshFileBytes) + " nomec reads (`--max-mesh-size`)");
   errno = 0;
   EXPECT_FALSE(read_file_bytes(huge).has_value());
   EXPECT_EQ(errno, EFBIG);
