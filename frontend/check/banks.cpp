@@ -116,6 +116,20 @@ void handle_bank(Context& c, const ast::Ast& a, const ast::Stmt& s) {
     } else if (it.kind == ItemKind::Word && it.text == "list") {
       ++pos;
       handle_list(c, a, s, *name, it, pos);
+    } else if (it.kind == ItemKind::Word && (is_typo_of(it.text, "set") || is_typo_of(it.text, "list"))) {
+      // `ste n 1 0 2 1`: one error, and the line is read as the `set` (or `list`) it means.
+      const bool is_set = is_typo_of(it.text, "set");
+      const char* meant = is_set ? "set" : "list";
+      c.diags()
+          .emit(DiagKind::UnknownArgument, it.range,
+                fmt::format("unexpected `{}` in bank `{}`; did you mean `{}`?", it.text, *name, meant))
+          .fixit(it.range, meant, fmt::format("replace with `{}`", meant));
+      ++pos;
+      if (is_set) {
+        handle_set(c, a, s, *name, it, pos);
+      } else {
+        handle_list(c, a, s, *name, it, pos);
+      }
     } else {
       std::string what = it.kind == ItemKind::Word ? fmt::format("`{}`", it.text)
                                                    : fmt::format("value `{}`", Context::clip(c.sources().text(it.range)));

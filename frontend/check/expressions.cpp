@@ -500,7 +500,15 @@ ir::ExprId lower_tcl_value(Context& c, const ast::Ast& a, ast::ExprId id, const 
     size_t first = inner.find_first_not_of(" \t\r\n");
     const bool has_expr = first != std::string_view::npos && inner.substr(first, 4) == "expr" &&
                           (inner.size() == first + 4 || std::isspace(static_cast<unsigned char>(inner[first + 4])));
-    script = has_expr ? std::string(inner) : fmt::format("expr {{{}}}", inner);
+    // `{exrp …}`: the parser read (and reported) a misspelt `expr`; Tcl is given `expr`.
+    size_t word_end = first == std::string_view::npos ? first : inner.find_first_of(" \t\r\n", first);
+    const bool misspelt_expr = !has_expr && first != std::string_view::npos && word_end != std::string_view::npos &&
+                               is_typo_of(inner.substr(first, word_end - first), "expr");
+    if (misspelt_expr) {
+      script = "expr" + std::string(inner.substr(word_end));
+    } else {
+      script = has_expr ? std::string(inner) : fmt::format("expr {{{}}}", inner);
+    }
   }
   std::optional<TclValue> v = tcl_value(c, script, x.range);
   if (!v || !v->ok) return error_expr(c, x.range);

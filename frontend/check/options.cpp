@@ -245,6 +245,26 @@ bool ignores_unknown_tokens(const Context& c, const ast::Stmt& s) {
   return c.dialect() == Dialect::Nome && s.kind == BlockKind::Instance;
 }
 
+// The option `word` misspells (one or two edits, see is_typo_of), when exactly one is
+// closest.
+const OptSpec* misspelt_option(std::span<const OptSpec> opts, std::string_view word) {
+  const OptSpec* best = nullptr;
+  size_t best_distance = SIZE_MAX;
+  bool tie = false;
+  for (const OptSpec& o : opts) {
+    if (o.name.empty() || !is_typo_of(word, o.name)) continue;
+    const size_t d = typo_distance(word, o.name, 2);
+    if (d < best_distance) {
+      best = &o;
+      best_distance = d;
+      tie = false;
+    } else if (d == best_distance && o.name != best->name) {
+      tie = true;
+    }
+  }
+  return tie ? nullptr : best;
+}
+
 void report_unknown_word(Context& c, const ast::Stmt& s, const ast::Item& it, std::span<const OptSpec> opts) {
   std::vector<std::string_view> names;
   names.reserve(opts.size());
@@ -603,6 +623,32 @@ void read_body(Context& c, const ast::Ast& a, const ast::Stmt& s, size_t pos, ir
             .fixit(SourceRange{it.range.file, it.range.begin, it.range.begin},
                    fmt::format("{}\n", ast::end_keyword(s.keyword)), fmt::format("insert `{}`", ast::end_keyword(s.keyword)));
         return;
+      }
+      // A misspelt option word (`colr (1 0 0)`): one error, and its values are read as the
+      // option's, so they raise no errors of their own.
+      if (const OptSpec* meant = misspelt_option(opts, it.text)) {
+        if (ignores_unknown_tokens(c, s)) {
+          // NOME 2016 skipped the word and the lists after it: one warning for them all.
+          report_unknown_word(c, s, it, opts);
+          ++pos;
+          while (pos < s.items.size() && s.items[pos].kind != ItemKind::Word && s.items[pos].kind != ItemKind::Block) ++pos;
+          continue;
+        }
+        c.diags()
+            .emit(DiagKind::UnknownArgument, it.range,
+                  fmt::format("unknown argument `{}` for `{}`; did you mean `{}`?", it.text, s.keyword, meant->name))
+            .fixit(it.range, std::string(meant->name), fmt::format("replace with `{}`", meant->name));
+        ++pos;
+        OptionValue v;
+        {
+          // Its values' own problems are the typo's: not reported again.
+          DiagnosticEngine scratch;
+          std::swap(scratch, c.diags());
+          const bool read = read_option(c, a, s, opts, *meant, it, pos, id, v);
+          std::swap(scratch, c.diags());
+          if (read && sink) sink(v);
+        }
+        continue;
       }
       report_unknown_word(c, s, it, opts);
       ++pos;

@@ -101,6 +101,14 @@ void report_line_end(Context& c, const ast::Stmt& s) {
     return;
   }
   const bool is_end_keyword = ast::block_of_end_keyword(s.close_text).has_value();
+  if (!is_end_keyword && !nome2016) {
+    // A misspelt end keyword (`endinstnace`), read as the one meant: as the structure pass
+    // reports the others (frontend/parse/recovery.h).
+    c.diags()
+        .emit(DiagKind::MisspelledKeyword, s.close_kw, fmt::format("unknown `{}`; did you mean `{}`?", s.close_text, expected))
+        .fixit(s.close_kw, expected, fmt::format("replace with `{}`", expected));
+    return;
+  }
   const std::string what = is_end_keyword ? fmt::format("`{}` does not close `{}`", s.close_text, s.keyword)
                                           : fmt::format("`{}` is not an end keyword", s.close_text);
   auto d = nome2016 ? c.diags().emit(DiagKind::EndOfLineStatement, s.close_kw,

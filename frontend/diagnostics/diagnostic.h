@@ -103,4 +103,14 @@ std::string render_text(const SourceManager& sources, const Diagnostic& diag, bo
 std::string closest_match(std::string_view name, const std::vector<std::string>& candidates);
 std::string closest_match(std::string_view name, std::span<const std::string_view> candidates);
 
+/// The distance of a typo (optimal string alignment: an insertion, deletion, substitution or
+/// swap of two neighbours is one edit), letters compared without case; above `bound` as soon
+/// as it is sure to be.
+size_t typo_distance(std::string_view a, std::string_view b, size_t bound);
+
+/// Whether `word` is close enough to `keyword` to be read as it where the keyword is
+/// expected: one edit for keywords of four letters or fewer, two for longer ones, or a
+/// difference of case only.
+bool is_typo_of(std::string_view word, std::string_view keyword);
+
 }  // namespace nomec

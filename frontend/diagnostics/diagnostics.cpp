@@ -347,4 +347,42 @@ std::string closest_match(std::string_view name, std::span<const std::string_vie
   return closest(name, candidates);
 }
 
+namespace {
+
+constexpr size_t kLongestWord = 64;
+
+}  // namespace
+
+size_t typo_distance(std::string_view a, std::string_view b, size_t bound) {
+  const size_t la = a.size(), lb = b.size();
+  if ((la > lb ? la - lb : lb - la) > bound || la > kLongestWord || lb > kLongestWord) return bound + 1;
+  // Three rows of the optimal-string-alignment table.
+  std::array<uint8_t, kLongestWord + 1> before{}, prev{}, cur{};
+  for (size_t j = 0; j <= lb; ++j) prev[j] = static_cast<uint8_t>(j);
+  for (size_t i = 1; i <= la; ++i) {
+    cur[0] = static_cast<uint8_t>(i);
+    uint8_t row_min = cur[0];
+    for (size_t j = 1; j <= lb; ++j) {
+      const bool same = lower(a[i - 1]) == lower(b[j - 1]);
+      uint8_t v = std::min({static_cast<uint8_t>(prev[j] + 1), static_cast<uint8_t>(cur[j - 1] + 1),
+                            static_cast<uint8_t>(prev[j - 1] + (same ? 0 : 1))});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1])) {
+        v = std::min(v, static_cast<uint8_t>(before[j - 2] + 1));
+      }
+      cur[j] = v;
+      row_min = std::min(row_min, v);
+    }
+    if (row_min > bound) return bound + 1;
+    before = prev;
+    prev = cur;
+  }
+  return prev[lb];
+}
+
+bool is_typo_of(std::string_view word, std::string_view keyword) {
+  if (word == keyword || keyword.empty() || word.empty()) return false;
+  const size_t bound = keyword.size() <= 4 ? 1 : 2;
+  return typo_distance(word, keyword, bound) <= bound;
+}
+
 }  // namespace nomec

@@ -26,6 +26,7 @@
 #include "frontend/parse/generated.h"
 #include "frontend/parse/prediction_seed.h"
 
+#include "frontend/parse/recovery.h"
 #include "frontend/parse/token_passes.h"
 #include "frontend/parse/token_stream.h"
 #include "frontend/parse/tokens.h"
@@ -486,11 +487,19 @@ class AstBuilder {
       }
     } else if (t->getStopIndex() >= start) {
       block.close_kw = SourceRange{file_, offsets_.byte_of(start), offsets_.byte_of(t->getStopIndex() + 1)};
-      block.close_text = view(block.close_kw);
+      block.close_text = spelled(start, view(block.close_kw));
       if (repairs_ != nullptr && repairs_->replaced.contains(static_cast<uint32_t>(start))) {
         block.close_repair = ast::CloseRepair::Replaced;
       }
     }
+  }
+
+  // A keyword as meant: the token starting at `start` as written, or the keyword the
+  // structure pass read it as (`faec` as `face`: frontend/parse/recovery.h).
+  std::string_view spelled(size_t start, std::string_view written) const {
+    if (repairs_ == nullptr || repairs_->respelled.empty()) return written;
+    auto it = repairs_->respelled.find(static_cast<uint32_t>(start));
+    return it == repairs_->respelled.end() ? written : it->second;
   }
 
   SourceRange token_range(antlr4::Token* t) const {
@@ -530,7 +539,7 @@ class AstBuilder {
     stmt.kind = *open;
     stmt.range = ctx_range(ctx);
     stmt.open_kw = token_range(ctx->start);
-    stmt.keyword = view(stmt.open_kw);
+    stmt.keyword = spelled(ctx->start->getStartIndex(), view(stmt.open_kw));
     decltype(ast::Stmt::items) items;
     for (size_t i = 1; i < ctx->children.size(); ++i) {
       Child c = classify(ctx->children[i]);
@@ -1208,7 +1217,7 @@ class StreamBuilder final : public AstBuilder, public nomec_antlr::ParseEvents {
     stmt.kind = *open;
     stmt.range = range_of(ctx);
     stmt.open_kw = range_of(start);
-    stmt.keyword = view(stmt.open_kw);
+    stmt.keyword = spelled(start->getStartIndex(), view(stmt.open_kw));
     stmt.close_kw = f.close_kw;
     stmt.close_text = f.close_text;
     stmt.close_repair = f.close_repair;
@@ -1504,11 +1513,15 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
   // Repairs only where the whole text was read (a limit may have cut it short). Their
   // diagnostics join the token pass's in position order, as a piece of the file reports them.
   LineEndRepairs repairs;
+  StructureOutcome structure;
   if (!stopped) {
     DiagnosticEngine repair_diags;
     insert_missing_open_parens(tokens, 0, file, repair_diags);
-    token_diags.merge_in_order(std::move(repair_diags));
+    recover_brackets(tokens, text, 0, file, repair_diags, repairs, structure);
     end_line_statements(tokens, text, repairs);
+    recover_structure(tokens, text, 0, file, repair_diags, repairs, structure);
+    repair_diags.sort_by_position();  // the passes report in their own order
+    token_diags.merge_in_order(std::move(repair_diags));
   }
   sinks.tokens.append(std::move(token_diags));
 
@@ -1665,7 +1678,8 @@ ast::Ast parse_piece(std::string_view text, FileId file, const PieceSinks& sinks
     // it. The two recover differently from a token that cannot start a statement.
     const size_t first_type = stream.first_type();
     info->starts_cleanly = first_type == antlr4::Token::EOF || starts_statement(parser.getATN(), first_type);
-    info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_;
+    info->self_contained = !lexed.comment_open && !stopped && lexer_contained && !stream.eof_seen_early_ &&
+                           !structure.depends_on_what_follows && !repairs.scanned_to_end;
     info->gave_up = gave_up;
     info->stopped = stopped;
   }

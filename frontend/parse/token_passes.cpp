@@ -7,6 +7,7 @@
 #include <cctype>
 #include <fmt/format.h>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "frontend/parse/piece.h"
@@ -26,6 +27,8 @@ using L = nomec_antlr::NomeParser;  // every token type, those the passes assign
 // Every generator keyword is the one token type K_GEN (its end keyword E_GEN).
 struct KeywordTable {
   std::vector<std::optional<ast::BlockKind>> open, close;  // by token type
+  std::vector<uint16_t> end_of;                            // an opening keyword's end keyword type
+  std::vector<std::string> literal;                        // a keyword token's text ("" for K_GEN)
 };
 
 const KeywordTable& keyword_table() {
@@ -35,15 +38,25 @@ const KeywordTable& keyword_table() {
     const size_t size = std::max<size_t>({vocab.getMaxTokenType(), L::K_GEN, L::E_GEN, L::SPLUS, L::SMINUS}) + 1;
     t.open.resize(size);
     t.close.resize(size);
+    t.end_of.resize(size);
+    t.literal.resize(size);
+    std::unordered_map<std::string, size_t> by_word;
     for (size_t type = 1; type <= vocab.getMaxTokenType(); ++type) {
       std::string lit = vocab.getLiteralName(type);
       if (lit.size() <= 2) continue;
       std::string word = lit.substr(1, lit.size() - 2);
       if (auto kind = ast::block_of_keyword(word)) t.open[type] = *kind;
       if (auto kind = ast::block_of_end_keyword(word)) t.close[type] = *kind;
+      by_word[word] = type;
+      t.literal[type] = std::move(word);
+    }
+    for (size_t type = 1; type < size; ++type) {
+      if (!t.open[type] || t.literal[type].empty()) continue;
+      if (auto it = by_word.find("end" + t.literal[type]); it != by_word.end()) t.end_of[type] = static_cast<uint16_t>(it->second);
     }
     t.open[L::K_GEN] = ast::BlockKind::Generator;
     t.close[L::E_GEN] = ast::BlockKind::Generator;
+    t.end_of[L::K_GEN] = L::E_GEN;
     return t;
   }();
   return table;
@@ -85,6 +98,16 @@ size_t generator_token_type(std::string_view word) {
 std::optional<ast::BlockKind> open_kind(size_t type) {
   const auto& open = keyword_table().open;
   return type < open.size() ? open[type] : std::nullopt;
+}
+
+size_t end_type_of(size_t open_type) {
+  const auto& end_of = keyword_table().end_of;
+  return open_type < end_of.size() ? end_of[open_type] : 0;
+}
+
+std::string_view keyword_literal(size_t type) {
+  const auto& literal = keyword_table().literal;
+  return type < literal.size() ? std::string_view(literal[type]) : std::string_view();
 }
 
 bool is_end_token(size_t type) {
@@ -457,6 +480,12 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
   };
   auto line = [&](size_t r) { return tok(r).line; };
   auto first_on_line = [&](size_t r) { return r == 0 || line(r - 1) != line(r); };
+  // The column of a byte (bytes after the newline before it).
+  auto column = [&](size_t byte) {
+    size_t b = byte;
+    while (b > 0 && text[b - 1] != '\n') --b;
+    return byte - b;
+  };
   struct Insert {
     size_t after;  // position in `tokens` of the token the end follows
     size_t type;
@@ -510,6 +539,12 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
   // of the current line, and every later look is past it, so building it late reads the
   // same tokens as building it first.
   std::vector<size_t> next_stop;
+  // A misspelt block the statement may contain, first on its line (`vertxe v endvertex` in
+  // a face): it nests as the block would.
+  auto nested_typo = [&](size_t open, size_t k) {
+    if (tok(k).type != L::IDENT || !first_on_line(k)) return false;
+    return (open == L::K_FACE && is_typo_of(word(k), "vertex")) || (open == L::K_INSTANCE && is_typo_of(word(k), "lookat"));
+  };
   auto build_next_stop = [&] {
     std::vector<int> depth_at(n);  // `(` and `{` open before token k
     for (size_t k = 0, d = 0; k < n; ++k) {
@@ -523,6 +558,7 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
       const size_t t = tok(k).type;
       const bool stop = depth_at[k] == 0 &&
                         (is_end_token(t) || t == L::K_LOOKAT || t == L::K_VERTEX ||
+                         (t == L::IDENT && (first_on_line(k) || k + 1 == n || line(k + 1) != line(k))) ||
                          (first_on_line(k) && (is_open_type(t) || t == L::K_GEN) && !is_option_keyword(t)));
       next_stop[k] = stop ? k : next_stop[k + 1];
     }
@@ -588,8 +624,7 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
       }
       continue;
     }
-    if (last != r && tok(last).type == L::IDENT && word(last).starts_with("end") &&
-        !closest_match(word(last), std::vector<std::string>{expected}).empty()) {
+    if (last != r && tok(last).type == L::IDENT && is_typo_of(word(last), expected)) {
       tok(last).type = static_cast<uint16_t>(end_type);  // `endinstnace`
       repairs.replaced.insert(tok(last).begin);
       continue;
@@ -598,6 +633,9 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
     bool continues = false;
     size_t inner = 0;
     size_t stops = 0;
+    size_t nested_closed = SIZE_MAX;  // the end keyword of its last nested block (`endvertex`)
+    size_t stop_at = n;               // where the scan stopped: an enclosing end or the next statement
+    const std::string_view nested_end = type == L::K_FACE ? "endvertex" : type == L::K_INSTANCE ? "endlookat" : "";
     if (next_stop.empty()) build_next_stop();
     for (size_t k = next_stop[last + 1]; k < n; k = next_stop[k + 1]) {
       if (++stops > kMaxStops) {
@@ -609,22 +647,54 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
         continues = true;
         break;
       }
-      if (nests_in(type, t)) {  // `face` … `vertex v endvertex` …
+      if (nests_in(type, t) || nested_typo(type, k)) {  // `face` … `vertex v endvertex` …
         ++inner;
         continue;
       }
-      if (is_end_token(t)) {
-        if (inner == 0) break;
-        --inner;
+      if (t == L::IDENT) {
+        // A misspelt end keyword: of its nested block, or its own (the structure pass
+        // reports it and reads it as meant).
+        if (inner > 0 && is_typo_of(word(k), nested_end)) {
+          if (--inner == 0) nested_closed = k;
+        } else if (inner == 0 && is_typo_of(word(k), expected)) {
+          continues = true;
+          break;
+        }
         continue;
       }
-      if (first_on_line(k) && (is_open_type(t) || t == L::K_GEN) && !is_option_keyword(t)) break;
+      if (is_end_token(t)) {
+        if (inner == 0) {
+          stop_at = k;
+          break;
+        }
+        if (--inner == 0) nested_closed = k;
+        continue;
+      }
+      if (first_on_line(k) && (is_open_type(t) || t == L::K_GEN) && !is_option_keyword(t)) {
+        stop_at = k;
+        break;
+      }
     }
+    if (!continues && stop_at == n) repairs.scanned_to_end = true;
     if (!continues) {
-      inserts.push_back({real[last], end_type});
-      ended.insert(last);
+      // Its end goes at the end of its line; or, when its later lines are its body (they
+      // hold its nested blocks, or are indented deeper than its keyword), after them.
+      size_t after = last;
+      if (nested_closed != SIZE_MAX) {
+        after = nested_closed;
+      } else if (stop_at > last + 1 && stop_at - last < 4096) {
+        const size_t col = column(tok(r).begin);
+        bool deeper = true;
+        for (size_t k = last + 1; k < stop_at && deeper; ++k) {
+          if (first_on_line(k)) deeper = column(tok(k).begin) > col;
+        }
+        if (deeper) after = stop_at - 1;
+      }
+      inserts.push_back({real[after], end_type});
+      ended.insert(after);
     }
   }
+  std::stable_sort(inserts.begin(), inserts.end(), [](const Insert& a, const Insert& b) { return a.after < b.after; });
   if (inserts.empty()) return;
   std::vector<Tok> out;
   out.reserve(tokens.size() + inserts.size());

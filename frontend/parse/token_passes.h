@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <optional>
 #include <string_view>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -20,6 +21,11 @@ namespace nomec::parse_detail {
 
 /// The block an opening keyword's token type opens, or none (K_GEN opens a generator).
 std::optional<ast::BlockKind> open_kind(size_t type);
+/// The end keyword's token type of an opening keyword's (E_GEN for K_GEN), or 0.
+size_t end_type_of(size_t open_type);
+/// The text of a keyword token type (`mesh`, `endmesh`), or "" (K_GEN, E_GEN, others).
+/// Views a table that lives as long as the program.
+std::string_view keyword_literal(size_t type);
 /// True for an end keyword's token type (E_GEN included).
 bool is_end_token(size_t type);
 inline bool is_open_type(size_t type) { return open_kind(type).has_value(); }
@@ -56,6 +62,12 @@ void insert_missing_open_parens(std::vector<Tok>& tokens, uint32_t base, FileId 
 /// text) of the end token, those inserted (zero width) and those retyped.
 struct LineEndRepairs {
   std::unordered_set<uint32_t> inserted, replaced;
+  /// Keywords recover_structure read as another (`faec` as `face`, `endbnak` as `endbank`):
+  /// by the token's start, the keyword meant (a view that lives as long as the program).
+  std::unordered_map<uint32_t, std::string_view> respelled;
+  /// A statement's scan for its end ran to the end of the text: what follows the text could
+  /// have changed where it ends (a piece of a file parsed alone is not the same inside it).
+  bool scanned_to_end = false;
 };
 
 /// NOME 2016's single-line statements (`point`, `face`, `polyline`, `instance`, `funnel`,

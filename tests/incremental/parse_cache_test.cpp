@@ -549,22 +549,23 @@ TEST(ParseTwoThreads, LargeSceneAutomaticallyOnTwoThreads) {
 }
 
 // The cut after the middle may be followed by a token that cannot start a statement (a
-// stray `)`): a piece starting there recovers differently from the whole text (piece.h),
+// stray `,`; a stray `)` is dropped by the bracket pass the same way in a piece and in the
+// whole text): a piece starting there recovers differently from the whole text (piece.h),
 // so the text is parsed in one piece, with the same result.
 TEST(ParseTwoThreads, SecondHalfThatCannotStartAStatementIsNotUsed) {
   const int m = 20;
   std::string text;
   for (int k = 0; k < 2 * m; ++k) {
-    if (k == m + 1) text += ") ";
+    if (k == m + 1) text += ", ";
     text += fmt::format("point p{:02} (1 2 3) endpoint\n", k);
   }
   nomec::DiagnosticEngine scratch;
   EXPECT_FALSE(nomec::parse_detail::parse_in_two_pieces(text, nomec::FileId{1}, scratch).has_value());
   EXPECT_TRUE(scratch.diagnostics().empty());  // nothing reported when the halves are not used
   EXPECT_EQ(first_difference(full_parse(text, nomec::ParseThreads::Two), full_parse(text)), "");
-  // Without the stray `)` the same text is parsed as two halves.
+  // Without the stray `,` the same text is parsed as two halves.
   std::string clean = text;
-  clean.erase(clean.find(") "), 2);
+  clean.erase(clean.find(", "), 2);
   EXPECT_TRUE(nomec::parse_detail::parse_in_two_pieces(clean, nomec::FileId{1}, scratch).has_value());
   EXPECT_EQ(first_difference(full_parse(clean, nomec::ParseThreads::Two), full_parse(clean)), "");
 }
@@ -712,13 +713,13 @@ TEST(ParseInPieces, LargeSceneInCheckPieces) {
   }
 }
 
-// A piece after which the next cannot start a statement (a stray `)`), an unclosed comment
+// A piece after which the next cannot start a statement (a stray `,`), an unclosed comment
 // running over the cuts, and the fuzzer's findings for the two-thread parse: one piece, or
 // pieces that still join to the same AST.
 TEST(ParseInPieces, PiecesThatCannotStandAlone) {
   std::string stray, comment;
   for (int k = 0; k < 40; ++k) {
-    stray += fmt::format("{}point p{:02} (1 2 3) endpoint\n", k == 21 ? ") " : "", k);
+    stray += fmt::format("{}point p{:02} (1 2 3) endpoint\n", k == 21 ? ", " : "", k);
     comment += fmt::format("point p{:02} (1 2 3) endpoint\n", k);
   }
   size_t count = 0;
