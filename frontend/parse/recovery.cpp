@@ -91,6 +91,7 @@ struct Frame {
   uint32_t open = 0;
   uint16_t type = 0;      // 0: the top level
   std::string_view word;  // its keyword as meant (`mesh`, `funnel`)
+  std::string end;        // a generator's end keyword (`endfunnel`); others use the table's
   std::vector<Entry> words;     // IDENTs and keywords read as words, outside brackets
   std::vector<Entry> children;  // the blocks it holds, closed
 };
@@ -100,13 +101,18 @@ class Structure {
   Structure(std::vector<Tok>& tokens, std::string_view text, uint32_t base, FileId file, LineEndRepairs& repairs,
             bool brackets_pass)
       : tokens_(tokens), text_(text), base_(base), file_(file), repairs_(repairs), brackets_pass_(brackets_pass) {
-    real_.reserve(tokens.size());
-    for (size_t i = 0; i < tokens.size(); ++i) {
-      if (!tokens[i].hidden && tokens[i].type != kEof) real_.push_back(static_cast<uint32_t>(i));
+    // The parser's tokens are all real but the end token: the index is needed only when a
+    // hidden one is left.
+    size_t real = 0;
+    for (const Tok& t : tokens) real += !t.hidden && t.type != kEof ? 1 : 0;
+    identity_ = real == tokens.size() || (real + 1 == tokens.size() && tokens.back().type == kEof);
+    if (!identity_) {
+      real_.reserve(real);
+      for (size_t i = 0; i < tokens.size(); ++i) {
+        if (!tokens[i].hidden && tokens[i].type != kEof) real_.push_back(static_cast<uint32_t>(i));
+      }
     }
-    n_ = static_cast<uint32_t>(real_.size());
-    deleted_.assign(n_, false);
-    meant_.assign(n_, std::string_view());
+    n_ = static_cast<uint32_t>(real);
     budget_ = 8 * static_cast<size_t>(n_) + 256;
   }
 
@@ -126,7 +132,7 @@ class Structure {
         continue;
       }
       ++steps_;
-      if (deleted_[r]) {
+      if (deleted(r)) {
         ++r;
         continue;
       }
@@ -152,13 +158,23 @@ class Structure {
     std::function<void(DiagnosticEngine&)> emit;
   };
 
-  Tok& tok(uint32_t r) { return tokens_[real_[r]]; }
+  Tok& tok(uint32_t r) { return tokens_[index(r)]; }
+  size_t index(uint32_t r) const { return identity_ ? r : real_[r]; }
+  bool deleted(uint32_t r) const { return !deleted_.empty() && deleted_.contains(r); }
+  std::string_view meant(uint32_t r) const {
+    if (meant_.empty()) return {};
+    auto it = meant_.find(r);
+    return it == meant_.end() ? std::string_view() : it->second;
+  }
   std::string_view text_of(uint32_t r) {
     const Tok& t = tok(r);
     return text_.substr(t.begin, t.end - t.begin);
   }
   // The word as meant: its respelling, if it has one.
-  std::string_view word(uint32_t r) { return meant_[r].empty() ? text_of(r) : meant_[r]; }
+  std::string_view word(uint32_t r) {
+    const std::string_view m = meant(r);
+    return m.empty() ? text_of(r) : m;
+  }
   bool line_start(uint32_t r) { return r == 0 || tok(r - 1).line != tok(r).line; }
   bool line_end(uint32_t r) {
     if (r + 1 >= n_) {
@@ -172,9 +188,9 @@ class Structure {
   uint32_t end_byte() { return n_ == 0 ? 0 : tok(n_ - 1).end; }
 
   // The keyword a frame's block is closed by.
-  std::string end_word(const Frame& f) {
-    if (f.type == L::K_GEN) return "end" + std::string(f.word);
-    return std::string(keyword_literal(end_type_of(f.type)));
+  std::string_view end_word(const Frame& f) {
+    if (f.type == L::K_GEN) return f.end;
+    return keyword_literal(end_type_of(f.type));
   }
   // Whether end keyword token r closes frame f.
   bool closes(const Frame& f, uint32_t r) { return f.type != 0 && tok(r).type == end_type_of(f.type); }
@@ -185,11 +201,11 @@ class Structure {
   void retype(uint32_t r, uint16_t type, std::string_view meant) {
     edits_.push_back(Edit{scan_, Edit::Retype, r, tok(r).type, type});
     tok(r).type = type;
-    meant_[r] = meant;
+    meant_[r] = meant;  // (a map: respellings are few)
   }
   void remove(uint32_t r) {
     edits_.push_back(Edit{scan_, Edit::Delete, r, 0, 0});
-    deleted_[r] = true;
+    deleted_.insert(r);
   }
   void insert(uint32_t before, uint16_t type) { edits_.push_back(Edit{scan_, Edit::Insert, before, 0, type}); }
 
@@ -201,9 +217,9 @@ class Structure {
       const Edit& e = edits_.back();
       if (e.kind == Edit::Retype) {
         tok(e.r).type = e.old_type;
-        meant_[e.r] = std::string_view();
+        meant_.erase(e.r);
       } else if (e.kind == Edit::Delete) {
-        deleted_[e.r] = false;
+        deleted_.erase(e.r);
       }
       edits_.pop_back();
     }
@@ -265,7 +281,7 @@ class Structure {
 
   // Reports frame `f` as not closed, its end inserted before token `p` (n_: at the end).
   void report_missing_end(const Frame& f, uint32_t p) {
-    const std::string end = end_word(f);
+    const std::string end(end_word(f));
     const std::string_view kw = f.word;
     const SourceRange open = range(f.open);
     if (p >= n_) {
@@ -426,7 +442,7 @@ class Structure {
       uint32_t start = r;
       for (uint32_t k = r; k-- > 0;) {
         const uint16_t t = tok(k).type;
-        if (tok(k).line != tok(r).line || deleted_[k]) break;
+        if (tok(k).line != tok(r).line || deleted(k)) break;
         const bool value = t == L::NUMBER || t == L::DOLLAR_REF || t == L::IDENT || t == L::TCL_ARRAY_REF ||
                            t == L::STRING || t == L::SPLUS || t == L::SMINUS || t == L::PLUS || t == L::MINUS ||
                            t == L::STAR || t == L::SLASH || t == L::CARET;
@@ -527,7 +543,9 @@ class Structure {
       }
       f.open = r;
       f.type = type;
-      f.word = type == L::K_GEN ? word(r) : (meant_[r].empty() ? keyword_literal(type) : meant_[r]);
+      const std::string_view m = meant(r);
+      f.word = type == L::K_GEN ? word(r) : (m.empty() ? keyword_literal(type) : m);
+      f.end = type == L::K_GEN ? "end" + std::string(f.word) : std::string();
       stack_.push_back(std::move(f));
       return r + 1;
     }
@@ -552,7 +570,7 @@ class Structure {
       // on its line), or an enclosing block's one when the word starts with `end`.
       if (line_start(r) || line_end(r)) {
         for (size_t k = stack_.size() - 1; k >= 1; --k) {
-          const std::string e = end_word(stack_[k]);
+          const std::string_view e = end_word(stack_[k]);
           if (k != stack_.size() - 1 && !w.starts_with("end")) break;
           if (is_typo_of(w, e)) {
             respell(r, static_cast<uint16_t>(end_type_of(stack_[k].type)), e, "");
@@ -625,7 +643,7 @@ class Structure {
     }
     Frame& top = stack_.back();
     if (top.type != 0 && next_ends_block(r)) {
-      const std::string e = end_word(top);
+      const std::string e(end_word(top));
       const std::string_view meant = interned(e);
       const SourceRange where = range(r), opened = range(top.open);
       const std::string written(text_of(r));
@@ -682,7 +700,7 @@ class Structure {
   // Whether what follows end keyword r shows that the open block ends here.
   bool next_ends_block(uint32_t r) {
     uint32_t k = r + 1;
-    while (k < n_ && deleted_[k]) ++k;
+    while (k < n_ && deleted(k)) ++k;
     if (k >= n_) {
       depends_ = true;
       return true;
@@ -833,9 +851,7 @@ class Structure {
     outcome.repaired = !edits_.empty() || !reports_.empty();
     std::stable_sort(reports_.begin(), reports_.end(), [](const Report& a, const Report& b) { return a.anchor < b.anchor; });
     for (const Report& rep : reports_) rep.emit(diags);
-    for (uint32_t r = 0; r < n_; ++r) {
-      if (!meant_[r].empty()) repairs_.respelled[tok(r).begin] = meant_[r];
-    }
+    for (const auto& [r, m] : meant_) repairs_.respelled[tok(r).begin] = m;
     bool changes = false;
     for (const Edit& e : edits_) changes = changes || e.kind != Edit::Retype;
     if (!changes) return;
@@ -847,7 +863,7 @@ class Structure {
     }
     std::stable_sort(inserts.begin(), inserts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<bool> drop(tokens_.size(), false);
-    for (uint32_t r = 0; r < n_; ++r) drop[real_[r]] = deleted_[r];
+    for (uint32_t r : deleted_) drop[index(r)] = true;
     std::vector<Tok> out;
     out.reserve(tokens_.size() + inserts.size());
     size_t next = 0;
@@ -856,7 +872,7 @@ class Structure {
       out.push_back(Tok{byte, byte, near.line, type, false});
     };
     for (size_t i = 0; i < tokens_.size(); ++i) {
-      const bool is_real = r < n_ && real_[r] == i;
+      const bool is_real = r < n_ && index(r) == i;
       if (is_real) {
         while (next < inserts.size() && inserts[next].first == r) {
           conjure(inserts[next].second, tokens_[i], tokens_[i].begin);
@@ -884,10 +900,11 @@ class Structure {
   uint32_t base_;
   FileId file_;
   LineEndRepairs& repairs_;
-  std::vector<uint32_t> real_;
+  std::vector<uint32_t> real_;  // token r's index in tokens_, unless identity_
+  bool identity_ = false;
   uint32_t n_ = 0;
-  std::vector<bool> deleted_;
-  std::vector<std::string_view> meant_;
+  std::set<uint32_t> deleted_;
+  std::unordered_map<uint32_t, std::string_view> meant_;
   std::vector<Frame> stack_;
   std::vector<Frame> spare_;
   std::vector<Entry> brackets_;
@@ -901,13 +918,105 @@ class Structure {
 
 }  // namespace
 
+namespace {
+
+// Whether the blocks need the structure pass: one look at the token types, as the pass
+// nests blocks (most files' end keywords each close the block open before them). A word
+// that could be read as a keyword is looked at only where the nesting fails.
+bool structure_needs_repair(const std::vector<Tok>& tokens, std::string_view text) {
+  std::vector<uint16_t> open;
+  std::vector<std::string_view> open_words;  // a generator's keyword (its end keyword is `end` + it)
+  int depth = 0;  // brackets (balanced by the bracket pass)
+  const size_t n = tokens.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Tok& t = tokens[i];
+    if (t.hidden || t.type == kEof) continue;
+    const uint16_t type = t.type;
+    const bool line_start = i == 0 || tokens[i - 1].line != t.line;
+    const bool line_end = i + 1 >= n || tokens[i + 1].type == kEof || tokens[i + 1].line != t.line;
+    if (type == L::LPAREN || type == L::LBRACE) {
+      ++depth;
+      continue;
+    }
+    if (type == L::RPAREN || type == L::RBRACE) {
+      if (depth > 0) --depth;
+      continue;
+    }
+    if (depth > 0) continue;
+    if (type == L::TCLINIT) {
+      if (!open.empty()) return true;
+    } else if (is_end_token(type)) {
+      if (open.empty() || end_type_of(open.back()) != type) return true;
+      open.pop_back();
+      open_words.pop_back();
+    } else if (is_open_type(type)) {
+      if (block_holds(open.empty() ? 0 : open.back(), type)) {
+        open.push_back(type);
+        open_words.push_back(text.substr(t.begin, t.end - t.begin));
+        continue;
+      }
+      // A statement keyword starting a line of a block that cannot hold it.
+      if (line_start) return true;
+    } else if (type == L::IDENT && open.empty()) {
+      // A top-level word that a later end keyword could read as a keyword.
+      const std::string_view w = text.substr(t.begin, t.end - t.begin);
+      for (std::string_view k : ast::all_open_keywords()) {
+        if (is_typo_of(w, k)) return true;
+      }
+    } else if (type == L::IDENT && !open.empty() && (line_start || line_end)) {
+      // A word where an end keyword stands, close to the open block's.
+      const std::string_view w = text.substr(t.begin, t.end - t.begin);
+      const std::string end = open.back() == L::K_GEN ? "end" + std::string(open_words.back())
+                                                       : std::string(keyword_literal(end_type_of(open.back())));
+      if (is_typo_of(w, end) || (w.starts_with("end") && w.size() > 3)) return true;
+    }
+  }
+  return !open.empty();
+}
+
+}  // namespace
+
 void recover_structure(std::vector<Tok>& tokens, std::string_view text, uint32_t base, FileId file,
                        DiagnosticEngine& diags, LineEndRepairs& repairs, StructureOutcome& outcome) {
+  if (!structure_needs_repair(tokens, text)) return;
   Structure(tokens, text, base, file, repairs, false).run(diags, outcome);
 }
 
+namespace {
+
+// Whether the bracket pass has anything to do: one look at the token types (most files'
+// brackets nest and close before every end keyword).
+bool brackets_need_repair(const std::vector<Tok>& tokens, std::string_view text) {
+  std::vector<uint16_t> open;
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    const Tok& t = tokens[i];
+    if (t.hidden || t.type == kEof) continue;
+    switch (t.type) {
+      case L::LPAREN: open.push_back(L::LPAREN); break;
+      case L::LBRACE:
+        open.push_back(L::LBRACE);
+        if (i + 2 < tokens.size() && tokens[i + 1].type == L::IDENT) {
+          const Tok& w = tokens[i + 1];
+          if (is_typo_of(text.substr(w.begin, w.end - w.begin), "expr")) return true;
+        }
+        break;
+      case L::RPAREN:
+      case L::RBRACE:
+        if (open.empty() || open.back() != (t.type == L::RPAREN ? L::LPAREN : L::LBRACE)) return true;
+        open.pop_back();
+        break;
+      default:
+        if (!open.empty() && (t.type == L::TCLINIT || is_end_token(t.type))) return true;
+    }
+  }
+  return !open.empty();
+}
+
+}  // namespace
+
 void recover_brackets(std::vector<Tok>& tokens, std::string_view text, uint32_t base, FileId file,
                       DiagnosticEngine& diags, LineEndRepairs& repairs, StructureOutcome& outcome) {
+  if (!brackets_need_repair(tokens, text)) return;
   StructureOutcome brackets;
   Structure(tokens, text, base, file, repairs, true).run(diags, brackets);
   outcome.depends_on_what_follows = outcome.depends_on_what_follows || brackets.depends_on_what_follows;

@@ -517,6 +517,46 @@ bool touch_guarded(State& s, F&& touch) {
   return true;
 }
 
+// Tk's scale follows its variable: a script that sets the variable after making the scale
+// (`scale … -variable x0`, then `set x0 1.0`) moves the slider, rounded to its resolution
+// and clamped to its range as when it was made; a value given from outside (`-D`) stays.
+void refresh_sliders(State& s) {
+  if (s.sliders.empty() || s.broken) return;
+  touch_guarded(s, [&] {
+    for (Slider& sl : s.sliders) {
+      const char* cur = Tcl_GetVar2(s.interp, sl.variable.c_str(), nullptr, TCL_GLOBAL_ONLY);
+      if (cur == nullptr) continue;
+      char* end = nullptr;
+      const double v = std::strtod(cur, &end);
+      if (end == cur || !std::isfinite(v)) continue;
+      if (std::optional<double> given = s.preset ? s.preset(sl.variable, sl.from, sl.to) : std::nullopt) {
+        if (v != *given) {
+          char text[64];
+          std::snprintf(text, sizeof text, "%.17g", *given);
+          Tcl_SetVar2(s.interp, sl.variable.c_str(), nullptr, text, TCL_GLOBAL_ONLY);
+        }
+        sl.value = *given;
+        continue;
+      }
+      if (v == sl.value) continue;
+      double r = v;
+      if (sl.resolution > 0) r = sl.from + std::round((v - sl.from) / sl.resolution) * sl.resolution;
+      r = std::clamp(r, std::min(sl.from, sl.to), std::max(sl.from, sl.to));
+      if (std::fabs(r - v) > 1e-12) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.*f", sl.resolution > 0 ? decimals_of(sl.resolution) : 6, r);
+        Tcl_SetVar2(s.interp, sl.variable.c_str(), nullptr, text, TCL_GLOBAL_ONLY);
+        r = std::strtod(text, nullptr);
+        sl.rounded = true;
+        sl.written = v;
+      } else {
+        sl.rounded = false;
+      }
+      sl.value = r;
+    }
+  });
+}
+
 }  // namespace
 
 Outcome Engine::run(std::string_view script) {
@@ -528,6 +568,7 @@ Outcome Engine::run(std::string_view script) {
   Outcome o = rc ? finish(*s_, *rc) : std::move(failed);
   s_->reads = nullptr;
   o.reads = std::move(reads);
+  if (rc) refresh_sliders(*s_);
   return o;
 }
 
