@@ -303,7 +303,7 @@ class Structure {
       while (line_begin > 0 && (text_[line_begin - 1] == ' ' || text_[line_begin - 1] == '\t')) --line_begin;
       insert_text = end + "\n" + std::string(text_.substr(line_begin, tok(p).begin - line_begin));
     }
-    report(tok(p).begin, [=, this](DiagnosticEngine& d) {
+    report(tok(p).begin, [=](DiagnosticEngine& d) {
       d.emit(DiagKind::MissingEndKeyword, where,
              fmt::format("`{}` is not closed: `{}` is missing before this `{}`", kw, end, next))
           .note(open, fmt::format("`{}` opened here", kw))
@@ -589,7 +589,7 @@ class Structure {
     const SourceRange where = range(r);
     const std::string written(text_of(r));
     const std::string why_text(why);
-    report(tok(r).begin, [=, this](DiagnosticEngine& d) {
+    report(tok(r).begin, [=](DiagnosticEngine& d) {
       d.emit(DiagKind::MisspelledKeyword, where, fmt::format("unknown `{}`; did you mean `{}`?{}", written, kept, why_text))
           .fixit(where, std::string(kept), fmt::format("replace with `{}`", kept));
     });
@@ -648,7 +648,7 @@ class Structure {
       const SourceRange where = range(r), opened = range(top.open);
       const std::string written(text_of(r));
       const std::string_view kw = top.word;
-      report(tok(r).begin, [=, this](DiagnosticEngine& d) {
+      report(tok(r).begin, [=](DiagnosticEngine& d) {
         d.emit(DiagKind::MismatchedEndKeyword, where,
                fmt::format("`{}` does not close the open `{}`; expected `{}`", written, kw, meant))
             .note(opened, fmt::format("`{}` opened here", kw))
@@ -661,7 +661,7 @@ class Structure {
     const SourceRange where = range(r);
     const std::string written(text_of(r));
     const std::string opener(closed_word);
-    report(tok(r).begin, [=, this](DiagnosticEngine& d) {
+    report(tok(r).begin, [=](DiagnosticEngine& d) {
       d.emit(DiagKind::UnmatchedEndKeyword, where,
              fmt::format("`{}` closes nothing: no `{}` statement is open here", written, opener))
           .fixit(where, "", fmt::format("remove `{}`", written));
