@@ -381,6 +381,12 @@ class Structure {
             before = k;
             break;
           }
+          // `(0 0 1 (90) …`: a list that starts after an element, past a space.
+          if (depth == 1 && t == L::LPAREN && k > b.r + 1 && ends_operand(tok(k - 1).type) &&
+              tok(k - 1).end < tok(k).begin) {
+            before = k;
+            break;
+          }
         }
       }
       const uint32_t byte = before < n_ ? (before > 0 ? tok(before - 1).end : tok(before).begin) : end_byte();

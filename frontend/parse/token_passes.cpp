@@ -354,14 +354,21 @@ void insert_missing_open_parens(std::vector<Tok>& tokens, uint32_t base,
     return t == L::NUMBER || t == L::DOLLAR_REF || t == L::TCL_ARRAY_REF || is_operator(t);
   };
   std::vector<std::pair<size_t, size_t>> inserts;  // (position in `tokens` to insert before, code point)
-  int depth = 0;
+  // The open brackets: a `)` inside braces whose `(` is missing there (`{expr a - b) * c}`)
+  // is the bracket pass's (recover_brackets), not a list's missing `(`.
+  std::vector<uint16_t> open;
   for (size_t i = 0; i < tokens.size(); ++i) {
     if (!real(i)) continue;
     const size_t type = tokens[i].type;
-    if (type == L::LPAREN) ++depth;
+    if (type == L::LPAREN || type == L::LBRACE) open.push_back(static_cast<uint16_t>(type));
+    if (type == L::RBRACE) {
+      const auto brace = std::find(open.rbegin(), open.rend(), static_cast<uint16_t>(L::LBRACE));
+      if (brace != open.rend()) open.erase(std::prev(brace.base()), open.end());
+      continue;
+    }
     if (type != L::RPAREN) continue;
-    if (depth > 0) {
-      --depth;
+    if (!open.empty()) {
+      if (open.back() == L::LPAREN) open.pop_back();
       continue;
     }
     // Walk back over the values on the `)`'s line (a `{…}` group counts as one value).
