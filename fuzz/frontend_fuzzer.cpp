@@ -11,16 +11,7 @@
 #include <string>
 
 #include "frontend/check/check.h"
-
-namespace {
-
-bool inside(const nomec::SourceManager& sources, const nomec::SourceRange& r) {
-  if (!r.is_valid()) return true;
-  if (static_cast<size_t>(r.file.index) >= sources.file_count()) return false;
-  return r.begin <= r.end && r.end <= sources.text(r.file).size();
-}
-
-}  // namespace
+#include "fuzz/ranges.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const char* const kPaths[] = {"fuzz.nome", "fuzz.nom", "fuzz.slf"};
@@ -38,13 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::abort();  // "No stage throws" (ARCHITECTURE.md)
   }
   for (const nomec::Diagnostic& d : diags.diagnostics()) {
-    if (!inside(sources, d.range)) std::abort();
-    for (const auto& n : d.notes) {
-      if (!inside(sources, n.range)) std::abort();
-    }
-    for (const auto& f : d.fixits) {
-      if (!inside(sources, f.range)) std::abort();
-    }
+    nomec::fuzz::abort_unless_inside(sources, d);
     // Rendering reads the source line under each range: exercise it too (the first few of
     // an input's diagnostics: the others take the same path).
     if (&d - diags.diagnostics().data() < 4) (void)nomec::render_text(sources, d, false, false);

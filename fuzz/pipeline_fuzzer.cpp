@@ -14,27 +14,13 @@
 #include "backend/evaluate.h"
 #include "backend/write.h"
 #include "frontend/check/check.h"
+#include "fuzz/ranges.h"
 #include "kernel/topology.h"
 
 namespace {
 
 constexpr size_t kMaxInput = 2048;
 constexpr int64_t kMaxVertices = 20000;
-
-bool inside(const nomec::SourceManager& sources, const nomec::SourceRange& r) {
-  if (!r.is_valid()) return true;
-  if (static_cast<size_t>(r.file.index) >= sources.file_count()) return false;
-  return r.begin <= r.end && r.end <= sources.text(r.file).size();
-}
-
-void check_ranges(const nomec::SourceManager& sources, const nomec::DiagnosticEngine& diags) {
-  for (const nomec::Diagnostic& d : diags.diagnostics()) {
-    if (!inside(sources, d.range)) std::abort();
-    for (const auto& n : d.notes) {
-      if (!inside(sources, n.range)) std::abort();
-    }
-  }
-}
 
 }  // namespace
 
@@ -49,7 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     nomec::CheckResult checked =
         nomec::check_source(sources, path, std::string(reinterpret_cast<const char*>(data), size), options, diags);
-    check_ranges(sources, diags);
+    nomec::fuzz::abort_unless_inside(sources, diags);
     if (diags.error_count() > 0) return 0;
     nomec::backend::PipelineOptions pipeline;
     pipeline.is_merge = true;
@@ -70,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (nomec::backend::to_stl_binary(meshes) != listed) std::abort();
       }
     }
-    check_ranges(sources, geo);
+    nomec::fuzz::abort_unless_inside(sources, geo);
     for (const nomec::backend::OutputMesh& m : meshes) {
       if (!nomec::kernel::mesh_problem(m.mesh).empty()) std::abort();
     }

@@ -14,17 +14,8 @@
 
 #include "frontend/check/check.h"
 #include "frontend/tcl/protocol.h"
+#include "fuzz/ranges.h"
 #include "ir/ir.h"
-
-namespace {
-
-bool inside(const nomec::SourceManager& sources, const nomec::SourceRange& r) {
-  if (!r.is_valid()) return true;
-  if (static_cast<size_t>(r.file.index) >= sources.file_count()) return false;
-  return r.begin <= r.end && r.end <= sources.text(r.file).size();
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
@@ -61,11 +52,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (...) {
     std::abort();  // "No stage throws" (ARCHITECTURE.md)
   }
-  for (const nomec::Diagnostic& d : diags.diagnostics()) {
-    if (!inside(sources, d.range)) std::abort();
-    for (const auto& n : d.notes) {
-      if (!inside(sources, n.range)) std::abort();
-    }
-  }
+  nomec::fuzz::abort_unless_inside(sources, diags);
   return 0;
 }
