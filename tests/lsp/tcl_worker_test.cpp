@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "lsp_client.h"
+#include "tests/common/tcl_scenes.h"
 
 namespace nomec::lsp::test {
 namespace {
@@ -34,18 +35,7 @@ TEST(LspTclWorker, ACrashingSceneIsADiagnosticAndTheServerGoesOn) {
 
 TEST(LspTclWorker, ASliderMoveThatNeverEndsIsStoppedAndTheNextIsAnswered) {
   const char* uri = "file:///tmp/lsp-test/trace.slf";
-  const std::string text = R"(tclinit {
-  set par_x 0.5
-  scale .x -from 0 -to 1 -resolution 0.1 -variable par_x
-  trace add variable par_x write {apply {args { while 1 {} }}}
-}
-point p0 (0 0 0) endpoint
-point p1 ({if {$par_x > 0.2} {expr 1} else {expr 2}} 0 0) endpoint
-point p2 (0 1 0) endpoint
-face f (p0 p1 p2) endface
-object o (f) endobject
-instance o endinstance
-)";
+  const std::string text = nomec::testing_scenes::kSliderTraceNeverEnds;
   Client c;
   c.initialize();
   c.open(uri, text, 1);

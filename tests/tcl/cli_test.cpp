@@ -15,6 +15,8 @@
 #include <fstream>
 #include <string>
 
+#include "tests/common/tcl_scenes.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -79,18 +81,7 @@ TEST(TclCli, AFifoBesideTheSceneIsNotWaitedOn) {
 
 TEST(TclCli, ASliderMoveWhoseTraceNeverEndsIsAnErrorWithinItsBudget) {
   const fs::path dir = scratch("whatif");
-  write(dir / "trace.slf", R"(tclinit {
-  set par_x 0.5
-  scale .x -from 0 -to 1 -resolution 0.1 -variable par_x
-  trace add variable par_x write {apply {args { while 1 {} }}}
-}
-point p0 (0 0 0) endpoint
-point p1 ({if {$par_x > 0.2} {expr 1} else {expr 2}} 0 0) endpoint
-point p2 (0 1 0) endpoint
-face f (p0 p1 p2) endface
-object o (f) endobject
-instance o endinstance
-)");
+  write(dir / "trace.slf", nomec::testing_scenes::kSliderTraceNeverEnds);
   const Ran r = run("--what-if par.x=0.7 " + (dir / "trace.slf").string());
   EXPECT_NE(r.output.find("\"update_ms\""), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("nomec gives it for each slider move"), std::string::npos) << r.output;
