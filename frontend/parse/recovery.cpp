@@ -154,7 +154,6 @@ class Structure {
   };
   struct Report {
     uint32_t at;
-    uint32_t anchor;  // byte offset, for the order
     std::function<void(DiagnosticEngine&)> emit;
   };
 
@@ -195,8 +194,9 @@ class Structure {
   // Whether end keyword token r closes frame f.
   bool closes(const Frame& f, uint32_t r) { return f.type != 0 && tok(r).type == end_type_of(f.type); }
 
-  void report(uint32_t anchor, std::function<void(DiagnosticEngine&)> emit) {
-    reports_.push_back(Report{scan_, anchor, std::move(emit)});
+  // Emitted in scan order; the caller puts them in position order with the other passes'.
+  void report(std::function<void(DiagnosticEngine&)> emit) {
+    reports_.push_back(Report{scan_, std::move(emit)});
   }
   void retype(uint32_t r, uint16_t type, std::string_view meant) {
     edits_.push_back(Edit{scan_, Edit::Retype, r, tok(r).type, type});
@@ -240,16 +240,7 @@ class Structure {
     spare_.push_back(std::move(f));
   }
 
-  // The column of token r (bytes after the last newline before it).
-  uint32_t column(uint32_t r) {
-    size_t b = tok(r).begin;
-    uint32_t c = 0;
-    while (b > 0 && text_[b - 1] != '\n') {
-      --b;
-      ++c;
-    }
-    return c;
-  }
+  size_t column(uint32_t r) { return column_of(text_, tok(r).begin); }
 
   // Where in frame `f`'s body, at or before `limit`, the block should have ended: the
   // earliest keyword read as a word at the start of a line that the frame's parent
@@ -269,7 +260,7 @@ class Structure {
       }
     }
     if (!line_start(f.open)) return best;
-    const uint32_t col = column(f.open);
+    const size_t col = column(f.open);
     for (const Entry& c : f.children) {
       if (c.r > after && c.r <= limit && c.r < best && line_start(c.r) && block_holds(holder, c.type) && column(c.r) <= col) {
         best = c.r;
@@ -288,7 +279,7 @@ class Structure {
       // Nothing follows to show where it ends: the error is at its keyword.
       const bool newline = !text_.empty() && text_.back() == '\n';
       const uint32_t size = static_cast<uint32_t>(text_.size());
-      report(tok(f.open).begin, [=, this](DiagnosticEngine& d) {
+      report([=, this](DiagnosticEngine& d) {
         d.emit(DiagKind::MissingEndKeyword, open,
                fmt::format("`{}` is never closed: expected `{}` before the end of the file", kw, end))
             .fixit(at(size), (newline ? "" : "\n") + end + "\n", fmt::format("insert `{}`", end));
@@ -303,7 +294,7 @@ class Structure {
       while (line_begin > 0 && (text_[line_begin - 1] == ' ' || text_[line_begin - 1] == '\t')) --line_begin;
       insert_text = end + "\n" + std::string(text_.substr(line_begin, tok(p).begin - line_begin));
     }
-    report(tok(p).begin, [=](DiagnosticEngine& d) {
+    report([=](DiagnosticEngine& d) {
       d.emit(DiagKind::MissingEndKeyword, where,
              fmt::format("`{}` is not closed: `{}` is missing before this `{}`", kw, end, next))
           .note(open, fmt::format("`{}` opened here", kw))
@@ -392,13 +383,24 @@ class Structure {
       const uint32_t byte = before < n_ ? (before > 0 ? tok(before - 1).end : tok(before).begin) : end_byte();
       const std::string where = before < n_ ? fmt::format("before `{}`", text_of(before)) : "at the end of the file";
       const SourceRange open = range(b.r);
-      report(tok(b.r).begin, [=, this](DiagnosticEngine& d) {
+      report([=, this](DiagnosticEngine& d) {
         d.emit(DiagKind::SyntaxError, open,
                fmt::format("`{}` is never closed: `{}` is missing {}", paren ? "(" : "{", close, where))
             .fixit(at(byte), close, fmt::format("insert `{}`", close));
       });
       insert(before, static_cast<uint16_t>(paren ? L::RPAREN : L::RBRACE));
     }
+  }
+
+  // The `)` at r closes nothing: its `(` goes before token `start`. One error, at the `)`.
+  void open_paren_before(uint32_t start, uint32_t r) {
+    const SourceRange where = range(r), first = range(start);
+    const std::string first_text(text_of(start));
+    report([=, this](DiagnosticEngine& d) {
+      d.emit(DiagKind::SyntaxError, where, fmt::format("`)` closes nothing: its `(` is missing before `{}`", first_text))
+          .fixit(at(first.begin - base_), "(", "insert `(`");
+    });
+    insert(start, L::LPAREN);
   }
 
   // Whether a `}` follows `)` at r on its line before any other `)` or statement keyword:
@@ -432,7 +434,7 @@ class Structure {
         }
         if (t == L::K_EXPR && depth == 0) {
           const SourceRange e = range(k);
-          report(tok(r).begin, [=, this](DiagnosticEngine& d) {
+          report([=, this](DiagnosticEngine& d) {
             d.emit(DiagKind::SyntaxError, where, "`}` closes nothing: its `{` is missing before `expr`")
                 .fixit(at(e.begin - base_), "{", "insert `{`");
           });
@@ -456,17 +458,11 @@ class Structure {
         start = k;
       }
       if (start < r) {
-        const SourceRange first = range(start);
-        const std::string first_text(text_of(start));
-        report(tok(r).begin, [=, this](DiagnosticEngine& d) {
-          d.emit(DiagKind::SyntaxError, where, fmt::format("`)` closes nothing: its `(` is missing before `{}`", first_text))
-              .fixit(at(first.begin - base_), "(", "insert `(`");
-        });
-        insert(start, L::LPAREN);
+        open_paren_before(start, r);
         return;
       }
     }
-    report(tok(r).begin, [=](DiagnosticEngine& d) {
+    report([=](DiagnosticEngine& d) {
       d.emit(DiagKind::SyntaxError, where, fmt::format("`{}` closes nothing: no `{}` is open here", c, c == ')' ? '(' : '{'))
           .fixit(where, "", fmt::format("remove `{}`", c));
     });
@@ -501,7 +497,7 @@ class Structure {
       // `{exrp $a}`: a misspelt `expr` first in braces.
       if (type == L::LBRACE && r + 2 < n_ && tok(r + 1).type == L::IDENT && tok(r + 2).type != L::RBRACE &&
           tok(r + 2).type != L::LPAREN && is_typo_of(text_of(r + 1), "expr")) {
-        respell(r + 1, L::K_EXPR, "expr", "");
+        respell(r + 1, L::K_EXPR, "expr");
       }
       brackets_.push_back(Entry{r, type, false});
       return r + 1;
@@ -513,13 +509,7 @@ class Structure {
         const uint32_t b = brackets_.back().r;
         const uint32_t start = b + 1 < n_ && tok(b + 1).type == L::K_EXPR ? b + 2 : b + 1;
         if (start < r) {
-          const SourceRange where = range(r), first = range(start);
-          const std::string first_text(text_of(start));
-          report(tok(r).begin, [=, this](DiagnosticEngine& d) {
-            d.emit(DiagKind::SyntaxError, where, fmt::format("`)` closes nothing: its `(` is missing before `{}`", first_text))
-                .fixit(at(first.begin - base_), "(", "insert `(`");
-          });
-          insert(start, L::LPAREN);
+          open_paren_before(start, r);
           return r + 1;
         }
       }
@@ -579,7 +569,7 @@ class Structure {
           const std::string_view e = end_word(stack_[k]);
           if (k != stack_.size() - 1 && !w.starts_with("end")) break;
           if (is_typo_of(w, e)) {
-            respell(r, static_cast<uint16_t>(end_type_of(stack_[k].type)), e, "");
+            respell(r, static_cast<uint16_t>(end_type_of(stack_[k].type)), e);
             return on_end(r);
           }
         }
@@ -590,13 +580,12 @@ class Structure {
   }
 
   // Reads word r as keyword `meant` (token type `type`), with its error and fix-it.
-  void respell(uint32_t r, uint16_t type, std::string_view meant, std::string_view why) {
+  void respell(uint32_t r, uint16_t type, std::string_view meant) {
     const std::string_view kept = interned(meant);
     const SourceRange where = range(r);
     const std::string written(text_of(r));
-    const std::string why_text(why);
-    report(tok(r).begin, [=](DiagnosticEngine& d) {
-      d.emit(DiagKind::MisspelledKeyword, where, fmt::format("unknown `{}`; did you mean `{}`?{}", written, kept, why_text))
+    report([=](DiagnosticEngine& d) {
+      d.emit(DiagKind::MisspelledKeyword, where, fmt::format("unknown `{}`; did you mean `{}`?", written, kept))
           .fixit(where, std::string(kept), fmt::format("replace with `{}`", kept));
     });
     retype(r, type, kept);
@@ -654,7 +643,7 @@ class Structure {
       const SourceRange where = range(r), opened = range(top.open);
       const std::string written(text_of(r));
       const std::string_view kw = top.word;
-      report(tok(r).begin, [=](DiagnosticEngine& d) {
+      report([=](DiagnosticEngine& d) {
         d.emit(DiagKind::MismatchedEndKeyword, where,
                fmt::format("`{}` does not close the open `{}`; expected `{}`", written, kw, meant))
             .note(opened, fmt::format("`{}` opened here", kw))
@@ -667,7 +656,7 @@ class Structure {
     const SourceRange where = range(r);
     const std::string written(text_of(r));
     const std::string opener(closed_word);
-    report(tok(r).begin, [=](DiagnosticEngine& d) {
+    report([=](DiagnosticEngine& d) {
       d.emit(DiagKind::UnmatchedEndKeyword, where,
              fmt::format("`{}` closes nothing: no `{}` statement is open here", written, opener))
           .fixit(where, "", fmt::format("remove `{}`", written));
@@ -780,7 +769,7 @@ class Structure {
     if (holder == SIZE_MAX) return kNone;
     if (typo != kNone) {
       if (holder == stack_.size() - 1) {
-        respell(typo, static_cast<uint16_t>(open), meant, "");
+        respell(typo, static_cast<uint16_t>(open), meant);
         // The block's children after the word are now the misspelt block's.
         auto later = [&](const Entry& e) { return e.r > typo; };
         top.children.erase(std::remove_if(top.children.begin(), top.children.end(), later), top.children.end());
@@ -795,7 +784,7 @@ class Structure {
       const uint32_t p = typo;
       rewind_to(p);
       close_top_before(p);
-      respell(p, static_cast<uint16_t>(open), meant, "");
+      respell(p, static_cast<uint16_t>(open), meant);
       return p;
     }
     if (as_word != kNone && may_rewind()) {
@@ -815,7 +804,7 @@ class Structure {
             auto from_p = [p](const Entry& e) { return e.r >= p; };
             top.words.erase(std::remove_if(top.words.begin(), top.words.end(), from_p), top.words.end());
             top.children.erase(std::remove_if(top.children.begin(), top.children.end(), from_p), top.children.end());
-            respell(p, static_cast<uint16_t>(z), keyword_literal(z), "");
+            respell(p, static_cast<uint16_t>(z), keyword_literal(z));
             return p;
           }
         }
@@ -854,8 +843,6 @@ class Structure {
       if (depends_) break;
     }
     outcome.depends_on_what_follows = depends_;
-    outcome.repaired = !edits_.empty() || !reports_.empty();
-    std::stable_sort(reports_.begin(), reports_.end(), [](const Report& a, const Report& b) { return a.anchor < b.anchor; });
     for (const Report& rep : reports_) rep.emit(diags);
     for (const auto& [r, m] : meant_) repairs_.respelled[tok(r).begin] = m;
     bool changes = false;
@@ -1026,7 +1013,6 @@ void recover_brackets(std::vector<Tok>& tokens, std::string_view text, uint32_t 
   StructureOutcome brackets;
   Structure(tokens, text, base, file, repairs, true).run(diags, brackets);
   outcome.depends_on_what_follows = outcome.depends_on_what_follows || brackets.depends_on_what_follows;
-  outcome.repaired = outcome.repaired || brackets.repaired;
 }
 
 }  // namespace nomec::parse_detail

@@ -27,13 +27,12 @@ struct StructureOutcome {
   /// A block or bracket was still open at the end, a decision looked at the end of the
   /// text, or a top-level word that a later end keyword could make a keyword was left.
   bool depends_on_what_follows = false;
-  /// Repairs were made (their diagnostics are in `diags`).
-  bool repaired = false;
 };
 
 /// The structure pass over the parser's tokens (after prepare_tokens and the line-end
-/// repairs): reports each repair into `diags` (ranges are `base` + byte offsets) and makes
-/// it in `tokens`; keywords read as others are recorded in `repairs.respelled`.
+/// repairs): reports each repair into `diags`, in the order the pass met them (ranges are
+/// `base` + byte offsets), and makes it in `tokens`; keywords read as others are recorded
+/// in `repairs.respelled`.
 void recover_structure(std::vector<Tok>& tokens, std::string_view text, uint32_t base, FileId file,
                        DiagnosticEngine& diags, LineEndRepairs& repairs, StructureOutcome& outcome);
 

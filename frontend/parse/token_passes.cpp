@@ -100,6 +100,12 @@ std::optional<ast::BlockKind> open_kind(size_t type) {
   return type < open.size() ? open[type] : std::nullopt;
 }
 
+size_t column_of(std::string_view text, size_t byte) {
+  size_t b = byte;
+  while (b > 0 && text[b - 1] != '\n') --b;
+  return byte - b;
+}
+
 size_t end_type_of(size_t open_type) {
   const auto& end_of = keyword_table().end_of;
   return open_type < end_of.size() ? end_of[open_type] : 0;
@@ -457,11 +463,12 @@ size_t line_statement_end(size_t type, std::string_view word) {
   }
 }
 
-// A block the statement may contain on later lines (`instance … lookat … endlookat …`).
-bool nests_in(size_t open, size_t inner) {
-  return (open == L::K_INSTANCE && inner == L::K_LOOKAT) ||
-         (open == L::K_FACE && inner == L::K_VERTEX);
+// The block the statement may contain on later lines (`instance … lookat … endlookat …`),
+// or 0.
+size_t nested_block(size_t open) {
+  return open == L::K_INSTANCE ? L::K_LOOKAT : open == L::K_FACE ? L::K_VERTEX : 0;
 }
+bool nests_in(size_t open, size_t inner) { return inner != 0 && nested_block(open) == inner; }
 
 // A keyword that is also an option word of these statements (`surface RED`, the 2016
 // instance transform `mirror (…)`), so a line it starts may continue the statement.
@@ -487,12 +494,6 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
   };
   auto line = [&](size_t r) { return tok(r).line; };
   auto first_on_line = [&](size_t r) { return r == 0 || line(r - 1) != line(r); };
-  // The column of a byte (bytes after the newline before it).
-  auto column = [&](size_t byte) {
-    size_t b = byte;
-    while (b > 0 && text[b - 1] != '\n') --b;
-    return byte - b;
-  };
   struct Insert {
     size_t after;  // position in `tokens` of the token the end follows
     size_t type;
@@ -549,8 +550,7 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
   // A misspelt block the statement may contain, first on its line (`vertxe v endvertex` in
   // a face): it nests as the block would.
   auto nested_typo = [&](size_t open, size_t k) {
-    if (tok(k).type != L::IDENT || !first_on_line(k)) return false;
-    return (open == L::K_FACE && is_typo_of(word(k), "vertex")) || (open == L::K_INSTANCE && is_typo_of(word(k), "lookat"));
+    return tok(k).type == L::IDENT && first_on_line(k) && is_typo_of(word(k), keyword_literal(nested_block(open)));
   };
   auto build_next_stop = [&] {
     std::vector<int> depth_at(n);  // `(` and `{` open before token k
@@ -642,7 +642,7 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
     size_t stops = 0;
     size_t nested_closed = SIZE_MAX;  // the end keyword of its last nested block (`endvertex`)
     size_t stop_at = n;               // where the scan stopped: an enclosing end or the next statement
-    const std::string_view nested_end = type == L::K_FACE ? "endvertex" : type == L::K_INSTANCE ? "endlookat" : "";
+    const std::string_view nested_end = keyword_literal(end_type_of(nested_block(type)));
     if (next_stop.empty()) build_next_stop();
     for (size_t k = next_stop[last + 1]; k < n; k = next_stop[k + 1]) {
       if (++stops > kMaxStops) {
@@ -690,10 +690,10 @@ void end_line_statements(std::vector<Tok>& tokens, std::string_view text,
       if (nested_closed != SIZE_MAX) {
         after = nested_closed;
       } else if (stop_at > last + 1 && stop_at - last < 4096) {
-        const size_t col = column(tok(r).begin);
+        const size_t col = column_of(text, tok(r).begin);
         bool deeper = true;
         for (size_t k = last + 1; k < stop_at && deeper; ++k) {
-          if (first_on_line(k)) deeper = column(tok(k).begin) > col;
+          if (first_on_line(k)) deeper = column_of(text, tok(k).begin) > col;
         }
         if (deeper) after = stop_at - 1;
       }

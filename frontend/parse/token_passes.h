@@ -21,6 +21,8 @@ namespace nomec::parse_detail {
 
 /// The block an opening keyword's token type opens, or none (K_GEN opens a generator).
 std::optional<ast::BlockKind> open_kind(size_t type);
+/// The column of byte `byte` of `text`: the bytes after the newline before it.
+size_t column_of(std::string_view text, size_t byte);
 /// The end keyword's token type of an opening keyword's (E_GEN for K_GEN), or 0.
 size_t end_type_of(size_t open_type);
 /// The text of a keyword token type (`mesh`, `endmesh`), or "" (K_GEN, E_GEN, others).
